@@ -1,0 +1,142 @@
+# Motion-control firmware for the Arduino Mega 2560 and its host simulator `motionsim`.
+# The Makefile is the one entry point; the long parts live in tools/ and can be run alone.
+#
+#   make setup      install everything (Debian packages, .venv, arduino-cli)   -> tools/setup.sh
+#   make test       build everything and run every test; ends with "N passed, N failed"
+#   make profiles   standard scenarios -> build/profiles/*.csv, *.png, profiles.xlsx
+#   make firmware   build every sketch for the Mega and print the flash/SRAM table
+#   make sim        build build/motionsim
+#   make upload SKETCH=<name> PORT=<device>    flash a real Mega over USB
+#   make monitor PORT=<device>                 serial monitor, 9600 baud, CR+LF line ends
+#   make emulate SKETCH=<name> [INPUT=<file>]  run a sketch's ELF in the ATmega2560 emulator
+#   make clean
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+
+BUILD   := build
+PY      := .venv/bin/python
+CC      ?= cc
+CXX     ?= c++
+
+# Host builds: the same lib/src sources as the sketches, C11, warnings are errors.
+# -ffp-contract=off keeps float arithmetic in the order written (no fused multiply-add), as on AVR.
+WARN      := -Wall -Wextra -Werror
+HOST_CFLAGS   := -std=c11 -O2 -g $(WARN) -ffp-contract=off -D_POSIX_C_SOURCE=200809L -Ilib/src -Isim
+HOST_CXXFLAGS := -std=c++11 -O2 -g $(WARN) -ffp-contract=off -Ilib/src -Isim
+SAN_FLAGS     := -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+
+LIB_C    := $(sort $(wildcard lib/src/*.c))
+LIB_CXX  := $(sort $(wildcard lib/src/*.cpp))
+# sim/: plant_*.c are the physical models (e.g. the DC motor + encoder) that the unit tests and
+# the emulator harness link too; every other sim/*.c is the motionsim program itself.
+SIM_MODELS := $(sort $(wildcard sim/plant_*.c))
+SIM_MAIN   := $(filter-out $(SIM_MODELS),$(sort $(wildcard sim/*.c)))
+HDRS       := $(wildcard lib/src/*.h sim/*.h)
+
+UNIT_SRCS  := $(sort $(wildcard test/unit/test_*.c test/unit/test_*.cpp))
+UNIT_NAMES := $(basename $(notdir $(UNIT_SRCS)))
+UNIT_BINS  := $(addprefix $(BUILD)/test/unit/,$(UNIT_NAMES))
+SAN_BINS   := $(addprefix $(BUILD)/test/unit-san/,$(UNIT_NAMES))
+
+SKETCHES := $(sort $(patsubst firmware/%/,%,$(filter-out firmware/libraries/,$(wildcard firmware/*/))))
+
+.PHONY: help setup sim firmware profiles test unit upload monitor emulate clean check-setup
+
+help:
+	@sed -n '1,/^$$/p' Makefile | sed -n 's/^# \{0,1\}//p'
+
+setup:
+	@bash tools/setup.sh
+
+check-setup:
+	@test -x .venv/bin/python -a -x .tools/arduino-cli || { echo "make: the toolchain is not installed: run 'make setup' first" >&2; exit 1; }
+
+# ---------------------------------------------------------------------------------------
+# Host objects: one set normal, one set with AddressSanitizer + UBSan.
+$(BUILD)/host/%.o: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -c $< -o $@
+$(BUILD)/host/%.o: %.cpp $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CXX) $(HOST_CXXFLAGS) -c $< -o $@
+$(BUILD)/host-san/%.o: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) $(SAN_FLAGS) -c $< -o $@
+$(BUILD)/host-san/%.o: %.cpp $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CXX) $(HOST_CXXFLAGS) $(SAN_FLAGS) -c $< -o $@
+
+LIB_OBJS       := $(patsubst %,$(BUILD)/host/%.o,$(basename $(LIB_C) $(LIB_CXX)))
+LIB_OBJS_SAN   := $(patsubst %,$(BUILD)/host-san/%.o,$(basename $(LIB_C) $(LIB_CXX)))
+MODEL_OBJS     := $(patsubst %,$(BUILD)/host/%.o,$(basename $(SIM_MODELS)))
+MODEL_OBJS_SAN := $(patsubst %,$(BUILD)/host-san/%.o,$(basename $(SIM_MODELS)))
+SIM_OBJS       := $(patsubst %,$(BUILD)/host/%.o,$(basename $(SIM_MAIN)))
+
+$(BUILD)/libmotion.a: $(LIB_OBJS) $(MODEL_OBJS)
+	@rm -f $@
+	ar rcs $@ $^
+$(BUILD)/libmotion-san.a: $(LIB_OBJS_SAN) $(MODEL_OBJS_SAN)
+	@rm -f $@
+	ar rcs $@ $^
+
+sim: $(BUILD)/motionsim
+$(BUILD)/motionsim: $(SIM_OBJS) $(BUILD)/libmotion.a
+	$(CXX) $(SIM_OBJS) $(BUILD)/libmotion.a -lm -o $@
+
+# Unit tests (cmocka), each linked against the same library archive.
+$(BUILD)/test/unit/%: test/unit/%.c $(BUILD)/libmotion.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -Itest/unit $< $(BUILD)/libmotion.a -lcmocka -lm -o $@
+$(BUILD)/test/unit/%: test/unit/%.cpp $(BUILD)/libmotion.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CXX) $(HOST_CXXFLAGS) -Itest/unit $< $(BUILD)/libmotion.a -lcmocka -lm -o $@
+$(BUILD)/test/unit-san/%: test/unit/%.c $(BUILD)/libmotion-san.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lm -o $@
+$(BUILD)/test/unit-san/%: test/unit/%.cpp $(BUILD)/libmotion-san.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CXX) $(HOST_CXXFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lm -o $@
+
+unit: $(UNIT_BINS) $(SAN_BINS)
+
+# ---------------------------------------------------------------------------------------
+firmware: check-setup
+	@bash tools/build_firmware.sh
+
+profiles: check-setup $(BUILD)/motionsim
+	@$(PY) tools/profiles.py --motionsim $(BUILD)/motionsim --out $(BUILD)/profiles
+
+# The emulator harness (tools/emu) contributes EMU_SUITES, EMU_DEPS and `make emulate`.
+-include tools/emu/emu.mk
+
+# Everything is built first; then every suite runs and one summary line closes the output.
+# A suite is "name|kind|command": kind tap (cmocka and the harness print TAP) or pytest.
+TEST_SUITES = \
+	"unit (cmocka)|tap-dir|$(BUILD)/test/unit" \
+	"unit (cmocka, ASan+UBSan)|tap-dir|$(BUILD)/test/unit-san" \
+	"motionsim CLI|pytest|test/cli" \
+	"firmware build|firmware|tools/build_firmware.sh" \
+	$(EMU_SUITES)
+
+test: check-setup $(BUILD)/motionsim unit $(EMU_DEPS)
+	@MOTIONSIM=$(abspath $(BUILD)/motionsim) $(PY) tools/run_tests.py $(TEST_SUITES)
+
+# ---------------------------------------------------------------------------------------
+# A real board over USB (cannot run without one).
+upload:
+	@if [ -z "$(SKETCH)" ] || [ ! -f "firmware/$(SKETCH)/$(SKETCH).ino" ]; then \
+	  echo "make upload: SKETCH=<name> is $(if $(SKETCH),unknown ('$(SKETCH)'),missing); sketches: $(SKETCHES)" >&2; exit 2; fi
+	@if [ -z "$(PORT)" ]; then echo "make upload: PORT=<device> is missing (e.g. PORT=/dev/ttyACM0); sketches: $(SKETCHES)" >&2; exit 2; fi
+	@if [ ! -e "$(PORT)" ]; then echo "make upload: PORT '$(PORT)' does not exist (is the Mega plugged in? try ls /dev/ttyACM* /dev/ttyUSB*)" >&2; exit 2; fi
+	@bash tools/build_firmware.sh $(SKETCH)
+	avrdude -c wiring -p m2560 -P $(PORT) -b 115200 -D -U flash:w:$(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.hex:i
+
+monitor:
+	@if [ -z "$(PORT)" ]; then echo "make monitor: PORT=<device> is missing (e.g. PORT=/dev/ttyACM0)" >&2; exit 2; fi
+	@if [ ! -e "$(PORT)" ]; then echo "make monitor: PORT '$(PORT)' does not exist (is the Mega plugged in?)" >&2; exit 2; fi
+	$(PY) -m serial.tools.miniterm --eol CRLF --raw $(PORT) 9600
+
+clean:
+	rm -rf $(BUILD)
+

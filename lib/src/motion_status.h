@@ -1,0 +1,71 @@
+/* motion_status.h - one status type for every lib/ module, and one function that turns a status
+ * into a sentence (shared by the sketches' "ERR <reason>" replies and motionsim's messages).
+ *
+ * Add a status by adding one X(...) line to MOTION_STATUS_LIST, in its module's group.
+ * On AVR the sentences live in flash (PROGMEM), so they cost no SRAM; use motion_status_copy()
+ * to get one into a RAM buffer on either platform. Cost: a table lookup and a string copy.
+ */
+#ifndef MOTION_STATUS_H
+#define MOTION_STATUS_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MOTION_STATUS_LIST(X)                                                                  \
+    X(MS_OK, "ok")                                                                             \
+    /* generic */                                                                              \
+    X(MS_ERR_NULL, "a required argument is missing (NULL pointer)")                            \
+    X(MS_ERR_NOT_FINITE, "a parameter is NaN or infinite")                                     \
+    X(MS_ERR_BUFFER_TOO_SMALL, "the caller's buffer is too small for these parameters")       \
+    /* stepper ramps */                                                                        \
+    X(MS_ERR_ACCEL_NOT_POSITIVE, "acceleration must be greater than 0 steps/s^2")              \
+    X(MS_ERR_V0_NEGATIVE, "minimum speed v0 must not be negative")                             \
+    X(MS_ERR_VMAX_NOT_ABOVE_V0, "maximum speed vmax must be greater than minimum speed v0")    \
+    X(MS_ERR_TICK_HZ_ZERO, "tick rate F must be greater than 0 ticks/s")                       \
+    X(MS_ERR_INTERVAL_TOO_LONG, "a step interval would exceed 2^32-1 timer ticks")             \
+    X(MS_ERR_LEN_TOO_SHORT, "table length must be at least 2")                                 \
+    X(MS_ERR_FMAX_NOT_ABOVE_FMIN, "fmax must be greater than fmin")                            \
+    X(MS_ERR_FMIN_TOO_LOW, "fmin is below timer_hz/65535: its period does not fit 16 bits")    \
+    X(MS_ERR_PERIOD_OUT_OF_RANGE, "a timer period is outside 1..65535 ticks")                  \
+    X(MS_ERR_HOLD_ZERO, "each table entry must be held for at least 1 timer period")           \
+    X(MS_ERR_FLEX_NOT_POSITIVE, "S-curve flexibility must be greater than 0")                  \
+    /* acceleration/deceleration filters */                                                    \
+    X(MS_ERR_TS_NOT_POSITIVE, "sample time Ts must be greater than 0 s")                       \
+    X(MS_ERR_TAU_BELOW_TS, "time constant tau must be at least one sample time Ts")            \
+    X(MS_ERR_TAU_NOT_MULTIPLE, "tau/Ts must be a whole number of samples")                     \
+    X(MS_ERR_TOO_MANY_TAPS, "tau/Ts needs more taps than the buffer holds")                    \
+    X(MS_ERR_QUANTUM_NOT_POSITIVE, "input quantum must be greater than 0")                     \
+    X(MS_ERR_INPUT_OUT_OF_RANGE, "input is outside the filter's range")                        \
+    /* P and PID control */                                                                    \
+    X(MS_ERR_GAIN_NEGATIVE, "gains must not be negative")                                      \
+    X(MS_ERR_LIMITS_ORDER, "output minimum must be less than output maximum")                  \
+    X(MS_ERR_SAMPLE_TIME, "sample time must be greater than 0 ms")                             \
+    /* serial command lines (sketches) */                                                      \
+    X(MS_ERR_LINE_TOO_LONG, "line too long")                                                   \
+    X(MS_ERR_BINARY, "line contains a non-printable byte")                                     \
+    X(MS_ERR_NOT_A_NUMBER, "not a number")                                                     \
+    X(MS_ERR_OUT_OF_RANGE, "number out of range")                                              \
+    X(MS_ERR_UNKNOWN_COMMAND, "unknown command")                                               \
+    X(MS_ERR_BUSY, "busy: a move is in progress")
+
+#define MOTION_STATUS_ENUM_ITEM(id, text) id,
+typedef enum { MOTION_STATUS_LIST(MOTION_STATUS_ENUM_ITEM) MS__COUNT } motion_status_t;
+#undef MOTION_STATUS_ENUM_ITEM
+
+/* The sentence for a status. On AVR the pointer is a PROGMEM address (read it with
+ * pgm_read_byte or print it as a __FlashStringHelper); on the host an ordinary string.
+ * An unknown value gives "unknown status". */
+const char *motion_status_text(motion_status_t s);
+
+/* Copies the sentence into buf (always NUL-terminated, truncated to n-1 characters) on any
+ * platform. Returns the number of characters copied. */
+size_t motion_status_copy(motion_status_t s, char *buf, size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

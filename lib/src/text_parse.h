@@ -1,0 +1,41 @@
+/* text_parse.h - strict parsing of the words and numbers in a command line (sketch serial
+ * protocols). Pure logic, no stdio. A number must be the whole word: "12", "-7", "2.5", "1e3";
+ * "12abc", "", "1.2.3", "nan", "inf" and overflowing values are rejected with a status, and the
+ * output is left untouched on error. Cost: a few hundred cycles per number on the AVR.
+ */
+#ifndef TEXT_PARSE_H
+#define TEXT_PARSE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "motion_status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Skips leading blanks, then copies the next blank-separated word of *cursor into word
+ * (NUL-terminated, at most n-1 characters) and advances *cursor past it. Returns the word's
+ * length, 0 at the end of the text, or -1 when the word does not fit (it is then skipped). */
+int text_next_word(const char **cursor, char *word, size_t n);
+
+/* True when only blanks remain at cursor. */
+int text_at_end(const char *cursor);
+
+/* Whole-word integer in [lo, hi]: optional sign, decimal digits only.
+ * MS_ERR_NOT_A_NUMBER, MS_ERR_OUT_OF_RANGE, or MS_OK. */
+motion_status_t text_parse_int32(const char *word, int32_t lo, int32_t hi, int32_t *out);
+
+/* Whole-word decimal number in [lo, hi]: [sign] digits [. digits] [e [sign] digits], at least
+ * one digit in the mantissa; finite. MS_ERR_NOT_A_NUMBER, MS_ERR_OUT_OF_RANGE, or MS_OK. */
+motion_status_t text_parse_real(const char *word, double lo, double hi, double *out);
+
+/* Case-sensitive word equality, for command names. */
+int text_word_is(const char *word, const char *name);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,9 @@
+/* sim/cmd_filter.c - placeholder until this subcommand lands. */
+#include "cli.h"
+#include "commands.h"
+
+int cmd_filter(int argc, char **argv)
+{
+    (void)argc;
+    return cli_error(argv[0], "not implemented yet");
+}

@@ -1,0 +1,216 @@
+/* Unit tests: motion_status, line_reader and text_parse - the pieces every sketch uses to turn
+ * Serial Monitor input into commands, and to explain a rejection ("ERR <reason>"). */
+#include "cmocka_all.h"
+
+#include <string.h>
+
+#include "line_reader.h"
+#include "motion_status.h"
+#include "text_parse.h"
+
+/* ---- motion_status ---- */
+static void status_every_code_has_a_distinct_sentence(void **state)
+{
+    int i, j;
+    (void)state;
+    for (i = 0; i < MS__COUNT; i++) {
+        const char *a = motion_status_text((motion_status_t)i);
+        assert_non_null(a);
+        assert_true(strlen(a) > 1);
+        for (j = 0; j < i; j++)
+            assert_string_not_equal(a, motion_status_text((motion_status_t)j));
+    }
+    assert_string_equal(motion_status_text((motion_status_t)MS__COUNT), "unknown status");
+}
+
+static void status_copy_truncates_and_terminates(void **state)
+{
+    char buf[8];
+    (void)state;
+    memset(buf, 'x', sizeof buf);
+    assert_int_equal(motion_status_copy(MS_ERR_UNKNOWN_COMMAND, buf, sizeof buf), 7);
+    assert_string_equal(buf, "unknown");
+    assert_int_equal(motion_status_copy(MS_OK, buf, sizeof buf), 2);
+    assert_string_equal(buf, "ok");
+    assert_int_equal(motion_status_copy(MS_OK, NULL, 4), 0);
+}
+
+/* ---- line_reader ---- */
+static int feed(line_reader_t *r, const char *bytes, size_t n, char lines[][48], int *errors, motion_status_t *last_err)
+{
+    int count = 0;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        motion_status_t e = MS_OK;
+        line_event_t ev = line_reader_feed(r, (uint8_t)bytes[i], &e);
+        if (ev == LINE_READY)
+            strcpy(lines[count++], r->line);
+        else if (ev == LINE_ERROR) {
+            (*errors)++;
+            *last_err = e;
+        }
+    }
+    return count;
+}
+
+static void line_endings_cr_lf_crlf_all_end_one_line(void **state)
+{
+    line_reader_t r;
+    char lines[8][48];
+    int errors = 0;
+    motion_status_t err = MS_OK;
+    const char in[] = "100\r200\n300\r\n\r\n\n-5\r\n";
+    (void)state;
+    line_reader_init(&r);
+    assert_int_equal(feed(&r, in, sizeof in - 1, lines, &errors, &err), 4);
+    assert_string_equal(lines[0], "100");
+    assert_string_equal(lines[1], "200");
+    assert_string_equal(lines[2], "300");
+    assert_string_equal(lines[3], "-5");
+    assert_int_equal(errors, 0);
+}
+
+static void long_line_without_newline_gives_one_error_and_no_command(void **state)
+{
+    line_reader_t r;
+    char lines[4][48];
+    char big[1024];
+    int errors = 0;
+    motion_status_t err = MS_OK;
+    (void)state;
+    memset(big, '7', sizeof big);
+    line_reader_init(&r);
+    assert_int_equal(feed(&r, big, sizeof big, lines, &errors, &err), 0);
+    assert_int_equal(errors, 1);
+    assert_int_equal(err, MS_ERR_LINE_TOO_LONG);
+    /* its terminator ends the discarded line; the next line is clean */
+    assert_int_equal(feed(&r, "\n42\n", 4, lines, &errors, &err), 1);
+    assert_string_equal(lines[0], "42");
+    assert_int_equal(errors, 1);
+}
+
+static void line_of_exactly_max_length_is_accepted(void **state)
+{
+    line_reader_t r;
+    char lines[2][48];
+    char in[LINE_READER_MAX + 2];
+    int errors = 0;
+    motion_status_t err = MS_OK;
+    (void)state;
+    memset(in, 'a', LINE_READER_MAX);
+    in[LINE_READER_MAX] = '\n';
+    line_reader_init(&r);
+    assert_int_equal(feed(&r, in, LINE_READER_MAX + 1, lines, &errors, &err), 1);
+    assert_int_equal(strlen(lines[0]), LINE_READER_MAX);
+    assert_int_equal(errors, 0);
+}
+
+static void binary_bytes_give_one_error_per_line(void **state)
+{
+    line_reader_t r;
+    char lines[4][48];
+    int errors = 0;
+    motion_status_t err = MS_OK;
+    const char in[] = "12\x00\xff\x01" "34\r\n" "?\r\n";
+    (void)state;
+    line_reader_init(&r);
+    assert_int_equal(feed(&r, in, sizeof in - 1, lines, &errors, &err), 1);
+    assert_int_equal(errors, 1);
+    assert_int_equal(err, MS_ERR_BINARY);
+    assert_string_equal(lines[0], "?");
+}
+
+/* ---- text_parse ---- */
+static void int32_accepts_whole_words_and_full_range(void **state)
+{
+    int32_t v = 0;
+    (void)state;
+    assert_int_equal(text_parse_int32("0", INT32_MIN, INT32_MAX, &v), MS_OK);
+    assert_int_equal(v, 0);
+    assert_int_equal(text_parse_int32("-50", INT32_MIN, INT32_MAX, &v), MS_OK);
+    assert_int_equal(v, -50);
+    assert_int_equal(text_parse_int32("+2147483647", INT32_MIN, INT32_MAX, &v), MS_OK);
+    assert_int_equal(v, INT32_MAX);
+    assert_int_equal(text_parse_int32("-2147483648", INT32_MIN, INT32_MAX, &v), MS_OK);
+    assert_int_equal(v, INT32_MIN);
+}
+
+static void int32_rejects_junk_and_overflow_without_touching_output(void **state)
+{
+    int32_t v = 1234;
+    (void)state;
+    assert_int_equal(text_parse_int32("2147483648", INT32_MIN, INT32_MAX, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(text_parse_int32("-2147483649", INT32_MIN, INT32_MAX, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(text_parse_int32("99999999999999999999", INT32_MIN, INT32_MAX, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(text_parse_int32("12abc", INT32_MIN, INT32_MAX, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_int32("99999999999999x", INT32_MIN, INT32_MAX, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_int32("", INT32_MIN, INT32_MAX, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_int32("-", INT32_MIN, INT32_MAX, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_int32("1.5", INT32_MIN, INT32_MAX, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_int32("101", -100, 100, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(v, 1234);
+}
+
+static void real_accepts_decimal_forms(void **state)
+{
+    double v = 0;
+    (void)state;
+    assert_int_equal(text_parse_real("2.5", 0, 10, &v), MS_OK);
+    assert_true(v == 2.5);
+    assert_int_equal(text_parse_real("-.5", -1, 1, &v), MS_OK);
+    assert_true(v == -0.5);
+    assert_int_equal(text_parse_real("1e3", 0, 1e4, &v), MS_OK);
+    assert_true(v == 1000.0);
+    assert_int_equal(text_parse_real("7.", 0, 10, &v), MS_OK);
+    assert_true(v == 7.0);
+}
+
+static void real_rejects_junk_nan_inf_hex_and_range(void **state)
+{
+    double v = 42;
+    (void)state;
+    const char *bad[] = {"", ".", "-", "nan", "inf", "-inf", "0x10", "1.2.3", "1e", "1e+", " 1", "1 ", "e5", "abc"};
+    size_t i;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        assert_int_equal(text_parse_real(bad[i], -1e9, 1e9, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_real("1e999", -1e9, 1e9, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(text_parse_real("5.01", 0, 5, &v), MS_ERR_OUT_OF_RANGE);
+    assert_true(v == 42);
+}
+
+static void words_split_on_blanks(void **state)
+{
+    const char *cur = "  set\tvmax  20 ";
+    char w[8];
+    (void)state;
+    assert_int_equal(text_next_word(&cur, w, sizeof w), 3);
+    assert_true(text_word_is(w, "set"));
+    assert_int_equal(text_next_word(&cur, w, sizeof w), 4);
+    assert_true(text_word_is(w, "vmax"));
+    assert_false(text_word_is(w, "vma"));
+    assert_false(text_at_end(cur));
+    assert_int_equal(text_next_word(&cur, w, sizeof w), 2);
+    assert_true(text_at_end(cur));
+    assert_int_equal(text_next_word(&cur, w, sizeof w), 0);
+    cur = "waytoolongword x";
+    assert_int_equal(text_next_word(&cur, w, sizeof w), -1);
+    assert_int_equal(text_next_word(&cur, w, sizeof w), 1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(status_every_code_has_a_distinct_sentence),
+        cmocka_unit_test(status_copy_truncates_and_terminates),
+        cmocka_unit_test(line_endings_cr_lf_crlf_all_end_one_line),
+        cmocka_unit_test(long_line_without_newline_gives_one_error_and_no_command),
+        cmocka_unit_test(line_of_exactly_max_length_is_accepted),
+        cmocka_unit_test(binary_bytes_give_one_error_per_line),
+        cmocka_unit_test(int32_accepts_whole_words_and_full_range),
+        cmocka_unit_test(int32_rejects_junk_and_overflow_without_touching_output),
+        cmocka_unit_test(real_accepts_decimal_forms),
+        cmocka_unit_test(real_rejects_junk_nan_inf_hex_and_range),
+        cmocka_unit_test(words_split_on_blanks),
+    };
+    return cmocka_run_group_tests_name("serial_text", tests, NULL, NULL);
+}

@@ -1,0 +1,142 @@
+#!/usr/bin/env bash
+# tools/setup.sh - install everything this project needs on Debian 12 (what `make setup` runs).
+#
+# Idempotent: every step checks first and only acts when something is missing. Each step prints
+# one line; a step that cannot be done stops the script with one line saying what is missing.
+# Sources are package registries only: Debian packages, PyPI and the Go module proxy. Arduino's
+# download servers are never contacted.
+#
+#   1. Debian packages (apt-get; sudo when not root)
+#   2. Python virtual environment .venv with the pinned requirements.txt
+#   3. arduino-cli: one >= 0.35 on PATH is used; otherwise v0.35.3 is built from the Go module
+#      proxy into .tools/bin (a Go >= 1.21 toolchain is fetched from the proxy too if needed)
+#   4. arduino-cli data/user directories with Debian's AVR core linked in
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+cd "$ROOT"
+TOOLS="$ROOT/.tools"
+ARDUINO_CLI_VERSION=0.35.3
+GO_TOOLCHAIN=go1.22.12
+
+step() { printf '==> %s\n' "$*"; }
+ok()   { printf '    %s\n' "$*"; }
+die()  { printf 'setup: %s\n' "$*" >&2; exit 1; }
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null 2>&1 || die "not root and sudo is missing: run 'make setup' as root or install sudo"
+    SUDO="sudo"
+fi
+
+# --- 1. Debian packages ------------------------------------------------------------------
+DEB_PACKAGES=(
+    make gcc libc6-dev git ca-certificates  # host build of motionsim, tests, the emulator harness
+    gcc-avr avr-libc binutils-avr           # AVR compiler and C library
+    arduino-core-avr arduino-ctags          # the Arduino AVR core as Debian packages it
+    avrdude                                 # flashing a real Mega (make upload)
+    simavr libsimavr-dev libelf-dev         # ATmega2560 emulator library (emulator tests)
+    libcmocka-dev                           # unit-test framework
+    python3 python3-venv                    # plots, spreadsheet, CLI tests
+)
+step "Debian packages: ${DEB_PACKAGES[*]}"
+command -v dpkg-query >/dev/null 2>&1 || die "dpkg-query not found: this script needs Debian 12 (or install the packages listed above by hand)"
+missing=()
+for p in "${DEB_PACKAGES[@]}"; do
+    status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+    [ "$status" = "install ok installed" ] || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+    ok "all installed"
+else
+    ok "installing: ${missing[*]}"
+    command -v apt-get >/dev/null 2>&1 || die "apt-get not found; missing Debian packages: ${missing[*]}"
+    $SUDO apt-get update -qq || die "apt-get update failed (is the Debian mirror reachable?)"
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null \
+        || die "apt-get could not install: ${missing[*]}"
+    ok "installed"
+fi
+
+# --- 2. Python virtual environment -----------------------------------------------------
+step "Python virtual environment .venv (requirements.txt, pinned)"
+if [ ! -x .venv/bin/python ]; then
+    python3 -m venv .venv || die "python3 -m venv failed: the Debian package python3-venv is missing"
+fi
+stamp=.venv/.requirements.installed
+if [ -f "$stamp" ] && cmp -s requirements.txt "$stamp"; then
+    ok "up to date"
+else
+    .venv/bin/pip install --disable-pip-version-check -q -r requirements.txt \
+        || die "pip could not install requirements.txt from PyPI"
+    cp requirements.txt "$stamp"
+    ok "installed"
+fi
+
+# --- 3. arduino-cli ---------------------------------------------------------------------
+version_ge() { # version_ge A B: true when A >= B (dotted numbers)
+    [ "$(printf '%s\n%s\n' "$2" "$1" | sort -V | head -n1)" = "$2" ]
+}
+cli_version() { # prints the version number an arduino-cli binary reports, or nothing
+    "$1" version 2>/dev/null | sed -n 's/.*Version: *\([0-9][0-9.]*\).*/\1/p' | head -n1
+}
+step "arduino-cli >= 0.35"
+mkdir -p "$TOOLS/bin"
+have=""
+if [ -x "$TOOLS/bin/arduino-cli" ] && version_ge "$(cli_version "$TOOLS/bin/arduino-cli")" 0.35; then
+    have="$TOOLS/bin/arduino-cli"
+elif sys=$(command -v arduino-cli 2>/dev/null) && v=$(cli_version "$sys") && [ -n "$v" ] && version_ge "$v" 0.35; then
+    have="$sys"
+fi
+if [ -n "$have" ]; then
+    ok "using $have ($(cli_version "$have"))"
+else
+    # A Go toolchain >= 1.21 is needed (arduino-cli's go.mod says go 1.21). Debian 12 ships 1.19,
+    # which is still good enough to fetch a newer toolchain from the Go module proxy.
+    GO=""
+    for g in "$TOOLS/go/bin/go" "$(command -v go 2>/dev/null || true)"; do
+        [ -n "$g" ] && [ -x "$g" ] || continue
+        gv=$("$g" env GOVERSION 2>/dev/null | sed 's/^go//')
+        if [ -n "$gv" ] && version_ge "$gv" 1.21; then GO="$g"; break; fi
+    done
+    if [ -z "$GO" ]; then
+        if ! command -v go >/dev/null 2>&1; then
+            ok "installing Debian's golang-go to bootstrap a newer Go"
+            $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq golang-go >/dev/null \
+                || die "no Go toolchain: apt-get could not install golang-go"
+        fi
+        ok "fetching Go toolchain $GO_TOOLCHAIN from the Go module proxy"
+        tdir=$(cd /tmp && GO111MODULE=on GOFLAGS=-mod=mod go mod download -json "golang.org/toolchain@v0.0.1-$GO_TOOLCHAIN.linux-$(go env GOARCH)" \
+               | sed -n 's/.*"Dir": *"\(.*\)".*/\1/p')
+        [ -n "$tdir" ] && [ -d "$tdir" ] || die "the Go module proxy did not serve golang.org/toolchain $GO_TOOLCHAIN"
+        rm -rf "$TOOLS/go" && cp -r "$tdir" "$TOOLS/go" && chmod -R u+w "$TOOLS/go"
+        chmod +x "$TOOLS"/go/bin/* "$TOOLS"/go/pkg/tool/*/*
+        GO="$TOOLS/go/bin/go"
+    fi
+    ok "building arduino-cli $ARDUINO_CLI_VERSION from the Go module proxy with $GO (about a minute)"
+    src=$(cd /tmp && GO111MODULE=on GOFLAGS=-mod=mod GOTOOLCHAIN=local "$GO" mod download -json "github.com/arduino/arduino-cli@v$ARDUINO_CLI_VERSION" \
+          | sed -n 's/.*"Dir": *"\(.*\)".*/\1/p')
+    [ -n "$src" ] && [ -d "$src" ] || die "the Go module proxy did not serve github.com/arduino/arduino-cli@v$ARDUINO_CLI_VERSION"
+    (cd "$src" && GOFLAGS=-buildvcs=false GOTOOLCHAIN=local "$GO" build \
+        -ldflags "-X github.com/arduino/arduino-cli/version.versionString=$ARDUINO_CLI_VERSION" \
+        -o "$TOOLS/bin/arduino-cli" .) || die "building arduino-cli $ARDUINO_CLI_VERSION failed"
+    ok "built $TOOLS/bin/arduino-cli ($(cli_version "$TOOLS/bin/arduino-cli"))"
+fi
+echo "$have" | grep -q . || have="$TOOLS/bin/arduino-cli"
+ln -sfn "$have" "$TOOLS/arduino-cli"   # the one path the Makefile uses
+
+# --- 4. Arduino directories and Debian's AVR core ---------------------------------------
+step "arduino-cli directories (.arduino/) with Debian's AVR core"
+core=/usr/share/arduino/hardware/arduino
+[ -f "$core/avr/platform.txt" ] || die "Debian's AVR core is missing at $core (package arduino-core-avr)"
+mkdir -p .arduino/data .arduino/user/hardware .arduino/staging
+ln -sfn "$core" .arduino/user/hardware/arduino
+# Empty indexes: without them arduino-cli tries to download them on every call.
+[ -f .arduino/data/package_index.json ] || echo '{"packages":[]}' > .arduino/data/package_index.json
+[ -f .arduino/data/library_index.json ] || echo '{"libraries":[]}' > .arduino/data/library_index.json
+if "$TOOLS/arduino-cli" --config-file arduino-cli.yaml core list 2>/dev/null | grep -q '^arduino:avr'; then
+    ok "arduino-cli sees $("$TOOLS/arduino-cli" --config-file arduino-cli.yaml core list 2>/dev/null | awk '/^arduino:avr/{print $1" "$2}')"
+else
+    die "arduino-cli does not see the arduino:avr core in .arduino/user/hardware"
+fi
+
+step "setup complete; next: make test"
