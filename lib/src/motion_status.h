@@ -32,6 +32,10 @@ extern "C" {
     X(MS_ERR_PERIOD_OUT_OF_RANGE, "a timer period is outside 1..65535 ticks")                  \
     X(MS_ERR_HOLD_ZERO, "each table entry must be held for at least 1 timer period")           \
     X(MS_ERR_FLEX_NOT_POSITIVE, "S-curve flexibility must be greater than 0")                  \
+    X(MS_ERR_VMAX_ABOVE_TICK_HZ, "maximum speed vmax must not exceed the tick rate F (1 step per tick)") \
+    X(MS_ERR_V0_ZERO_SIMPLISTIC, "the simplistic ramp needs v0 > 0: its first interval is F/v0")  \
+    X(MS_ERR_TABLE_MISSING, "the S-curve period table is missing or shorter than len")          \
+    X(MS_ERR_DERIVED_PARAM, "derived here from fmin, fmax, len, hold and flex: set those instead") \
     /* acceleration/deceleration filters */                                                    \
     X(MS_ERR_TS_NOT_POSITIVE, "sample time Ts must be greater than 0 s")                       \
     X(MS_ERR_TAU_BELOW_TS, "time constant tau must be at least one sample time Ts")            \

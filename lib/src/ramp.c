@@ -1,0 +1,202 @@
+/* ramp.c - the move planner: dispatches each step to the chosen ramp algorithm (see ramp.h). */
+#include "ramp.h"
+
+const char *ramp_algo_name(ramp_algo_t algo)
+{
+    switch (algo) {
+    case RAMP_ALGO_SIMPLISTIC: return "simplistic";
+    case RAMP_ALGO_LEIB: return "leib";
+    case RAMP_ALGO_EXACT: return "exact";
+    case RAMP_ALGO_SIGMOID: return "sigmoid";
+    default: return "?";
+    }
+}
+
+static void plan_geometry(ramp_t *r, ramp_algo_t algo, int32_t from, int32_t to)
+{
+    r->algo = algo;
+    r->from = from;
+    r->to = to;
+    r->dir = ramp_direction(from, to);
+    r->steps_total = ramp_distance(from, to);
+    r->steps_done = 0;
+    r->level = 0;
+}
+
+motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, int32_t from, int32_t to)
+{
+    ramp_t n;
+    motion_status_t st;
+    if (r == 0 || params == 0)
+        return MS_ERR_NULL;
+    plan_geometry(&n, algo, from, to);
+    switch (algo) {
+    case RAMP_ALGO_SIMPLISTIC:
+        st = ramp_simplistic_plan(&n.u.simplistic, params, n.steps_total);
+        n.accel_steps = n.u.simplistic.accel_steps;
+        n.peak_level = n.accel_steps + 1U;
+        break;
+    case RAMP_ALGO_LEIB:
+        st = ramp_leib_plan(&n.u.leib, params, n.steps_total);
+        n.accel_steps = n.u.leib.accel_steps;
+        n.peak_level = n.accel_steps;
+        break;
+    case RAMP_ALGO_EXACT:
+        st = ramp_exact_plan(&n.u.exact, params, n.steps_total);
+        n.accel_steps = 0; /* phases come from the exact positions (ramp_exact_phase) */
+        n.peak_level = 0;
+        break;
+    default:
+        return MS_ERR_UNKNOWN_COMMAND;
+    }
+    if (st != MS_OK)
+        return st;
+    *r = n;
+    return MS_OK;
+}
+
+motion_status_t ramp_plan_sigmoid(ramp_t *r, const ramp_sigmoid_params_t *p, const uint16_t *table,
+                                  uint16_t table_len, int32_t from, int32_t to)
+{
+    ramp_t n;
+    motion_status_t st;
+    if (r == 0 || p == 0)
+        return MS_ERR_NULL;
+    plan_geometry(&n, RAMP_ALGO_SIGMOID, from, to);
+    st = ramp_sigmoid_plan(&n.u.sigmoid, p, table, table_len);
+    if (st != MS_OK)
+        return st;
+    n.accel_steps = ramp_sigmoid_accel_steps(p);
+    n.peak_level = 0;
+    *r = n;
+    return MS_OK;
+}
+
+uint32_t ramp_steps_left(const ramp_t *r)
+{
+    return r->steps_total - r->steps_done;
+}
+
+/* whether the level rose, fell or stayed: the phase of the interval update */
+static ramp_phase_t level_change(ramp_t *r, uint32_t n)
+{
+    uint32_t lv = ramp_level(r->steps_total, r->peak_level, n);
+    ramp_phase_t ph = lv > r->level ? RAMP_ACCEL : (lv < r->level ? RAMP_DECEL : RAMP_CRUISE);
+    r->level = lv;
+    return ph;
+}
+
+static uint32_t ticks_from_double(double t)
+{
+    if (!(t > 0.0))
+        return 0;
+    if (t >= 4294967295.0)
+        return UINT32_MAX;
+    return (uint32_t)(t + 0.5);
+}
+
+uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
+{
+    uint32_t n;
+    if (r->steps_done >= r->steps_total)
+        return 0;
+    n = ++r->steps_done;
+    s->step = n;
+    s->position = ramp_position_after(r->from, r->dir, n);
+    switch (r->algo) {
+    case RAMP_ALGO_SIMPLISTIC: {
+        float p;
+        if (n == 1) {
+            r->level = ramp_level(r->steps_total, r->peak_level, 1);
+            p = r->u.simplistic.p;
+        } else {
+            p = ramp_simplistic_update(&r->u.simplistic, level_change(r, n));
+        }
+        s->interval_ticks = p;
+        s->whole_ticks = ramp_ticks_from_float(p);
+        s->phase = ramp_phase_label(r->steps_total, r->accel_steps, n);
+        break;
+    }
+    case RAMP_ALGO_LEIB: {
+        float p;
+        if (n == 1) {
+            r->level = ramp_level(r->steps_total, r->peak_level, 1);
+            p = r->u.leib.p;
+        } else {
+            p = ramp_leib_update(&r->u.leib, level_change(r, n));
+        }
+        s->interval_ticks = p;
+        s->whole_ticks = ramp_ticks_from_float(p);
+        s->phase = ramp_phase_label(r->steps_total, r->accel_steps, n);
+        break;
+    }
+    case RAMP_ALGO_EXACT:
+        s->interval_ticks = ramp_exact_interval_s(&r->u.exact, n) * r->u.exact.tick_hz;
+        s->whole_ticks = ticks_from_double(s->interval_ticks);
+        s->phase = ramp_exact_phase(&r->u.exact, n);
+        break;
+    case RAMP_ALGO_SIGMOID: {
+        uint32_t from_end = r->steps_total - n + 1U;
+        uint32_t k = n < from_end ? n : from_end;
+        uint32_t kold = r->u.sigmoid.k;
+        uint16_t period;
+        if (k > kold)
+            period = ramp_sigmoid_move_k(&r->u.sigmoid, 1);
+        else if (k < kold)
+            period = ramp_sigmoid_move_k(&r->u.sigmoid, -1);
+        else
+            period = ramp_sigmoid_move_k(&r->u.sigmoid, 0);
+        s->interval_ticks = period;
+        s->whole_ticks = period;
+        s->phase = ramp_phase_label(r->steps_total, r->accel_steps, n);
+        break;
+    }
+    default:
+        s->interval_ticks = 0;
+        s->whole_ticks = 0;
+        s->phase = RAMP_IDLE;
+        break;
+    }
+    return 1;
+}
+
+uint32_t ramp_skip_cruise(ramp_t *r)
+{
+    uint32_t d = r->steps_total, done = r->steps_done, target;
+    switch (r->algo) {
+    case RAMP_ALGO_SIMPLISTIC:
+    case RAMP_ALGO_LEIB: {
+        uint32_t k = r->peak_level;
+        /* flat region: the steps whose level is K, i.e. K <= n <= D + 1 - K (all steps if K = 0) */
+        if (done == 0 || k > d / 2U || done < k || r->level != k)
+            return 0;
+        target = d - k; /* the next step, D + 1 - K, is the last flat one */
+        break;
+    }
+    case RAMP_ALGO_EXACT: {
+        double last_cruise = (double)d - r->u.exact.x_accel + 0.5; /* largest n with n - 1/2 <= D - x_a */
+        uint32_t nc;
+        if (done == 0 || ramp_exact_phase(&r->u.exact, done) != RAMP_CRUISE || last_cruise < 1.0)
+            return 0;
+        nc = (uint32_t)last_cruise;
+        target = nc - 1U;
+        break;
+    }
+    case RAMP_ALGO_SIGMOID: {
+        /* cruise: the steps after the len*hold accelerating ones and before as many decelerating */
+        uint32_t a = r->accel_steps, from_end;
+        if (done == 0 || done < a || a > d / 2U || done + 1U >= d - a)
+            return 0;
+        target = d - a - 1U; /* the next step, D - A, is the last cruise step */
+        from_end = d + 1U - target;
+        (void)ramp_sigmoid_set_k(&r->u.sigmoid, target < from_end ? target : from_end);
+        break;
+    }
+    default:
+        return 0;
+    }
+    if (target <= done)
+        return 0;
+    r->steps_done = target;
+    return target - done;
+}

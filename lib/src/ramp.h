@@ -1,0 +1,88 @@
+/* ramp.h - the move planner every stepper sketch and `motionsim ramp` use: give it the start and
+ * target positions and an algorithm (simplistic, Leib, exact: ramp_params_t; sigmoid S-curve:
+ * a seed-001 table), then ask it step by step for the interval to the next step and the phase.
+ *
+ *   ramp_t r; ramp_step_t s;
+ *   if (ramp_plan(&r, RAMP_ALGO_LEIB, &params, from, to) != MS_OK) ... reject, nothing changed
+ *   while (ramp_next(&r, &s)) ... wait s.whole_ticks timer ticks, then step (s.position)
+ *
+ * Each step reports the algorithm's own interval (float for simplistic and Leib, as the Mega
+ * computes it; double for exact; the integer period for sigmoid) and whole_ticks, the interval as
+ * a timer counts it (ramp_ticks_from_float: nearest whole tick). Distances up to 2^32 - 1 steps
+ * (INT32_MIN -> INT32_MAX); see ramp_common.h for the step-time convention and the symmetric
+ * placement of acceleration and deceleration. Cost on the AVR: that of the algorithm plus ~100
+ * cycles of bookkeeping per step.
+ */
+#ifndef RAMP_H
+#define RAMP_H
+
+#include <stdint.h>
+
+#include "motion_status.h"
+#include "ramp_common.h"
+#include "ramp_exact.h"
+#include "ramp_leib.h"
+#include "ramp_sigmoid.h"
+#include "ramp_simplistic.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum { RAMP_ALGO_SIMPLISTIC = 0, RAMP_ALGO_LEIB, RAMP_ALGO_EXACT, RAMP_ALGO_SIGMOID } ramp_algo_t;
+
+/* "simplistic", "leib", "exact", "sigmoid" ("?" for anything else). */
+const char *ramp_algo_name(ramp_algo_t algo);
+
+typedef struct {
+    uint32_t step;         /* n, 1..D */
+    int32_t position;      /* position after this step */
+    double interval_ticks; /* t_n - t_(n-1) as the algorithm computes it, ticks */
+    uint32_t whole_ticks;  /* the same, rounded to the nearest whole tick: what a timer counts */
+    ramp_phase_t phase;
+} ramp_step_t;
+
+typedef struct {
+    ramp_algo_t algo;
+    int32_t from;
+    int32_t to;
+    int8_t dir;            /* +1, -1, or 0 for a zero-length move */
+    uint32_t steps_total;  /* D */
+    uint32_t steps_done;   /* steps handed out so far */
+    uint32_t peak_level;   /* K of ramp_level (Leib S, simplistic S + 1) */
+    uint32_t level;        /* c(n) of the last step handed out */
+    uint32_t accel_steps;  /* steps labelled "accel" (and as many "decel") */
+    union {
+        ramp_simplistic_t simplistic;
+        ramp_leib_t leib;
+        ramp_exact_t exact;
+        ramp_sigmoid_t sigmoid;
+    } u;
+} ramp_t;
+
+/* Plans a move with the simplistic, Leib or exact ramp. On error (bad parameters, an algorithm
+ * that is not one of these three) *r is untouched. A zero-length move is valid: it has no steps. */
+motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, int32_t from, int32_t to);
+
+/* Plans a move through a sigmoid table filled by ramp_sigmoid_fill (table_len entries, at
+ * least p->len). The table must stay unchanged until the move ends. */
+motion_status_t ramp_plan_sigmoid(ramp_t *r, const ramp_sigmoid_params_t *p, const uint16_t *table,
+                                  uint16_t table_len, int32_t from, int32_t to);
+
+/* Hands out the next step: 1 and *s filled, or 0 when the move is complete. */
+uint8_t ramp_next(ramp_t *r, ramp_step_t *s);
+
+/* Steps still to come. */
+uint32_t ramp_steps_left(const ramp_t *r);
+
+/* When the move is in its cruise, jumps over all cruise steps but the last (they all have the
+ * same interval), so a long move's deceleration can be examined without stepping through the
+ * cruise. Returns the number of steps skipped (0 when not in cruise). For tests and summaries;
+ * a sketch steps every step. */
+uint32_t ramp_skip_cruise(ramp_t *r);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

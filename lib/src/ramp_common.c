@@ -1,0 +1,105 @@
+/* ramp_common.c - shared move geometry and parameter checks of the stepper ramps (see ramp_common.h). */
+#include "ramp_common.h"
+
+#include <math.h>
+
+/* True for finite x: x - x is 0 for every finite value and NaN for NaN and +-inf. */
+static int ramp_is_finite(double x)
+{
+    return (x - x) == 0.0;
+}
+
+const char *ramp_phase_name(ramp_phase_t phase)
+{
+    switch (phase) {
+    case RAMP_ACCEL: return "accel";
+    case RAMP_CRUISE: return "cruise";
+    case RAMP_DECEL: return "decel";
+    default: return "idle";
+    }
+}
+
+motion_status_t ramp_params_check(const ramp_params_t *p)
+{
+    if (p == 0)
+        return MS_ERR_NULL;
+    if (!ramp_is_finite(p->v0_sps) || !ramp_is_finite(p->vmax_sps) || !ramp_is_finite(p->accel_sps2))
+        return MS_ERR_NOT_FINITE;
+    if (!(p->accel_sps2 > 0.0))
+        return MS_ERR_ACCEL_NOT_POSITIVE;
+    if (p->v0_sps < 0.0)
+        return MS_ERR_V0_NEGATIVE;
+    if (!(p->vmax_sps > p->v0_sps))
+        return MS_ERR_VMAX_NOT_ABOVE_V0;
+    if (p->tick_hz == 0)
+        return MS_ERR_TICK_HZ_ZERO;
+    if (p->vmax_sps > (double)p->tick_hz)
+        return MS_ERR_VMAX_ABOVE_TICK_HZ;
+    return MS_OK;
+}
+
+uint32_t ramp_distance(int32_t from, int32_t to)
+{
+    /* modulo-2^32 difference of the two's-complement bit patterns: exact for any pair */
+    return to >= from ? (uint32_t)to - (uint32_t)from : (uint32_t)from - (uint32_t)to;
+}
+
+int8_t ramp_direction(int32_t from, int32_t to)
+{
+    return to > from ? 1 : (to < from ? -1 : 0);
+}
+
+int32_t ramp_position_after(int32_t from, int8_t dir, uint32_t n)
+{
+    uint32_t u = (uint32_t)from;
+    u = dir < 0 ? u - n : (dir > 0 ? u + n : u);
+    /* the result lies between from and to, so it is a valid int32: convert without overflow */
+    return u <= (uint32_t)INT32_MAX ? (int32_t)u : -(int32_t)(~u) - 1;
+}
+
+uint32_t ramp_level(uint32_t steps_total, uint32_t peak_level, uint32_t n)
+{
+    uint32_t from_end = steps_total - n + 1U; /* n >= 1, so no wrap even for D = 2^32 - 1 */
+    uint32_t c = n < from_end ? n : from_end;
+    return c < peak_level ? c : peak_level;
+}
+
+ramp_phase_t ramp_phase_label(uint32_t steps_total, uint32_t accel_steps, uint32_t n)
+{
+    uint32_t a = accel_steps < steps_total / 2U ? accel_steps : steps_total / 2U;
+    if (n <= a)
+        return RAMP_ACCEL;
+    if (n > steps_total - a)
+        return RAMP_DECEL;
+    return RAMP_CRUISE;
+}
+
+void ramp_accel_steps(float v0_sps, float vmax_sps, float accel_sps2, uint32_t steps_total,
+                      float *peak_sps, uint32_t *accel_steps)
+{
+    /* step 1: eq. (3) */
+    float s = (vmax_sps * vmax_sps - v0_sps * v0_sps) / (2.0f * accel_sps2);
+    float total = (float)steps_total;
+    if (2.0f * s > total) {
+        /* step 2: eqs. (4) and (5) */
+        *peak_sps = sqrtf(v0_sps * v0_sps + accel_sps2 * total);
+        *accel_steps = steps_total / 2U;
+    } else {
+        uint32_t whole = (uint32_t)s; /* s <= D/2 < 2^31 here: the lab's (long) conversion */
+        *peak_sps = vmax_sps;
+        /* float rounding of D cannot push S past D/2 */
+        *accel_steps = whole < steps_total / 2U ? whole : steps_total / 2U;
+    }
+}
+
+uint32_t ramp_ticks_from_float(float interval_ticks)
+{
+    /* From 2^23 up every float is a whole number. Below, p + 0.5 is exact or rounds only
+     * when p is within half a tick of the next power of two, where truncation still gives the
+     * nearest integer; so this is round-half-up for every p >= 0.5. */
+    if (interval_ticks >= 8388608.0f)
+        return (uint32_t)interval_ticks;
+    if (!(interval_ticks > 0.0f))
+        return 0;
+    return (uint32_t)(interval_ticks + 0.5f);
+}
