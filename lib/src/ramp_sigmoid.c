@@ -1,11 +1,36 @@
 /* ramp_sigmoid.c - seed 001's sigmoid S-curve period table and stepping through it (see ramp_sigmoid.h). */
 #include "ramp_sigmoid.h"
 
-#include <math.h>
 
 static int sig_is_finite(float x)
 {
     return (x - x) == 0.0f;
+}
+
+float ramp_sigmoid_exp(float x)
+{
+    /* e^x = 2^k e^r with k = round(x/ln 2) and r = x - k ln 2 (Cody-Waite: ln 2 split so that
+     * k*LN2_HI is exact), |r| <= 0.35, e^r by its Taylor series to r^7 (remainder < 6e-9) */
+    const float ln2_hi = 0.693145751953125f, ln2_lo = 1.42860677e-06f;
+    float n, r, e;
+    int16_t k;
+    union {
+        float f;
+        uint32_t u;
+    } scale;
+    if (x > 88.5f)
+        return 3.0e38f * 10.0f; /* overflows to +inf, as expf does */
+    if (x < -87.0f)
+        return 0.0f; /* below the normal range */
+    n = x * 1.44269504f;
+    k = (int16_t)(n >= 0.0f ? n + 0.5f : n - 0.5f);
+    r = (x - (float)k * ln2_hi) - (float)k * ln2_lo;
+    e = 1.0f + r * (1.0f + r * (0.5f + r * (1.0f / 6.0f + r * (1.0f / 24.0f +
+        r * (1.0f / 120.0f + r * (1.0f / 720.0f + r * (1.0f / 5040.0f)))))));
+    scale.u = (uint32_t)(k + 127) << 23; /* 2^k, exact; k is within -126..128 here */
+    if (k > 127)
+        return e * 2.0f * 1.70141183e38f; /* 2^128 does not fit one float */
+    return e * scale.f;
 }
 
 float ramp_sigmoid_freq_hz(const ramp_sigmoid_params_t *p, uint16_t i)
@@ -14,7 +39,7 @@ float ramp_sigmoid_freq_hz(const ramp_sigmoid_params_t *p, uint16_t i)
     float len = (float)p->len;
     float half = len / 2.0f;
     float melo = p->flex * ((float)i - half) / half;
-    float deno = 1.0f / (1.0f + expf(-melo));
+    float deno = 1.0f / (1.0f + ramp_sigmoid_exp(-melo));
     return (p->fmax_hz - p->fmin_hz) * deno + p->fmin_hz;
 }
 

@@ -9,8 +9,9 @@
  * uses entry min((k-1)/hold, len-1) for step n, k = min(n, D+1-n), so short moves stop climbing
  * the table half-way and the last step always mirrors the first; between the two ramps the
  * speed stays at the last entry (cruise). Units: Hz = steps/s, periods in timer ticks.
- * Float arithmetic as in the seed; expf is the one operation whose last bit may differ between
- * the host and avr-libc, which can move a truncated period by one tick.
+ * Float arithmetic as in the seed, with one change: exp() is our own ramp_sigmoid_exp (built from
+ * +, -, *, / only), because libm's expf and avr-libc's exp differ in the last bit and that moved
+ * truncated periods by a tick; now the host and the Mega compute the same table, bit for bit.
  * Cost on the AVR: filling the table ~3,000 cycles per entry (once per parameter change);
  * per step an index update and a table read (integer only, tens of cycles).
  */
@@ -39,6 +40,10 @@ typedef struct {
  * fmax > fmin, fmin >= timer_hz/65535 (MS_ERR_FMIN_TOO_LOW: the seed's "fre_min can't be less
  * than 152" at 10 MHz), and every period[i] within 1..65535 (MS_ERR_PERIOD_OUT_OF_RANGE). */
 motion_status_t ramp_sigmoid_check(const ramp_sigmoid_params_t *p);
+
+/* e^x in float from IEEE +, -, *, / only (same bits on every IEEE platform), within 2 ulp of the
+ * true value for normal results; +inf above 88.5, 0 below -87. About 1,500 cycles on the AVR. */
+float ramp_sigmoid_exp(float x);
 
 /* freq[i] by the seed's formula, Hz (no checks). */
 float ramp_sigmoid_freq_hz(const ramp_sigmoid_params_t *p, uint16_t i);

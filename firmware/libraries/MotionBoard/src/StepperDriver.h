@@ -1,0 +1,45 @@
+/* StepperDriver.h - steps one axis through a planned move (lib/src/ramp.h) from Timer1's compare
+ * interrupt (or, with STEPPER_TIMED_LOOP = 1, from loop() on micros(), the lab's original way).
+ *
+ * The interrupt is "simple and dumb": at each step edge it raises STEP, arms the compare for the
+ * next edge with the interval it computed one step earlier (so arming never waits for the float
+ * maths), lowers STEP after the pulse, then asks the ramp for the interval after that (Leib: one
+ * float multiply-add chain). Pins, tick rate and the early-arming/spin scheme: StepperPins.h.
+ * Cost per step (measured in simavr, README "Stepper timing"): the spin before the edge plus the
+ * ramp update; this bounds the step rate each sketch accepts (StepperConsole's max_sps).
+ * Shared state is volatile and read with interrupts off (ATOMIC_BLOCK).
+ */
+#ifndef STEPPER_DRIVER_H
+#define STEPPER_DRIVER_H
+
+#include <stdint.h>
+
+#include <ramp.h>
+
+#include "StepperPins.h"
+
+class StepperDriver {
+public:
+    /* Pins as outputs (STEP low, DIR high, ENABLE low = on, LED), Timer1 free-running at F. */
+    static void begin();
+
+    /* Starts the planned move from plan.from (which must be the current position: the driver
+     * then owns the copy). DIR is set before the first step. Returns false (and does nothing) while
+     * a move is running. A zero-length move finishes at once (take_done reports it). */
+    static bool start(const ramp_t &plan);
+
+    /* Timed-loop mode: makes the steps that are due; call it on every pass of loop().
+     * With the timer it does nothing. */
+    static void poll();
+
+    static bool busy();
+    static int32_t position();
+    /* The phase of the step last made while moving; RAMP_IDLE when stopped. */
+    static ramp_phase_t phase();
+    /* True once after each move has ended, with the final position. */
+    static bool take_done(int32_t &position);
+
+    static uint32_t tick_hz() { return STEPPER_TICK_HZ; }
+};
+
+#endif

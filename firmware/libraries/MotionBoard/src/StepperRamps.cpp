@@ -1,0 +1,213 @@
+/* StepperRamps.cpp - move planning and `set` parameters of the stepper sketches (see StepperRamps.h). */
+#include "StepperRamps.h"
+
+#include <stdlib.h>
+#include <text_parse.h>
+
+#include "StepperDriver.h"
+
+void stepper_print_real(Print &out, double v)
+{
+    char buf[24];
+    char *end;
+    if (!(v < 1e12 && v > -1e12)) { /* never for our bounded parameters; keeps buf safe */
+        out.print(v, 0);
+        return;
+    }
+    dtostrf(v, 0, 3, buf);
+    end = buf + strlen(buf) - 1;
+    while (end > buf && *end == '0')
+        *end-- = '\0';
+    if (*end == '.')
+        *end = '\0';
+    if (strcmp(buf, "-0") == 0)
+        strcpy(buf, "0");
+    out.print(buf);
+}
+
+/* ---- TrapezoidRamp ---- */
+TrapezoidRamp::TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps)
+    : algo_(algo), max_sps_(max_sps)
+{
+    params_.v0_sps = v0_sps;
+    params_.vmax_sps = vmax_sps;
+    params_.accel_sps2 = accel_sps2;
+    params_.tick_hz = StepperDriver::tick_hz();
+}
+
+motion_status_t TrapezoidRamp::plan(ramp_t &r, int32_t from, int32_t to) const
+{
+    return ramp_plan(&r, algo_, &params_, from, to);
+}
+
+motion_status_t TrapezoidRamp::set(const char *key, const char *value)
+{
+    ramp_params_t p = params_;
+    ramp_t probe;
+    double v;
+    double *field;
+    double hi = max_sps_;
+    motion_status_t st;
+    if (text_word_is(key, "v0"))
+        field = &p.v0_sps;
+    else if (text_word_is(key, "vmax"))
+        field = &p.vmax_sps;
+    else if (text_word_is(key, "accel")) {
+        field = &p.accel_sps2;
+        hi = 1e7;
+    } else
+        return MS_ERR_UNKNOWN_COMMAND;
+    st = text_parse_real(value, -1e7, hi, &v);
+    if (st != MS_OK)
+        return st;
+    *field = v;
+    /* a one-step move has the longest first interval of all moves: if it plans, every move does */
+    st = ramp_plan(&probe, algo_, &p, 0, 1);
+    if (st != MS_OK)
+        return st;
+    params_ = p;
+    return MS_OK;
+}
+
+void TrapezoidRamp::print_param(Print &out, const char *key) const
+{
+    out.print(key);
+    out.print('=');
+    if (text_word_is(key, "v0"))
+        stepper_print_real(out, params_.v0_sps);
+    else if (text_word_is(key, "vmax"))
+        stepper_print_real(out, params_.vmax_sps);
+    else
+        stepper_print_real(out, params_.accel_sps2);
+}
+
+void TrapezoidRamp::print_params(Print &out) const
+{
+    out.print(F(" algo="));
+    out.print(ramp_algo_name(algo_));
+    out.print(' ');
+    print_param(out, "v0");
+    out.print(' ');
+    print_param(out, "vmax");
+    out.print(' ');
+    print_param(out, "accel");
+    out.print(F(" tick_hz="));
+    out.print(params_.tick_hz);
+    out.print(F(" max_sps="));
+    stepper_print_real(out, max_sps_);
+}
+
+/* ---- SCurveRamp ---- */
+SCurveRamp::SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps)
+    : accel_time_s_(0), max_sps_(max_sps)
+{
+    params_.len = len;
+    params_.hold = hold;
+    params_.fmin_hz = fmin_hz;
+    params_.fmax_hz = fmax_hz;
+    params_.flex = flex;
+    params_.timer_hz = StepperDriver::tick_hz();
+}
+
+motion_status_t SCurveRamp::apply(const ramp_sigmoid_params_t &p)
+{
+    motion_status_t st = ramp_sigmoid_check(&p);
+    if (st != MS_OK)
+        return st;
+    if (p.fmax_hz > max_sps_)
+        return MS_ERR_OUT_OF_RANGE;
+    st = ramp_sigmoid_fill(&p, table_, SCURVE_MAX_LEN);
+    if (st != MS_OK)
+        return st;
+    params_ = p;
+    accel_time_s_ = ramp_sigmoid_accel_time_s(&params_, table_);
+    return MS_OK;
+}
+
+motion_status_t SCurveRamp::begin()
+{
+    return apply(params_);
+}
+
+motion_status_t SCurveRamp::plan(ramp_t &r, int32_t from, int32_t to) const
+{
+    return ramp_plan_sigmoid(&r, &params_, table_, SCURVE_MAX_LEN, from, to);
+}
+
+motion_status_t SCurveRamp::set(const char *key, const char *value)
+{
+    ramp_sigmoid_params_t p = params_;
+    double v;
+    int32_t n;
+    motion_status_t st;
+    if (text_word_is(key, "v0") || text_word_is(key, "vmax") || text_word_is(key, "flex")) {
+        st = text_parse_real(value, -1e7, text_word_is(key, "flex") ? 1000.0 : (double)max_sps_, &v);
+        if (st != MS_OK)
+            return st;
+        if (text_word_is(key, "v0"))
+            p.fmin_hz = (float)v;
+        else if (text_word_is(key, "vmax"))
+            p.fmax_hz = (float)v;
+        else
+            p.flex = (float)v;
+    } else if (text_word_is(key, "len") || text_word_is(key, "hold")) {
+        int32_t hi = text_word_is(key, "len") ? (int32_t)SCURVE_MAX_LEN : 65535L;
+        st = text_parse_int32(value, 0, hi, &n);
+        if (st != MS_OK)
+            return st;
+        if (text_word_is(key, "len"))
+            p.len = (uint16_t)n;
+        else
+            p.hold = (uint16_t)n;
+    } else if (text_word_is(key, "accel")) {
+        return MS_ERR_DERIVED_PARAM;
+    } else {
+        return MS_ERR_UNKNOWN_COMMAND;
+    }
+    return apply(p);
+}
+
+void SCurveRamp::print_param(Print &out, const char *key) const
+{
+    out.print(key);
+    out.print('=');
+    if (text_word_is(key, "v0"))
+        stepper_print_real(out, params_.fmin_hz);
+    else if (text_word_is(key, "vmax"))
+        stepper_print_real(out, params_.fmax_hz);
+    else if (text_word_is(key, "flex"))
+        stepper_print_real(out, params_.flex);
+    else if (text_word_is(key, "len"))
+        out.print(params_.len);
+    else
+        out.print(params_.hold);
+}
+
+void SCurveRamp::print_params(Print &out) const
+{
+    /* the table's own end speeds: timer_hz / period[0] and timer_hz / period[len - 1] */
+    double f_first = (double)params_.timer_hz / table_[0];
+    double f_last = (double)params_.timer_hz / table_[params_.len - 1U];
+    out.print(F(" algo=sigmoid "));
+    print_param(out, "v0");
+    out.print(' ');
+    print_param(out, "vmax");
+    out.print(F(" accel="));
+    stepper_print_real(out, accel_time_s_ > 0 ? (f_last - f_first) / accel_time_s_ : 0.0);
+    out.print(F(" tick_hz="));
+    out.print(params_.timer_hz);
+    out.print(F(" max_sps="));
+    stepper_print_real(out, max_sps_);
+    out.print(' ');
+    print_param(out, "flex");
+    out.print(' ');
+    print_param(out, "len");
+    out.print(' ');
+    print_param(out, "hold");
+    out.print(F(" accel_steps="));
+    out.print(ramp_sigmoid_accel_steps(&params_));
+    out.print(F(" accel_time_s="));
+    stepper_print_real(out, accel_time_s_);
+    out.print(F(" cruise_sps="));
+    stepper_print_real(out, f_last);
+}

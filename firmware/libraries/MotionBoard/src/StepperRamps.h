@@ -1,0 +1,74 @@
+/* StepperRamps.h - what differs between the three stepper sketches: how a move is planned and which
+ * parameters `set` changes. StepperConsole talks to either through StepperRamp.
+ *
+ *   TrapezoidRamp (SimplisticRampStepper, LeibRampStepper): v0, vmax, accel -> lib/src/ramp.h
+ *   SCurveRamp    (SCurveStepper): seed 001's sigmoid table; v0/vmax are its fmin/fmax, plus flex,
+ *                 len and hold; its acceleration follows from those, so `set accel` is refused
+ *                 (MS_ERR_DERIVED_PARAM) and `?` reports the table's mean acceleration.
+ * Every `set` checks the new parameter set with the lib module before keeping it (the longest
+ * interval, the 16-bit periods, ...), so a rejected value changes nothing.
+ */
+#ifndef STEPPER_RAMPS_H
+#define STEPPER_RAMPS_H
+
+#include <Arduino.h>
+
+#include <motion_status.h>
+#include <ramp.h>
+
+class StepperRamp {
+public:
+    /* Plans a move; the console hands the result to StepperDriver::start(). */
+    virtual motion_status_t plan(ramp_t &r, int32_t from, int32_t to) const = 0;
+    /* `set <key> <value>`: MS_ERR_UNKNOWN_COMMAND when key is not a parameter here. */
+    virtual motion_status_t set(const char *key, const char *value) = 0;
+    /* " algo=... v0=... vmax=... accel=... tick_hz=... max_sps=..." for `?` (leading blank). */
+    virtual void print_params(Print &out) const = 0;
+    /* "key=value" of one parameter, for the OK reply to `set`. */
+    virtual void print_param(Print &out, const char *key) const = 0;
+
+protected:
+    ~StepperRamp() {}
+};
+
+/* Prints a real number with up to 3 decimals and no trailing zeros ("20", "0.5", "1234.568"). */
+void stepper_print_real(Print &out, double v);
+
+class TrapezoidRamp : public StepperRamp {
+public:
+    /* algo: RAMP_ALGO_SIMPLISTIC or RAMP_ALGO_LEIB; max_sps: the fastest step rate `set` allows. */
+    TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps);
+    motion_status_t plan(ramp_t &r, int32_t from, int32_t to) const override;
+    motion_status_t set(const char *key, const char *value) override;
+    void print_params(Print &out) const override;
+    void print_param(Print &out, const char *key) const override;
+
+private:
+    ramp_algo_t algo_;
+    ramp_params_t params_;
+    double max_sps_;
+};
+
+#ifndef SCURVE_MAX_LEN
+#define SCURVE_MAX_LEN 1000 /* table entries: 2 bytes of SRAM each */
+#endif
+
+class SCurveRamp : public StepperRamp {
+public:
+    SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps);
+    /* Fills the table (about 3,000 cycles per entry); call once in setup(). */
+    motion_status_t begin();
+    motion_status_t plan(ramp_t &r, int32_t from, int32_t to) const override;
+    motion_status_t set(const char *key, const char *value) override;
+    void print_params(Print &out) const override;
+    void print_param(Print &out, const char *key) const override;
+
+private:
+    motion_status_t apply(const ramp_sigmoid_params_t &p);
+    ramp_sigmoid_params_t params_;
+    uint16_t table_[SCURVE_MAX_LEN];
+    double accel_time_s_;
+    float max_sps_;
+};
+
+#endif
