@@ -21,6 +21,7 @@ static void plan_geometry(ramp_t *r, ramp_algo_t algo, int32_t from, int32_t to)
     r->steps_total = ramp_distance(from, to);
     r->steps_done = 0;
     r->level = 0;
+    r->whole_ticks = 0;
 }
 
 motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, int32_t from, int32_t to)
@@ -104,29 +105,28 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
     s->step = n;
     s->position = ramp_position_after(r->from, r->dir, n);
     switch (r->algo) {
-    case RAMP_ALGO_SIMPLISTIC: {
-        float p;
-        if (n == 1) {
-            r->level = ramp_level(r->steps_total, r->peak_level, 1);
-            p = r->u.simplistic.p;
-        } else {
-            p = ramp_simplistic_update(&r->u.simplistic, level_change(r, n));
-        }
-        s->interval_ticks = p;
-        s->whole_ticks = ramp_ticks_from_float(p);
-        s->phase = ramp_phase_label(r->steps_total, r->accel_steps, n);
-        break;
-    }
+    case RAMP_ALGO_SIMPLISTIC:
     case RAMP_ALGO_LEIB: {
         float p;
+        /* step 1 takes the planned first interval; later steps update it by the level change,
+         * and a cruise step keeps both the interval and its whole ticks (no float work at all) */
+        ramp_phase_t change = RAMP_ACCEL;
         if (n == 1) {
             r->level = ramp_level(r->steps_total, r->peak_level, 1);
-            p = r->u.leib.p;
+            p = r->algo == RAMP_ALGO_LEIB ? r->u.leib.p : r->u.simplistic.p;
         } else {
-            p = ramp_leib_update(&r->u.leib, level_change(r, n));
+            change = level_change(r, n);
+            if (change == RAMP_CRUISE)
+                p = r->algo == RAMP_ALGO_LEIB ? r->u.leib.p : r->u.simplistic.p;
+            else if (r->algo == RAMP_ALGO_LEIB)
+                p = ramp_leib_update(&r->u.leib, change);
+            else
+                p = ramp_simplistic_update(&r->u.simplistic, change);
         }
+        if (change != RAMP_CRUISE)
+            r->whole_ticks = ramp_ticks_from_float(p);
         s->interval_ticks = p;
-        s->whole_ticks = ramp_ticks_from_float(p);
+        s->whole_ticks = r->whole_ticks;
         s->phase = ramp_phase_label(r->steps_total, r->accel_steps, n);
         break;
     }

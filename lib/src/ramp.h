@@ -52,6 +52,7 @@ typedef struct {
     uint32_t peak_level;   /* K of ramp_level (Leib S, simplistic S + 1) */
     uint32_t level;        /* c(n) of the last step handed out */
     uint32_t accel_steps;  /* steps labelled "accel" (and as many "decel") */
+    uint32_t whole_ticks;  /* whole_ticks of the last step (reused while cruising) */
     union {
         ramp_simplistic_t simplistic;
         ramp_leib_t leib;

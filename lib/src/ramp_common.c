@@ -94,12 +94,19 @@ void ramp_accel_steps(float v0_sps, float vmax_sps, float accel_sps2, uint32_t s
 
 uint32_t ramp_ticks_from_float(float interval_ticks)
 {
-    /* From 2^23 up every float is a whole number. Below, p + 0.5 is exact or rounds only
-     * when p is within half a tick of the next power of two, where truncation still gives the
-     * nearest integer; so this is round-half-up for every p >= 0.5. */
-    if (interval_ticks >= 8388608.0f)
-        return (uint32_t)interval_ticks;
-    if (!(interval_ticks > 0.0f))
-        return 0;
+    /* The range tests look at the IEEE bit pattern (integer compares are far cheaper than float
+     * compares on the AVR; for positive floats the patterns order like the values).
+     * From 2^23 (0x4B000000) up every float is a whole number. Below, p + 0.5 is exact or rounds
+     * only when p is within half a tick of the next power of two, where truncation still gives
+     * the nearest integer; so this is round-half-up for every p >= 0.5. */
+    union {
+        float f;
+        uint32_t u;
+    } v;
+    v.f = interval_ticks;
+    if ((int32_t)v.u <= 0)
+        return 0; /* zero or negative */
+    if (v.u >= 0x4B000000UL)
+        return v.u >= 0x4F800000UL ? UINT32_MAX : (uint32_t)interval_ticks; /* >= 2^32, inf, NaN */
     return (uint32_t)(interval_ticks + 0.5f);
 }

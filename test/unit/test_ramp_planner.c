@@ -69,6 +69,10 @@ static void whole_ticks_round_to_nearest(void **state)
     assert_int_equal(ramp_ticks_from_float(4294967040.0f), 4294967040UL); /* the largest float < 2^32 */
     assert_int_equal(ramp_ticks_from_float(0.0f), 0);
     assert_int_equal(ramp_ticks_from_float(-3.0f), 0);
+    assert_int_equal(ramp_ticks_from_float(-0.0f), 0);
+    assert_int_equal(ramp_ticks_from_float(4294967296.0f), UINT32_MAX); /* 2^32: no longer fits */
+    assert_int_equal(ramp_ticks_from_float(INFINITY), UINT32_MAX);
+    assert_int_equal(ramp_ticks_from_float(NAN), UINT32_MAX);
     {
         /* every k + 0.25 and k + 0.75 for k up to 2^22 */
         uint32_t k;

@@ -14,6 +14,11 @@ void stepper_print_real(Print &out, double v)
         out.print(v, 0);
         return;
     }
+    if (v != 0.0 && v < 0.001 && v > -0.001) {
+        dtostre(v, buf, 3, 0); /* "1.000e-08": small values keep their digits */
+        out.print(buf);
+        return;
+    }
     dtostrf(v, 0, 3, buf);
     end = buf + strlen(buf) - 1;
     while (end > buf && *end == '0')

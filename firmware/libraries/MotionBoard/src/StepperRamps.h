@@ -31,7 +31,8 @@ protected:
     ~StepperRamp() {}
 };
 
-/* Prints a real number with up to 3 decimals and no trailing zeros ("20", "0.5", "1234.568"). */
+/* Prints a real number with up to 3 decimals and no trailing zeros ("20", "0.5", "1234.568");
+ * below 0.001 in exponent form ("1.000e-08"). */
 void stepper_print_real(Print &out, double v);
 
 class TrapezoidRamp : public StepperRamp {
