@@ -8,25 +8,27 @@
 
 void stepper_print_real(Print &out, double v)
 {
+    /* the fewest decimals (up to 6) that read back as the same number, so a `?` reply fed to
+     * motionsim reproduces the firmware's ramp; else 7 significant digits, as many as avr-libc's
+     * conversion gets right (such a value may then differ from the Mega's in the last float bit) */
     char buf[24];
-    char *end;
+    unsigned char d;
+    if (v == 0.0) {
+        out.print('0');
+        return;
+    }
     if (!(v < 1e12 && v > -1e12)) { /* never for our bounded parameters; keeps buf safe */
         out.print(v, 0);
         return;
     }
-    if (v != 0.0 && v < 0.001 && v > -0.001) {
-        dtostre(v, buf, 3, 0); /* "1.000e-08": small values keep their digits */
-        out.print(buf);
-        return;
+    for (d = 0; d <= 6; d++) {
+        dtostrf(v, 0, d, buf);
+        if (strtod(buf, NULL) == v) {
+            out.print(buf);
+            return;
+        }
     }
-    dtostrf(v, 0, 3, buf);
-    end = buf + strlen(buf) - 1;
-    while (end > buf && *end == '0')
-        *end-- = '\0';
-    if (*end == '.')
-        *end = '\0';
-    if (strcmp(buf, "-0") == 0)
-        strcpy(buf, "0");
+    dtostre(v, buf, 6, 0);
     out.print(buf);
 }
 

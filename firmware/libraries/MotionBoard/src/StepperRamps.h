@@ -31,8 +31,8 @@ protected:
     ~StepperRamp() {}
 };
 
-/* Prints a real number with up to 3 decimals and no trailing zeros ("20", "0.5", "1234.568");
- * below 0.001 in exponent form ("1.000e-08"). */
+/* Prints a real number with the fewest decimals (up to 6) that read back as the same value ("20",
+ * "0.5", "333.3"), else with 7 significant digits ("1.234567e-01"). */
 void stepper_print_real(Print &out, double v);
 
 class TrapezoidRamp : public StepperRamp {

@@ -1,0 +1,239 @@
+"""`motionsim ramp`: the step table, its column definitions, --integer-ticks, --compare, the sigmoid
+table, -o, and every kind of bad input (exit 2, one line, nothing on stdout).
+
+Expected values are recomputed here from the seeds' formulas (seed 003 §4.3, seed 001), never
+recorded from motionsim itself."""
+import csv
+import io
+import math
+
+import pytest
+
+HEADER = ["step", "position", "t_s", "interval_ticks", "speed_sps", "accel_sps2"]
+LAB = ["--from", "0", "--to", "50", "--v0", "1", "--vmax", "20", "--accel", "10", "--tick-hz", "1000"]
+
+
+def table(r):
+    assert r.rc == 0, r.err
+    rows = list(csv.reader(io.StringIO(r.out)))
+    assert rows[0] == HEADER
+    return [dict(zip(HEADER, map(float, row))) for row in rows[1:]]
+
+
+def exact_t(n, v0, vmax, a, d):
+    """t_n of the exact ramp: (sqrt(v0^2 + 2 a n) - v0)/a, cruise at vmax, mirrored end."""
+    s = (vmax * vmax - v0 * v0) / (2 * a)
+    xa = d / 2 if 2 * s >= d else s
+    vp = math.sqrt(v0 * v0 + 2 * a * xa)
+    ta = (vp - v0) / a
+    total = 2 * ta + (d - 2 * xa) / vp
+    acc = lambda x: (math.sqrt(v0 * v0 + 2 * a * x) - v0) / a  # noqa: E731
+    if n <= xa:
+        return acc(n)
+    if n <= d - xa:
+        return ta + (n - xa) / vp
+    return total - acc(d - n)
+
+
+def test_lab_checkpoint_through_the_cli(motionsim):
+    # seed 003 §4.3.3 step 8: "218.218, 188.528 and 157.245 ticks (here representing milliseconds)"
+    rows = table(motionsim("ramp", "--algo", "leib", *LAB))
+    assert len(rows) == 50
+    assert [round(r["interval_ticks"], 3) for r in rows[:3]] == [218.218, 188.528, 157.245]
+
+
+@pytest.mark.parametrize("algo", ["simplistic", "leib", "exact"])
+def test_rows_positions_and_column_definitions(motionsim, algo):
+    rows = table(motionsim("ramp", "--algo", algo, "--from", "10", "--to", "-30", "--v0", "1", "--vmax", "20",
+                           "--accel", "10", "--tick-hz", "1000"))
+    assert [r["step"] for r in rows] == list(range(1, 41))
+    assert [r["position"] for r in rows] == list(range(9, -31, -1))
+    t = 0.0
+    prev = None
+    for r in rows:
+        t += r["interval_ticks"] / 1000
+        # t_s: the time of this step's pulse, the first one interval after the start
+        assert r["t_s"] == pytest.approx(t, rel=1e-6)
+        # speed_sps: F / interval (Leib's and simplistic's float intervals are printed to float precision)
+        assert r["speed_sps"] == pytest.approx(1000 / r["interval_ticks"], rel=1e-7)
+        # accel_sps2: change of speed between mid-interval times; row 1 from v0 at t = 0
+        dt = r["interval_ticks"] / 1000
+        if prev is None:
+            want = (r["speed_sps"] - 1.0) / (dt / 2)
+        else:
+            want = (r["speed_sps"] - prev["speed_sps"]) / ((dt + prev["interval_ticks"] / 1000) / 2)
+        assert r["accel_sps2"] == pytest.approx(want, rel=1e-6, abs=1e-9)
+        prev = r
+
+
+def test_exact_ramp_times_and_constant_acceleration(motionsim):
+    v0, vmax, a, d = 100.0, 1000.0, 1000.0, 2000
+    rows = table(motionsim("ramp", "--algo", "exact", "--to", d, "--v0", v0, "--vmax", vmax, "--accel", a,
+                           "--tick-hz", "2000000"))
+    for r in rows:
+        assert r["t_s"] == pytest.approx(exact_t(int(r["step"]), v0, vmax, a, d), rel=1e-9)
+    # S = (1000^2 - 100^2)/2000 = 495 steps: +a while accelerating, 0 cruising, -a decelerating
+    for r in rows[1:494]:
+        assert r["accel_sps2"] == pytest.approx(a, rel=1e-6)
+    for r in rows[497:1503]:
+        assert abs(r["accel_sps2"]) < 1e-6 * a
+    for r in rows[1507:]:
+        assert r["accel_sps2"] == pytest.approx(-a, rel=1e-6)
+    assert rows[0]["accel_sps2"] == pytest.approx(a, rel=1e-9)  # row 1, from v0 at t = 0
+
+
+def test_simplistic_steps_by_fixed_amount(motionsim):
+    # seed 003 §4.3.2 eqs. 1-2 with the lab's defaults: dp = (1000 - 50)/19 = 50 ms per step
+    rows = table(motionsim("ramp", "--algo", "simplistic", *LAB))
+    assert [r["interval_ticks"] for r in rows[:5]] == [1000, 950, 900, 850, 800]
+    assert rows[19]["interval_ticks"] == 50 and rows[30]["interval_ticks"] == 50
+    assert rows[-1]["interval_ticks"] == 1000
+    assert rows[-1]["t_s"] == pytest.approx(21.5)
+
+
+def test_integer_ticks_are_the_rounded_intervals(motionsim):
+    args = ["--algo", "leib", "--to", "300", "--v0", "3", "--vmax", "700", "--accel", "900", "--tick-hz", "2000000"]
+    real = table(motionsim("ramp", *args))
+    whole = table(motionsim("ramp", *args, "--integer-ticks"))
+    total = 0
+    for r, w in zip(real, whole):
+        assert w["interval_ticks"] == math.floor(r["interval_ticks"] + 0.5)
+        total += int(w["interval_ticks"])
+        assert w["t_s"] == pytest.approx(total / 2e6, rel=1e-12)
+
+
+def test_output_file_equals_stdout(motionsim, tmp_path):
+    out = tmp_path / "leib.csv"
+    r = motionsim("ramp", *LAB, "-o", out)
+    assert r.rc == 0 and r.out == ""
+    assert out.read_text() == motionsim("ramp", *LAB).out
+    bad = motionsim("ramp", *LAB, "-o", tmp_path / "no" / "such" / "dir.csv")
+    assert bad.rc == 1 and len(bad.err.strip().splitlines()) == 1
+
+
+def test_compare_reports_deviation_from_exact(motionsim):
+    r = motionsim("ramp", "--compare", *LAB)
+    assert r.rc == 0, r.err
+    rows = {row["algo"]: row for row in csv.DictReader(io.StringIO(r.out))}
+    assert list(rows) == ["exact", "simplistic", "leib"]
+    assert float(rows["exact"]["interval_max_dev_pct"]) == 0
+    assert float(rows["exact"]["accel_rms_dev_sps2"]) == 0
+    # recompute the Leib and simplistic figures from the two step tables
+    ex = table(motionsim("ramp", "--algo", "exact", *LAB))
+    for algo in ("leib", "simplistic"):
+        al = table(motionsim("ramp", "--algo", algo, *LAB))
+        dev = [100 * (a["interval_ticks"] - e["interval_ticks"]) / e["interval_ticks"] for a, e in zip(al, ex)]
+        worst = max(dev, key=abs)
+        assert float(rows[algo]["interval_max_dev_pct"]) == pytest.approx(worst, rel=1e-6)
+        assert int(float(rows[algo]["interval_max_dev_step"])) == dev.index(worst) + 1
+        rms = math.sqrt(sum(d * d for d in dev) / len(dev))
+        assert float(rows[algo]["interval_rms_dev_pct"]) == pytest.approx(rms, rel=1e-6)
+        da = [a["accel_sps2"] - e["accel_sps2"] for a, e in zip(al, ex)]
+        assert abs(float(rows[algo]["accel_max_dev_sps2"])) == pytest.approx(max(map(abs, da)), rel=1e-6)
+        assert float(rows[algo]["move_time_s"]) == pytest.approx(al[-1]["t_s"], rel=1e-9)
+        assert float(rows[algo]["step_time_max_dev_s"]) == pytest.approx(
+            max(abs(a["t_s"] - e["t_s"]) for a, e in zip(al, ex)), rel=1e-6)
+    # the lab's question answered: Leib's step 1 is the speed after one step (39 % short here)
+    assert float(rows["leib"]["interval_max_dev_pct"]) == pytest.approx(
+        100 * (1000 / math.sqrt(21) - 1000 * (math.sqrt(21) - 1) / 10) / (1000 * (math.sqrt(21) - 1) / 10), rel=1e-5)
+    assert float(rows["simplistic"]["move_time_s"]) == pytest.approx(21.5)
+
+
+def test_compare_without_simplistic_when_v0_is_zero(motionsim):
+    r = motionsim("ramp", "--compare", "--to", "100", "--v0", "0", "--vmax", "20", "--accel", "10")
+    assert r.rc == 0
+    assert [row["algo"] for row in csv.DictReader(io.StringIO(r.out))] == ["exact", "leib"]
+    assert "simplistic left out" in r.err and "v0 > 0" in r.err
+
+
+def sigmoid_period(i, length, fmin, fmax, flex, timer_hz):
+    half = length / 2
+    f = fmin + (fmax - fmin) / (1 + math.exp(-flex * (i - half) / half))
+    return timer_hz / f
+
+
+def test_sigmoid_table_holds_and_mirrors(motionsim):
+    # seed 001's orange curve (1000, 64000, 500, 8) at its 10 MHz timer, each entry held 4 times
+    rows = table(motionsim("ramp", "--algo", "sigmoid", "--to", "10000", "--len", "1000", "--fmin", "500",
+                           "--fmax", "64000", "--flex", "8", "--timer-hz", "10000000", "--hold", "4"))
+    assert len(rows) == 10000
+    for n, r in enumerate(rows, start=1):
+        k = min(n, 10001 - n)
+        i = min((k - 1) // 4, 999)
+        want = sigmoid_period(i, 1000, 500, 64000, 8, 1e7)
+        assert abs(r["interval_ticks"] - math.floor(want)) <= (1 if abs(want - round(want)) < 1e-6 * want else 0)
+    assert rows[3999]["interval_ticks"] == 156  # the seed: "10000000/64000 = 156"
+
+
+def test_sigmoid_seed_parameter_sets_run(motionsim):
+    for fmax, fmin, flex in [(56000, 16000, 4), (64000, 500, 8), (64000, 500, 15), (40000, 500, 5)]:
+        rows = table(motionsim("ramp", "--algo", "sigmoid", "--to", "8000", "--len", "1000", "--fmin", fmin,
+                               "--fmax", fmax, "--flex", flex, "--timer-hz", "10000000", "--hold", "4"))
+        assert len(rows) == 8000
+        assert all(1 <= r["interval_ticks"] <= 65535 for r in rows)
+        assert rows[0]["interval_ticks"] == math.floor(sigmoid_period(0, 1000, fmin, fmax, flex, 1e7))
+
+
+def test_extreme_positions(motionsim):
+    rows = table(motionsim("ramp", "--from", "2147483600", "--to", "2147483647"))
+    assert rows[-1]["position"] == 2147483647 and len(rows) == 47
+    rows = table(motionsim("ramp", "--from", "-2147483600", "--to", "-2147483648"))
+    assert rows[-1]["position"] == -2147483648 and len(rows) == 48
+
+
+def test_zero_length_move_is_just_the_header(motionsim):
+    r = motionsim("ramp", "--from", "7", "--to", "7")
+    assert r.rc == 0 and r.out == ",".join(HEADER) + "\n"
+
+
+def test_help_defines_the_columns(motionsim):
+    r = motionsim("ramp", "--help")
+    assert r.rc == 0
+    for word in ["t_s", "interval_ticks", "speed_sps", "accel_sps2", "--integer-ticks", "--compare", "--hold",
+                 "--timer-hz", "-o FILE"]:
+        assert word in r.out
+
+
+BAD = [
+    (["--accel", "0"], "acceleration must be greater than 0"),
+    (["--accel", "-3"], "acceleration must be greater than 0"),
+    (["--v0", "-1"], "v0 must not be negative"),
+    (["--vmax", "0.5"], "vmax must be greater than minimum speed v0"),
+    (["--tick-hz", "0"], "tick rate F must be greater than 0"),
+    (["--vmax", "5000"], "must not exceed the tick rate"),
+    (["--accel", "nan"], "--accel: 'nan' is not a finite number"),
+    (["--vmax", "inf"], "--vmax: 'inf' is not a finite number"),
+    (["--accel", "1e-9", "--v0", "0", "--tick-hz", "4000000000"], "would exceed 2^32-1 timer ticks"),
+    (["--algo", "simplistic", "--v0", "0"], "simplistic ramp needs v0 > 0"),
+    (["--to", "2147483648"], "--to: '2147483648' is not a whole number"),
+    (["--from", "-2147483649"], "--from: '-2147483649' is not a whole number"),
+    (["--to", "12abc"], "--to: '12abc' is not a whole number"),
+    (["--tick-hz", "-5"], "--tick-hz: '-5' is not a whole number"),
+    (["--algo", "trapezoid"], "--algo: 'trapezoid' is not one of simplistic|leib|exact|sigmoid"),
+    (["--len", "10"], "--len applies to --algo sigmoid only"),
+    (["--algo", "sigmoid", "--v0", "3"], "--v0 does not apply to --algo sigmoid"),
+    (["--algo", "sigmoid", "--compare"], "--compare measures simplistic and leib"),
+    (["--algo", "sigmoid", "--len", "1"], "table length must be at least 2"),
+    (["--algo", "sigmoid", "--len", "70000"], "--len: 70000 is more than 65535"),
+    (["--algo", "sigmoid", "--hold", "0"], "held for at least 1 timer period"),
+    (["--algo", "sigmoid", "--hold", "65536"], "--hold: 65536 is more than 65535"),
+    (["--algo", "sigmoid", "--fmin", "152"], "fmin is below timer_hz/65535"),
+    (["--algo", "sigmoid", "--fmax", "400"], "fmax must be greater than fmin"),
+    (["--algo", "sigmoid", "--flex", "0"], "flexibility must be greater than 0"),
+    (["--algo", "sigmoid", "--fmax", "2e7"], "a timer period is outside 1..65535 ticks"),
+    (["--algo", "sigmoid", "--timer-hz", "0"], "tick rate F must be greater than 0"),
+    (["--frobnicate"], "unknown option '--frobnicate'"),
+    (["--compare", "extra"], "unexpected argument 'extra'"),
+    (["--v0"], "option --v0 needs a value"),
+    (["--compare=1"], "option --compare takes no value"),
+]
+
+
+@pytest.mark.parametrize("args,message", BAD, ids=[" ".join(a) for a, _ in BAD])
+def test_bad_input_exits_2_with_one_line(motionsim, args, message):
+    r = motionsim("ramp", *args)
+    assert r.rc == 2
+    assert r.out == ""
+    lines = r.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("motionsim ramp: ")
+    assert message in lines[0]
