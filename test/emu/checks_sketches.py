@@ -1,0 +1,2 @@
+def checks_for(env):
+    return []
