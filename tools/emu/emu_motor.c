@@ -2,9 +2,11 @@
  * quadrature encoder (the plant model motionsim uses, sim/plant_dcmotor.c) + LS7366R on SPI.
  *
  * Duty from the pins: the PWM pin's edges are timed; at each rising edge the period just ended
- * gives duty = high time / period. When the pin holds still for longer than two periods (the last
- * one seen, or 4.1 ms = two periods of Arduino's 490 Hz PWM before any), it is a constant level:
- * analogWrite(0) or (255) give 0 % or 100 %. DIR gives the sign, BRAKE (when given) forces 0 %.
+ * gives duty = high time / period, held until the next rising edge. When the pin holds still for
+ * longer than two periods (the last one seen, or 4.1 ms = two periods of Arduino's 490 Hz PWM
+ * before any), it is a constant level: analogWrite(0) or (255) give 0 % or 100 %; when PWM starts
+ * again that level holds until its first full period. DIR gives the sign, BRAKE (when given)
+ * forces 0 %.
  * The plant is advanced by the emulated time between events: every edge of these pins, every SPI
  * exchange with the counter, and every 1 ms; each 1 ms a "motor <cycle> <duty_pct> <counts>" line
  * is logged (counts = the encoder's x4 count, what an LS7366R in x4 mode counts).
@@ -41,7 +43,6 @@ static uint64_t last_rise, last_fall, last_edge;
 static int have_rise;
 static uint64_t period_cycles;  /* last full PWM period */
 static double pwm_duty;         /* 0..1, last full period */
-static int have_duty;
 static uint64_t samples;
 static double duty_min = 1e9, duty_max = -1e9;
 
@@ -49,28 +50,42 @@ static double duty_min = 1e9, duty_max = -1e9;
 static plant_dcmotor_t plant;
 #endif
 
+/* a pin that has not moved for this long is a constant level, not PWM */
+static uint64_t still_cycles(void)
+{
+    return period_cycles ? 2 * period_cycles : (uint64_t)(0.0041 * EMU_F_CPU);
+}
+
+/* 0..1: the last full period's duty, or the constant level once the pin has held still */
+static double pwm_fraction(uint64_t now)
+{
+    if (now - last_edge > still_cycles())
+        return pwm_level ? 1.0 : 0.0;
+    return pwm_duty;
+}
+
 static double current_duty_pct(uint64_t now)
 {
     if (cfg.have_brake && emu_pin_level(the_avr, cfg.brake) == (cfg.brake_high_active ? 1 : 0))
         return 0.0;
-    double d;
-    uint64_t still = period_cycles ? 2 * period_cycles : (uint64_t)(0.0041 * EMU_F_CPU);
-    if (!have_duty || now - last_edge > still)
-        d = pwm_level ? 1.0 : 0.0;
-    else
-        d = pwm_duty;
+    double d = pwm_fraction(now);
     int dir = emu_pin_level(the_avr, cfg.dir);
     int positive = cfg.dir_high_positive ? dir : !dir;
     return (positive ? 100.0 : -100.0) * d;
 }
 
+/* the plant's LS7366R count wraps at 32 bits; unwrapped here so the chip model sees the motion */
+static int64_t quad_unwrapped;
+static int32_t quad_last;
+
 static int64_t plant_quad(void)
 {
 #if EMU_HAVE_PLANT
-    return plant_dcmotor_counts(&plant);
-#else
-    return 0;
+    int32_t now = plant_dcmotor_count(&plant);
+    quad_unwrapped += (int32_t)((uint32_t)now - (uint32_t)quad_last);
+    quad_last = now;
 #endif
+    return quad_unwrapped;
 }
 
 /* advance the plant to `now` with the duty that held since the last event */
@@ -80,7 +95,7 @@ static void plant_advance(uint64_t now)
         return;
     double duty = current_duty_pct(plant_cycle);
 #if EMU_HAVE_PLANT
-    plant_dcmotor_step(&plant, duty, (double)(now - plant_cycle) / EMU_F_CPU);
+    plant_dcmotor_advance(&plant, duty, (double)(now - plant_cycle) / EMU_F_CPU);
 #else
     (void)duty;
 #endif
@@ -129,11 +144,15 @@ static void pwm_edge(void *param, uint64_t cycle, int level)
 {
     (void)param;
     plant_advance(cycle);
+    if (cycle - last_edge > still_cycles()) {
+        /* PWM (re)starts after a constant level: that level holds until a full period is seen */
+        pwm_duty = pwm_level ? 1.0 : 0.0;
+        have_rise = 0;
+    }
     if (level) {
         if (have_rise && last_fall > last_rise) {
             period_cycles = cycle - last_rise;
             pwm_duty = (double)(last_fall - last_rise) / (double)period_cycles;
-            have_duty = 1;
         }
         last_rise = cycle;
         have_rise = 1;
@@ -178,7 +197,12 @@ int emu_motor_attach(avr_t *avr, const emu_motor_config_t *c)
 #else
     the_avr = avr;
     cfg = *c;
-    plant_dcmotor_init(&plant, NULL);
+    plant_dcmotor_params_t params;
+    plant_dcmotor_default_params(&params);
+    if (plant_dcmotor_init(&plant, &params))
+        return -1;
+    quad_last = plant_dcmotor_count(&plant);
+    quad_unwrapped = quad_last;
     have_motor = 1;
     emu_pwm_attach(avr, cfg.pwm);
     if (emu_pin_listen(avr, cfg.pwm, pwm_edge, NULL) || emu_pin_listen(avr, cfg.dir, other_edge, NULL) ||
