@@ -55,10 +55,8 @@ int emu_pin_level(avr_t *avr, emu_pin_t pin);
 void emu_pin_drive(avr_t *avr, emu_pin_t pin, int on, int level);
 
 /* ---- phase-correct PWM outputs (emu_pwm.c) ---- */
-/* Emulates the output compare pin if `pin` is OCnA/B/C of timers 1-5 (no-op otherwise). */
+/* Emulates the output compare pin if `pin` is OCnA/B/C of timers 1, 3, 4, 5 (no-op otherwise). */
 int emu_pwm_attach(avr_t *avr, emu_pin_t pin);
-/* call from the run loop after every instruction: notices TCCRnA/B writes at once */
-void emu_pwm_poll(avr_t *avr);
 
 /* ---- UART0 (emu_uart.c) ---- */
 typedef struct emu_line {
@@ -74,8 +72,6 @@ size_t emu_uart_pending(void);
 /* lines received so far (the array grows; index stays valid) */
 size_t emu_uart_line_count(void);
 const emu_line_t *emu_uart_line(size_t i);
-/* call from the run loop: repairs simavr's frame length after the firmware sets the baud rate */
-void emu_uart_poll(avr_t *avr);
 uint32_t emu_uart_cycles_per_byte(void);
 int emu_uart_ready_count(void);
 

@@ -76,7 +76,9 @@ static double current_duty_pct(uint64_t now)
 
 /* the plant's LS7366R count wraps at 32 bits; unwrapped here so the chip model sees the motion */
 static int64_t quad_unwrapped;
+#if EMU_HAVE_PLANT
 static int32_t quad_last;
+#endif
 
 static int64_t plant_quad(void)
 {

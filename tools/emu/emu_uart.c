@@ -6,7 +6,8 @@
  * Input: queued bytes are handed to UART_IRQ_INPUT one frame time apart, as a real host would
  * send them, starting one frame after they were queued.
  * simavr 1.6 counts a parity bit in every frame (1 + 8 + 1 + 1 = 11 bits for 8N1), so its UART is
- * 10 % slower than the real one; after every baud-rate change the frame length is recomputed here
+ * 10 % slower than the real one; after every write to the UART's configuration registers the frame
+ * length is recomputed here
  * from UCSR0B/UCSR0C/UBRR0 (start + data + parity if enabled + stop bits) so that serial timing
  * is the real chip's: at 9600 baud (U2X0 = 1, UBRR0 = 207) one 8N1 byte is 10 * 8 * 208 = 16640
  * cycles (1.04 ms).
@@ -39,6 +40,7 @@ static size_t cur_len;
 static int ready_lines;
 
 static uint32_t fixed_cpb;      /* the frame length we set */
+static void uart_config_written(struct avr_irq_t *irq, uint32_t value, void *param);
 static uint32_t last_seen_cpb;  /* what simavr had when we last looked */
 
 uint32_t emu_uart_cycles_per_byte(void)
@@ -58,9 +60,14 @@ static uint32_t real_cycles_per_byte(avr_t *avr)
     return cycles_per_bit * (uint32_t)(1 + db + parity + stop);
 }
 
-void emu_uart_poll(avr_t *avr)
+/* after every write to UBRR0L/H or UCSR0A/B/C (simavr recomputes its frame time on UBRR writes) */
+static void uart_config_written(struct avr_irq_t *irq, uint32_t value, void *param)
 {
-    if (uart->cycles_per_byte != last_seen_cpb) {
+    (void)irq;
+    (void)value;
+    (void)param;
+    avr_t *avr = the_avr;
+    if (uart->cycles_per_byte != last_seen_cpb || (fixed_cpb && real_cycles_per_byte(avr) != fixed_cpb)) {
         /* simavr recomputed it (baud register write): put the real frame length in */
         fixed_cpb = real_cycles_per_byte(avr);
         uart->cycles_per_byte = fixed_cpb;
@@ -193,5 +200,12 @@ int emu_uart_attach(avr_t *avr)
         return -1;
     avr_irq_register_notify(out, uart_out, NULL);
     last_seen_cpb = (uint32_t)uart->cycles_per_byte;
+    static const uint16_t regs[] = {R_UCSR0A, R_UCSR0B, R_UCSR0C, R_UBRR0L, R_UBRR0H};
+    for (size_t i = 0; i < sizeof regs / sizeof regs[0]; i++) {
+        avr_irq_t *irq = avr_iomem_getirq(avr, regs[i], NULL, AVR_IOMEM_IRQ_ALL);
+        if (!irq)
+            return -1;
+        avr_irq_register_notify(irq, uart_config_written, NULL);
+    }
     return 0;
 }

@@ -60,7 +60,15 @@ static void logger(avr_t *a, const int level, const char *format, va_list ap)
         clean[k++] = buf[i];
     }
     clean[k] = 0;
-    emu_log(a ? a->cycle : 0, "simavr", "%s %s", level <= LOG_ERROR ? "error" : "warning", clean);
+    /* the same message again and again (e.g. on every OCR write) is logged once */
+    static char seen[32][96];
+    static int nseen;
+    for (int i = 0; i < nseen; i++)
+        if (strncmp(seen[i], clean, sizeof seen[i] - 1) == 0)
+            return;
+    if (nseen < 32)
+        memcpy(seen[nseen++], clean, sizeof seen[0] - 1); /* seen[][95] stays 0 */
+    emu_log(a ? a->cycle : 0, "simavr", "%s %s (logged once)", level <= LOG_ERROR ? "error" : "warning", clean);
 }
 
 static void no_sleep(avr_t *a, avr_cycle_count_t how_long)
@@ -405,8 +413,6 @@ int main(int argc, char **argv)
                              " (stack overflow)", sp, heap_start);
             }
         }
-        emu_uart_poll(avr);
-        emu_pwm_poll(avr);
         uint64_t now = avr->cycle;
         if (!script_done && (now >= wake || emu_uart_line_count() != lines_seen)) {
             lines_seen = emu_uart_line_count();
