@@ -51,8 +51,9 @@ int emu_pin_listen(avr_t *avr, emu_pin_t pin, emu_pin_fn fn, void *param);
 /* Current level of the pin. */
 int emu_pin_level(avr_t *avr, emu_pin_t pin);
 /* on = 1: the harness drives the pin at `level` (an emulated timer output), PORT is ignored;
- * on = 0: the pin follows PORT again. */
-void emu_pin_drive(avr_t *avr, emu_pin_t pin, int on, int level);
+ * on = 0: the pin follows PORT again. `cycle` is when the edge happens (an emulated timer's
+ * exact compare-match cycle; simavr calls back at the next instruction boundary). */
+void emu_pin_drive(avr_t *avr, emu_pin_t pin, int on, int level, uint64_t cycle);
 
 /* ---- phase-correct PWM outputs (emu_pwm.c) ---- */
 /* Emulates the output compare pin if `pin` is OCnA/B/C of timers 1, 3, 4, 5 (no-op otherwise). */

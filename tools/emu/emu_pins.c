@@ -86,17 +86,21 @@ typedef struct pin_state {
 
 static pin_state_t *pins;
 
-static void set_level(pin_state_t *p, int level)
+static void set_level_at(pin_state_t *p, int level, uint64_t cycle)
 {
     if (level == p->level)
         return;
-    uint64_t cycle = p->avr->cycle;
     if (p->watched)
         emu_log(cycle, "pin", "%s %d", p->name, level);
     /* listeners run before the level is stored: emu_pin_level() still gives the old level */
     for (listener_t *l = p->listeners; l; l = l->next)
         l->fn(l->param, cycle, level);
     p->level = level;
+}
+
+static void set_level(pin_state_t *p, int level)
+{
+    set_level_at(p, level, p->avr->cycle);
 }
 
 static void pin_changed(struct avr_irq_t *irq, uint32_t value, void *param)
@@ -156,13 +160,13 @@ int emu_pin_listen(avr_t *avr, emu_pin_t pin, emu_pin_fn fn, void *param)
     return 0;
 }
 
-void emu_pin_drive(avr_t *avr, emu_pin_t pin, int on, int level)
+void emu_pin_drive(avr_t *avr, emu_pin_t pin, int on, int level, uint64_t cycle)
 {
     pin_state_t *p = pin_get(avr, pin);
     if (!p)
         return;
     p->overridden = on;
-    set_level(p, on ? level : p->irq_level);
+    set_level_at(p, on ? level : p->irq_level, cycle);
 }
 
 int emu_pin_level(avr_t *avr, emu_pin_t pin)

@@ -17,7 +17,8 @@
  * init() does that at boot and never writes TCNTn). Writes to TCCRnA/B and ICRn are seen through
  * simavr's io-memory IRQs, so a COM change (analogWrite -> digitalWrite) acts on the cycle it is
  * written.
- * Edges land on instruction boundaries (a few cycles late at most), like simavr's own timers.
+ * simavr runs the callbacks at the next instruction boundary (up to 4 cycles late), but the
+ * edges are stamped with their exact compare-match cycle, as the hardware produces them.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -141,9 +142,9 @@ static void apply(pwm_timer_t *t, uint64_t cycle)
         int top_is_a = ch == 0 && (t->wgm == 9 || t->wgm == 11);
         int drive = t->running && ddr && (com == 2 || com == 3) && !top_is_a;
         if (drive)
-            emu_pin_drive(avr, pin, 1, level_at(t, ch, tick));
+            emu_pin_drive(avr, pin, 1, level_at(t, ch, tick), cycle);
         else if (t->driving[ch])
-            emu_pin_drive(avr, pin, 0, 0);
+            emu_pin_drive(avr, pin, 0, 0, cycle);
         t->driving[ch] = drive;
     }
 }

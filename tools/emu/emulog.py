@@ -9,7 +9,7 @@ import subprocess
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-MOTIONEMU = os.path.join(ROOT, "build", "motionemu")
+MOTIONEMU = os.environ.get("MOTIONEMU") or os.path.join(ROOT, "build", "motionemu")
 F_CPU = 16_000_000
 
 
