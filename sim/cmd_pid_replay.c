@@ -12,33 +12,13 @@
 #include "cli.h"
 #include "commands.h"
 #include "csv.h"
+#include "csv_float.h"
 #include "pid_vector.h"
 
 typedef struct {
     FILE *f;
     const pv_vector_t *v;
 } replay_out_t;
-
-/* Shortest decimal text that strtof reads back to the same float. */
-static void print_float(FILE *f, float x)
-{
-    char buf[48];
-    int prec;
-    if (x == 0.0f) {
-        fputs(signbit(x) ? "-0" : "0", f);
-        return;
-    }
-    if (x == floorf(x) && fabsf(x) < 1e7f) {
-        fprintf(f, "%.0f", (double)x);
-        return;
-    }
-    for (prec = 1; prec <= 9; prec++) {
-        snprintf(buf, sizeof buf, "%.*g", prec, (double)x);
-        if (strtof(buf, NULL) == x)
-            break;
-    }
-    fputs(buf, f);
-}
 
 static void print_double(FILE *f, double x)
 {
@@ -62,7 +42,7 @@ static void row_float(void *user, size_t row, int computed, float output, const 
     replay_out_t *o = user;
     (void)c;
     fprintf(o->f, "%lu,%d,", (unsigned long)o->v->rows[row].t_ms, computed);
-    print_float(o->f, output);
+    csv_num_f32(o->f, output);
     fputc('\n', o->f);
 }
 

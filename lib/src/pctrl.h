@@ -21,6 +21,12 @@ extern "C" {
 
 #define PCTRL_DUTY_MAX_PCT 100.0f
 
+/* Limits shared by the servo sketches' serial commands and `motionsim servo`:
+ * setpoints |sp| <= 10^6 counts (about 520 output turns of the 1920 counts/turn gearmotor) stay
+ * exactly representable in float (< 2^24) with room for travel beyond them; gains 0..1000. */
+#define SERVO_SETPOINT_MAX_COUNTS 1000000L
+#define SERVO_GAIN_MAX 1000.0
+
 typedef struct {
     float kp_pct_per_count; /* proportional gain, % duty per count of error */
 } pctrl_t;
