@@ -230,7 +230,7 @@ int cmd_servo(int argc, char **argv)
     if (want_metrics && rc == CLI_EXIT_OK) {
         metrics_t m = step_metrics(t_log, y_log, n_steps, setpoint);
         fprintf(stderr,
-                "metrics: rise_time_s=%.4f overshoot_pct=%.2f settling_time_s=%.4f steady_state_error_counts=%.0f "
+                "metrics: rise_time_s=%.4f overshoot_pct=%.3f settling_time_s=%.4f steady_state_error_counts=%.0f "
                 "final_position_counts=%.0f peak_position_counts=%.0f\n",
                 m.rise_time_s, m.overshoot_pct, m.settling_time_s, m.sse_counts, m.final_counts, m.peak_counts);
     }
