@@ -26,10 +26,12 @@
 #include "pid_v1.h"
 #include "plant_dcmotor.h"
 
-/* Time from the encoder sample to the new PWM duty on the pin in the sketches (SPI read of the
- * LS7366R, the controller in float, duty -> PWM, analogWrite), measured in the emulator for
- * PIDClosedLoop (the slower of the two); see README "Servo timing". */
-#define SERVO_DEFAULT_LATENCY_US 300
+/* Time from the encoder sample to the new duty on the motor, as on the Mega (measured in simavr
+ * at 16 MHz, see README "Servo timing"): the rest of the LS7366R read (~30 us at 4 MHz SPI), the
+ * controller (PID Compute ~1550-1820 cycles, P ~310-370), duty -> PWM and analogWrite (~1530
+ * cycles): about 0.2 ms of code; then the timer's double-buffered compare register takes the new
+ * value only at the end of the running 490 Hz PWM period, on average half of 2.04 ms later. */
+#define SERVO_DEFAULT_LATENCY_US 1200
 
 enum { CTRL_P = 0, CTRL_PID = 1 };
 enum { PREC_FLOAT = 0, PREC_DOUBLE = 1 };
@@ -108,7 +110,7 @@ int cmd_servo(int argc, char **argv)
         {"--setpoint", CLI_INT32, &setpoint, "COUNTS", "position setpoint in encoder counts, |sp| <= 1000000 (default 1000)", NULL, NULL},
         {"--duration", CLI_DOUBLE, &duration_s, "S", "simulated time in s, 0 < S <= 3600 (default 3)", NULL, NULL},
         {"--period-ms", CLI_INT32, &period_ms, "MS", "control period in ms, 1..1000 (default 20, as the sketches)", NULL, NULL},
-        {"--latency-us", CLI_INT32, &latency_us, "US", "encoder sample -> new PWM on the pin, 0..period (default 300)", NULL, NULL},
+        {"--latency-us", CLI_INT32, &latency_us, "US", "encoder sample -> new duty at the motor, 0..period (default 1200)", NULL, NULL},
         {"--precision", CLI_CHOICE, &precision, NULL, "PID arithmetic: float (as on the Mega; default) or double", "float|double", NULL},
         {"--metrics", CLI_FLAG, &want_metrics, NULL, "print rise time, overshoot, settling time, steady-state error on stderr", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
