@@ -204,11 +204,49 @@ def check_elf_validation():
     return CheckResult(not problems, "non-ELF, avr5 ELF, bad pin, bad script command all refused", problems)
 
 
+def check_motor_coupling():
+    """PWM 128/255 on D3 with DIR low (DIRPOS=0: low = positive): the plant must see exactly
+    100 * 128 / 255 = 50.196 %, and the LS7366R must count what the plant turned."""
+    script = ("wait ^READY\nsend pwm 128\nwait ^OK pwm\nrun 300\nmark read\nsend enc\nwait ^OK enc\n"
+              "send pwm 0\nwait ^OK pwm\nrun 300\n")
+    log = emulog.run(SELFTEST, script, motor="PWM=D3,DIR=D12,CS=D53,DIRPOS=0")
+    problems = []
+    _fails(log, problems)
+    want = 100.0 * 128 / 255
+    ok = log.first(r"^OK pwm 128$")
+    run = [(c, d, n) for c, d, n in log.motor if ok and ok.cycle + 3 * PWM_PERIOD < c < log.mark("read")]
+    worst = max((abs(d - want) for _, d, _ in run), default=None)
+    if not run or worst > 1e-3:
+        problems.append(f"duty seen by the plant off {want:.4f} % by {worst}")
+    counts = [n for _, _, n in run]
+    if any(b < a for a, b in zip(counts, counts[1:])) or not counts or counts[-1] <= 0:
+        problems.append("the motor should turn forward at 50 % duty, counts rising")
+    enc = log.first(r"^OK enc ")
+    tx = next((t.cycle for t in log.tx if t.text == "enc"), None)
+    if enc and tx:
+        # the count was read between the command's arrival and the reply
+        lo = [n for c, d, n in log.motor if c <= tx]
+        hi = [n for c, d, n in log.motor if c >= enc.cycle]
+        got = int(enc.text.split()[2])
+        if not (lo and hi and lo[-1] <= got <= hi[0]):
+            problems.append(f"LS7366R read {got}, plant count was {lo[-1:]}..{hi[:1]} around the read")
+    else:
+        problems.append("no encoder reply")
+    stop = log.first(r"^OK pwm 0$")
+    after = [d for c, d, n in log.motor if stop and c > stop.cycle + 3 * PWM_PERIOD]
+    if not after or any(d != 0 for d in after):
+        problems.append("after pwm 0 the plant must see 0 %")
+    summary = (f"plant saw {run[-1][1] if run else '?'} % for OCR 128 (exact {want:.4f} %); encoder read "
+               f"{enc.text.split()[2] if enc else '?'} counts after 0.3 s")
+    return CheckResult(not problems, summary, problems)
+
+
 CHECKS = [
     ("harness self-test: pin edges and timer timing from first principles", check_pins_and_timers),
     ("harness self-test: UART0 frames, lines and replies", check_serial),
     ("harness self-test: LS7366R on SPI and SPI byte time", check_ls7366r_spi),
     ("harness self-test: ADC codes and phase-correct PWM waveform", check_adc_pwm),
+    ("harness self-test: PWM duty -> DC-motor plant -> LS7366R count", check_motor_coupling),
     ("harness self-test: reset, watchdog, halt and timeout are failures", check_failure_detection),
     ("harness self-test: ELF and argument validation", check_elf_validation),
 ]
