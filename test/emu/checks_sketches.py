@@ -387,6 +387,158 @@ def check_servo_bad_input(env, sketch, pid):
 
 
 # ----------------------------------------------------------------------------------------------
+# stepper sketches (check 1)
+
+# A long move with a cruise, and a negative move, need parameters that fit a short emulation:
+# trapezoid ramps go from 100 to 2000 steps/s at 4000 steps/s^2 (about 500 steps of
+# acceleration; the simplistic ramp's linear interval change from v0 = 1 step/s would take
+# minutes), the S-curve gets a 100-entry table held 2 steps per entry (200 steps of acceleration).
+STEPPER_FAST = {"sigmoid": [("len", "100"), ("hold", "2")],
+                "leib": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")],        # vmax > v0 at every step
+                "simplistic": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")]}
+# the move during which commands are sent must outlast them (about 0.5 s of serial traffic)
+STEPPER_BUSY_TARGET = {"sigmoid": 1000, "leib": 50, "simplistic": 50}
+STEPPER_MOVES = [(0, 50, "the lab's 0 -> 50, default parameters"), (50, 3050, "long move with cruise"),
+                 (3050, -200, "negative move with cruise")]
+
+
+def stepper_script(sketch, algo):
+    s = [f"wait ^READY {sketch}$", "timeout 5000", "send ?", "wait ^pos="]
+    for i, (a, b, _) in enumerate(STEPPER_MOVES):
+        if i == 1:
+            for k, v in STEPPER_FAST[algo]:
+                s += [f"send set {k} {v}", f"wait ^OK {k}="]
+            s += ["send ?", "wait ^pos="]
+        s += [f"mark move {a} {b}", f"send {b}", f"wait ^OK {a} {b}$", "timeout 60000", f"wait ^DONE {b}$",
+              "timeout 5000", "send ?", "wait ^pos="]
+    return "\n".join(s) + "\n"
+
+
+def stepper_algo(env, sketch):
+    """the algorithm, from the sketch's `?` at boot (a short emulation)"""
+    log = emulog.run(env.elf(sketch), f"wait ^READY {sketch}$\nsend ?\nwait ^pos=\n")
+    q, _ = query_reply(log, "pos")
+    if not q or "algo" not in q:
+        raise RuntimeError(f"no `?` reply with algo= from {sketch}: {[l.text for l in log.rx]}")
+    return q["algo"]
+
+
+def sim_intervals(env, q, a, b):
+    """motionsim ramp's whole-tick intervals for the parameters in the `?` reply q"""
+    import emulate  # tools/emu/emulate.py: the same argument mapping `make emulate` uses
+    out, _ = motionsim(env, *emulate.stepper_sim_args(q, a, b))
+    rows = [r.split(",") for r in out.splitlines()[1:] if r]
+    return [float(r[3]) for r in rows], [int(r[1]) for r in rows]
+
+
+def check_stepper(env, sketch):
+    algo = stepper_algo(env, sketch)
+    pins = sketches.stepper_pins(env)
+    log = emulog.run(env.elf(sketch), stepper_script(sketch, algo), pins=pins)
+    problems = []
+    fails_of(log, problems)
+    fc = 10 * 8 * 208  # 9600 baud frame (StepperConsole)
+    rises = log.rising("STEP")
+    led = [c for c, _ in log.pins.get("LED", [])]
+    dir_edges = log.pins.get("DIR", [])
+    figures = []
+    worst_all = 0.0
+    for a, b, label in STEPPER_MOVES:
+        m = log.mark(f"move {a} {b}")
+        if m is None:
+            problems.append(f"{label}: not reached")
+            break
+        q, _ = query_reply(log, "pos", 0, m)
+        q = emulog.query_fields(log.lines_matching("^pos=", 0, m)[-1].text)
+        tick_hz = float(q["tick_hz"])
+        cpt = F_CPU / tick_hz
+        ok = log.first(rf"^OK {a} {b}$", m)
+        done = log.first(rf"^DONE {b}$", m)
+        if not ok or not done:
+            problems.append(f"{label}: replies OK {a} {b} / DONE {b} missing")
+            continue
+        tx = next(t for t in log.tx if t.cycle >= m and t.text == str(b))
+        t0 = tx.cycle + (len(tx.text) + 2) * fc  # the line end has arrived
+        edges = [c for c in rises if t0 <= c <= done.cycle]
+        n = abs(b - a)
+        if len(edges) != n:
+            problems.append(f"{label}: {len(edges)} steps, want exactly {n}")
+            continue
+        # DIR: right level before the first step, unchanged until the last
+        want_dir = 1 if b > a else 0
+        if log.level_before("DIR", edges[0]) != want_dir:
+            problems.append(f"{label}: DIR is {log.level_before('DIR', edges[0])} at the first step, want {want_dir}")
+        moved = [c for c, _ in dir_edges if edges[0] <= c <= edges[-1]]
+        if moved:
+            problems.append(f"{label}: DIR changed during the move at {moved[:3]}")
+        last_dir = max((c for c, _ in dir_edges if c < edges[0]), default=None)
+        # DIR setup time, when this move changed DIR (it may also hold from an earlier move)
+        setup_us = (edges[0] - last_dir) / 16 if last_dir is not None and last_dir >= t0 - fc else None
+        if log.level_before("ENABLE", edges[0]) != 0:
+            problems.append(f"{label}: ENABLE (active low) is not low during the move")
+        # intervals vs motionsim ramp --integer-ticks
+        want, pos = sim_intervals(env, q, a, b)
+        if len(want) != n or pos[-1] != b:
+            problems.append(f"{label}: motionsim planned {len(want)} steps ending at {pos[-1:]}")
+            continue
+        got = [(y - x) / cpt for x, y in zip(edges, edges[1:])]
+        errs = [g - w for g, w in zip(got, want[1:])]
+        worst = max((abs(e) for e in errs), default=0.0)
+        worst_at = max(range(len(errs)), key=lambda i: abs(errs[i])) + 2 if errs else 0
+        worst_all = max(worst_all, worst)
+        if worst > 1.0:
+            problems.append(f"{label}: step {worst_at} interval {got[worst_at - 2]:.3f} ticks, motionsim "
+                            f"{want[worst_at - 1]:.0f} (error {errs[worst_at - 2]:+.3f} > 1 tick)")
+        drift = (edges[-1] - edges[0]) / cpt - sum(want[1:])
+        if abs(drift) > 1.0:
+            problems.append(f"{label}: last step {drift:+.2f} ticks off the sum of the intervals (drift)")
+        # every edge on the ideal timeline (first edge + motionsim's intervals) within one tick window
+        ideal, offs = edges[0], []
+        for e, w in zip(edges, [0.0] + want[1:]):
+            ideal += w * cpt
+            offs.append(e - ideal)
+        spread = max(offs) - min(offs)
+        if spread > cpt:
+            problems.append(f"{label}: step edges spread over {spread:.0f} cycles around the ideal timeline "
+                            f"(more than one tick = {cpt:.0f} cycles)")
+        lat_us = ((edges[0] - t0) / cpt - want[0]) / tick_hz * 1e6
+        if not (0 <= lat_us <= 5000):
+            problems.append(f"{label}: first step {lat_us:.0f} us after its interval from the command's arrival")
+        if done.cycle < edges[-1]:
+            problems.append(f"{label}: DONE before the last step")
+        after = emulog.query_fields(log.first("^pos=", done.cycle).text) if log.first("^pos=", done.cycle) else {}
+        if after.get("pos") != str(b) or after.get("state") != "idle":
+            problems.append(f"{label}: `?` after DONE says pos={after.get('pos')} state={after.get('state')}")
+        if led:
+            toggles = len([c for c in led if t0 <= c <= done.cycle])
+            if toggles != n:
+                problems.append(f"{label}: LED toggled {toggles} times for {n} steps (mirror on)")
+        figures.append(f"{label}: {n} steps, worst interval error {worst:.3f} ticks, drift {drift:+.3f} ticks, "
+                       f"edges within a {spread:.0f}-cycle window of the ideal timeline, "
+                       f"first step {lat_us:.0f} us after its interval from the command, DIR "
+                       + (f"set {setup_us:.0f} us before step 1" if setup_us is not None else "already right"))
+    summary = f"algo={algo} tick_hz=2 MHz (1 tick = 8 cycles); " + "; ".join(figures)
+    return CheckResult(not problems, summary, problems)
+
+
+def check_stepper_bad_input(env, sketch):
+    algo = stepper_algo(env, sketch)
+    fast = STEPPER_FAST[algo]
+    extra = [("target beyond int32", "send 99999999999"), ("target not whole", "send 12.5"),
+             ("two targets", "send 10 20"), ("unknown parameter", "send set speed 5"),
+             ("negative parameter", f"send set {fast[0][0]} -1"), ("parameter not a number", "send set v0 fast"),
+             ("set without value", f"send set {fast[0][0]}"), ("? with an argument", "send ? now")]
+    if algo != "sigmoid":
+        extra += [("accel 0", "send set accel 0"), ("vmax above max_sps", "send set vmax 1000000")]
+    busy = [("new target while moving", "send 100"), ("set while moving", f"send set {fast[0][0]} {fast[0][1]}"),
+            ("junk while moving", "send ???")]
+    tgt = STEPPER_BUSY_TARGET[algo]
+    return check_bad_input(env, sketch, "pos", "", COMMON_BAD + extra,
+                           while_busy=(f"send {tgt}", rf"^OK 0 {tgt}$", busy, rf"^DONE {tgt}$", 60000),
+                           dynamic=("pos", "state"), pins=sketches.stepper_pins(env))
+
+
+# ----------------------------------------------------------------------------------------------
 
 def checks_for(env):
     checks = []
@@ -398,6 +550,12 @@ def checks_for(env):
         return CheckResult(ok, f"sketches: {', '.join(names) or 'none'}",
                            [f"no emulator checks for {u}: add it to tools/emu/sketches.py" for u in unknown])
     checks.append(("emulator: every sketch under firmware/ has emulator checks", every_sketch_known))
+    for st in ("SimplisticRampStepper", "LeibRampStepper", "SCurveStepper"):
+        if st in names:
+            checks.append((f"{st}: 0->50, long and negative moves: steps, DIR, intervals == motionsim ramp",
+                           lambda st=st: check_stepper(env, st)))
+            checks.append((f"{st}: bad input and a target while moving get ERR, state unchanged",
+                           lambda st=st: check_stepper_bad_input(env, st)))
     if "MovingAverageFilter" in names:
         checks.append(("MovingAverageFilter: 60 s at 100 Hz, strobe timing, stream == motionsim filter, PWM == y",
                        lambda: check_filter(env)))

@@ -164,6 +164,15 @@ def harness_args(env, sketch):
 
 
 def stepper_pins(env):
-    g = lambda n: env.header_int("stepper", n)  # noqa: E731
-    return {"STEP": f"D{g('STEPPER_PIN_STEP')}", "DIR": f"D{g('STEPPER_PIN_DIR')}",
-            "ENABLE": f"D{g('STEPPER_PIN_ENABLE')}"}
+    """StepperPins.h names port/bit pairs: STEPPER_STEP_PORT PORTF + STEPPER_STEP_BIT 0 -> PF0"""
+    text = env.header_text("stepper")
+    pins = {}
+    for name, sig, reg in (("STEP", "STEP", "PORT"), ("DIR", "DIR", "PORT"), ("ENABLE", "ENABLE", "PORT"),
+                           ("LED", "LED", "PIN")):
+        mp = re.search(r"^\s*#\s*define\s+STEPPER_" + sig + r"_" + reg + r"\s+" + reg + r"([A-L])\b", text, re.M)
+        if not mp:
+            raise SketchError(f"StepperPins.h does not define STEPPER_{sig}_{reg} {reg}<x>")
+        pins[name] = f"P{mp.group(1)}{env.header_int('stepper', f'STEPPER_{sig}_BIT')}"
+    if env.header_int("stepper", "STEPPER_LED_MIRROR") != 1:
+        del pins["LED"]  # the LED mirrors steps only when built with STEPPER_LED_MIRROR = 1
+    return pins
