@@ -125,8 +125,9 @@ def main(argv):
     ap.add_argument("--input")
     ap.add_argument("--out", default=os.path.join(emulog.ROOT, "build", "emulate"))
     ap.add_argument("--no-plot", action="store_true")
+    ap.add_argument("--source-dir", help="another checkout's firmware/, build/firmware and motionsim")
     a = ap.parse_args(argv)
-    env = sketches.Env()
+    env = sketches.Env(source_dir=a.source_dir)
     names = env.sketch_names()
     if not a.sketch or a.sketch not in names:
         what = f"unknown ('{a.sketch}')" if a.sketch else "missing"
