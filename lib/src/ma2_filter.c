@@ -1,6 +1,8 @@
 /* ma2_filter.c - two moving averages in series, exact at the samples (see ma2_filter.h). */
 #include "ma2_filter.h"
 
+#include <string.h>
+
 motion_status_t ma2_filter_init(ma2_filter_t *f, int16_t *buf, uint16_t buf_len, uint16_t taps1, uint16_t taps2)
 {
     if (f == NULL || buf == NULL)
@@ -19,9 +21,7 @@ motion_status_t ma2_filter_init(ma2_filter_t *f, int16_t *buf, uint16_t buf_len,
 
 void ma2_filter_reset(ma2_filter_t *f)
 {
-    uint16_t i;
-    for (i = 0; i < f->len; i++)
-        f->buf[i] = 0;
+    memset(f->buf, 0, (size_t)f->len * sizeof f->buf[0]);
     f->head = 0;
     f->s1 = 0;
     f->s1_old = 0;

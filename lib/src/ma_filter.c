@@ -1,6 +1,8 @@
 /* ma_filter.c - moving average over an integer ring buffer (see ma_filter.h). */
 #include "ma_filter.h"
 
+#include <string.h>
+
 motion_status_t ma_filter_init(ma_filter_t *f, int16_t *buf, uint16_t buf_len, uint16_t taps)
 {
     if (f == NULL || buf == NULL)
@@ -17,9 +19,7 @@ motion_status_t ma_filter_init(ma_filter_t *f, int16_t *buf, uint16_t buf_len, u
 
 void ma_filter_reset(ma_filter_t *f)
 {
-    uint16_t i;
-    for (i = 0; i < f->taps; i++)
-        f->buf[i] = 0;
+    memset(f->buf, 0, (size_t)f->taps * sizeof f->buf[0]);
     f->head = 0;
     f->sum = 0;
 }
