@@ -25,7 +25,7 @@
 #ifndef MAF_MAX_TAPS
 #define MAF_MAX_TAPS 2000u /* ring buffer: 2 bytes per tap; ma tau <= 20 s, ma2 tau + tau2 <= 20 s */
 #endif
-#define MAF_QUEUE_LEN 16u  /* stream lines waiting for the serial port: 160 ms at every = 1 */
+#define MAF_QUEUE_LEN 16u  /* ring of 16: up to 15 stream lines (150 ms at every = 1) wait for the port */
 #define MAF_EVERY_MAX 1000u
 #define MAF_U_MAX_V 5.0
 static const double TS_S = 0.01; /* 1 / FILTER_SAMPLE_HZ */
@@ -48,10 +48,12 @@ static volatile uint16_t every_left;       /* samples to skip before the next li
 static volatile uint16_t pwm_next;         /* OCR4A for the next sample: y[k+1] in mV */
 static float pwm_mv_per_num;               /* 1 / den of the running configuration */
 static volatile uint32_t t_ms;             /* t of the sample being processed: 10 k */
-static volatile uint8_t busy;              /* 1 from the timer tick until the sample is done */
+static volatile uint8_t busy;              /* 1 from the timer tick until the sample is done; a tick
+                                              that finds it set starts no conversion, so ADC_vect
+                                              (which runs with interrupts enabled) never nests */
 static volatile uint16_t late_count;       /* ticks that found the previous sample unfinished */
 static volatile uint32_t drop_count;       /* stream lines dropped: queue full */
-static volatile uint16_t cost_cycles, cost_max_cycles; /* ADC interrupt, measured with Timer5 */
+static volatile uint16_t cost_cycles, cost_max_cycles; /* ADC interrupt body, Timer5 at clk/1 */
 
 typedef struct {
     uint32_t t_ms;
@@ -75,8 +77,10 @@ ISR(TIMER1_COMPA_vect)
 {
     FILTER_STROBE_PINREG = _BV(FILTER_STROBE_BIT);
     OCR4A = pwm_next;
-    if (busy)
+    if (busy) { /* the previous sample is still running (never seen): skip this one, count it */
         late_count++;
+        return;
+    }
     busy = 1;
     ADCSRA = ADCSRA_RUN | _BV(ADSC); /* convert A0 now: ADC_vect follows 13 ADC clocks (104 us) later.
                                         A plain write: |= would also write back (clear) ADIF. */
