@@ -1,8 +1,9 @@
 /* ma2_filter.h - two-stage moving-average filter ("S-curve acceleration", seed 000): two moving
  * averages in series, G(s) = G1(s) G2(s) with Gi(s) = (1/tau_i)(1 - e^(-tau_i s))/s, discretised
- * exactly with a zero-order hold (N1 = tau1/Ts, N2 = tau2/Ts taps). A step of height A gives an
- * S-shaped output: velocity (dy/dt) ramps linearly, acceleration (d2y/dt2) is +-A/(tau1 tau2) or 0,
- * the final value is reached tau1 + tau2 after the step.
+ * exactly with a zero-order hold (N1 = tau1/Ts, N2 = tau2/Ts taps). y is a velocity command in
+ * seed 000; a step of height A gives an S-shaped y: its slope (the acceleration) ramps linearly up
+ * to A/max(tau1, tau2) and back, its second derivative (the jerk) is +-A/(tau1 tau2) or 0, and the
+ * final value is reached tau1 + tau2 after the step.
  *
  * Exactness: stage 1's output y1 between samples is piecewise linear (a moving average of a held
  * input), so stage 2's integral over whole samples is the trapezoidal sum, exactly:
