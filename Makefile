@@ -7,7 +7,7 @@
 #   make firmware   build every sketch for the Mega and print the flash/SRAM table
 #   make sim        build build/motionsim
 #   make upload SKETCH=<name> PORT=<device>    flash a real Mega over USB
-#   make monitor PORT=<device>                 serial monitor, 9600 baud, CR+LF line ends
+#   make monitor PORT=<device> [BAUD=115200]   serial monitor (default 9600 baud), CR+LF line ends
 #   make emulate SKETCH=<name> [INPUT=<file>]  run a sketch's ELF in the ATmega2560 emulator
 #   make clean
 
@@ -135,7 +135,8 @@ upload:
 monitor:
 	@if [ -z "$(PORT)" ]; then echo "make monitor: PORT=<device> is missing (e.g. PORT=/dev/ttyACM0)" >&2; exit 2; fi
 	@if [ ! -e "$(PORT)" ]; then echo "make monitor: PORT '$(PORT)' does not exist (is the Mega plugged in?)" >&2; exit 2; fi
-	$(PY) -m serial.tools.miniterm --eol CRLF --raw $(PORT) 9600
+	@case "$(BAUD)" in ''|9600|19200|38400|57600|115200) ;; *) echo "make monitor: BAUD '$(BAUD)' is not one of 9600 19200 38400 57600 115200" >&2; exit 2;; esac
+	$(PY) -m serial.tools.miniterm --eol CRLF --raw $(PORT) $(or $(BAUD),9600)
 
 clean:
 	rm -rf $(BUILD)

@@ -1,9 +1,242 @@
-/* sim/cmd_servo.c - placeholder until this subcommand lands. */
+/* sim/cmd_servo.c - `motionsim servo`: the 20 ms position loop of the ProportionalClosedLoop and
+ * PIDClosedLoop sketches (seed 003 sections 4.1-4.2) closed around the DC-motor plant
+ * (sim/plant_dcmotor.h), with the same controller code and number format as the Mega:
+ *
+ *   at t_k = k x period:   position := encoder count (the LS7366R read that starts the period)
+ *                          duty := P: pctrl_duty_pct (float)   PID: Compute() of pid_v1 in float
+ *                                  (PID_v1 set up as the sketch: limits -100..100, sample time =
+ *                                  period, AUTOMATIC; the PID clock is t_k in ms)
+ *   at t_k + latency:      the bridge gets duty_pwm_from_pct(duty): 8-bit PWM + polarity, i.e.
+ *                          the plant sees +-pwm x 100/255 %
+ * One CSV row per period: t_s,setpoint,position_counts,error_counts,duty_pct (the duty as the
+ * controller computed it, before the 8-bit quantisation). The setpoint steps from the plant's
+ * rest position 0 at t = 0. --metrics prints the step-response figures on stderr (stdout stays
+ * pure CSV); see step_metrics() for the definitions.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
 #include "cli.h"
 #include "commands.h"
+#include "csv.h"
+#include "csv_float.h"
+#include "duty_pwm.h"
+#include "pctrl.h"
+#include "pid_v1.h"
+#include "plant_dcmotor.h"
+
+/* Time from the encoder sample to the new duty on the motor, as on the Mega (measured in simavr
+ * at 16 MHz, see README "Servo timing"): the rest of the LS7366R read (~30 us at 4 MHz SPI), the
+ * controller (PID Compute ~1550-1820 cycles, P ~310-370), duty -> PWM and analogWrite (~1530
+ * cycles): about 0.2 ms of code; then the timer's double-buffered compare register takes the new
+ * value only at the end of the running 490 Hz PWM period, on average half of 2.04 ms later. */
+#define SERVO_DEFAULT_LATENCY_US 1200
+
+enum { CTRL_P = 0, CTRL_PID = 1 };
+enum { PREC_FLOAT = 0, PREC_DOUBLE = 1 };
+
+typedef struct {
+    double rise_time_s, overshoot_pct, settling_time_s, sse_counts, final_counts, peak_counts;
+} metrics_t;
+
+/* The time at which f(t) = (y(t) - y0)/(yf - y0) first reaches level, linearly interpolated
+ * between samples; NaN if never. */
+static double crossing_time(const double *t, const double *frac, size_t n, double level)
+{
+    size_t i;
+    if (n > 0 && frac[0] >= level)
+        return t[0];
+    for (i = 1; i < n; i++)
+        if (frac[i] >= level)
+            return t[i - 1] + (level - frac[i - 1]) / (frac[i] - frac[i - 1]) * (t[i] - t[i - 1]);
+    return NAN;
+}
+
+/* Step-response figures in the usual (MATLAB stepinfo) sense, relative to the final value yf =
+ * the last sample and the initial value y0 = the first:
+ *   rise time        10 % -> 90 % of yf - y0 (first crossings, interpolated between samples)
+ *   overshoot        (peak - yf)/(yf - y0) x 100 %, 0 if the response never passes yf
+ *   settling time    the first sample time after which |y - yf| <= 2 % |yf - y0| for good
+ *   steady-state error  setpoint - yf (counts)
+ * With friction a P loop stops short of the setpoint: yf is where it stopped, and the error
+ * says how far that is from the setpoint. The run must be long enough for yf to be final. */
+static metrics_t step_metrics(const double *t, const double *y, size_t n, double setpoint)
+{
+    metrics_t m;
+    double y0 = y[0], yf = y[n - 1], span = yf - y0, peak = 0.0;
+    double *frac = calloc(n, sizeof *frac);
+    size_t i, last_out = 0;
+    int outside = 0;
+    m.final_counts = yf;
+    m.sse_counts = setpoint - yf;
+    m.peak_counts = y0;
+    for (i = 0; i < n; i++)
+        if ((y[i] - y0) * (span >= 0 ? 1 : -1) > (m.peak_counts - y0) * (span >= 0 ? 1 : -1))
+            m.peak_counts = y[i];
+    if (span == 0.0 || frac == NULL) {
+        m.rise_time_s = m.overshoot_pct = m.settling_time_s = NAN;
+        free(frac);
+        return m;
+    }
+    for (i = 0; i < n; i++) {
+        frac[i] = (y[i] - y0) / span;
+        if (frac[i] > peak)
+            peak = frac[i];
+        if (fabs(y[i] - yf) > 0.02 * fabs(span)) {
+            last_out = i;
+            outside = 1;
+        }
+    }
+    m.rise_time_s = crossing_time(t, frac, n, 0.9) - crossing_time(t, frac, n, 0.1);
+    m.overshoot_pct = peak > 1.0 ? (peak - 1.0) * 100.0 : 0.0;
+    m.settling_time_s = outside ? t[last_out + 1 < n ? last_out + 1 : last_out] - t[0] : 0.0;
+    free(frac);
+    return m;
+}
 
 int cmd_servo(int argc, char **argv)
 {
-    (void)argc;
-    return cli_error(argv[0], "not implemented yet");
+    int ctrl = CTRL_P, precision = PREC_FLOAT, want_metrics = 0;
+    int seen_ki = 0, seen_kd = 0;
+    double kp = 0.02, ki = 0.0, kd = 0.0, duration_s = 3.0;
+    int32_t setpoint = 1000, period_ms = 20, latency_us = SERVO_DEFAULT_LATENCY_US;
+    const char *out_path = NULL;
+    const cli_opt_t opts[] = {
+        {"--ctrl", CLI_CHOICE, &ctrl, NULL, "controller: p (ProportionalClosedLoop) or pid (PIDClosedLoop); default p", "p|pid", NULL},
+        {"--kp", CLI_DOUBLE, &kp, "X", "proportional gain, % duty per count (default 0.02, the lab's)", NULL, NULL},
+        {"--ki", CLI_DOUBLE, &ki, "X", "integral gain, % per count-second (PID only; default 0)", NULL, &seen_ki},
+        {"--kd", CLI_DOUBLE, &kd, "X", "derivative gain, % per count/s (PID only; default 0)", NULL, &seen_kd},
+        {"--setpoint", CLI_INT32, &setpoint, "COUNTS", "position setpoint in encoder counts, |sp| <= 1000000 (default 1000)", NULL, NULL},
+        {"--duration", CLI_DOUBLE, &duration_s, "S", "simulated time in s, 0 < S <= 3600 (default 3)", NULL, NULL},
+        {"--period-ms", CLI_INT32, &period_ms, "MS", "control period in ms, 1..1000 (default 20, as the sketches)", NULL, NULL},
+        {"--latency-us", CLI_INT32, &latency_us, "US", "encoder sample -> new duty at the motor, 0..period (default 1200)", NULL, NULL},
+        {"--precision", CLI_CHOICE, &precision, NULL, "PID arithmetic: float (as on the Mega; default) or double", "float|double", NULL},
+        {"--metrics", CLI_FLAG, &want_metrics, NULL, "print rise time, overshoot, settling time, steady-state error on stderr", NULL, NULL},
+        {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
+    };
+    const cli_spec_t spec = {
+        "servo", "[--ctrl p|pid] [--kp X] [--ki X] [--kd X] [--setpoint COUNTS] [--duration S] [--metrics] [-o FILE]",
+        "Closed-loop position control of the DC gearmotor + LS7366R encoder plant (Pololu 37D 30:1\n"
+        "12 V, 64 counts/motor turn, on an L298P shield): samples the count every period, runs the\n"
+        "sketch's controller (P, or PID_v1 behaviour in float), drives the plant with the 8-bit PWM\n"
+        "duty after --latency-us. CSV: t_s,setpoint,position_counts,error_counts,duty_pct.\n"
+        "--metrics: one line on stderr, 'metrics: rise_time_s=.. overshoot_pct=.. settling_time_s=..\n"
+        "steady_state_error_counts=.. final_position_counts=.. peak_position_counts=..'.",
+        opts, sizeof opts / sizeof opts[0], 0};
+    plant_dcmotor_params_t params;
+    plant_dcmotor_t plant;
+    pctrl_t pc;
+    pidf_ctrl_t pf;
+    pid_ctrl_t pd;
+    float in_f = 0, out_f = 0, sp_f = 0;
+    double in_d = 0, out_d = 0, sp_d = 0;
+    double applied = 0.0, *t_log = NULL, *y_log = NULL;
+    size_t n_steps, k;
+    FILE *f;
+    motion_status_t st = MS_OK;
+    int rc = cli_parse(&spec, argc, argv, NULL, NULL);
+    if (rc >= 0)
+        return rc;
+    if (ctrl == CTRL_P && ((seen_ki && ki != 0) || (seen_kd && kd != 0)))
+        return cli_error(argv[0], "--ki/--kd need --ctrl pid (the P controller has only kp)");
+    if (kp < 0 || ki < 0 || kd < 0)
+        return cli_error(argv[0], "%s: %s", kp < 0 ? "--kp" : ki < 0 ? "--ki" : "--kd", motion_status_text(MS_ERR_GAIN_NEGATIVE));
+    if (kp > SERVO_GAIN_MAX || ki > SERVO_GAIN_MAX || kd > SERVO_GAIN_MAX)
+        return cli_error(argv[0], "gains must be at most %g", SERVO_GAIN_MAX);
+    if (setpoint < -SERVO_SETPOINT_MAX_COUNTS || setpoint > SERVO_SETPOINT_MAX_COUNTS)
+        return cli_error(argv[0], "--setpoint: %ld is outside -%ld..%ld counts", (long)setpoint,
+                         (long)SERVO_SETPOINT_MAX_COUNTS, (long)SERVO_SETPOINT_MAX_COUNTS);
+    if (!(duration_s > 0 && duration_s <= 3600))
+        return cli_error(argv[0], "--duration: must be in 0 < S <= 3600 s");
+    if (period_ms < 1 || period_ms > 1000)
+        return cli_error(argv[0], "--period-ms: must be 1..1000 ms");
+    if (latency_us < 0 || latency_us > period_ms * 1000)
+        return cli_error(argv[0], "--latency-us: must be 0..%ld (the period)", (long)period_ms * 1000L);
+
+    plant_dcmotor_default_params(&params);
+    if (plant_dcmotor_init(&plant, &params) != 0)
+        return cli_error(argv[0], "plant: %s", plant_dcmotor_check_params(&params));
+    if (ctrl == CTRL_P) {
+        st = pctrl_init(&pc, (float)kp);
+    } else if (precision == PREC_FLOAT) {
+        /* PIDClosedLoop: MotionPID myPID(&Input, &Output, &Setpoint, Kp, Ki, Kd, DIRECT) at
+         * millis() = 0, then SetOutputLimits(-100, 100), SetSampleTime(20), SetMode(AUTOMATIC) */
+        sp_f = (float)setpoint;
+        st = pidf_init(&pf, &in_f, &out_f, &sp_f, (float)kp, (float)ki, (float)kd, PID_P_ON_E, PID_DIRECT, 0);
+        if (st == MS_OK)
+            st = pidf_set_output_limits(&pf, -100.0f, 100.0f);
+        if (st == MS_OK)
+            st = pidf_set_sample_time(&pf, period_ms);
+        pidf_set_mode(&pf, PID_AUTOMATIC);
+    } else {
+        sp_d = (double)setpoint;
+        st = pid_init(&pd, &in_d, &out_d, &sp_d, kp, ki, kd, PID_P_ON_E, PID_DIRECT, 0);
+        if (st == MS_OK)
+            st = pid_set_output_limits(&pd, -100.0, 100.0);
+        if (st == MS_OK)
+            st = pid_set_sample_time(&pd, period_ms);
+        pid_set_mode(&pd, PID_AUTOMATIC);
+    }
+    if (st != MS_OK)
+        return cli_error(argv[0], "%s", motion_status_text(st));
+
+    n_steps = (size_t)floor(duration_s * 1000.0 / period_ms + 1e-9) + 1;
+    t_log = malloc(n_steps * sizeof *t_log);
+    y_log = malloc(n_steps * sizeof *y_log);
+    if (t_log == NULL || y_log == NULL) {
+        free(t_log);
+        free(y_log);
+        fprintf(stderr, "motionsim servo: out of memory\n");
+        return CLI_EXIT_RUNTIME;
+    }
+    f = cli_open_output(argv[0], out_path);
+    if (f == NULL) {
+        free(t_log);
+        free(y_log);
+        return CLI_EXIT_RUNTIME;
+    }
+    fputs("t_s,setpoint,position_counts,error_counts,duty_pct\n", f);
+    for (k = 0; k < n_steps; k++) {
+        uint32_t t_ms = (uint32_t)(k * (size_t)period_ms);
+        int32_t position = plant_dcmotor_count(&plant);
+        int32_t error = pctrl_error_counts(setpoint, position);
+        double duty;
+        if (ctrl == CTRL_P) {
+            float d = pctrl_duty_pct(&pc, setpoint, position);
+            duty = d;
+        } else if (precision == PREC_FLOAT) {
+            in_f = (float)position;
+            (void)pidf_compute(&pf, t_ms);
+            duty = out_f;
+        } else {
+            in_d = (double)position;
+            (void)pid_compute(&pd, t_ms);
+            duty = out_d;
+        }
+        t_log[k] = (double)t_ms / 1000.0;
+        y_log[k] = position;
+        csv_num(f, t_log[k]);
+        fprintf(f, ",%ld,%ld,%ld,", (long)setpoint, (long)position, (long)error);
+        if (ctrl == CTRL_PID && precision == PREC_DOUBLE)
+            csv_num(f, duty);
+        else
+            csv_num_f32(f, (float)duty);
+        fputc('\n', f);
+        /* the old duty until the new one reaches the pin, then the new one to the next sample */
+        plant_dcmotor_advance(&plant, applied, latency_us * 1e-6);
+        applied = duty_pwm_applied_pct(duty_pwm_from_pct((float)duty));
+        plant_dcmotor_advance(&plant, applied, period_ms * 1e-3 - latency_us * 1e-6);
+    }
+    rc = cli_close_output(argv[0], f, out_path);
+    if (want_metrics && rc == CLI_EXIT_OK) {
+        metrics_t m = step_metrics(t_log, y_log, n_steps, setpoint);
+        fprintf(stderr,
+                "metrics: rise_time_s=%.4f overshoot_pct=%.3f settling_time_s=%.4f steady_state_error_counts=%.0f "
+                "final_position_counts=%.0f peak_position_counts=%.0f\n",
+                m.rise_time_s, m.overshoot_pct, m.settling_time_s, m.sse_counts, m.final_counts, m.peak_counts);
+    }
+    free(t_log);
+    free(y_log);
+    return rc;
 }

@@ -51,9 +51,11 @@ if [ ${#missing[@]} -eq 0 ]; then
 else
     ok "installing: ${missing[*]}"
     command -v apt-get >/dev/null 2>&1 || die "apt-get not found; missing Debian packages: ${missing[*]}"
-    $SUDO apt-get update -qq || die "apt-get update failed (is the Debian mirror reachable?)"
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null \
-        || die "apt-get could not install: ${missing[*]}"
+    log=$(mktemp /tmp/motion-setup-apt.XXXXXX)
+    $SUDO apt-get update >"$log" 2>&1 || die "apt-get update failed (is the Debian mirror reachable?); log: $log"
+    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}" >>"$log" 2>&1 \
+        || die "apt-get could not install: ${missing[*]}; log: $log"
+    rm -f "$log"
     ok "installed"
 fi
 
@@ -101,7 +103,7 @@ else
     if [ -z "$GO" ]; then
         if ! command -v go >/dev/null 2>&1; then
             ok "installing Debian's golang-go to bootstrap a newer Go"
-            $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq golang-go >/dev/null \
+            { $SUDO apt-get update && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y golang-go; } >/dev/null 2>&1 \
                 || die "no Go toolchain: apt-get could not install golang-go"
         fi
         ok "fetching Go toolchain $GO_TOOLCHAIN from the Go module proxy"

@@ -43,6 +43,8 @@ extern "C" {
     X(MS_ERR_TOO_MANY_TAPS, "tau/Ts needs more taps than the buffer holds")                    \
     X(MS_ERR_QUANTUM_NOT_POSITIVE, "input quantum must be greater than 0")                     \
     X(MS_ERR_INPUT_OUT_OF_RANGE, "input is outside the filter's range")                        \
+    X(MS_ERR_NOT_WHOLE_QUANTUM, "value must be a whole number of input quanta")                \
+    X(MS_ERR_FILTER_KIND, "filter kind must be ma, ma2 or exp")                                \
     /* P and PID control */                                                                    \
     X(MS_ERR_GAIN_NEGATIVE, "gains must not be negative")                                      \
     X(MS_ERR_LIMITS_ORDER, "output minimum must be less than output maximum")                  \

@@ -1,0 +1,172 @@
+/* ServoConsole.cpp - see ServoConsole.h. */
+#include "ServoConsole.h"
+
+#include <stdlib.h>
+
+#include <line_reader.h>
+#include <pctrl.h>
+#include <text_parse.h>
+
+void ServoConsole::ready(const __FlashStringHelper *sketch_name)
+{
+    Stream &out = serial_.port();
+    out.print(F("READY "));
+    out.println(sketch_name);
+}
+
+void ServoConsole::printReal(Print &out, float v, uint8_t decimals)
+{
+    char buf[24];
+    char *end;
+    if (!(v == v)) {
+        out.print(F("nan"));
+        return;
+    }
+    if (v > 1e9f || v < -1e9f) {
+        out.print(v > 0 ? F("1e9+") : F("-1e9+"));
+        return;
+    }
+    dtostrf(v, 1, decimals, buf);
+    end = buf + strlen(buf);
+    if (decimals > 0) {
+        while (end > buf && end[-1] == '0')
+            *--end = '\0';
+        if (end > buf && end[-1] == '.')
+            *--end = '\0';
+    }
+    if (strcmp(buf, "-0") == 0)
+        strcpy(buf, "0");
+    out.print(buf);
+}
+
+void ServoConsole::printStatus(uint32_t t_ms, const ServoState &s)
+{
+    Stream &out = serial_.port();
+    out.print(F("t_ms="));
+    out.print(t_ms);
+    out.print(F(" setpoint="));
+    out.print(s.setpoint_counts);
+    out.print(F(" position="));
+    out.print(s.position_counts);
+    out.print(F(" error="));
+    out.print(pctrl_error_counts(s.setpoint_counts, s.position_counts));
+    out.print(F(" duty="));
+    printReal(out, s.duty_pct, 2);
+    out.println();
+}
+
+void ServoConsole::printState(const ServoState &s)
+{
+    Stream &out = serial_.port();
+    out.print(F("setpoint="));
+    out.print(s.setpoint_counts);
+    out.print(F(" position="));
+    out.print(s.position_counts);
+    out.print(F(" error="));
+    out.print(pctrl_error_counts(s.setpoint_counts, s.position_counts));
+    out.print(F(" duty="));
+    printReal(out, s.duty_pct, 2);
+    out.print(F(" kp="));
+    printReal(out, s.kp, 6);
+    if (kind_ == PID_GAINS) {
+        out.print(F(" ki="));
+        printReal(out, s.ki, 6);
+        out.print(F(" kd="));
+        printReal(out, s.kd, 6);
+    }
+    out.println();
+}
+
+ServoConsole::Event ServoConsole::handleGain(const char *name, const char *value, const char *rest, ServoState &s)
+{
+    double v = 0;
+    motion_status_t st;
+    if (value[0] == '\0') {
+        serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("usage: kp|ki|kd <value>"));
+        return NOTHING;
+    }
+    if (!text_at_end(rest)) {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("one value after kp|ki|kd"));
+        return NOTHING;
+    }
+    st = text_parse_real(value, -3.0e38, 3.0e38, &v);
+    if (st == MS_OK && v < 0)
+        st = MS_ERR_GAIN_NEGATIVE;
+    if (st != MS_OK) {
+        serial_.reply_error(st);
+        return NOTHING;
+    }
+    if (v > SERVO_GAIN_MAX) {
+        serial_.reply_error(MS_ERR_OUT_OF_RANGE, F("gains 0..1000"));
+        return NOTHING;
+    }
+    Stream &out = serial_.port();
+    out.print(F("OK "));
+    out.print(name);
+    out.print('=');
+    if (name[1] == 'p')
+        s.kp = (float)v;
+    else if (name[1] == 'i')
+        s.ki = (float)v;
+    else
+        s.kd = (float)v;
+    printReal(out, (float)v, 6);
+    out.println();
+    return GAINS_CHANGED;
+}
+
+ServoConsole::Event ServoConsole::poll(ServoState &s)
+{
+    const char *line = serial_.poll();
+    const char *cursor;
+    char word[LINE_READER_MAX + 1], value[LINE_READER_MAX + 1]; /* a word never overflows these */
+    int len;
+    if (line == NULL)
+        return NOTHING;
+    cursor = line;
+    len = text_next_word(&cursor, word, sizeof word);
+    if (len < 0) {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND);
+        return NOTHING;
+    }
+    if (text_word_is(word, "?")) {
+        if (!text_at_end(cursor)) {
+            serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("'?' takes nothing after it"));
+            return NOTHING;
+        }
+        printState(s);
+        return NOTHING;
+    }
+    if ((word[0] >= '0' && word[0] <= '9') || word[0] == '-' || word[0] == '+') {
+        int32_t sp = 0;
+        motion_status_t st;
+        if (!text_at_end(cursor)) {
+            serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("one setpoint per line"));
+            return NOTHING;
+        }
+        st = text_parse_int32(word, -SERVO_SETPOINT_MAX_COUNTS, SERVO_SETPOINT_MAX_COUNTS, &sp);
+        if (st != MS_OK) {
+            serial_.reply_error(st, F("setpoint: whole counts -1000000..1000000"));
+            return NOTHING;
+        }
+        s.setpoint_counts = sp;
+        serial_.port().print(F("OK setpoint="));
+        serial_.port().println(sp);
+        return SETPOINT_CHANGED;
+    }
+    if (text_word_is(word, "kp") || (kind_ == PID_GAINS && (text_word_is(word, "ki") || text_word_is(word, "kd")))) {
+        char name[3] = {word[0], word[1], '\0'};
+        len = text_next_word(&cursor, value, sizeof value);
+        if (len < 0) {
+            serial_.reply_error(MS_ERR_NOT_A_NUMBER);
+            return NOTHING;
+        }
+        return handleGain(name, value, cursor, s);
+    }
+    if (kind_ == P_ONLY && (text_word_is(word, "ki") || text_word_is(word, "kd"))) {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("the P controller has only kp"));
+        return NOTHING;
+    }
+    serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <setpoint>, kp|ki|kd <value>, ?"));
+    return NOTHING;
+}

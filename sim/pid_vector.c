@@ -1,0 +1,595 @@
+/* sim/pid_vector.c - PID_v1 reference vectors: loading and replay (see pid_vector.h).
+ * Also valid C++ (the MotionPID unit test compiles it into a C++ program). */
+#include "pid_vector.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "json_flat.h"
+
+#define PV_MAX_FILE (64L * 1024L * 1024L)
+
+static int pv_err(char *err, size_t n, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int pv_err(char *err, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, n, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+/* Whole file into a NUL-terminated malloc'd buffer. */
+static char *read_file(const char *path, char *err, size_t err_n)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = NULL;
+    long size;
+    if (f == NULL) {
+        pv_err(err, err_n, "cannot read '%s': %s", path, strerror(errno));
+        return NULL;
+    }
+    if (fseek(f, 0, SEEK_END) != 0 || (size = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0) {
+        pv_err(err, err_n, "cannot read '%s': not a regular file", path);
+        fclose(f);
+        return NULL;
+    }
+    if (size > PV_MAX_FILE) {
+        pv_err(err, err_n, "'%s' is larger than %ld bytes", path, PV_MAX_FILE);
+        fclose(f);
+        return NULL;
+    }
+    buf = (char *)malloc((size_t)size + 1);
+    if (buf == NULL || fread(buf, 1, (size_t)size, f) != (size_t)size) {
+        pv_err(err, err_n, "cannot read '%s'", path);
+        free(buf);
+        fclose(f);
+        return NULL;
+    }
+    fclose(f);
+    buf[size] = '\0';
+    if (strlen(buf) != (size_t)size) {
+        pv_err(err, err_n, "'%s' contains a NUL byte (not a text file)", path);
+        free(buf);
+        return NULL;
+    }
+    return buf;
+}
+
+/* A decimal number: [sign] digits [. digits] [e [sign] digits], whole text, finite. */
+static int parse_real(const char *s, pv_real_t *out)
+{
+    const char *p = s;
+    char *end;
+    int digits = 0;
+    if (*p == '+' || *p == '-')
+        p++;
+    while (*p >= '0' && *p <= '9') {
+        p++;
+        digits++;
+    }
+    if (*p == '.') {
+        p++;
+        while (*p >= '0' && *p <= '9') {
+            p++;
+            digits++;
+        }
+    }
+    if (digits == 0)
+        return -1;
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-')
+            p++;
+        if (!(*p >= '0' && *p <= '9'))
+            return -1;
+        while (*p >= '0' && *p <= '9')
+            p++;
+    }
+    if (*p != '\0')
+        return -1;
+    out->d = strtod(s, &end);
+    if (end != p || !isfinite(out->d))
+        return -1;
+    out->f = strtof(s, &end);
+    if (end != p || !isfinite(out->f))
+        return -1;
+    return 0;
+}
+
+static int parse_int32(const char *s, int32_t *out)
+{
+    char *end;
+    long long v;
+    if (!((*s >= '0' && *s <= '9') || ((*s == '-' || *s == '+') && s[1] >= '0' && s[1] <= '9')))
+        return -1;
+    errno = 0;
+    v = strtoll(s, &end, 10);
+    if (*end != '\0' || errno == ERANGE || v < INT32_MIN || v > INT32_MAX)
+        return -1;
+    *out = (int32_t)v;
+    return 0;
+}
+
+static int parse_uint32(const char *s, uint32_t *out)
+{
+    char *end;
+    unsigned long long v;
+    if (!(*s >= '0' && *s <= '9'))
+        return -1;
+    errno = 0;
+    v = strtoull(s, &end, 10);
+    if (*end != '\0' || errno == ERANGE || v > UINT32_MAX)
+        return -1;
+    *out = (uint32_t)v;
+    return 0;
+}
+
+/* A symbolic or numeric integer argument. */
+static int parse_symbol(const char *s, const char *name0, const char *name1, int32_t *out)
+{
+    if (strcmp(s, name0) == 0) {
+        *out = 0;
+        return 0;
+    }
+    if (strcmp(s, name1) == 0) {
+        *out = 1;
+        return 0;
+    }
+    return parse_int32(s, out);
+}
+
+/* One call, e.g. "SetTunings(0.5 1 0.05)" or "Output:=37.5" (text is modified). */
+static int parse_call(char *text, pv_cmd_t *c, char *err, size_t err_n)
+{
+    char *open, *close, *args[5];
+    size_t n_args = 0;
+    char *p;
+    memset(c, 0, sizeof *c);
+    if (strncmp(text, "Output:=", 8) == 0) {
+        c->op = PV_OUTPUT_SET;
+        if (parse_real(text + 8, &c->x[0]) != 0)
+            return pv_err(err, err_n, "'%s': the value is not a finite number", text);
+        return 0;
+    }
+    open = strchr(text, '(');
+    close = strrchr(text, ')');
+    if (open == NULL || close == NULL || close < open || close[1] != '\0')
+        return pv_err(err, err_n, "'%s' is not a call NAME(ARGS) or Output:=VALUE", text);
+    *open = '\0';
+    *close = '\0';
+    p = open + 1;
+    while (*p != '\0') {
+        if (n_args == 5)
+            return pv_err(err, err_n, "%s(): too many arguments", text);
+        args[n_args++] = p;
+        while (*p != '\0' && *p != ' ')
+            p++;
+        if (*p == ' ') {
+            *p++ = '\0';
+            if (*p == '\0' || *p == ' ')
+                return pv_err(err, err_n, "%s(): arguments must be separated by one space", text);
+        }
+    }
+#define NEED_ARGS(k)                                                                              \
+    do {                                                                                          \
+        if (n_args != (k))                                                                        \
+            return pv_err(err, err_n, "%s() takes %d argument%s, got %zu", text, (k), (k) == 1 ? "" : "s", n_args); \
+    } while (0)
+    if (strcmp(text, "SetMode") == 0) {
+        NEED_ARGS(1);
+        c->op = PV_SET_MODE;
+        if (parse_symbol(args[0], "MANUAL", "AUTOMATIC", &c->n) != 0)
+            return pv_err(err, err_n, "SetMode(%s): not AUTOMATIC, MANUAL or an integer", args[0]);
+        return 0;
+    }
+    if (strcmp(text, "SetTunings") == 0) {
+        size_t i;
+        if (n_args != 3 && n_args != 4)
+            return pv_err(err, err_n, "SetTunings() takes 3 or 4 arguments, got %zu", n_args);
+        c->op = n_args == 3 ? PV_SET_TUNINGS : PV_SET_TUNINGS_PON;
+        for (i = 0; i < 3; i++)
+            if (parse_real(args[i], &c->x[i]) != 0)
+                return pv_err(err, err_n, "SetTunings(): '%s' is not a finite number", args[i]);
+        if (n_args == 4 && parse_symbol(args[3], "P_ON_M", "P_ON_E", &c->n) != 0)
+            return pv_err(err, err_n, "SetTunings(): POn '%s' is not P_ON_E, P_ON_M or an integer", args[3]);
+        return 0;
+    }
+    if (strcmp(text, "SetSampleTime") == 0) {
+        NEED_ARGS(1);
+        c->op = PV_SET_SAMPLE_TIME;
+        if (parse_int32(args[0], &c->n) != 0)
+            return pv_err(err, err_n, "SetSampleTime(%s): not an integer", args[0]);
+        return 0;
+    }
+    if (strcmp(text, "SetOutputLimits") == 0) {
+        NEED_ARGS(2);
+        c->op = PV_SET_OUTPUT_LIMITS;
+        if (parse_real(args[0], &c->x[0]) != 0 || parse_real(args[1], &c->x[1]) != 0)
+            return pv_err(err, err_n, "SetOutputLimits(%s %s): not two finite numbers", args[0], args[1]);
+        return 0;
+    }
+    if (strcmp(text, "SetControllerDirection") == 0) {
+        NEED_ARGS(1);
+        c->op = PV_SET_DIRECTION;
+        if (parse_symbol(args[0], "DIRECT", "REVERSE", &c->n) != 0)
+            return pv_err(err, err_n, "SetControllerDirection(%s): not DIRECT, REVERSE or an integer", args[0]);
+        return 0;
+    }
+#undef NEED_ARGS
+    return pv_err(err, err_n, "unknown call '%s()'", text);
+}
+
+/* The command column: calls separated by ';' (empty = none). text is modified. */
+static int parse_commands(char *text, pv_cmd_t *cmds, size_t *n, char *err, size_t err_n)
+{
+    char *p = text;
+    *n = 0;
+    if (*p == '\0')
+        return 0;
+    for (;;) {
+        char *semi = strchr(p, ';');
+        if (semi != NULL)
+            *semi = '\0';
+        if (*p == '\0')
+            return pv_err(err, err_n, "empty call between ';'");
+        if (*n >= PV_MAX_CMDS)
+            return pv_err(err, err_n, "more than %d calls", PV_MAX_CMDS);
+        if (parse_call(p, &cmds[*n], err, err_n) != 0)
+            return -1;
+        (*n)++;
+        if (semi == NULL)
+            return 0;
+        p = semi + 1;
+    }
+}
+
+static int json_real(const json_flat_t *j, const char *key, pv_real_t *out, char *err, size_t err_n)
+{
+    const json_flat_member_t *m = json_flat_get(j, key);
+    if (m == NULL)
+        return pv_err(err, err_n, "key \"%s\" is missing", key);
+    if (m->kind != JSON_FLAT_NUMBER || parse_real(m->text, out) != 0)
+        return pv_err(err, err_n, "\"%s\" must be a finite number", key);
+    return 0;
+}
+
+static int load_json(pv_vector_t *v, const char *path, char *err, size_t err_n)
+{
+    static const char *const known[] = {"kp", "ki", "kd", "pon", "direction", "t0_ms", "input0",
+                                        "output0", "setpoint0", "setup", "clock_bits"};
+    char msg[256];
+    char *text = read_file(path, err, err_n);
+    json_flat_t *j;
+    const json_flat_member_t *m;
+    size_t i, k;
+    int rc = -1;
+    if (text == NULL)
+        return -1;
+    j = (json_flat_t *)malloc(sizeof *j);
+    if (j == NULL) {
+        free(text);
+        return pv_err(err, err_n, "out of memory");
+    }
+    if (json_flat_parse(text, j, msg, sizeof msg) != 0) {
+        pv_err(err, err_n, "%s: %s", path, msg);
+        goto done;
+    }
+    for (i = 0; i < j->n; i++) {
+        int ok = 0;
+        for (k = 0; k < sizeof known / sizeof known[0]; k++)
+            ok |= strcmp(j->m[i].key, known[k]) == 0;
+        if (!ok) {
+            pv_err(err, err_n, "%s: unknown key \"%s\"", path, j->m[i].key);
+            goto done;
+        }
+    }
+    if (json_real(j, "kp", &v->kp, msg, sizeof msg) != 0 || json_real(j, "ki", &v->ki, msg, sizeof msg) != 0 ||
+        json_real(j, "kd", &v->kd, msg, sizeof msg) != 0 || json_real(j, "input0", &v->input0, msg, sizeof msg) != 0 ||
+        json_real(j, "output0", &v->output0, msg, sizeof msg) != 0 ||
+        json_real(j, "setpoint0", &v->setpoint0, msg, sizeof msg) != 0) {
+        pv_err(err, err_n, "%s: %s", path, msg);
+        goto done;
+    }
+    m = json_flat_get(j, "pon");
+    if (m == NULL || m->kind != JSON_FLAT_STRING || parse_symbol(m->text, "P_ON_M", "P_ON_E", &v->pon) != 0) {
+        pv_err(err, err_n, "%s: \"pon\" must be \"P_ON_E\" or \"P_ON_M\"", path);
+        goto done;
+    }
+    m = json_flat_get(j, "direction");
+    if (m == NULL || m->kind != JSON_FLAT_STRING || parse_symbol(m->text, "DIRECT", "REVERSE", &v->direction) != 0) {
+        pv_err(err, err_n, "%s: \"direction\" must be \"DIRECT\" or \"REVERSE\"", path);
+        goto done;
+    }
+    m = json_flat_get(j, "t0_ms");
+    if (m == NULL || m->kind != JSON_FLAT_NUMBER || parse_uint32(m->text, &v->t0_ms) != 0) {
+        pv_err(err, err_n, "%s: \"t0_ms\" must be a whole number 0..4294967295", path);
+        goto done;
+    }
+    v->clock_bits = 32;
+    m = json_flat_get(j, "clock_bits");
+    if (m != NULL && (m->kind != JSON_FLAT_NUMBER || parse_int32(m->text, &v->clock_bits) != 0 ||
+                      (v->clock_bits != 32 && v->clock_bits != 64))) {
+        pv_err(err, err_n, "%s: \"clock_bits\" must be 32 or 64", path);
+        goto done;
+    }
+    m = json_flat_get(j, "setup");
+    if (m == NULL || m->kind != JSON_FLAT_ARRAY) {
+        pv_err(err, err_n, "%s: \"setup\" must be an array of calls", path);
+        goto done;
+    }
+    if (m->n_items > PV_MAX_CMDS) {
+        pv_err(err, err_n, "%s: more than %d set-up calls", path, PV_MAX_CMDS);
+        goto done;
+    }
+    v->n_setup = 0;
+    for (i = 0; i < m->n_items; i++) {
+        char call[JSON_FLAT_MAX_TEXT + 1];
+        size_t n1 = 0;
+        strcpy(call, m->items[i]);
+        if (parse_commands(call, &v->setup[v->n_setup], &n1, msg, sizeof msg) != 0 || n1 != 1) {
+            pv_err(err, err_n, "%s: setup item %zu: %s", path, i + 1, n1 != 1 && msg[0] == '\0' ? "one call expected" : msg);
+            goto done;
+        }
+        v->n_setup++;
+    }
+    rc = 0;
+done:
+    free(j);
+    free(text);
+    return rc;
+}
+
+/* NAME.csv -> NAME.json beside it, else ../NAME.json when the CSV is in a float32/ folder. */
+static int find_json(const char *csv_path, char *out, size_t n, char *err, size_t err_n)
+{
+    size_t len = strlen(csv_path);
+    const char *slash = strrchr(csv_path, '/');
+    const char *base = slash != NULL ? slash + 1 : csv_path;
+    size_t dir_len = (size_t)(base - csv_path);
+    FILE *f;
+    if (len < 5 || strcmp(csv_path + len - 4, ".csv") != 0)
+        return pv_err(err, err_n, "'%s': a vector file name ends in .csv", csv_path);
+    if (len + 2 > n)
+        return pv_err(err, err_n, "'%s': path too long", csv_path);
+    memcpy(out, csv_path, len - 4);
+    strcpy(out + len - 4, ".json");
+    f = fopen(out, "r");
+    if (f != NULL) {
+        fclose(f);
+        return 0;
+    }
+    /* float32/NAME.csv -> NAME.json one folder up */
+    if (dir_len >= 8 && strncmp(base - 8, "float32/", 8) == 0 && (dir_len == 8 || base[-9] == '/')) {
+        size_t stem = strlen(base) - 4;
+        if (dir_len - 8 + stem + 6 > n)
+            return pv_err(err, err_n, "'%s': path too long", csv_path);
+        memcpy(out, csv_path, dir_len - 8);
+        memcpy(out + dir_len - 8, base, stem);
+        strcpy(out + dir_len - 8 + stem, ".json");
+        f = fopen(out, "r");
+        if (f != NULL) {
+            fclose(f);
+            return 0;
+        }
+    }
+    return pv_err(err, err_n, "no set-up file for '%s' (looked for NAME.json beside it%s)", csv_path,
+                  dir_len >= 8 && strncmp(base - 8, "float32/", 8) == 0 ? " and one folder up" : "");
+}
+
+static int col_index(const pv_vector_t *v, const char *name)
+{
+    size_t i;
+    for (i = 0; i < v->n_cols; i++)
+        if (strcmp(v->header[i], name) == 0)
+            return (int)i;
+    return -1;
+}
+
+/* Splits a line on ',' into fields[]; returns the number of fields. */
+static size_t split_commas(char *line, char **fields, size_t max)
+{
+    size_t n = 0;
+    char *p = line;
+    for (;;) {
+        char *comma = strchr(p, ',');
+        if (n < max)
+            fields[n] = p;
+        n++;
+        if (comma == NULL)
+            break;
+        *comma = '\0';
+        p = comma + 1;
+    }
+    return n;
+}
+
+int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n)
+{
+    char msg[256];
+    char *p, *line;
+    size_t lines = 0, r, cap_rows;
+    int lineno = 1;
+    int c_t, c_in, c_sp, c_cmd;
+    memset(v, 0, sizeof *v);
+    if (find_json(csv_path, v->json_path, sizeof v->json_path, err, err_n) != 0)
+        return -1;
+    if (load_json(v, v->json_path, err, err_n) != 0)
+        return -1;
+    v->csv_text = read_file(csv_path, err, err_n);
+    if (v->csv_text == NULL)
+        return -1;
+    for (p = v->csv_text; *p != '\0'; p++)
+        lines += *p == '\n';
+    cap_rows = lines + 1;
+    /* header */
+    line = v->csv_text;
+    p = strchr(line, '\n');
+    if (p != NULL)
+        *p = '\0';
+    if (p != NULL && p > line && p[-1] == '\r')
+        p[-1] = '\0';
+    if (line[0] == '\0') {
+        pv_free(v);
+        return pv_err(err, err_n, "%s:1: empty header line", csv_path);
+    }
+    {
+        size_t n = split_commas(line, NULL, 0);
+        v->header = (char **)malloc(n * sizeof *v->header);
+        if (v->header == NULL) {
+            pv_free(v);
+            return pv_err(err, err_n, "out of memory");
+        }
+        /* split again into the array (split_commas stopped writing at max = 0 but cut the text) */
+        {
+            size_t i;
+            char *q = line;
+            for (i = 0; i < n; i++) {
+                v->header[i] = q;
+                q += strlen(q) + 1;
+            }
+        }
+        v->n_cols = n;
+    }
+    c_t = col_index(v, "t_ms");
+    c_in = col_index(v, "input");
+    c_sp = col_index(v, "setpoint");
+    c_cmd = col_index(v, "command");
+    if (c_t < 0 || c_in < 0 || c_sp < 0 || c_cmd < 0) {
+        pv_free(v);
+        return pv_err(err, err_n, "%s:1: the header needs columns t_ms, input, setpoint and command", csv_path);
+    }
+    v->rows = (pv_row_t *)calloc(cap_rows, sizeof *v->rows);
+    v->cells = (char **)calloc(cap_rows * v->n_cols, sizeof *v->cells);
+    if (v->rows == NULL || v->cells == NULL) {
+        pv_free(v);
+        return pv_err(err, err_n, "out of memory");
+    }
+    r = 0;
+    while (p != NULL) {
+        char **f;
+        pv_row_t *row;
+        size_t n;
+        char cmd_copy[1024];
+        line = p + 1;
+        lineno++;
+        p = strchr(line, '\n');
+        if (p != NULL)
+            *p = '\0';
+        if (p != NULL && p > line && p[-1] == '\r')
+            p[-1] = '\0';
+        if (line[0] == '\0') {
+            if (p == NULL)
+                break;
+            pv_free(v);
+            return pv_err(err, err_n, "%s:%d: empty line", csv_path, lineno);
+        }
+        f = &v->cells[r * v->n_cols];
+        n = split_commas(line, f, v->n_cols);
+        if (n != v->n_cols) {
+            pv_free(v);
+            return pv_err(err, err_n, "%s:%d: %zu fields, the header has %zu", csv_path, lineno, n, v->n_cols);
+        }
+        row = &v->rows[r];
+        if (parse_uint32(f[c_t], &row->t_ms) != 0) {
+            pv_free(v);
+            return pv_err(err, err_n, "%s:%d: t_ms '%s' is not a whole number 0..4294967295", csv_path, lineno, f[c_t]);
+        }
+        if (parse_real(f[c_in], &row->input) != 0 || parse_real(f[c_sp], &row->setpoint) != 0) {
+            pv_free(v);
+            return pv_err(err, err_n, "%s:%d: input and setpoint must be finite numbers", csv_path, lineno);
+        }
+        if (strlen(f[c_cmd]) >= sizeof cmd_copy) {
+            pv_free(v);
+            return pv_err(err, err_n, "%s:%d: command too long", csv_path, lineno);
+        }
+        strcpy(cmd_copy, f[c_cmd]);
+        if (parse_commands(cmd_copy, row->cmds, &row->n_cmds, msg, sizeof msg) != 0) {
+            pv_free(v);
+            return pv_err(err, err_n, "%s:%d: %s", csv_path, lineno, msg);
+        }
+        r++;
+    }
+    v->n_rows = r;
+    if (r == 0) {
+        pv_free(v);
+        return pv_err(err, err_n, "%s: no data rows", csv_path);
+    }
+    return 0;
+}
+
+void pv_free(pv_vector_t *v)
+{
+    free(v->rows);
+    free(v->cells);
+    free(v->header);
+    free(v->csv_text);
+    v->rows = NULL;
+    v->cells = NULL;
+    v->header = NULL;
+    v->csv_text = NULL;
+    v->n_rows = v->n_cols = 0;
+}
+
+const char *pv_cell(const pv_vector_t *v, size_t r, const char *col)
+{
+    int c = col_index(v, col);
+    if (c < 0 || r >= v->n_rows)
+        return NULL;
+    return v->cells[r * v->n_cols + (size_t)c];
+}
+
+/* The replay, once per precision: M is the pv_real_t member (d or f), P the pid_v1 prefix,
+ * Q the prefix of the local functions. */
+#define PV_REPLAY_BODY(real, M, P, T, FN, Q)                                                          \
+    static void Q##apply(T *c, real *out, const pv_cmd_t *cmd)                                   \
+    {                                                                                            \
+        switch (cmd->op) {                                                                       \
+        case PV_OUTPUT_SET: *out = cmd->x[0].M; break;                                           \
+        case PV_SET_MODE: P##set_mode(c, cmd->n); break;                                         \
+        case PV_SET_TUNINGS: (void)P##set_tunings(c, cmd->x[0].M, cmd->x[1].M, cmd->x[2].M); break; \
+        case PV_SET_TUNINGS_PON:                                                                 \
+            (void)P##set_tunings_pon(c, cmd->x[0].M, cmd->x[1].M, cmd->x[2].M, cmd->n);          \
+            break;                                                                               \
+        case PV_SET_SAMPLE_TIME: (void)P##set_sample_time(c, cmd->n); break;                     \
+        case PV_SET_OUTPUT_LIMITS: (void)P##set_output_limits(c, cmd->x[0].M, cmd->x[1].M); break; \
+        case PV_SET_DIRECTION: P##set_direction(c, cmd->n); break;                               \
+        }                                                                                        \
+    }                                                                                            \
+    static void Q##replay(const pv_vector_t *v, FN fn, void *user)                              \
+    {                                                                                            \
+        T c;                                                                                     \
+        real in = v->input0.M, out = v->output0.M, sp = v->setpoint0.M;                          \
+        size_t r, k;                                                                             \
+        (void)P##init(&c, &in, &out, &sp, v->kp.M, v->ki.M, v->kd.M, v->pon, v->direction, v->t0_ms); \
+        for (k = 0; k < v->n_setup; k++)                                                         \
+            Q##apply(&c, &out, &v->setup[k]);                                                    \
+        for (r = 0; r < v->n_rows; r++) {                                                        \
+            const pv_row_t *row = &v->rows[r];                                                   \
+            int computed;                                                                        \
+            in = row->input.M;                                                                   \
+            sp = row->setpoint.M;                                                                \
+            for (k = 0; k < row->n_cmds; k++)                                                    \
+                Q##apply(&c, &out, &row->cmds[k]);                                               \
+            computed = P##compute(&c, row->t_ms);                                                \
+            fn(user, r, computed, out, &c);                                                      \
+        }                                                                                        \
+    }
+
+PV_REPLAY_BODY(double, d, pid_, pid_ctrl_t, pv_row_fn_double, pvd_)
+PV_REPLAY_BODY(float, f, pidf_, pidf_ctrl_t, pv_row_fn_float, pvf_)
+
+void pv_replay_double(const pv_vector_t *v, pv_row_fn_double fn, void *user)
+{
+    pvd_replay(v, fn, user);
+}
+
+void pv_replay_float(const pv_vector_t *v, pv_row_fn_float fn, void *user)
+{
+    pvf_replay(v, fn, user);
+}

@@ -1,0 +1,307 @@
+"""motionsim servo and pid-replay from the command line (issue: closed-loop servo control).
+
+Expectations come from the seed (003 section 4.1: duty = Kp x (setpoint - measured), Kp = 0.02,
+clamped to +-100 %), from the plant's documented friction figures (breakaway at 5.8 % duty), from
+step-response definitions re-implemented here, and from the PID_v1 reference vectors in
+test/data/pid_v1/ (recorded from the real library).
+"""
+import csv
+import io
+import math
+import os
+import re
+import struct
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+VECTORS = os.path.join(ROOT, "test", "data", "pid_v1")
+NAMES = ["a_p_only", "b_pid_windup", "e_manual_auto", "g_irregular_calls", "h_invalid_args"]
+HEADER = ["t_s", "setpoint", "position_counts", "error_counts", "duty_pct"]
+BREAKAWAY_DUTY_PCT = 5.8  # sim/plant_dcmotor.h: the default motor starts at 5.8 % duty
+
+
+def one_line(text):
+    return len(text.strip().splitlines()) == 1
+
+
+def parse_metrics(err):
+    m = re.search(r"^metrics: (.*)$", err, re.M)
+    assert m, err
+    return {k: float(v) for k, v in (kv.split("=") for kv in m.group(1).split())}
+
+
+def step_metrics(t, y, setpoint):
+    """rise 10-90 %, overshoot, 2 % settling, steady-state error, relative to the final value."""
+    y0, yf = y[0], y[-1]
+    span = yf - y0
+    frac = [(v - y0) / span for v in y]
+
+    def cross(level):
+        for i, f in enumerate(frac):
+            if f >= level:
+                if i == 0:
+                    return t[0]
+                return t[i - 1] + (level - frac[i - 1]) / (f - frac[i - 1]) * (t[i] - t[i - 1])
+        return math.nan
+
+    outside = [i for i, v in enumerate(y) if abs(v - yf) > 0.02 * abs(span)]
+    settle = t[min(outside[-1] + 1, len(t) - 1)] - t[0] if outside else 0.0
+    return {"rise_time_s": cross(0.9) - cross(0.1),
+            "overshoot_pct": max(0.0, (max(frac) - 1) * 100),
+            "settling_time_s": settle,
+            "steady_state_error_counts": setpoint - yf,
+            "final_position_counts": yf}
+
+
+# ---------------------------------------------------------------- servo
+def test_p_loop_csv_follows_the_lab_formula(motionsim):
+    r = motionsim("servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "1000", "--duration", "3")
+    assert r.rc == 0, r.err
+    assert r.err == ""
+    header, rows = r.rows()
+    assert header == HEADER
+    assert len(rows) == 151  # 0, 0.02, ..., 3.00 s
+    for i, row in enumerate(rows):
+        assert row["t_s"] == pytest.approx(i * 0.02, abs=1e-12)
+        assert row["setpoint"] == 1000
+        assert row["error_counts"] == row["setpoint"] - row["position_counts"]
+        want = max(-100.0, min(100.0, 0.02 * row["error_counts"]))
+        assert row["duty_pct"] == pytest.approx(want, rel=1e-6, abs=1e-6)
+    assert rows[0]["position_counts"] == 0 and rows[0]["duty_pct"] == pytest.approx(20.0)
+    # friction leaves a P loop short of the setpoint: it stops once Kp x error cannot keep it turning
+    final = rows[-1]
+    assert 0 < final["error_counts"] <= (BREAKAWAY_DUTY_PCT + 0.2) / 0.02
+    assert max(r_["position_counts"] for r_ in rows) <= 1000
+
+
+def test_duty_saturates_at_100_percent(motionsim):
+    r = motionsim("servo", "--kp", "0.5", "--setpoint", "-5000", "--duration", "0.5")
+    assert r.rc == 0, r.err
+    _, rows = r.rows()
+    assert rows[0]["duty_pct"] == -100
+    assert all(-100 <= row["duty_pct"] <= 100 for row in rows)
+    assert rows[-1]["position_counts"] < -1000  # a negative setpoint drives it backwards
+
+
+def test_metrics_on_stderr_match_their_definitions(motionsim):
+    for args in (["--ctrl", "p"], ["--ctrl", "pid", "--kp", "0.1", "--ki", "0.1", "--kd", "0.002", "--duration", "5"]):
+        r = motionsim("servo", *args, "--metrics")
+        assert r.rc == 0, r.err
+        plain = motionsim("servo", *args)
+        assert r.out == plain.out  # stdout stays the same pure CSV
+        assert one_line(r.err)
+        got = parse_metrics(r.err)
+        _, rows = r.rows()
+        want = step_metrics([x["t_s"] for x in rows], [x["position_counts"] for x in rows], rows[0]["setpoint"])
+        for k, v in want.items():
+            assert got[k] == pytest.approx(v, abs=1e-3), k
+
+
+def test_pid_removes_the_friction_error(motionsim):
+    r = motionsim("servo", "--ctrl", "pid", "--kp", "0.1", "--ki", "0.1", "--kd", "0.002", "--duration", "5", "--metrics")
+    assert r.rc == 0, r.err
+    m = parse_metrics(r.err)
+    assert abs(m["steady_state_error_counts"]) <= 2
+    assert 0 < m["overshoot_pct"] < 20
+    assert m["settling_time_s"] < 4.0
+    p = parse_metrics(motionsim("servo", "--ctrl", "p", "--kp", "0.1", "--metrics").err)
+    assert p["steady_state_error_counts"] > 10  # P alone stops short
+
+
+def test_pid_with_ki_kd_zero_is_the_p_controller(motionsim):
+    # PID_v1 with Ki = Kd = 0 started from Output 0: output = Kp x error, the P controller's law
+    a = motionsim("servo", "--ctrl", "pid", "--kp", "0.02")
+    b = motionsim("servo", "--ctrl", "p", "--kp", "0.02")
+    assert a.rc == 0 and b.rc == 0
+    assert a.out == b.out
+
+
+def test_double_precision_pid_stays_close_to_float(motionsim):
+    args = ["servo", "--ctrl", "pid", "--kp", "0.05", "--ki", "0.02", "--duration", "1"]
+    f = motionsim(*args).rows()[1]
+    d = motionsim(*args, "--precision", "double").rows()[1]
+    assert len(f) == len(d)
+    # the first sample is identical; both reach the same region
+    assert f[0]["duty_pct"] == pytest.approx(d[0]["duty_pct"], rel=1e-6)
+    assert abs(f[-1]["position_counts"] - d[-1]["position_counts"]) <= 5
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--kp", "-0.02"], "gains must not be negative"),
+    (["--ctrl", "pid", "--ki", "-1"], "gains must not be negative"),
+    (["--ctrl", "pid", "--kd", "-1"], "gains must not be negative"),
+    (["--ki", "0.1"], "--ctrl pid"),
+    (["--kp", "5000"], "at most"),
+    (["--setpoint", "2000000"], "outside"),
+    (["--setpoint", "12.5"], "whole number"),
+    (["--duration", "0"], "--duration"),
+    (["--duration", "abc"], "not a finite number"),
+    (["--duration", "nan"], "not a finite number"),
+    (["--ctrl", "pi"], "not one of p|pid"),
+    (["--period-ms", "0"], "--period-ms"),
+    (["--latency-us", "30000"], "--latency-us"),
+    (["--precision", "half"], "float|double"),
+])
+def test_bad_servo_input_exits_2_with_one_line(motionsim, args, words):
+    r = motionsim("servo", *args)
+    assert r.rc == 2, (args, r.err)
+    assert one_line(r.err) and words in r.err, r.err
+    assert r.out == ""
+
+
+def test_unwritable_output_is_a_runtime_error(motionsim, tmp_path):
+    r = motionsim("servo", "-o", str(tmp_path / "no" / "such" / "dir.csv"))
+    assert r.rc == 1 and one_line(r.err)
+
+
+# ---------------------------------------------------------------- pid-replay
+def f32(x):
+    return struct.unpack("f", struct.pack("f", float(x)))[0]
+
+
+def read_vector(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_pid_replay_double_equals_the_reference(motionsim, name):
+    path = os.path.join(VECTORS, name + ".csv")
+    r = motionsim("pid-replay", path)
+    assert r.rc == 0, r.err
+    got = list(csv.DictReader(io.StringIO(r.out)))
+    ref = read_vector(path)
+    assert r.out.splitlines()[0] == "t_ms,computed,output"
+    assert len(got) == len(ref)
+    for g, w in zip(got, ref):
+        assert g["t_ms"] == w["t_ms"] and g["computed"] == w["computed"]
+        assert float(g["output"]) == float(w["output"]), (w["t_ms"], g["output"], w["output"])
+        assert g["output"] == w["output"]  # same shortest round-trip text
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_pid_replay_float_equals_the_float32_reference(motionsim, name):
+    path = os.path.join(VECTORS, "float32", name + ".csv")
+    r = motionsim("pid-replay", "--float", path)
+    assert r.rc == 0, r.err
+    got = list(csv.DictReader(io.StringIO(r.out)))
+    ref = read_vector(path)
+    assert len(got) == len(ref)
+    for g, w in zip(got, ref):
+        assert g["t_ms"] == w["t_ms"] and g["computed"] == w["computed"]
+        assert f32(g["output"]) == f32(w["output"]), (w["t_ms"], g["output"], w["output"])
+        assert g["output"] == w["output"]  # the shortest text for the float, as the vector has it
+
+
+def test_pid_replay_double_of_float_vector_differs(motionsim):
+    # the float32 vectors really are float: replaying one in double does not reproduce it
+    path = os.path.join(VECTORS, "float32", "b_pid_windup.csv")
+    r = motionsim("pid-replay", path)
+    assert r.rc == 0
+    got = [row["output"] for row in csv.DictReader(io.StringIO(r.out))]
+    ref = [row["output"] for row in read_vector(path)]
+    assert sum(1 for a, b in zip(got, ref) if float(a) != float(b)) > 10
+
+
+def write_vector(tmp_path, rows, json_text=None, name="v"):
+    ref = read_vector(os.path.join(VECTORS, "a_p_only.csv"))
+    cols = ["t_ms", "input", "setpoint", "command", "computed", "output"]
+    lines = [",".join(cols)]
+    for i, cmd in enumerate(rows):
+        r = ref[i]
+        lines.append(",".join([r["t_ms"], r["input"], r["setpoint"], cmd, r["computed"], r["output"]]))
+    (tmp_path / f"{name}.csv").write_text("\n".join(lines) + "\n")
+    if json_text is None:
+        with open(os.path.join(VECTORS, "a_p_only.json")) as f:
+            json_text = f.read()
+    (tmp_path / f"{name}.json").write_text(json_text)
+    return str(tmp_path / f"{name}.csv")
+
+
+def test_pid_replay_accepts_every_documented_command(motionsim, tmp_path):
+    cmds = ["SetMode(AUTOMATIC)", "SetTunings(0.5 1 0.05)", "SetTunings(0.5 1 0.05 P_ON_M)", "SetSampleTime(50)",
+            "SetOutputLimits(-50 50)", "SetControllerDirection(REVERSE)", "Output:=3.5;SetMode(MANUAL)",
+            "SetMode(2);SetTunings(1 2 3 7);SetControllerDirection(2)", ""]
+    r = motionsim("pid-replay", write_vector(tmp_path, cmds))
+    assert r.rc == 0, r.err
+    assert len(r.out.strip().splitlines()) == 1 + len(cmds)
+
+
+@pytest.mark.parametrize("cmd, words", [
+    ("SetMode(AUTO)", "SetMode(AUTO)"),
+    ("SetTunings(1 2)", "3 or 4 arguments"),
+    ("SetTunings(1 x 2)", "not a finite number"),
+    ("SetSampleTime(2.5)", "not an integer"),
+    ("SetOutputLimits(1)", "2 arguments"),
+    ("Compute()", "unknown call"),
+    ("Output:=abc", "not a finite number"),
+    ("SetMode(AUTOMATIC);", "empty call"),
+    ("SetMode AUTOMATIC", "not a call"),
+    ("SetTunings(1  2 3)", "one space"),
+])
+def test_pid_replay_bad_command_names_file_and_line(motionsim, tmp_path, cmd, words):
+    path = write_vector(tmp_path, ["SetMode(AUTOMATIC)", cmd])
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2
+    assert one_line(r.err) and words in r.err and ":3:" in r.err, r.err
+    assert r.out == ""
+
+
+@pytest.mark.parametrize("json_text, words", [
+    ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": 0, "input0": 0, '
+     '"output0": 0, "setpoint0": 0, "setup": [],}', "line 1"),
+    ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": 0, "input0": 0, '
+     '"output0": 0, "setpoint0": 0, "setup": [], "extra": 1}', 'unknown key "extra"'),
+    ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": 0, "input0": 0, '
+     '"output0": 0, "setup": []}', '"setpoint0" is missing'),
+    ('{"kp": {"a": 1}}', "expected a number"),
+    ('{"kp": true}', "expected a number"),
+    ('{"kp": 01}', "expected ','"),
+    ('{"kp": 1, "kp": 2}', "duplicate key"),
+    ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_X", "direction": "DIRECT", "t0_ms": 0, "input0": 0, '
+     '"output0": 0, "setpoint0": 0, "setup": []}', '"pon"'),
+    ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": -5, "input0": 0, '
+     '"output0": 0, "setpoint0": 0, "setup": []}', '"t0_ms"'),
+    ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": 0, "input0": 0, '
+     '"output0": 0, "setpoint0": 0, "setup": [1, 2]}', "only strings"),
+    ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": 0, "input0": 0, '
+     '"output0": 0, "setpoint0": 0, "setup": ["SetFoo(1)"]}', "unknown call"),
+    ('{"kp": 1} trailing', "unexpected text"),
+    ('', "expected '{'"),
+])
+def test_pid_replay_bad_json_is_refused(motionsim, tmp_path, json_text, words):
+    path = write_vector(tmp_path, ["SetMode(AUTOMATIC)"], json_text=json_text)
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2
+    assert one_line(r.err) and words in r.err, r.err
+    assert r.out == ""
+
+
+def test_pid_replay_file_problems(motionsim, tmp_path):
+    r = motionsim("pid-replay")
+    assert r.rc == 2 and one_line(r.err) and "VECTOR.csv" in r.err
+    r = motionsim("pid-replay", "a.csv", "b.csv")
+    assert r.rc == 2 and one_line(r.err)
+    r = motionsim("pid-replay", str(tmp_path / "missing.csv"))
+    assert r.rc == 2 and one_line(r.err) and "no set-up file" in r.err
+    r = motionsim("pid-replay", str(tmp_path / "vector.txt"))
+    assert r.rc == 2 and one_line(r.err) and ".csv" in r.err
+    # a .json but no .csv
+    (tmp_path / "lonely.json").write_text(open(os.path.join(VECTORS, "a_p_only.json")).read())
+    r = motionsim("pid-replay", str(tmp_path / "lonely.csv"))
+    assert r.rc == 2 and one_line(r.err) and "cannot read" in r.err
+    # a row with a missing field, and a header without the input columns
+    path = write_vector(tmp_path, ["SetMode(AUTOMATIC)", ""])
+    text = open(path).read().splitlines()
+    text[2] = text[2].rsplit(",", 1)[0]
+    open(path, "w").write("\n".join(text) + "\n")
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err) and ":3:" in r.err and "fields" in r.err
+    open(path, "w").write("t_ms,computed\n0,1\n")
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err) and "t_ms, input, setpoint and command" in r.err
+    # a binary file
+    open(path, "wb").write(b"t_ms,input\x00,setpoint,command\n")
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err)

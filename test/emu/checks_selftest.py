@@ -1,0 +1,252 @@
+"""Harness self-tests: the emulator must be right before it may judge the sketches.
+
+They run build/emu/emu_selftest.elf (test/emu/selftest/emu_selftest.c, plain avr-libc) whose
+timing follows from the ATmega2560 datasheet, so every expected number below is computed here
+from first principles, never recorded from the harness:
+  - 10 PF1 toggles exactly 1000 cycles apart (sbi = 2 cycles + __builtin_avr_delay_cycles(998));
+  - Timer1 CTC clk/8, OCR1A = 1999: OC1A toggles every 8 * 2000 = 16000 cycles;
+  - UART0 9600 baud 8N1 with U2X0, UBRR0 = 207: a byte is 10 bits * 8 * 208 = 16640 cycles;
+  - SPI clk/16: a byte is 8 * 16 = 128 cycles;
+  - ADC: code = floor(V * 1024 / 5 V);
+  - Timer3 phase-correct 8-bit PWM clk/64: period 510 * 64 = 32640 cycles, high 2 * OCR * 64.
+And a broken firmware must be reported: reset, watchdog, halt, a reply that never comes, an ELF
+that is not for the ATmega2560.
+"""
+import os
+import subprocess
+
+import emulog
+from emulog import F_CPU
+
+ROOT = emulog.ROOT
+SELFTEST = os.path.join(ROOT, "build", "emu", "emu_selftest.elf")
+WRONG_MCU = os.path.join(ROOT, "build", "emu", "wrong_mcu.elf")
+
+UART_BYTE = 10 * 8 * 208   # cycles per 8N1 byte at UBRR0 = 207, U2X0 = 1
+SPI_BYTE = 8 * 16          # cycles per SPI byte at fosc/16
+PWM_PERIOD = 510 * 64      # phase-correct 8-bit, clk/64
+MAX_INSN = 5               # longest AVR instruction (cycles): edges land on instruction boundaries
+
+
+class CheckResult:
+    def __init__(self, ok, summary, details=()):
+        self.ok = ok
+        self.summary = summary
+        self.details = list(details)
+
+
+def _fails(log, problems):
+    for c, k, t in log.fails:
+        problems.append(f"harness reported {k} at {c / F_CPU:.4f} s: {t}")
+
+
+def check_pins_and_timers():
+    log = emulog.run(SELFTEST, "wait ^READY\nrun 20\n", pins={"BURST": "D55", "OC1A": "D11", "ISR": "D54"})
+    problems = []
+    _fails(log, problems)
+    burst = [c for c, _ in log.pins.get("BURST", [])]
+    if len(burst) != 10:
+        problems.append(f"PF1 toggled {len(burst)} times, the program toggles it 10 times")
+    gaps = [b - a for a, b in zip(burst, burst[1:])]
+    if any(g != 1000 for g in gaps):
+        problems.append(f"PF1 toggles should be exactly 1000 cycles apart, got {sorted(set(gaps))}")
+    oc = [c for c, _ in log.pins.get("OC1A", [])]
+    oc_gaps = [b - a for a, b in zip(oc, oc[1:])]
+    worst = max((abs(g - 16000) for g in oc_gaps), default=None)
+    if len(oc) < 10:
+        problems.append(f"OC1A toggled only {len(oc)} times in 20 ms (expected one per 1 ms)")
+    elif worst > MAX_INSN:
+        problems.append(f"OC1A toggle intervals off 16000 cycles by up to {worst} (bound {MAX_INSN})")
+    elif abs((oc[-1] - oc[0]) - 16000 * (len(oc) - 1)) > MAX_INSN:
+        problems.append(f"OC1A drifts: {oc[-1] - oc[0]} cycles for {len(oc) - 1} intervals of 16000")
+    isr = [c for c, _ in log.pins.get("ISR", [])]
+    lat = [i - o for o, i in zip(oc, isr)]
+    summary = (f"PF1 burst {len(gaps)} gaps of exactly {gaps[0] if gaps else '?'} cycles; OC1A {len(oc_gaps)} "
+               f"intervals 16000 +/- {worst} cycles; compare ISR latency {min(lat, default=0)}-{max(lat, default=0)} "
+               f"cycles")
+    return CheckResult(not problems, summary, problems)
+
+
+def check_serial():
+    script = ("wait ^READY EmuSelfTest$\nmark ping\nsend ping\nwait ^OK pong$\nmark burst\nsend burst\n"
+              "wait ^0123456789$\nwait ^0123456789$\nsend nonsense\nwait ^ERR unknown$\nsend ?\nwait ^n=\n")
+    log = emulog.run(SELFTEST, script)
+    problems = []
+    _fails(log, problems)
+    ready = log.first(r"^READY EmuSelfTest$")
+    if not ready:
+        problems.append("no READY EmuSelfTest line")
+    burst = log.lines_matching(r"^0123456789$")
+    gap = burst[1].cycle - burst[0].cycle if len(burst) == 2 else None
+    # 12 bytes ("0123456789\r\n") between the two LF writes, each one frame. simavr has no
+    # transmit double buffer: each byte also waits for the polling loop to see UDRE0 (a few
+    # cycles), so allow up to 16 cycles per byte on top of the frame.
+    if gap is None:
+        problems.append("burst lines missing")
+    elif not (12 * UART_BYTE <= gap <= 12 * (UART_BYTE + 16)):
+        problems.append(f"12 bytes took {gap} cycles, expected 12 * {UART_BYTE} = {12 * UART_BYTE} "
+                        f"(+ <= 16 per byte; simavr's own 11-bit frames would give {12 * 11 * 8 * 208})")
+    ping_tx = [t for t in log.tx if t.text == "ping"]
+    pong = log.first(r"^OK pong$")
+    rtt = None
+    if ping_tx and pong:
+        rtt = pong.cycle - ping_tx[0].cycle
+        # "ping\r\n" = 6 bytes arriving one frame apart from one frame after queueing, then
+        # "OK pong\r\n" = 9 bytes sent: the LF is written after 8 frames of the reply
+        expected = 6 * UART_BYTE + 8 * UART_BYTE
+        if not (expected - 100 <= rtt <= expected + 2000):
+            problems.append(f"ping -> pong took {rtt} cycles, expected about {expected}")
+    else:
+        problems.append("no reply to ping")
+    if not log.first(r"^n=4$"):  # ping, burst, nonsense and ? itself
+        problems.append(f"'?' should report n=4 (its own line is the 4th), got "
+                        f"{[l.text for l in log.lines_matching('^n=')]}")
+    summary = (f"9600 baud byte = {gap / 12 if gap else 0:.1f} cycles incl. UDRE polling (datasheet frame "
+               f"{UART_BYTE}); ping round trip {rtt} cycles")
+    return CheckResult(not problems, summary, problems)
+
+
+def check_ls7366r_spi():
+    script = ("wait ^READY\nencoder 12345\nsend enc\nwait ^OK enc\nencoder -5\nsend enc\nwait ^OK enc\n"
+              "send enc2\nwait ^OK enc2\nsend mdr\nwait ^OK mdr\nsend spi\nwait ^OK spi\n")
+    log = emulog.run(SELFTEST, script, ls7366r="CS=D53")
+    problems = []
+    _fails(log, problems)
+    got = [l.text for l in log.lines_matching(r"^OK ")]
+    want = ["OK enc 12345", "OK enc -5", "OK enc2 65531 otr -5", "OK mdr0=3 mdr1=0"]
+    # -5 in the 2-byte mode is 0x10000 - 5 = 65531; LOAD OTR copies CNTR (-5) to OTR
+    for w in want:
+        if w not in got:
+            problems.append(f"expected reply '{w}', got {got}")
+    spi = log.first(r"^OK spi ")
+    cycles = int(spi.text.split()[2]) if spi else None
+    # measured by the firmware with Timer4 at clk/1 around SPDR write .. SPIF poll
+    if cycles is None or not (SPI_BYTE <= cycles <= SPI_BYTE + 16):
+        problems.append(f"an SPI byte at fosc/16 took {cycles} cycles by Timer4, expected {SPI_BYTE}..{SPI_BYTE + 16}")
+    summary = f"counter reads 12345, -5, 2-byte 65531; SPI byte {cycles} cycles incl. polling (datasheet {SPI_BYTE})"
+    return CheckResult(not problems, summary, problems)
+
+
+def check_adc_pwm():
+    script = ("wait ^READY\nadc 0 2.5\nsend adc\nwait ^OK adc\nadc 0 1.2345\nsend adc\nwait ^OK adc\n"
+              "adc 0 5\nsend adc\nwait ^OK adc\nsend pwm 64\nwait ^OK pwm\nrun 20\nmark p200\nsend pwm 200\n"
+              "wait ^OK pwm\nrun 20\nmark p255\nsend pwm 255\nwait ^OK pwm\nrun 20\n")
+    log = emulog.run(SELFTEST, script, pins={"PWM": "D3"})
+    problems = []
+    _fails(log, problems)
+    codes = [int(l.text.split()[2]) for l in log.lines_matching(r"^OK adc ")]
+    want = [int(2.5 * 1024 / 5), int(1.2345 * 1024 / 5), 1023]
+    if codes != want:
+        problems.append(f"ADC codes {codes}, datasheet floor(V * 1024 / 5) gives {want}")
+    worst = 0.0
+    for label, ocr, a, b in (("64", 64, log.mark("p200") - 10 * PWM_PERIOD, log.mark("p200")),
+                             ("200", 200, log.mark("p255") - 10 * PWM_PERIOD, log.mark("p255"))):
+        edges = [(c, lv) for c, lv in log.pins.get("PWM", []) if a <= c < b]
+        rises = [c for c, lv in edges if lv]
+        falls = [c for c, lv in edges if not lv]
+        periods = [y - x for x, y in zip(rises, rises[1:])]
+        highs = [f - r for r in rises for f in falls if 0 < f - r < PWM_PERIOD][:len(periods)]
+        if len(periods) < 5:
+            problems.append(f"PWM {label}: only {len(periods)} periods seen")
+            continue
+        for p in periods:
+            if p != PWM_PERIOD:
+                problems.append(f"PWM {label}: period {p} cycles, datasheet {PWM_PERIOD}")
+                break
+        for h in highs:  # emulated timer edges carry their exact compare-match cycle
+            err = abs(h - 2 * ocr * 64)
+            worst = max(worst, err)
+            if err > 0:
+                problems.append(f"PWM {label}: high for {h} cycles, datasheet 2 * {ocr} * 64 = {2 * ocr * 64}")
+                break
+    ok255 = log.first(r"^OK pwm 255$")
+    after255 = [c for c, lv in log.pins.get("PWM", []) if ok255 and c > ok255.cycle + 2 * PWM_PERIOD]
+    if not ok255 or after255 or log.level_before("PWM", log.end_cycle() + 1) != 1:
+        problems.append("PWM 255 should hold the pin high without edges")
+    summary = f"ADC codes {codes}; PWM period {PWM_PERIOD} cycles, high time within {worst:.0f} cycles of 2*OCR*64"
+    return CheckResult(not problems, summary, problems)
+
+
+def check_failure_detection():
+    problems = []
+    seen = []
+    for cmd, kind in (("reset", "reset"), ("wdt", "reset"), ("halt", "halt")):
+        log = emulog.run(SELFTEST, f"wait ^READY\nsend {cmd}\nrun 100\n")
+        kinds = [k for _, k, _ in log.fails]
+        seen.append(f"{cmd}->{','.join(kinds) or 'nothing'}")
+        if log.rc != 1 or kind not in kinds:
+            problems.append(f"'{cmd}' should be reported as {kind} with exit status 1: got {kinds}, rc={log.rc}")
+    log = emulog.run(SELFTEST, "wait ^READY\ntimeout 50\nwait ^never$\n")
+    kinds = [k for _, k, _ in log.fails]
+    seen.append(f"silent->{','.join(kinds) or 'nothing'}")
+    if log.rc != 1 or "timeout" not in kinds:
+        problems.append(f"a reply that never comes should fail with 'timeout': got {kinds}, rc={log.rc}")
+    log = emulog.run(SELFTEST, "wait ^READY\nsend ping\nwait ^OK pong$\n")
+    if log.rc != 0 or log.fails:
+        problems.append(f"a healthy run must pass: rc={log.rc}, fails={log.fails}")
+    return CheckResult(not problems, "detected: " + " ".join(seen), problems)
+
+
+def check_elf_validation():
+    problems = []
+    for path, why in ((os.path.join(ROOT, "test", "emu", "selftest", "emu_selftest.c"), "not an ELF"),
+                      (WRONG_MCU, "an ATmega328P (avr5) ELF")):
+        p = subprocess.run([emulog.MOTIONEMU, path, "--duration", "1"], capture_output=True, text=True)
+        if p.returncode != 2 or not p.stderr.strip():
+            problems.append(f"{why} must be refused with exit status 2 and a message: rc={p.returncode}")
+    p = subprocess.run([emulog.MOTIONEMU, SELFTEST, "--pin", "X=D99", "--duration", "1"], capture_output=True,
+                       text=True)
+    if p.returncode != 2:
+        problems.append(f"--pin X=D99 (no such pin) must be refused: rc={p.returncode}")
+    p = subprocess.run([emulog.MOTIONEMU, SELFTEST, "-e", "frobnicate 3"], capture_output=True, text=True)
+    if p.returncode != 2 or "unknown command" not in p.stderr:
+        problems.append(f"an unknown script command must be refused: rc={p.returncode} {p.stderr.strip()}")
+    return CheckResult(not problems, "non-ELF, avr5 ELF, bad pin, bad script command all refused", problems)
+
+
+def check_motor_coupling():
+    """PWM 128/255 on D3 with DIR low (DIRPOS=0: low = positive): the plant must see exactly
+    100 * 128 / 255 = 50.196 %, and the LS7366R must count what the plant turned."""
+    script = ("wait ^READY\nsend pwm 128\nwait ^OK pwm\nrun 300\nmark read\nsend enc\nwait ^OK enc\n"
+              "send pwm 0\nwait ^OK pwm\nrun 300\n")
+    log = emulog.run(SELFTEST, script, motor="PWM=D3,DIR=D12,CS=D53,DIRPOS=0")
+    problems = []
+    _fails(log, problems)
+    want = 100.0 * 128 / 255
+    ok = log.first(r"^OK pwm 128$")
+    run = [(c, d, n) for c, d, n in log.motor if ok and ok.cycle + 3 * PWM_PERIOD < c < log.mark("read")]
+    worst = max((abs(d - want) for _, d, _ in run), default=None)
+    if not run or worst > 1e-3:
+        problems.append(f"duty seen by the plant off {want:.4f} % by {worst}")
+    counts = [n for _, _, n in run]
+    if any(b < a for a, b in zip(counts, counts[1:])) or not counts or counts[-1] <= 0:
+        problems.append("the motor should turn forward at 50 % duty, counts rising")
+    enc = log.first(r"^OK enc ")
+    tx = next((t.cycle for t in log.tx if t.text == "enc"), None)
+    if enc and tx:
+        # the count was read between the command's arrival and the reply
+        lo = [n for c, d, n in log.motor if c <= tx]
+        hi = [n for c, d, n in log.motor if c >= enc.cycle]
+        got = int(enc.text.split()[2])
+        if not (lo and hi and lo[-1] <= got <= hi[0]):
+            problems.append(f"LS7366R read {got}, plant count was {lo[-1:]}..{hi[:1]} around the read")
+    else:
+        problems.append("no encoder reply")
+    stop = log.first(r"^OK pwm 0$")
+    after = [d for c, d, n in log.motor if stop and c > stop.cycle + 3 * PWM_PERIOD]
+    if not after or any(d != 0 for d in after):
+        problems.append("after pwm 0 the plant must see 0 %")
+    summary = (f"plant saw {run[-1][1] if run else '?'} % for OCR 128 (exact {want:.4f} %); encoder read "
+               f"{enc.text.split()[2] if enc else '?'} counts after 0.3 s")
+    return CheckResult(not problems, summary, problems)
+
+
+CHECKS = [
+    ("harness self-test: pin edges and timer timing from first principles", check_pins_and_timers),
+    ("harness self-test: UART0 frames, lines and replies", check_serial),
+    ("harness self-test: LS7366R on SPI and SPI byte time", check_ls7366r_spi),
+    ("harness self-test: ADC codes and phase-correct PWM waveform", check_adc_pwm),
+    ("harness self-test: PWM duty -> DC-motor plant -> LS7366R count", check_motor_coupling),
+    ("harness self-test: reset, watchdog, halt and timeout are failures", check_failure_detection),
+    ("harness self-test: ELF and argument validation", check_elf_validation),
+]

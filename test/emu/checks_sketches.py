@@ -1,0 +1,577 @@
+"""The sketch checks of the emulator suite: each sketch under firmware/ runs on the emulated
+ATmega2560 and is compared with motionsim and with its documented behaviour.
+
+Expectations come from outside the firmware under test: motionsim (the host build of the same
+lib/ code, with its own timing model), the ATmega2560 datasheet (timer and UART arithmetic), and
+the sketches' documented protocol (READY/OK/ERR/?). Nothing is compared with a recording of the
+firmware itself.
+"""
+import bisect
+import os
+import re
+import subprocess
+import tempfile
+
+import emulog
+import sketches
+from checks_selftest import CheckResult
+from emulog import F_CPU
+
+# ----------------------------------------------------------------------------------------------
+# helpers
+
+
+def motionsim(env, *args):
+    p = subprocess.run([env.motionsim, *args], capture_output=True, text=True, timeout=120)
+    if p.returncode != 0:
+        raise RuntimeError(f"motionsim {' '.join(args)} failed ({p.returncode}): {p.stderr.strip()}")
+    return p.stdout, p.stderr
+
+
+def fails_of(log, problems):
+    for c, k, t in log.fails:
+        problems.append(f"harness: {k} at {c / F_CPU:.4f} s: {t}")
+    if log.rc not in (0, 1):
+        problems.append(f"motionemu exit status {log.rc}: {log.stderr.strip()[-500:]}")
+
+
+def query_reply(log, key, after=0, before=None):
+    """The `?` reply (a line starting with `key=`) after a cycle, as a dict."""
+    line = log.first(r"^" + re.escape(key) + "=", after, before)
+    return (emulog.query_fields(line.text), line) if line else (None, None)
+
+
+# ----------------------------------------------------------------------------------------------
+# bad input, common to every sketch (check 4 of the issue)
+
+def bad_input_script(sketch, key, ready_extra, bad_lines, while_busy=None):
+    """A script that sends each bad input and waits for its ERR, with `?` before and after.
+    bad_lines: (label, script command) pairs; each must draw exactly one ERR line.
+    while_busy: (start command, its OK regex, busy bad commands, end regex) for 'while moving'."""
+    s = [f"wait ^READY {sketch}$", ready_extra, "timeout 3000", "send ?", f"wait ^{key}=", "mark bad-start"]
+    for label, cmd, *after in bad_lines:
+        s += [f"mark bad {label}", cmd, "wait ^ERR "] + list(after)
+    s += ["mark bad-end", "send ?", f"wait ^{key}="]
+    if while_busy:
+        start, ok_re, busy_cmds, end_re, end_timeout = while_busy
+        s += ["mark busy-start", start, f"wait {ok_re}", "send ?", f"wait ^{key}="]
+        for label, cmd in busy_cmds:
+            s += [f"mark busy {label}", cmd, "wait ^ERR "]
+        s += ["send ?", f"wait ^{key}=", "mark busy-end", f"timeout {end_timeout}", f"wait {end_re}", "timeout 3000",
+              "send ?", f"wait ^{key}="]
+    return "\n".join(x for x in s if x) + "\n"
+
+
+# the inputs every sketch must refuse (labels are shown in failures)
+COMMON_BAD = [
+    ("junk", "send hello world"),
+    ("binary", "raw \\x01\\x02\\xfe\\xff\\x80\\r\\n"),
+    # ERR as soon as the line is too long; its end (sent after the ERR) draws no second ERR
+    ("1 KB line without newline", "repeat 1024 x", "raw \\r\\n"),
+]
+
+
+def check_bad_input(env, sketch, key, ready_extra, bad_lines, while_busy=None, dynamic=(), pins=None, motor=None,
+                    same_after_busy=True):
+    """Every bad line gets exactly one ERR, no reset or crash, `?` is the same before and after
+    (keys in `dynamic` change by themselves and are left out)."""
+    script = bad_input_script(sketch, key, ready_extra, bad_lines, while_busy)
+    log = emulog.run(env.elf(sketch), script, pins=pins, motor=motor)
+    problems = []
+    fails_of(log, problems)
+    start, end = log.mark("bad-start"), log.mark("bad-end")
+    n_bad = len(bad_lines)
+    errs = []
+    if start is not None and end is not None:
+        errs = log.lines_matching(r"^ERR ", start, end)
+        marks = [m for m in log.marks if m.text.startswith("bad ")]
+        for i, m in enumerate(marks):
+            nxt = marks[i + 1].cycle if i + 1 < len(marks) else end
+            got = log.lines_matching(r"^ERR ", m.cycle, nxt)
+            if len(got) != 1:
+                problems.append(f"'{m.text[4:]}' drew {len(got)} ERR lines (want exactly 1): {[g.text for g in got]}")
+        oks = log.lines_matching(r"^OK", start, end)
+        if oks:
+            problems.append(f"bad input was accepted: {[o.text for o in oks]}")
+        before, _ = query_reply(log, key, 0, start)
+        after, _ = query_reply(log, key, end)
+        if before is None or after is None:
+            problems.append("no `?` reply before/after the bad input")
+        else:
+            b = {k: v for k, v in before.items() if k not in dynamic}
+            a = {k: v for k, v in after.items() if k not in dynamic}
+            if a != b:
+                problems.append(f"state changed by bad input: before {b}, after {a}")
+    elif not problems:
+        problems.append("the bad-input section did not run")
+    busy_note = ""
+    if while_busy and not problems:
+        bs, be = log.mark("busy-start"), log.mark("busy-end")
+        marks = [m for m in log.marks if m.text.startswith("busy ")]
+        for i, m in enumerate(marks):
+            nxt = marks[i + 1].cycle if i + 1 < len(marks) else be
+            got = log.lines_matching(r"^ERR ", m.cycle, nxt)
+            if len(got) != 1:
+                problems.append(f"'{m.text[5:]}' while busy drew {len(got)} ERR lines: {[g.text for g in got]}")
+        b1, _ = query_reply(log, key, bs)
+        b2, _ = query_reply(log, key, marks[-1].cycle if marks else bs)
+        if b1 and b2:
+            b = {k: v for k, v in b1.items() if k not in dynamic}
+            a = {k: v for k, v in b2.items() if k not in dynamic}
+            if a != b:
+                problems.append(f"state changed by bad input while busy: before {b}, after {a}")
+        busy_note = f"; {len(marks)} refused while busy"
+        errs = errs + log.lines_matching(r"^ERR ", bs, be)
+    summary = (f"{n_bad} bad inputs -> {len(log.lines_matching('^ERR ', start or 0, end))} ERR{busy_note}, "
+               f"no reset/crash, `?` unchanged; e.g. '{errs[0].text if errs else '-'}'")
+    res = CheckResult(not problems, summary, problems)
+    res.log = log
+    return res
+
+
+# ----------------------------------------------------------------------------------------------
+# MovingAverageFilter (check 2)
+
+FILTER_SCRIPT = """\
+# 60 emulated seconds: A0 input at 1.234 V, a 5 V constant step, back to 0 V, then A0 at 3.3 V
+adc {ch} 1.234
+wait ^READY MovingAverageFilter$
+send ?
+wait ^kind=
+@10000 u 5
+wait ^OK u=5.000$
+@30000 u 0
+wait ^OK u=0.000$
+@45000 a0
+adc {ch} 3.3
+wait ^OK input=a0$
+until 60050
+send ?
+wait ^kind=
+"""
+STREAM_RE = re.compile(r"^(\d+),(\d+\.\d{3}),(-?\d+\.\d{6})$")
+TIMER1_TICK = 256        # cycles: Timer1 at clk/256 (FilterPins.h)
+SAMPLE_CYCLES = 160000   # 10 ms
+
+
+def strobe_edges(log):
+    return [c for c, _ in log.pins.get("STROBE", [])]
+
+
+def check_filter(env):
+    sketch = "MovingAverageFilter"
+    ch = sketches.filter_adc_channel(env)
+    log = emulog.run(env.elf(sketch), FILTER_SCRIPT.format(ch=ch), pins=sketches.filter_pins(env))
+    problems = []
+    fails_of(log, problems)
+    rows = []
+    for l in log.rx:
+        m = STREAM_RE.match(l.text)
+        if m:
+            rows.append((int(m.group(1)), m.group(2), m.group(3), l.cycle))
+    if len(rows) < 5900:
+        problems.append(f"only {len(rows)} stream lines in 60 s (100 Hz expected)")
+        return CheckResult(False, f"{len(rows)} samples", problems)
+    gaps = [(a[0], b[0]) for a, b in zip(rows, rows[1:]) if b[0] - a[0] != 10]
+    if rows[0][0] != 0 or gaps:
+        problems.append(f"stream not every 10 ms from t_ms=0: first {rows[0][0]}, gaps {gaps[:5]}")
+    # 1. the stream equals motionsim filter fed with the same input sequence
+    with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
+        f.write("t_ms,u,y\n")
+        for t, u, y, _ in rows:
+            f.write(f"{t},{u},{y}\n")
+        path = f.name
+    try:
+        out, _ = motionsim(env, "filter", "--kind", "ma", "--tau", "9", "--ts", "0.01", "--input", f"csv:{path}",
+                           "--stream")
+    finally:
+        os.unlink(path)
+    sim = [l for l in out.splitlines()[1:] if l]
+    mism = [(r[0], f"{r[0]},{r[1]},{r[2]}", s) for r, s in zip(rows, sim) if f"{r[0]},{r[1]},{r[2]}" != s]
+    if len(sim) < len(rows):
+        problems.append(f"motionsim gave {len(sim)} rows for {len(rows)} samples")
+    if mism:
+        problems.append(f"{len(mism)} of {len(rows)} stream lines differ from motionsim, first: firmware "
+                        f"'{mism[0][1]}' motionsim '{mism[0][2]}'")
+    # 2. the input it used: constants exactly, A0 within one ADC step (5 V / 1024 = 4.9 mV)
+    by_t = {t: (float(u), float(y)) for t, u, y, _ in rows}
+    okc = {l.text: l.cycle for l in log.lines_matching(r"^OK ")}
+    # (the sample clock starts with READY, a few ms after power-on: keep 100 ms off the switches)
+    for label, volts, t_lo, t_hi in (("A0 1.234 V", 1.234, 0, 9900), ("u 5", 5.0, 10100, 29900),
+                                     ("u 0", 0.0, 30100, 44900), ("A0 3.3 V", 3.3, 45100, 59990)):
+        us = [by_t[t][0] for t in range(t_lo, t_hi + 1, 10) if t in by_t]
+        tol = 0.0049 if label.startswith("A0") else 0.0
+        bad = [u for u in us if abs(u - volts) > tol + 1e-9]
+        if not us or bad:
+            problems.append(f"{label}: input u off by more than {tol * 1000:.1f} mV in {len(bad)} samples "
+                            f"(e.g. {bad[:3]})")
+    # the step reaches 5 V exactly tau = 9 s (900 samples) after its first sample (seed 000)
+    first5 = next((t for t, u, y, _ in rows if u == "5.000"), None)
+    if first5 is not None:
+        y_end = by_t.get(first5 + 9000, (None, None))[1]
+        if y_end is None or abs(y_end - 5.0) > 1e-6:
+            problems.append(f"y should reach 5 V 9 s after the step (t_ms={first5 + 9000}), got {y_end}")
+        # the new input acts from the first sample after the command was answered
+        k5 = first5 // 10
+        if "OK u=5.000" in okc and len(strobe_edges(log)) > k5:
+            lag = strobe_edges(log)[k5] - okc["OK u=5.000"]
+            if not (0 < lag <= 2 * SAMPLE_CYCLES):
+                problems.append(f"u 5 took effect {lag / F_CPU * 1000:.1f} ms after its OK (want within 2 samples)")
+    # 3. the sample clock on the strobe pin: every 10 ms +/- one Timer1 tick, no drift
+    strobe = strobe_edges(log)
+    iv = [b - a for a, b in zip(strobe, strobe[1:])]
+    jitter = max((abs(i - SAMPLE_CYCLES) for i in iv), default=None)
+    drift = max((abs((c - strobe[0]) - k * SAMPLE_CYCLES) for k, c in enumerate(strobe)), default=None)
+    if len(strobe) < len(rows):
+        problems.append(f"{len(strobe)} strobe edges for {len(rows)} samples")
+    elif jitter > TIMER1_TICK:
+        problems.append(f"sample interval off 160000 cycles by up to {jitter} (> one Timer1 tick = {TIMER1_TICK})")
+    elif drift > TIMER1_TICK:
+        problems.append(f"sample clock drifts: edge k is up to {drift} cycles from edge 0 + k * 10 ms")
+    # 4. the PWM output: duty * 5 V = y (1 mV steps, OCR4A = y in mV from the tick after the sample)
+    top = sketches.filter_pwm_top(env)
+    pwm = log.pins.get("PWM", [])
+    pwm_c = [c for c, _ in pwm]
+    worst_mv, checked, worst_at = 0.0, 0, None
+    for k in range(1, min(len(rows), len(strobe) - 1)):
+        t, u, y, _ = rows[k]
+        a, b = strobe[k] + 4 * top, strobe[k + 1]   # skip the period in which OCR4A is latched
+        i = bisect.bisect_left(pwm_c, a)
+        # the last complete period (rise .. rise) before b, or a constant level
+        rises = [c for c, lv in pwm[i:bisect.bisect_left(pwm_c, b)] if lv]
+        falls = [c for c, lv in pwm[i:bisect.bisect_left(pwm_c, b)] if not lv]
+        if len(rises) >= 2:
+            r0, r1 = rises[-2], rises[-1]
+            f = [x for x in falls if r0 < x < r1]
+            if not f:
+                continue
+            mv = (f[0] - r0) / (r1 - r0) * 5000.0
+        else:
+            lvl = log.level_before("PWM", b)
+            mv = 5000.0 if lvl else 0.0
+        want = round(float(y) * 1000.0)
+        if abs(mv - want) > worst_mv:
+            worst_mv, worst_at = abs(mv - want), (t, y, mv)
+        checked += 1
+    if checked < len(rows) - 10:
+        problems.append(f"PWM checked in only {checked} of {len(rows)} samples")
+    if worst_mv > 1.0:
+        problems.append(f"PWM duty * 5 V differs from y by up to {worst_mv:.2f} mV (one PWM step is 1 mV): at t_ms, y, "
+                        f"PWM mV = {worst_at}")
+    q, _ = query_reply(log, "kind", log.mark("end") or rows[-1][3])
+    q = q or query_reply(log, "kind", rows[-1][3] - SAMPLE_CYCLES * 10)[0]
+    if q and (q.get("drops") != "0" or q.get("late") != "0"):
+        problems.append(f"the sketch reports drops={q.get('drops')} late={q.get('late')} (want 0)")
+    summary = (f"{len(rows)} samples over {rows[-1][0] / 1000:.2f} s; loop period 160000 +/- {jitter} cycles "
+               f"(1 Timer1 tick = {TIMER1_TICK}), drift {drift} cycles; stream == motionsim filter on "
+               f"{len(rows) - len(mism)}/{len(rows)} lines; PWM = y within {worst_mv:.2f} mV in {checked} samples")
+    return CheckResult(not problems, summary, problems)
+
+
+def check_filter_bad_input(env):
+    return check_bad_input(
+        env, "MovingAverageFilter", "kind", "", COMMON_BAD + [
+            ("u above 5 V", "send u 5.5"), ("negative u", "send u -1"), ("u not a number", "send u five"),
+            ("tau below Ts", "send tau 0.005"), ("tau not whole samples", "send tau 9.005"),
+            ("tau too long for the buffer", "send tau 60"), ("unknown kind", "send kind median"),
+            ("every 0", "send every 0"), ("every above 1000", "send every 1001"), ("extra word", "send reset now"),
+        ], pins=sketches.filter_pins(env))
+
+
+# ----------------------------------------------------------------------------------------------
+# servo sketches (check 3)
+
+SERVO_SCRIPT = """\
+wait ^READY {sketch}$
+{gains}
+send ?
+wait ^setpoint=
+mark setpoint
+send {setpoint}
+wait ^OK setpoint={setpoint}$
+run {run_ms}
+send ?
+wait ^setpoint=
+"""
+
+
+def settle_time(ts, ps, final, band):
+    """first time after which the position stays within `band` of `final`"""
+    t_in = None
+    for t, p in zip(ts, ps):
+        if abs(p - final) > band:
+            t_in = None
+        elif t_in is None:
+            t_in = t
+    return t_in
+
+
+def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts=None, must_reach=False):
+    gains_cmds = "\n".join(f"send {k} {v}\nwait ^OK {k}=" for k, v in gains)
+    script = SERVO_SCRIPT.format(sketch=sketch, gains=gains_cmds, setpoint=setpoint, run_ms=run_ms)
+    log = emulog.run(env.elf(sketch), script, motor=sketches.servo_motor_spec(env))
+    problems = []
+    fails_of(log, problems)
+    if problems:
+        return CheckResult(False, "emulation failed", problems)
+    g = dict(gains)
+    args = ["servo", "--ctrl", ctrl, "--setpoint", str(setpoint), "--duration", str(run_ms / 1000.0 - 0.1)]
+    for k in ("kp", "ki", "kd"):
+        if k in g:
+            args += [f"--{k}", str(g[k])]
+    out, _ = motionsim(env, *args)
+    sim = [r.split(",") for r in out.splitlines()[1:] if r]
+    sim_t = [float(r[0]) for r in sim]
+    sim_p = [int(float(r[2])) for r in sim]
+    # firmware trace: the plant's count every 1 ms after the setpoint command; t = 0 where the
+    # first control period with the new setpoint drives the motor (first duty change), less
+    # motionsim's modelled sample-to-motor latency, so both start at their first sample.
+    # (the OK line's LF leaves the UART up to 18 ms after the command acted, at 9600 baud: the
+    # command's own transmission is the reference, the motor cannot move before it arrived)
+    ok = log.first(rf"^OK setpoint={setpoint}$")
+    sent = next((t.cycle for t in log.tx if t.text == str(setpoint)), None)
+    mot = [(c, d, n) for c, d, n in log.motor if sent is not None and c >= sent]
+    d0 = mot[0][1] if mot else 0.0
+    first = next((c for c, d, n in mot if abs(d - d0) > 0.01), None)
+    if first is None:
+        return CheckResult(False, "the motor never moved", ["no duty change after the setpoint"])
+    t0 = first / F_CPU - 0.0012 - 0.002  # latency of motionsim's model; half a PWM period of measuring
+    fw_t = [c / F_CPU - t0 for c, d, n in mot]
+    fw_p = [n for c, d, n in mot]
+
+    def fw_at(t):
+        i = bisect.bisect_left(fw_t, t)
+        if i <= 0:
+            return fw_p[0]
+        if i >= len(fw_t):
+            return fw_p[-1]
+        return fw_p[i - 1] + (fw_p[i] - fw_p[i - 1]) * (t - fw_t[i - 1]) / (fw_t[i] - fw_t[i - 1])
+
+    devs = [(abs(fw_at(t) - p), t) for t, p in zip(sim_t, sim_p) if t <= fw_t[-1]]
+    worst, worst_t = max(devs) if devs else (None, None)
+    tol = tol_counts if tol_counts is not None else max(10, 0.02 * abs(setpoint))
+    if worst is None or worst > tol:
+        problems.append(f"position differs from motionsim servo by up to {worst} counts at t={worst_t} s "
+                        f"(tolerance {tol:.0f})")
+    band = 0.02 * abs(setpoint)
+    fw_final, sim_final = fw_p[-1], sim_p[-1]
+    st_fw = settle_time(fw_t, fw_p, fw_final, band)
+    st_sim = settle_time(sim_t, sim_p, sim_final, band)
+    if abs(fw_final - sim_final) > tol:
+        problems.append(f"final position {fw_final} vs motionsim {sim_final}")
+    if st_fw is None or st_sim is None or abs(st_fw - st_sim) > 0.1:
+        problems.append(f"2 % settling time {st_fw} s vs motionsim {st_sim} s (tolerance 0.1 s)")
+    if must_reach and abs(fw_final - setpoint) > band:
+        problems.append(f"the setpoint {setpoint} is not reached: final position {fw_final} (band {band:.0f})")
+    q, _ = query_reply(log, "setpoint", ok.cycle + 1)
+    if not q or int(q.get("setpoint", "0")) != setpoint or abs(int(q.get("position", "0")) - fw_final) > 2:
+        problems.append(f"`?` after the run should report setpoint={setpoint} position~{fw_final}: {q}")
+    summary = (f"setpoint {setpoint}, gains {dict(gains) or 'default'}: final {fw_final} counts (motionsim "
+               f"{sim_final}), settling (2 %) {st_fw:.2f} s (motionsim {st_sim:.2f} s), trace within "
+               f"{worst:.1f} counts of motionsim (tolerance {tol:.0f}); {log.end.get('speed')} real time")
+    return CheckResult(not problems, summary, problems)
+
+
+def check_servo_bad_input(env, sketch, pid):
+    extra = [("setpoint above 1000000", "send 1000001"), ("setpoint not whole", "send 12.5"),
+             ("negative kp", "send kp -1"), ("kp above 1000", "send kp 1001"), ("kp without value", "send kp"),
+             ("extra word", "send kp 1 2")]
+    if not pid:
+        extra.append(("ki on the P sketch", "send ki 1"))
+    busy = [("junk while moving", "send go faster"), ("setpoint out of range while moving", "send -2000000"),
+            ("negative gain while moving", "send kd -0.5" if pid else "send kp -0.5")]
+    return check_bad_input(
+        env, sketch, "setpoint", "", COMMON_BAD + extra,
+        while_busy=("send 1000", r"^OK setpoint=1000$", busy, r"^t_ms=2000 ", 5000),
+        dynamic=("position", "error", "duty"), motor=sketches.servo_motor_spec(env))
+
+
+# ----------------------------------------------------------------------------------------------
+# stepper sketches (check 1)
+
+# A long move with a cruise, and a negative move, need parameters that fit a short emulation:
+# trapezoid ramps go from 100 to 2000 steps/s at 4000 steps/s^2 (about 500 steps of
+# acceleration; the simplistic ramp's linear interval change from v0 = 1 step/s would take
+# minutes), the S-curve gets a 100-entry table held 2 steps per entry (200 steps of acceleration).
+STEPPER_FAST = {"sigmoid": [("len", "100"), ("hold", "2")],
+                "leib": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")],        # vmax > v0 at every step
+                "simplistic": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")]}
+# the move during which commands are sent must outlast them (about 0.5 s of serial traffic)
+STEPPER_BUSY_TARGET = {"sigmoid": 1000, "leib": 50, "simplistic": 50}
+STEPPER_MOVES = [(0, 50, "the lab's 0 -> 50, default parameters"), (50, 3050, "long move with cruise"),
+                 (3050, -200, "negative move with cruise")]
+
+
+def stepper_script(sketch, algo):
+    s = [f"wait ^READY {sketch}$", "timeout 5000", "send ?", "wait ^pos="]
+    for i, (a, b, _) in enumerate(STEPPER_MOVES):
+        if i == 1:
+            for k, v in STEPPER_FAST[algo]:
+                s += [f"send set {k} {v}", f"wait ^OK {k}="]
+            s += ["send ?", "wait ^pos="]
+        s += [f"mark move {a} {b}", f"send {b}", f"wait ^OK {a} {b}$", "timeout 60000", f"wait ^DONE {b}$",
+              "timeout 5000", "send ?", "wait ^pos="]
+    return "\n".join(s) + "\n"
+
+
+def stepper_algo(env, sketch):
+    """the algorithm, from the sketch's `?` at boot (a short emulation)"""
+    log = emulog.run(env.elf(sketch), f"wait ^READY {sketch}$\nsend ?\nwait ^pos=\n")
+    q, _ = query_reply(log, "pos")
+    if not q or "algo" not in q:
+        raise RuntimeError(f"no `?` reply with algo= from {sketch}: {[l.text for l in log.rx]}")
+    return q["algo"]
+
+
+def sim_intervals(env, q, a, b):
+    """motionsim ramp's whole-tick intervals for the parameters in the `?` reply q"""
+    import emulate  # tools/emu/emulate.py: the same argument mapping `make emulate` uses
+    out, _ = motionsim(env, *emulate.stepper_sim_args(q, a, b))
+    rows = [r.split(",") for r in out.splitlines()[1:] if r]
+    return [float(r[3]) for r in rows], [int(r[1]) for r in rows]
+
+
+def check_stepper(env, sketch):
+    algo = stepper_algo(env, sketch)
+    pins = sketches.stepper_pins(env)
+    log = emulog.run(env.elf(sketch), stepper_script(sketch, algo), pins=pins)
+    problems = []
+    fails_of(log, problems)
+    fc = 10 * 8 * 208  # 9600 baud frame (StepperConsole)
+    rises = log.rising("STEP")
+    led = [c for c, _ in log.pins.get("LED", [])]
+    dir_edges = log.pins.get("DIR", [])
+    figures = []
+    worst_all = 0.0
+    for a, b, label in STEPPER_MOVES:
+        m = log.mark(f"move {a} {b}")
+        if m is None:
+            problems.append(f"{label}: not reached")
+            break
+        q, _ = query_reply(log, "pos", 0, m)
+        q = emulog.query_fields(log.lines_matching("^pos=", 0, m)[-1].text)
+        tick_hz = float(q["tick_hz"])
+        cpt = F_CPU / tick_hz
+        ok = log.first(rf"^OK {a} {b}$", m)
+        done = log.first(rf"^DONE {b}$", m)
+        if not ok or not done:
+            problems.append(f"{label}: replies OK {a} {b} / DONE {b} missing")
+            continue
+        tx = next(t for t in log.tx if t.cycle >= m and t.text == str(b))
+        t0 = tx.cycle + (len(tx.text) + 2) * fc  # the line end has arrived
+        edges = [c for c in rises if t0 <= c <= done.cycle]
+        n = abs(b - a)
+        if len(edges) != n:
+            problems.append(f"{label}: {len(edges)} steps, want exactly {n}")
+            continue
+        # DIR: right level before the first step, unchanged until the last
+        want_dir = 1 if b > a else 0
+        if log.level_before("DIR", edges[0]) != want_dir:
+            problems.append(f"{label}: DIR is {log.level_before('DIR', edges[0])} at the first step, want {want_dir}")
+        moved = [c for c, _ in dir_edges if edges[0] <= c <= edges[-1]]
+        if moved:
+            problems.append(f"{label}: DIR changed during the move at {moved[:3]}")
+        last_dir = max((c for c, _ in dir_edges if c < edges[0]), default=None)
+        # DIR setup time, when this move changed DIR (it may also hold from an earlier move)
+        setup_us = (edges[0] - last_dir) / 16 if last_dir is not None and last_dir >= t0 - fc else None
+        if log.level_before("ENABLE", edges[0]) != 0:
+            problems.append(f"{label}: ENABLE (active low) is not low during the move")
+        # intervals vs motionsim ramp --integer-ticks
+        want, pos = sim_intervals(env, q, a, b)
+        if len(want) != n or pos[-1] != b:
+            problems.append(f"{label}: motionsim planned {len(want)} steps ending at {pos[-1:]}")
+            continue
+        got = [(y - x) / cpt for x, y in zip(edges, edges[1:])]
+        errs = [g - w for g, w in zip(got, want[1:])]
+        worst = max((abs(e) for e in errs), default=0.0)
+        worst_at = max(range(len(errs)), key=lambda i: abs(errs[i])) + 2 if errs else 0
+        worst_all = max(worst_all, worst)
+        if worst > 1.0:
+            problems.append(f"{label}: step {worst_at} interval {got[worst_at - 2]:.3f} ticks, motionsim "
+                            f"{want[worst_at - 1]:.0f} (error {errs[worst_at - 2]:+.3f} > 1 tick)")
+        drift = (edges[-1] - edges[0]) / cpt - sum(want[1:])
+        if abs(drift) > 1.0:
+            problems.append(f"{label}: last step {drift:+.2f} ticks off the sum of the intervals (drift)")
+        # every edge on the ideal timeline (first edge + motionsim's intervals) within one tick window
+        ideal, offs = edges[0], []
+        for e, w in zip(edges, [0.0] + want[1:]):
+            ideal += w * cpt
+            offs.append(e - ideal)
+        spread = max(offs) - min(offs)
+        if spread > cpt:
+            problems.append(f"{label}: step edges spread over {spread:.0f} cycles around the ideal timeline "
+                            f"(more than one tick = {cpt:.0f} cycles)")
+        lat_us = ((edges[0] - t0) / cpt - want[0]) / tick_hz * 1e6
+        if not (0 <= lat_us <= 5000):
+            problems.append(f"{label}: first step {lat_us:.0f} us after its interval from the command's arrival")
+        if done.cycle < edges[-1]:
+            problems.append(f"{label}: DONE before the last step")
+        after = emulog.query_fields(log.first("^pos=", done.cycle).text) if log.first("^pos=", done.cycle) else {}
+        if after.get("pos") != str(b) or after.get("state") != "idle":
+            problems.append(f"{label}: `?` after DONE says pos={after.get('pos')} state={after.get('state')}")
+        if led:
+            toggles = len([c for c in led if t0 <= c <= done.cycle])
+            if toggles != n:
+                problems.append(f"{label}: LED toggled {toggles} times for {n} steps (mirror on)")
+        figures.append(f"{label}: {n} steps, worst interval error {worst:.3f} ticks, drift {drift:+.3f} ticks, "
+                       f"edges within a {spread:.0f}-cycle window of the ideal timeline, "
+                       f"first step {lat_us:.0f} us after its interval from the command, DIR "
+                       + (f"set {setup_us:.0f} us before step 1" if setup_us is not None else "already right"))
+    summary = f"algo={algo} tick_hz=2 MHz (1 tick = 8 cycles); " + "; ".join(figures)
+    return CheckResult(not problems, summary, problems)
+
+
+def check_stepper_bad_input(env, sketch):
+    algo = stepper_algo(env, sketch)
+    fast = STEPPER_FAST[algo]
+    extra = [("target beyond int32", "send 99999999999"), ("target not whole", "send 12.5"),
+             ("two targets", "send 10 20"), ("unknown parameter", "send set speed 5"),
+             ("negative parameter", f"send set {fast[0][0]} -1"), ("parameter not a number", "send set v0 fast"),
+             ("set without value", f"send set {fast[0][0]}"), ("? with an argument", "send ? now")]
+    if algo != "sigmoid":
+        extra += [("accel 0", "send set accel 0"), ("vmax above max_sps", "send set vmax 1000000")]
+    busy = [("new target while moving", "send 100"), ("set while moving", f"send set {fast[0][0]} {fast[0][1]}"),
+            ("junk while moving", "send ???")]
+    tgt = STEPPER_BUSY_TARGET[algo]
+    return check_bad_input(env, sketch, "pos", "", COMMON_BAD + extra,
+                           while_busy=(f"send {tgt}", rf"^OK 0 {tgt}$", busy, rf"^DONE {tgt}$", 60000),
+                           dynamic=("pos", "state"), pins=sketches.stepper_pins(env))
+
+
+# ----------------------------------------------------------------------------------------------
+
+def checks_for(env):
+    checks = []
+    names = env.sketch_names()
+    unknown = [n for n in names if n not in sketches.FAMILY]
+
+    def every_sketch_known():
+        ok = not unknown
+        return CheckResult(ok, f"sketches: {', '.join(names) or 'none'}",
+                           [f"no emulator checks for {u}: add it to tools/emu/sketches.py" for u in unknown])
+    checks.append(("emulator: every sketch under firmware/ has emulator checks", every_sketch_known))
+    for st in ("SimplisticRampStepper", "LeibRampStepper", "SCurveStepper"):
+        if st in names:
+            checks.append((f"{st}: 0->50, long and negative moves: steps, DIR, intervals == motionsim ramp",
+                           lambda st=st: check_stepper(env, st)))
+            checks.append((f"{st}: bad input and a target while moving get ERR, state unchanged",
+                           lambda st=st: check_stepper_bad_input(env, st)))
+    if "MovingAverageFilter" in names:
+        checks.append(("MovingAverageFilter: 60 s at 100 Hz, strobe timing, stream == motionsim filter, PWM == y",
+                       lambda: check_filter(env)))
+        checks.append(("MovingAverageFilter: bad input gets ERR, state unchanged",
+                       lambda: check_filter_bad_input(env)))
+    if "ProportionalClosedLoop" in names:
+        checks.append(("ProportionalClosedLoop: closes the loop on LS7366R + motor, trace == motionsim servo",
+                       lambda: check_servo(env, "ProportionalClosedLoop", "p", [])))
+        checks.append(("ProportionalClosedLoop: bad input gets ERR, state unchanged",
+                       lambda: check_servo_bad_input(env, "ProportionalClosedLoop", False)))
+    if "PIDClosedLoop" in names:
+        checks.append(("PIDClosedLoop: lab defaults (Ki = Kd = 0), trace == motionsim servo",
+                       lambda: check_servo(env, "PIDClosedLoop", "pid", [])))
+        checks.append(("PIDClosedLoop: gains set over serial reach the setpoint, trace == motionsim servo",
+                       lambda: check_servo(env, "PIDClosedLoop", "pid", [("kp", 0.05), ("ki", 0.05), ("kd", 0.001)],
+                                           run_ms=4000, must_reach=True)))
+        checks.append(("PIDClosedLoop: bad input gets ERR, state unchanged",
+                       lambda: check_servo_bad_input(env, "PIDClosedLoop", True)))
+    return checks

@@ -1,0 +1,210 @@
+/* emu_selftest.c - a tiny ATmega2560 program with behaviour known from first principles, used by
+ * test/emu/test_emu.py to prove the harness (tools/emu) right before it judges the sketches.
+ * Plain avr-libc, no Arduino core, so every cycle count below follows from the datasheet:
+ *  - at boot, with interrupts off: PF1 (D55) toggled 10 times exactly 1000 cycles apart
+ *    (sbi PINF = 2 cycles + __builtin_avr_delay_cycles(998));
+ *  - Timer1 CTC, prescaler 8, OCR1A = 1999: OC1A (PB5, D11) toggled by hardware every
+ *    2000 * 8 = 16000 cycles; the compare ISR toggles PF0 (D54) too;
+ *  - Timer3 phase-correct 8-bit PWM, prescaler 64 (Arduino's setting) on OC3C (PE5, D3):
+ *    duty = OCR3C / 255, period 510 * 64 = 32640 cycles;
+ *  - UART0 9600 baud 8N1 (U2X0 = 1, UBRR0 = 207): one byte = 10 * 8 * 208 = 16640 cycles;
+ *  - SPI master fosc/16, mode 0: one byte = 8 * 16 = 128 cycles; LS7366R on CS = PB0 (D53).
+ * Commands (lines ending in CR LF): ping, ?, burst, enc, enc2, mdr, spi, adc, pwm <0..255>,
+ * reset (jumps to 0), wdt (watchdog reset), halt (cli; sleep), anything else -> "ERR unknown".
+ */
+#include <avr/interrupt.h>
+#include <avr/io.h>
+#include <avr/sleep.h>
+#include <avr/wdt.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void tx(char c)
+{
+    while (!(UCSR0A & _BV(UDRE0)))
+        ;
+    UDR0 = (uint8_t)c;
+}
+
+static void print(const char *s)
+{
+    while (*s)
+        tx(*s++);
+}
+
+static void println(const char *s)
+{
+    print(s);
+    print("\r\n");
+}
+
+static uint8_t spi_byte(uint8_t b)
+{
+    SPDR = b;
+    while (!(SPSR & _BV(SPIF)))
+        ;
+    return SPDR;
+}
+
+#define CS_LOW() (PORTB &= (uint8_t)~_BV(PB0))
+#define CS_HIGH() (PORTB |= _BV(PB0))
+
+static void ls_write(uint8_t ir, uint8_t v)
+{
+    CS_LOW();
+    spi_byte(ir);
+    spi_byte(v);
+    CS_HIGH();
+}
+
+static uint32_t ls_read(uint8_t ir, uint8_t n)
+{
+    uint32_t v = 0;
+    CS_LOW();
+    spi_byte(ir);
+    for (uint8_t i = 0; i < n; i++)
+        v = (v << 8) | spi_byte(0);
+    CS_HIGH();
+    return v;
+}
+
+ISR(TIMER1_COMPA_vect)
+{
+    PINF = _BV(PF0);
+}
+
+#define TOGGLE_1000()                                   \
+    do {                                                \
+        __asm__ __volatile__("sbi %0, 1" ::"I"(_SFR_IO_ADDR(PINF))); \
+        __builtin_avr_delay_cycles(998);                \
+    } while (0)
+
+int main(void)
+{
+    MCUSR = 0;
+    wdt_disable();
+    DDRF = _BV(PF0) | _BV(PF1);
+    DDRB = _BV(PB0) | _BV(PB1) | _BV(PB2) | _BV(PB5); /* CS, SCK, MOSI, OC1A */
+    DDRE = _BV(PE5);
+    CS_HIGH();
+
+    TOGGLE_1000(); TOGGLE_1000(); TOGGLE_1000(); TOGGLE_1000(); TOGGLE_1000();
+    TOGGLE_1000(); TOGGLE_1000(); TOGGLE_1000(); TOGGLE_1000(); TOGGLE_1000();
+
+    UCSR0A = _BV(U2X0);
+    UBRR0 = 207;
+    UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
+    UCSR0B = _BV(RXEN0) | _BV(TXEN0);
+
+    SPCR = _BV(SPE) | _BV(MSTR) | _BV(SPR0); /* mode 0, MSB first, fosc/16 */
+    ls_write(0x88, 0x03);                    /* WR MDR0: x4, free-running */
+    ls_write(0x90, 0x00);                    /* WR MDR1: 4 bytes, counting enabled */
+    CS_LOW();
+    spi_byte(0x20);                          /* CLR CNTR */
+    CS_HIGH();
+
+    TCCR1A = _BV(COM1A0);                    /* toggle OC1A on compare match */
+    OCR1A = 1999;
+    TCCR1B = _BV(WGM12) | _BV(CS11);         /* CTC, clk/8 */
+    TIMSK1 = _BV(OCIE1A);
+
+    TCCR3A = _BV(WGM30);                     /* phase-correct 8-bit, OC3C off until 'pwm' */
+    TCCR3B = _BV(CS31) | _BV(CS30);          /* clk/64 */
+    sei();
+
+    println("READY EmuSelfTest");
+    char line[64];
+    uint8_t len = 0;
+    uint16_t count = 0;
+    for (;;) {
+        if (!(UCSR0A & _BV(RXC0)))
+            continue;
+        char c = (char)UDR0;
+        if (c == '\r')
+            continue;
+        if (c != '\n') {
+            if (len < sizeof line - 1)
+                line[len++] = c;
+            continue;
+        }
+        line[len] = 0;
+        len = 0;
+        count++;
+        char buf[48];
+        if (!strcmp(line, "ping")) {
+            println("OK pong");
+        } else if (!strcmp(line, "?")) {
+            snprintf(buf, sizeof buf, "n=%u", count);
+            println(buf);
+        } else if (!strcmp(line, "burst")) {
+            println("0123456789");
+            println("0123456789");
+        } else if (!strcmp(line, "enc")) {
+            snprintf(buf, sizeof buf, "OK enc %ld", (long)ls_read(0x60, 4)); /* RD CNTR */
+            println(buf);
+        } else if (!strcmp(line, "enc2")) {
+            ls_write(0x90, 0x02);                                             /* 2-byte mode */
+            uint32_t v2 = ls_read(0x60, 2);
+            ls_write(0x90, 0x00);
+            CS_LOW();
+            spi_byte(0xE8);                                                   /* LOAD OTR */
+            CS_HIGH();
+            snprintf(buf, sizeof buf, "OK enc2 %lu otr %ld", (unsigned long)v2, (long)ls_read(0x68, 4));
+            println(buf);
+        } else if (!strcmp(line, "mdr")) {
+            snprintf(buf, sizeof buf, "OK mdr0=%lu mdr1=%lu", (unsigned long)ls_read(0x48, 1),
+                     (unsigned long)ls_read(0x50, 1));
+            println(buf);
+        } else if (!strcmp(line, "spi")) {
+            uint8_t sreg = SREG;
+            cli();
+            TCCR4A = 0;
+            TCCR4B = _BV(CS40);  /* clk/1 */
+            uint16_t t0 = TCNT4;
+            SPDR = 0;
+            while (!(SPSR & _BV(SPIF)))
+                ;
+            uint16_t t1 = TCNT4;
+            (void)SPDR;
+            SREG = sreg;
+            snprintf(buf, sizeof buf, "OK spi %u", (unsigned)(t1 - t0));
+            println(buf);
+        } else if (!strcmp(line, "adc")) {
+            ADMUX = _BV(REFS0);  /* AVCC reference, channel 0 */
+            ADCSRB = 0;
+            ADCSRA = _BV(ADEN) | _BV(ADSC) | _BV(ADPS2) | _BV(ADPS1) | _BV(ADPS0);
+            while (ADCSRA & _BV(ADSC))
+                ;
+            snprintf(buf, sizeof buf, "OK adc %u", ADC);
+            println(buf);
+        } else if (!strncmp(line, "pwm ", 4)) {
+            int v = atoi(line + 4);
+            OCR3C = (uint8_t)v;
+            TCCR3A = _BV(WGM30) | _BV(COM3C1);
+            snprintf(buf, sizeof buf, "OK pwm %d", v);
+            println(buf);
+        } else if (!strcmp(line, "reset")) {
+            println("OK jumping to 0");
+            while (!(UCSR0A & _BV(TXC0)))
+                ;
+            __asm__ __volatile__("jmp 0");
+        } else if (!strcmp(line, "wdt")) {
+            println("OK watchdog");
+            wdt_enable(WDTO_15MS);
+            for (;;)
+                ;
+        } else if (!strcmp(line, "halt")) {
+            println("OK halt");
+            while (!(UCSR0A & _BV(TXC0)))
+                ;
+            cli();
+            set_sleep_mode(SLEEP_MODE_PWR_DOWN);
+            sleep_enable();
+            sleep_cpu();
+        } else {
+            println("ERR unknown");
+        }
+    }
+}

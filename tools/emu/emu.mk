@@ -1,0 +1,41 @@
+# tools/emu/emu.mk - the ATmega2560 emulator harness (included by the Makefile before `test`).
+#
+#   build/motionemu                 the harness: our C program on libsimavr (tools/emu/*.c)
+#   build/emu/emu_selftest.elf      a tiny avr-libc program with known timing (harness self-test)
+#   make emulate SKETCH=<name> [INPUT=<file>]   run a sketch in the emulator -> build/emulate/
+#
+# EMU_DEPS is what `make test` builds first; EMU_SUITES is the emulator suite for tools/run_tests.py
+# (one TAP line per check, "# summary:" lines carry the figures).
+
+EMU_SRCS   := $(sort $(wildcard tools/emu/*.c))
+EMU_HDRS   := $(wildcard tools/emu/*.h) $(wildcard sim/plant_*.h)
+# The DC-motor plant is the same object file motionsim links (from build/libmotion.a).
+EMU_CFLAGS := -std=gnu11 -O2 -g -Wall -Wextra -Werror -ffp-contract=off -I/usr/include/simavr -Itools/emu -Isim -Ilib/src
+EMU_LIBS   := $(BUILD)/libmotion.a -lsimavr -lelf -lm
+
+$(BUILD)/motionemu: $(EMU_SRCS) $(EMU_HDRS) $(BUILD)/libmotion.a
+	$(CC) $(EMU_CFLAGS) $(EMU_SRCS) $(EMU_LIBS) -o $@
+
+$(BUILD)/emu/emu_selftest.elf: test/emu/selftest/emu_selftest.c
+	@mkdir -p $(dir $@)
+	avr-gcc -mmcu=atmega2560 -Os -DF_CPU=16000000UL -Wall -Wextra -Werror $< -o $@
+# an ELF for another AVR (ATmega328P): the harness must refuse it
+$(BUILD)/emu/wrong_mcu.elf: test/emu/selftest/wrong_mcu.c
+	@mkdir -p $(dir $@)
+	avr-gcc -mmcu=atmega328p -Os -Wall -Wextra -Werror $< -o $@
+
+# The sketches the emulator checks are built by the same script as `make firmware`; its stamp
+# makes `make test` rebuild them when firmware/ or lib/ changed.
+EMU_FW_SRCS := $(shell find firmware lib -type f 2>/dev/null)
+$(BUILD)/emu/firmware.stamp: $(EMU_FW_SRCS) tools/build_firmware.sh
+	@mkdir -p $(dir $@)
+	@if ls firmware/*/*.ino >/dev/null 2>&1; then bash tools/build_firmware.sh >$(BUILD)/emu/firmware.log 2>&1 || { cat $(BUILD)/emu/firmware.log; exit 1; }; fi
+	@touch $@
+
+EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
+            $(BUILD)/emu/firmware.stamp
+
+EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
+
+emulate: check-setup $(EMU_DEPS)
+	@$(PY) tools/emu/emulate.py $(if $(SKETCH),--sketch "$(SKETCH)") $(if $(INPUT),--input "$(INPUT)") --out $(BUILD)/emulate

@@ -1,0 +1,453 @@
+/* motionemu.c - run a sketch's ELF on an emulated ATmega2560 at 16 MHz and log what it does.
+ *
+ *   motionemu FIRMWARE.elf [--input SCRIPT] [--pin NAME=PIN ...] [--motor SPEC | --ls7366r CS=PIN]
+ *             [--duration MS] [--max-ms MS] [-o LOG]
+ *
+ * The log (stdout or -o) has one event per line, "<tag> <cycle> <fields>"; cycles are CPU cycles
+ * since power-on (16 per microsecond). Tags: boot, uart, tx/txraw/txrepeat (host -> firmware),
+ * rx (a line from the firmware), pin (an edge of a watched pin), motor (duty/count samples),
+ * adc, mark, warn, fail, end. Failures (reset, crash, halt, stack overflow, a wait that timed out,
+ * an SPI mode the device cannot talk) are "fail" lines and make the exit status 1.
+ * Exit status: 0 ran and nothing failed; 1 a failure was seen; 2 bad arguments or ELF.
+ */
+#include <errno.h>
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <avr_extint.h>
+#include <sim_elf.h>
+
+#include "emu.h"
+
+static const char usage[] =
+    "usage: motionemu FIRMWARE.elf [options]\n"
+    "Runs an Arduino Mega 2560 sketch (arduino-cli ELF) in simavr at 16 MHz; writes an event log.\n"
+    "  -i, --input FILE       INPUT script: serial lines to send and when (format: README, Emulator)\n"
+    "  -e, --exec TEXT        one script command (repeatable; runs after --input)\n"
+    "  -o, --output FILE      event log file (default: stdout)\n"
+    "  -p, --pin NAME=PIN     log the edges of a pin; PIN is D54, A0, PF0 or F0 (repeatable)\n"
+    "      --motor SPEC       emulate an H-bridge + DC motor (sim/plant_dcmotor) + LS7366R on SPI:\n"
+    "                         SPEC = PWM=D3,DIR=D12,CS=D53[,BRAKE=D9][,DIRPOS=1|0][,BRAKEON=1|0]\n"
+    "      --ls7366r CS=PIN   an LS7366R alone, its encoder moved by the script's 'encoder' command\n"
+    "  -d, --duration MS      run at least until this emulated time (default: until the script ends)\n"
+    "      --max-ms MS        give up (fail 'limit') at this emulated time (default 600000)\n"
+    "  -h, --help             this text\n";
+
+static avr_t *avr;
+static uint64_t heap_start = 0x200;
+
+static void logger(avr_t *a, const int level, const char *format, va_list ap)
+{
+    if (level > LOG_WARNING)
+        return;
+    char buf[512];
+    vsnprintf(buf, sizeof buf, format, ap);
+    size_t n = strlen(buf);
+    while (n && (buf[n - 1] == '\n' || buf[n - 1] == '\r'))
+        buf[--n] = 0;
+    /* simavr colours some messages */
+    char clean[512];
+    size_t k = 0;
+    for (size_t i = 0; i < n && k < sizeof clean - 1; i++) {
+        if (buf[i] == 0x1b) {
+            while (i < n && buf[i] != 'm')
+                i++;
+            continue;
+        }
+        clean[k++] = buf[i];
+    }
+    clean[k] = 0;
+    /* the same message again and again (e.g. on every OCR write) is logged once */
+    static char seen[32][96];
+    static int nseen;
+    for (int i = 0; i < nseen; i++)
+        if (strncmp(seen[i], clean, sizeof seen[i] - 1) == 0)
+            return;
+    if (nseen < 32)
+        memcpy(seen[nseen++], clean, sizeof seen[0] - 1); /* seen[][95] stays 0 */
+    emu_log(a ? a->cycle : 0, "simavr", "%s %s (logged once)", level <= LOG_ERROR ? "error" : "warning", clean);
+}
+
+static void no_sleep(avr_t *a, avr_cycle_count_t how_long)
+{
+    (void)a;
+    (void)how_long; /* emulated time only: never wait for the wall clock */
+}
+
+/* An arduino-cli ELF for the Mega: 32-bit little-endian ELF, machine AVR (83), arch avr6. */
+static int check_elf(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        fprintf(stderr, "motionemu: cannot open '%s': %s\n", path, strerror(errno));
+        return -1;
+    }
+    uint8_t h[52];
+    size_t n = fread(h, 1, sizeof h, f);
+    fclose(f);
+    if (n < sizeof h || memcmp(h, "\x7f" "ELF", 4) != 0) {
+        fprintf(stderr, "motionemu: '%s' is not an ELF file (build the sketch with 'make firmware')\n", path);
+        return -1;
+    }
+    unsigned machine = h[18] | (h[19] << 8);
+    uint32_t flags = h[36] | (h[37] << 8) | ((uint32_t)h[38] << 16) | ((uint32_t)h[39] << 24);
+    if (h[4] != 1 || h[5] != 1 || machine != 83) {
+        fprintf(stderr, "motionemu: '%s' is an ELF file, but not for the AVR (machine %u)\n", path, machine);
+        return -1;
+    }
+    if ((flags & 0x7f) != 6) {
+        fprintf(stderr, "motionemu: '%s' is built for AVR architecture %u, not avr6 (ATmega2560)\n", path,
+                (unsigned)(flags & 0x7f));
+        return -1;
+    }
+    return 0;
+}
+
+static int parse_ms(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || errno || v < 0 || v > 1e9)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+/* "KEY=VAL,KEY=VAL" -> value of key, or NULL */
+static const char *spec_get(const char *spec, const char *key, char *buf, size_t cap)
+{
+    size_t kl = strlen(key);
+    const char *s = spec;
+    while (*s) {
+        const char *e = strchr(s, ',');
+        size_t len = e ? (size_t)(e - s) : strlen(s);
+        if (len > kl && strncmp(s, key, kl) == 0 && s[kl] == '=') {
+            size_t vl = len - kl - 1;
+            if (vl >= cap)
+                vl = cap - 1;
+            memcpy(buf, s + kl + 1, vl);
+            buf[vl] = 0;
+            return buf;
+        }
+        s += len + (e ? 1 : 0);
+    }
+    return NULL;
+}
+
+static int spec_check_keys(const char *spec, const char *const *keys)
+{
+    const char *s = spec;
+    while (*s) {
+        const char *e = strchr(s, ',');
+        size_t len = e ? (size_t)(e - s) : strlen(s);
+        const char *eq = memchr(s, '=', len);
+        int ok = 0;
+        for (int i = 0; eq && keys[i]; i++)
+            if ((size_t)(eq - s) == strlen(keys[i]) && strncmp(s, keys[i], strlen(keys[i])) == 0)
+                ok = 1;
+        if (!ok) {
+            fprintf(stderr, "motionemu: bad item '%.*s' in '%s'\n", (int)len, s, spec);
+            return -1;
+        }
+        s += len + (e ? 1 : 0);
+    }
+    return 0;
+}
+
+static int pin_from_spec(const char *spec, const char *key, emu_pin_t *pin, int required)
+{
+    char buf[16];
+    if (!spec_get(spec, key, buf, sizeof buf)) {
+        if (required)
+            fprintf(stderr, "motionemu: '%s' needs %s=<pin>\n", spec, key);
+        return required ? -1 : 1;
+    }
+    if (emu_pin_parse(buf, pin)) {
+        fprintf(stderr, "motionemu: %s=%s is not a Mega pin (D0..D69, A0..A15, PA0..PL7)\n", key, buf);
+        return -1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *elf = NULL, *input = NULL, *output = NULL, *motor_spec = NULL, *ls_spec = NULL;
+    double duration_ms = 0, max_ms = 600000;
+    const char *pins[64];
+    int npins = 0;
+    const char *execs[256];
+    int nexecs = 0;
+
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
+#define NEED_VALUE()                                                                     \
+    do {                                                                                 \
+        if (!v) {                                                                        \
+            fprintf(stderr, "motionemu: option %s needs a value\n%s", a, usage);        \
+            return 2;                                                                    \
+        }                                                                                \
+        i++;                                                                             \
+    } while (0)
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(usage, stdout);
+            return 0;
+        } else if (!strcmp(a, "-i") || !strcmp(a, "--input")) {
+            NEED_VALUE();
+            input = v;
+        } else if (!strcmp(a, "-e") || !strcmp(a, "--exec")) {
+            NEED_VALUE();
+            if (nexecs == 256) {
+                fprintf(stderr, "motionemu: too many --exec\n");
+                return 2;
+            }
+            execs[nexecs++] = v;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            NEED_VALUE();
+            output = v;
+        } else if (!strcmp(a, "-p") || !strcmp(a, "--pin")) {
+            NEED_VALUE();
+            if (npins == 64) {
+                fprintf(stderr, "motionemu: too many --pin\n");
+                return 2;
+            }
+            pins[npins++] = v;
+        } else if (!strcmp(a, "--motor")) {
+            NEED_VALUE();
+            motor_spec = v;
+        } else if (!strcmp(a, "--ls7366r")) {
+            NEED_VALUE();
+            ls_spec = v;
+        } else if (!strcmp(a, "-d") || !strcmp(a, "--duration")) {
+            NEED_VALUE();
+            if (parse_ms(v, &duration_ms)) {
+                fprintf(stderr, "motionemu: --duration wants milliseconds, not '%s'\n", v);
+                return 2;
+            }
+        } else if (!strcmp(a, "--max-ms")) {
+            NEED_VALUE();
+            if (parse_ms(v, &max_ms) || max_ms <= 0) {
+                fprintf(stderr, "motionemu: --max-ms wants milliseconds, not '%s'\n", v);
+                return 2;
+            }
+        } else if (a[0] == '-') {
+            fprintf(stderr, "motionemu: unknown option '%s'\n%s", a, usage);
+            return 2;
+        } else if (!elf) {
+            elf = a;
+        } else {
+            fprintf(stderr, "motionemu: one firmware file only ('%s' and '%s')\n", elf, a);
+            return 2;
+        }
+    }
+    if (!elf) {
+        fprintf(stderr, "motionemu: no firmware file given\n%s", usage);
+        return 2;
+    }
+    if (motor_spec && ls_spec) {
+        fprintf(stderr, "motionemu: --motor already includes an LS7366R; give one of --motor, --ls7366r\n");
+        return 2;
+    }
+    if (check_elf(elf))
+        return 2;
+    int have_script = 0;
+    if (input) {
+        if (emu_script_load(input))
+            return 2;
+        have_script = 1;
+    }
+    for (int i = 0; i < nexecs; i++) {
+        if (emu_script_load_text(execs[i], "--exec"))
+            return 2;
+        have_script = 1;
+    }
+    if (!have_script && duration_ms <= 0) {
+        fprintf(stderr, "motionemu: nothing to run: give --input, --exec or --duration\n");
+        return 2;
+    }
+
+    FILE *out = stdout;
+    if (output && !(out = fopen(output, "w"))) {
+        fprintf(stderr, "motionemu: cannot write '%s': %s\n", output, strerror(errno));
+        return 2;
+    }
+    static char outbuf[1 << 16];
+    setvbuf(out, outbuf, _IOFBF, sizeof outbuf);
+    emu_log_open(out);
+    avr_global_logger_set(logger);
+
+    elf_firmware_t fw;
+    memset(&fw, 0, sizeof fw);
+    if (elf_read_firmware(elf, &fw) != 0 || fw.flashsize == 0) {
+        fprintf(stderr, "motionemu: cannot load '%s' (no code in it?)\n", elf);
+        return 2;
+    }
+    if (fw.flashsize > 256 * 1024) {
+        fprintf(stderr, "motionemu: '%s' holds %u bytes: more than the ATmega2560's 256 KiB flash\n", elf,
+                fw.flashsize);
+        return 2;
+    }
+    for (uint32_t i = 0; i < fw.symbolcount; i++)
+        if (!strcmp(fw.symbol[i]->symbol, "__heap_start"))
+            heap_start = fw.symbol[i]->addr & 0xffff; /* data addresses carry 0x800000 in the ELF */
+    if (heap_start == 0x200)
+        heap_start = 0x200 + fw.datasize + fw.bsssize;
+    strcpy(fw.mmcu, "atmega2560");
+    fw.frequency = EMU_F_CPU;
+
+    avr = avr_make_mcu_by_name(fw.mmcu);
+    if (!avr) {
+        fprintf(stderr, "motionemu: this libsimavr has no atmega2560\n");
+        return 2;
+    }
+    avr_init(avr);
+    avr->log = LOG_WARNING;
+    avr_load_firmware(avr, &fw);
+    avr->frequency = EMU_F_CPU;
+    avr->vcc = avr->avcc = avr->aref = 5000; /* mV: the Mega runs from 5 V, AREF = AVCC */
+    avr->sleep = no_sleep;
+    /* simavr polls a low INTn pin on every cycle while its EICRA bits are 00 (level mode, the reset
+     * default), whether or not the interrupt is enabled: an output pin such as D3 (PE5 = INT5)
+     * held low slows emulation 20-fold. Level-triggered INTn then fire once per falling edge;
+     * no sketch here uses them. */
+    for (uint8_t i = 0; i < 8; i++)
+        avr_extint_set_strict_lvl_trig(avr, i, 0);
+
+    if (emu_uart_attach(avr)) {
+        fprintf(stderr, "motionemu: no UART0 in this simavr\n");
+        return 2;
+    }
+    for (int i = 0; i < npins; i++) {
+        char name[32];
+        const char *eq = strchr(pins[i], '=');
+        emu_pin_t pin;
+        if (!eq || eq == pins[i] || (size_t)(eq - pins[i]) >= sizeof name || emu_pin_parse(eq + 1, &pin)) {
+            fprintf(stderr, "motionemu: --pin wants NAME=PIN with PIN one of D0..D69, A0..A15, PA0..PL7, not '%s'\n",
+                    pins[i]);
+            return 2;
+        }
+        memcpy(name, pins[i], (size_t)(eq - pins[i]));
+        name[eq - pins[i]] = 0;
+        if (emu_pin_watch(avr, name, pin)) {
+            fprintf(stderr, "motionemu: cannot watch pin %s (already watched under another name?)\n", pins[i]);
+            return 2;
+        }
+        emu_pwm_attach(avr, pin);
+    }
+    if (motor_spec) {
+        static const char *const keys[] = {"PWM", "DIR", "BRAKE", "CS", "DIRPOS", "BRAKEON", NULL};
+        emu_motor_config_t cfg = {.dir_high_positive = 1, .brake_high_active = 1};
+        char buf[16];
+        if (spec_check_keys(motor_spec, keys) || pin_from_spec(motor_spec, "PWM", &cfg.pwm, 1) ||
+            pin_from_spec(motor_spec, "DIR", &cfg.dir, 1) || pin_from_spec(motor_spec, "CS", &cfg.cs, 1))
+            return 2;
+        int rc = pin_from_spec(motor_spec, "BRAKE", &cfg.brake, 0);
+        if (rc < 0)
+            return 2;
+        cfg.have_brake = rc == 0;
+        if (spec_get(motor_spec, "DIRPOS", buf, sizeof buf))
+            cfg.dir_high_positive = strcmp(buf, "0") != 0;
+        if (spec_get(motor_spec, "BRAKEON", buf, sizeof buf))
+            cfg.brake_high_active = strcmp(buf, "0") != 0;
+        if (emu_motor_attach(avr, &cfg)) {
+            fprintf(stderr, "motionemu: cannot attach the motor to '%s'\n", motor_spec);
+            return 2;
+        }
+    }
+    if (ls_spec) {
+        static const char *const keys[] = {"CS", NULL};
+        emu_pin_t cs;
+        if (spec_check_keys(ls_spec, keys) || pin_from_spec(ls_spec, "CS", &cs, 1))
+            return 2;
+        if (emu_encoder_attach(avr, cs)) {
+            fprintf(stderr, "motionemu: cannot attach the LS7366R\n");
+            return 2;
+        }
+    }
+
+    emu_log(0, "boot", "elf=%s mcu=atmega2560 f_cpu=%u heap_start=0x%04" PRIx64 " flash=%u", elf, EMU_F_CPU,
+            heap_start, fw.flashsize);
+
+    const uint64_t duration = (uint64_t)(duration_ms * (EMU_F_CPU / 1000.0));
+    const uint64_t limit = (uint64_t)(max_ms * (EMU_F_CPU / 1000.0));
+    uint64_t wake = 0;
+    size_t lines_seen = 0;
+    int script_done = !have_script;
+    int booted = 0;
+    uint16_t min_sp = 0xffff;
+    const char *reason = "done";
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+
+    for (;;) {
+        int st = avr_run(avr);
+        if (st == cpu_Crashed) {
+            emu_fail(avr->cycle, "crash", "simavr stopped the CPU (invalid memory access or opcode) at PC=0x%05x",
+                     avr->pc);
+            reason = "crash";
+            break;
+        }
+        if (st == cpu_Done) {
+            emu_fail(avr->cycle, "halt", "the firmware went to sleep with interrupts off (it has stopped) at PC=0x%05x",
+                     avr->pc);
+            reason = "halt";
+            break;
+        }
+        if (avr->pc == 0) {
+            if (booted) {
+                emu_fail(avr->cycle, "reset", "the program counter went back to 0 (reset, watchdog or a jump to "
+                                              "an unused interrupt vector)");
+                booted = 0;
+            }
+        } else {
+            booted = 1;
+            uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
+            if (sp < min_sp) {
+                min_sp = sp;
+                if (sp < heap_start && sp != 0)
+                    emu_fail(avr->cycle, "stack", "stack pointer 0x%04x below the end of static data 0x%04" PRIx64
+                             " (stack overflow)", sp, heap_start);
+            }
+        }
+        uint64_t now = avr->cycle;
+        if (!script_done && (now >= wake || emu_uart_line_count() != lines_seen)) {
+            lines_seen = emu_uart_line_count();
+            int finished;
+            wake = emu_script_step(avr, &finished);
+            if (finished)
+                script_done = 1;
+        }
+        if (script_done && now >= duration)
+            break;
+        if (now >= limit) {
+            emu_fail(now, "limit", "emulated time reached --max-ms %g", max_ms);
+            reason = "limit";
+            break;
+        }
+    }
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double wall = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
+    emu_motor_summary(avr->cycle);
+    /* free stack: the lowest SP seen above the end of static data and heap */
+    uint16_t brkval = 0;
+    for (uint32_t i = 0; i < fw.symbolcount; i++)
+        if (!strcmp(fw.symbol[i]->symbol, "__brkval")) {
+            uint16_t addr = fw.symbol[i]->addr & 0xffff;
+            brkval = (uint16_t)(avr->data[addr] | (avr->data[addr + 1] << 8));
+        }
+    uint64_t heap_end = brkval > heap_start ? brkval : heap_start;
+    long stack_free = (long)min_sp - (long)heap_end;
+    if (emu_fail_count() && !strcmp(reason, "done"))
+        reason = "failed";
+    emu_log(avr->cycle, "end", "%s t_s=%.6f wall_s=%.3f speed=%.1fx fails=%d stack_min_free=%ld ready=%d", reason,
+            (double)avr->cycle / EMU_F_CPU, wall, wall > 0 ? (double)avr->cycle / EMU_F_CPU / wall : 0.0,
+            emu_fail_count(), stack_free, emu_uart_ready_count());
+    emu_log_flush();
+    if (out != stdout)
+        fclose(out);
+    return emu_fail_count() ? 1 : 0;
+}

@@ -1,0 +1,178 @@
+"""tools/emu/sketches.py - what the emulator harness needs to know about each sketch.
+
+The pins are read from the sketch family's header in firmware/libraries/MotionBoard/src (the one
+place the sketches define them), so a changed pin is followed, and a missing one is an error
+rather than a silently unwatched pin. Each family also has a default INPUT script (what
+`make emulate SKETCH=<name>` runs without INPUT=) and the conversion of an emulator log into the
+same CSV that motionsim writes.
+"""
+import os
+import re
+
+import emulog
+
+ROOT = emulog.ROOT
+
+FAMILY = {
+    "SimplisticRampStepper": "stepper",
+    "LeibRampStepper": "stepper",
+    "SCurveStepper": "stepper",
+    "MovingAverageFilter": "filter",
+    "ProportionalClosedLoop": "servo",
+    "PIDClosedLoop": "servo",
+}
+
+PIN_HEADERS = {"stepper": "StepperPins.h", "filter": "FilterPins.h", "servo": "ServoPins.h"}
+
+
+class SketchError(Exception):
+    pass
+
+
+class Env:
+    """Where the firmware, the sources and motionsim are (all in this tree unless told)."""
+
+    def __init__(self, firmware_dir=None, source_dir=None, motionsim=None):
+        self.source_dir = source_dir or ROOT
+        self.firmware_dir = firmware_dir or os.path.join(self.source_dir, "build", "firmware")
+        self.motionsim = motionsim or os.path.join(self.source_dir, "build", "motionsim")
+
+    def sketch_names(self):
+        fw = os.path.join(self.source_dir, "firmware")
+        if not os.path.isdir(fw):
+            return []
+        return sorted(d for d in os.listdir(fw) if os.path.isfile(os.path.join(fw, d, d + ".ino")))
+
+    def elf(self, sketch):
+        path = os.path.join(self.firmware_dir, sketch, sketch + ".ino.elf")
+        if not os.path.isfile(path):
+            raise SketchError(f"{path} is missing: build the sketch first (make firmware)")
+        return path
+
+    def header_text(self, family):
+        path = os.path.join(self.source_dir, "firmware", "libraries", "MotionBoard", "src", PIN_HEADERS[family])
+        try:
+            with open(path, encoding="utf-8") as f:
+                return f.read()
+        except OSError as e:
+            raise SketchError(f"cannot read the pin header {path}: {e}")
+
+    def header_int(self, family, name):
+        """An integer constant of the pin header: '#define NAME 22' or 'const uint8_t NAME = 22;'."""
+        text = self.header_text(family)
+        m = re.search(r"^\s*#\s*define\s+" + re.escape(name) + r"\s+\(?\s*(\d+)[uUlL]*\s*\)?", text, re.M) or \
+            re.search(r"\b" + re.escape(name) + r"\s*=\s*(\d+)[uUlL]*\s*;", text)
+        if not m:
+            raise SketchError(f"{PIN_HEADERS[family]} does not define {name} (the emulator reads the pin from there)")
+        return int(m.group(1))
+
+
+def family_of(sketch):
+    if sketch not in FAMILY:
+        raise SketchError(f"the emulator does not know the sketch '{sketch}' (known: {', '.join(sorted(FAMILY))})")
+    return FAMILY[sketch]
+
+
+# ---- pins per family -------------------------------------------------------------------------
+
+def filter_pins(env):
+    return {"STROBE": f"D{env.header_int('filter', 'FILTER_STROBE_PIN')}",
+            "PWM": f"D{env.header_int('filter', 'FILTER_PWM_PIN')}"}
+
+
+def filter_adc_channel(env):
+    return env.header_int("filter", "FILTER_INPUT_ADC_CHANNEL")
+
+
+def filter_pwm_top(env):
+    return env.header_int("filter", "FILTER_PWM_TOP")
+
+
+def servo_motor_spec(env):
+    g = lambda n: env.header_int("servo", n)  # noqa: E731
+    # DIR high = positive duty = counts increase; BRAKE high = braking (ServoPins.h, L298P shield)
+    return (f"PWM=D{g('SERVO_PIN_PWM')},DIR=D{g('SERVO_PIN_DIR')},BRAKE=D{g('SERVO_PIN_BRAKE')},"
+            f"CS=D{g('SERVO_PIN_ENCODER_CS')},DIRPOS=1,BRAKEON=1")
+
+
+def servo_pins(env):
+    g = lambda n: env.header_int("servo", n)  # noqa: E731
+    return {"PWM": f"D{g('SERVO_PIN_PWM')}", "DIR": f"D{g('SERVO_PIN_DIR')}", "BRAKE": f"D{g('SERVO_PIN_BRAKE')}"}
+
+
+# ---- default INPUT scripts -------------------------------------------------------------------
+
+FILTER_DEFAULT_INPUT = """\
+# MovingAverageFilter, the seed's scenario: a 5 V step held 20 s, then back to 0 V (tau = 9 s)
+wait ^READY MovingAverageFilter$
+send ?
+wait ^kind=
+@100 u 5
+wait ^OK u=
+@20100 u 0
+wait ^OK u=
+until 35000
+send ?
+wait ^kind=
+"""
+
+SERVO_DEFAULT_INPUT = """\
+# {sketch}: the lab's step, setpoint 1000 counts with the default gains, for 3 s
+wait ^READY {sketch}$
+send ?
+wait ^setpoint=
+mark setpoint
+send 1000
+wait ^OK setpoint=1000$
+run 3000
+send ?
+wait ^setpoint=
+"""
+
+STEPPER_DEFAULT_INPUT = """\
+# {sketch}: the lab's move 0 -> 50 steps with the default parameters
+wait ^READY {sketch}$
+send ?
+wait ^pos
+mark move
+send 50
+wait ^OK
+timeout 60000
+wait ^DONE
+send ?
+wait ^pos
+"""
+
+
+def default_input(sketch):
+    fam = family_of(sketch)
+    if fam == "filter":
+        return FILTER_DEFAULT_INPUT
+    if fam == "servo":
+        return SERVO_DEFAULT_INPUT.format(sketch=sketch)
+    return STEPPER_DEFAULT_INPUT.format(sketch=sketch)
+
+
+def harness_args(env, sketch):
+    """pins / motor for emulog.run()"""
+    fam = family_of(sketch)
+    if fam == "filter":
+        return {"pins": filter_pins(env)}
+    if fam == "servo":
+        return {"motor": servo_motor_spec(env), "pins": servo_pins(env)}
+    return {"pins": stepper_pins(env)}
+
+
+def stepper_pins(env):
+    """StepperPins.h names port/bit pairs: STEPPER_STEP_PORT PORTF + STEPPER_STEP_BIT 0 -> PF0"""
+    text = env.header_text("stepper")
+    pins = {}
+    for name, sig, reg in (("STEP", "STEP", "PORT"), ("DIR", "DIR", "PORT"), ("ENABLE", "ENABLE", "PORT"),
+                           ("LED", "LED", "PIN")):
+        mp = re.search(r"^\s*#\s*define\s+STEPPER_" + sig + r"_" + reg + r"\s+" + reg + r"([A-L])\b", text, re.M)
+        if not mp:
+            raise SketchError(f"StepperPins.h does not define STEPPER_{sig}_{reg} {reg}<x>")
+        pins[name] = f"P{mp.group(1)}{env.header_int('stepper', f'STEPPER_{sig}_BIT')}"
+    if env.header_int("stepper", "STEPPER_LED_MIRROR") != 1:
+        del pins["LED"]  # the LED mirrors steps only when built with STEPPER_LED_MIRROR = 1
+    return pins
