@@ -18,6 +18,7 @@
 
 static SCurveRamp ramp(250, 4, 200.0f, 4000.0f, 5.0f, STEPPER_MAX_SPS_SCURVE);
 static StepperConsole console(ramp);
+STEPPER_DRIVER_ISR() /* Timer1 compare A steps the motor (StepperDriver) */
 
 void setup()
 {

@@ -14,6 +14,7 @@
 
 static TrapezoidRamp ramp(RAMP_ALGO_SIMPLISTIC, 1.0, 20.0, 10.0, STEPPER_MAX_SPS_SIMPLISTIC);
 static StepperConsole console(ramp);
+STEPPER_DRIVER_ISR() /* Timer1 compare A steps the motor (StepperDriver) */
 
 void setup()
 {

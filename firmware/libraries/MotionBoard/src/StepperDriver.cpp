@@ -87,7 +87,7 @@ inline void arm(uint16_t edge, uint32_t interval)
 } // namespace
 
 #if !STEPPER_TIMED_LOOP
-ISR(TIMER1_COMPA_vect)
+void StepperDriver::on_compare_match()
 {
     if (s_wait != 0) {
         /* a long interval: count out another chunk (every chunk is >= 32768 ticks) */

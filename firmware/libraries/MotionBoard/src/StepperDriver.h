@@ -40,6 +40,22 @@ public:
     static bool take_done(int32_t &position);
 
     static uint32_t tick_hz() { return STEPPER_TICK_HZ; }
+
+    /* The body of Timer1's compare-A interrupt (timer mode); see STEPPER_DRIVER_ISR. */
+    static void on_compare_match();
 };
+
+/* The sketch owns the interrupt vector, so that sketches using Timer1 for something else can still
+ * link MotionBoard: a stepper sketch writes STEPPER_DRIVER_ISR() once at file scope. */
+#if STEPPER_TIMED_LOOP
+#define STEPPER_DRIVER_ISR()
+#else
+#include <avr/interrupt.h>
+#define STEPPER_DRIVER_ISR()                                                                         \
+    ISR(TIMER1_COMPA_vect)                                                                           \
+    {                                                                                                \
+        StepperDriver::on_compare_match();                                                           \
+    }
+#endif
 
 #endif
