@@ -20,26 +20,10 @@
 #include "cli.h"
 #include "commands.h"
 #include "csv.h"
+#include "csv_float.h"
 #include "ramp.h"
 
 #define RAMP_CMD "ramp"
-
-/* Shortest decimal that reads back (as float) to the same float: the value the Mega computed. */
-static void csv_float(FILE *f, float v)
-{
-    char buf[32];
-    int prec;
-    if (v == floorf(v) && fabsf(v) < 1e9f) {
-        fprintf(f, "%.0f", (double)v);
-        return;
-    }
-    for (prec = 1; prec <= 9; prec++) {
-        snprintf(buf, sizeof buf, "%.*g", prec, (double)v);
-        if (strtof(buf, NULL) == v)
-            break;
-    }
-    fputs(buf, f);
-}
 
 /* Per-row kinematics shared by the table and --compare (definitions in the file comment). */
 typedef struct {
@@ -203,7 +187,7 @@ static void table_rows(FILE *f, ramp_t *r, double tick_hz, double v_start, int w
         if (whole)
             fprintf(f, "%lu", (unsigned long)s.whole_ticks);
         else if (r->algo == RAMP_ALGO_SIMPLISTIC || r->algo == RAMP_ALGO_LEIB)
-            csv_float(f, (float)s.interval_ticks);
+            csv_num_f32(f, (float)s.interval_ticks); /* the float the Mega computes */
         else
             csv_num(f, s.interval_ticks);
         fputc(',', f);

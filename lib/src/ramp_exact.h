@@ -9,7 +9,7 @@
  *   forms (never as a difference of two large times), so each is accurate to a few ulp.
  * Units: s, steps, steps/s. Double precision: on the host every t_n is within 1e-12 relative of
  * the formula (the issue asks 1e-9). On the AVR double is float (about 1e-7 relative), and each
- * step costs two square roots and a division (~2,500 cycles): the firmware uses Leib instead.
+ * step costs two square roots and a division: the sketches use Leib instead.
  */
 #ifndef RAMP_EXACT_H
 #define RAMP_EXACT_H

@@ -11,7 +11,7 @@
  * a = huge, would F/sqrt(v0^2 + 2a) exceed the peak speed).
  * Accuracy (anchors.md, checked in test_ramp_leib): step 1 is 50 % short (p1 is the speed after
  * one step, not the mean over it); steps 11-100 within 5.8 %, 101-1000 within 0.59 %, beyond 0.06 %.
- * Cost on the AVR (16 MHz, float): about 1,000 cycles per accel/decel step, nothing in cruise.
+ * Cost on the AVR (16 MHz, float): about 1,080 cycles per accel/decel update, none in cruise.
  */
 #ifndef RAMP_LEIB_H
 #define RAMP_LEIB_H

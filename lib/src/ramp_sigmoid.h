@@ -12,8 +12,8 @@
  * Float arithmetic as in the seed, with one change: exp() is our own ramp_sigmoid_exp (built from
  * +, -, *, / only), because libm's expf and avr-libc's exp differ in the last bit and that moved
  * truncated periods by a tick; now the host and the Mega compute the same table, bit for bit.
- * Cost on the AVR: filling the table ~3,000 cycles per entry (once per parameter change);
- * per step an index update and a table read (integer only, tens of cycles).
+ * Cost on the AVR: filling the table ~6,500 cycles per entry (once per parameter change);
+ * per step an index update and a table read (integer only).
  */
 #ifndef RAMP_SIGMOID_H
 #define RAMP_SIGMOID_H
@@ -42,7 +42,7 @@ typedef struct {
 motion_status_t ramp_sigmoid_check(const ramp_sigmoid_params_t *p);
 
 /* e^x in float from IEEE +, -, *, / only (same bits on every IEEE platform), within 2 ulp of the
- * true value for normal results; +inf above 88.5, 0 below -87. About 1,500 cycles on the AVR. */
+ * true value for normal results; +inf above 88.5, 0 below -87. */
 float ramp_sigmoid_exp(float x);
 
 /* freq[i] by the seed's formula, Hz (no checks). */

@@ -57,7 +57,7 @@ private:
 class SCurveRamp : public StepperRamp {
 public:
     SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps);
-    /* Fills the table (about 3,000 cycles per entry); call once in setup(). */
+    /* Fills the table (about 6,500 cycles per entry); call once in setup(). */
     motion_status_t begin();
     motion_status_t plan(ramp_t &r, int32_t from, int32_t to) const override;
     motion_status_t set(const char *key, const char *value) override;
