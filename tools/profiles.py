@@ -13,7 +13,8 @@ Scenarios are listed in tools/scenarios/*.json, one file per capability. Each sc
 For each scenario it writes <out>/<name>.csv and <out>/<name>.png, and then one workbook
 <out>/profiles.xlsx with an index sheet and, per scenario, a sheet holding the data and a native
 Excel chart of each plotted panel (XY scatter with straight lines, so time is to scale even when
-steps are unevenly spaced), with the overlays as extra series.
+steps are unevenly spaced), with the overlays as extra series; a table with a label column
+(`ramp --compare`) gets a column chart per deviation instead.
 """
 import argparse
 import glob
@@ -98,9 +99,27 @@ def write_workbook(path, done):
             ws.write_column(1, c, data.columns[h])
         ws.freeze_panes(1, 0)
         n = len(data)
-        x, panels = layout_of(s, data)
         col_of = {h: i for i, h in enumerate(data.header)}
         anchor_col = len(data.header) + 1
+        if data.labels is not None:
+            # a label file (ramp --compare): one column chart per deviation, one bar per label
+            cols = [c for c in motionplot.COMPARE_COLUMNS if c[0] in col_of] or \
+                   [(h, h) for h in data.header if h != data.labels]
+            for p_i, (col, ylabel) in enumerate(cols):
+                chart = wb.add_chart({"type": "column"})
+                chart.add_series({
+                    "name": ylabel,
+                    "categories": [sh, 1, col_of[data.labels], n, col_of[data.labels]],
+                    "values": [sh, 1, col_of[col], n, col_of[col]],
+                    "data_labels": {"value": True, "num_format": "0.###"},
+                })
+                chart.set_title({"name": s["title"] if p_i == 0 else ylabel, "name_font": {"size": 11}})
+                chart.set_y_axis({"name": ylabel})
+                chart.set_legend({"none": True})
+                chart.set_size({"width": 620, "height": 260})
+                ws.insert_chart(n + 3 + p_i * 14, 0, chart)
+            continue
+        x, panels = layout_of(s, data)
         for p_i, (ycols, ylabel) in enumerate(panels):
             chart = wb.add_chart({"type": "scatter", "subtype": "straight"})
             for y in ycols:
@@ -158,7 +177,7 @@ def main(argv):
         done.append((s, motionplot.CsvData(csv_path)))
     by_name = {s["name"]: d for s, d in done}
     for s, data in done:
-        x, panels = layout_of(s, data)
+        x, panels = layout_of(s, data) if data.labels is None else (None, None)
         overlays = [(o, by_name[o]) for o in s.get("overlay", []) if o in by_name]
         motionplot.plot(data, os.path.join(a.out, s["name"] + ".png"), title=s["title"], x=x, panels=panels,
                         overlays=overlays)

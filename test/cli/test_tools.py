@@ -52,6 +52,17 @@ def test_plot_rejects_bad_csv_with_one_line(tmp_path, content, why):
     assert len(r.stderr.strip().splitlines()) == 1 and why in r.stderr
 
 
+def test_plot_draws_label_tables_as_bars(tmp_path, motionsim):
+    """`motionsim ramp --compare` starts with a text column (the algorithm): plotted as bars."""
+    r = motionsim("ramp", "--compare", "--to", "200", "--v0", "10", "--vmax", "100", "--accel", "100")
+    assert r.rc == 0, r.err
+    src = tmp_path / "cmp.csv"
+    src.write_text(r.out)
+    r = run([PLOT, str(src)])
+    assert r.returncode == 0, r.stderr
+    assert is_png(tmp_path / "cmp.png")
+
+
 def test_plot_missing_file(tmp_path):
     r = run([PLOT, str(tmp_path / "nope.csv")])
     assert r.returncode == 2 and "nope.csv" in r.stderr
@@ -91,7 +102,7 @@ def test_profiles_writes_csv_png_and_a_workbook_with_a_chart_per_scenario(tmp_pa
             assert f'name="{n[:31]}"' in workbook, n
         for c in charts:
             xml = z.read(c).decode()
-            assert "<c:scatterChart>" in xml or "<c:lineChart>" in xml
+            assert "<c:scatterChart>" in xml or "<c:lineChart>" in xml or "<c:barChart>" in xml
 
 
 def make(*args):
