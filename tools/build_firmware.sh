@@ -16,7 +16,7 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT"
 CLI="$ROOT/.tools/arduino-cli"
 FQBN="arduino:avr:mega:cpu=atmega2560"
-OUT="build/firmware"
+OUT="${FIRMWARE_OUT:-build/firmware}"
 [ -x "$CLI" ] || { echo "build_firmware: arduino-cli not found at .tools/arduino-cli: run 'make setup' first" >&2; exit 1; }
 
 all_sketches() {
@@ -30,6 +30,7 @@ if [ $# -gt 0 ]; then sketches=("$@"); else mapfile -t sketches < <(all_sketches
 
 libs=(--library lib)
 for l in firmware/libraries/*/; do [ -d "$l" ] && libs+=(--library "${l%/}"); done
+for l in ${FIRMWARE_EXTRA_LIBS:-}; do libs+=(--library "$l"); done
 
 # Debian's core needs arduino-ctags and DECIMAL_DIG (see TOOLCHAIN notes in README.md).
 # Our own warning flags go in the same property so that the platform's value is not lost.
@@ -51,7 +52,7 @@ for s in "${sketches[@]}"; do
     log="$OUT/$s.log"
     mkdir -p "$OUT/$s"
     "$CLI" --config-file arduino-cli.yaml compile --fqbn "$FQBN" --warnings all "${libs[@]}" "${props[@]}" \
-        --build-path "build/arduino-build/$s" --output-dir "$OUT/$s" "firmware/$s" >"$log" 2>&1
+        --build-path "$OUT/.arduino-build/$s" --output-dir "$OUT/$s" "firmware/$s" >"$log" 2>&1
     rc=$?
     # arduino-cli's own noise on a machine without Arduino's servers (discoveries, indexes).
     grep -v -E '^Error initializing instance: (Error loading hardware platform: discovery|Loading index file)' "$log" > "$log.clean"
