@@ -39,25 +39,9 @@ void ServoConsole::printReal(Print &out, float v, uint8_t decimals)
     out.print(buf);
 }
 
-void ServoConsole::printStatus(uint32_t t_ms, const ServoState &s)
+/* "setpoint=<n> position=<n> error=<n> duty=<%>": the part both lines share. */
+static void printPositionFields(Print &out, const ServoState &s)
 {
-    Stream &out = serial_.port();
-    out.print(F("t_ms="));
-    out.print(t_ms);
-    out.print(F(" setpoint="));
-    out.print(s.setpoint_counts);
-    out.print(F(" position="));
-    out.print(s.position_counts);
-    out.print(F(" error="));
-    out.print(pctrl_error_counts(s.setpoint_counts, s.position_counts));
-    out.print(F(" duty="));
-    printReal(out, s.duty_pct, 2);
-    out.println();
-}
-
-void ServoConsole::printState(const ServoState &s)
-{
-    Stream &out = serial_.port();
     out.print(F("setpoint="));
     out.print(s.setpoint_counts);
     out.print(F(" position="));
@@ -65,7 +49,23 @@ void ServoConsole::printState(const ServoState &s)
     out.print(F(" error="));
     out.print(pctrl_error_counts(s.setpoint_counts, s.position_counts));
     out.print(F(" duty="));
-    printReal(out, s.duty_pct, 2);
+    ServoConsole::printReal(out, s.duty_pct, 2);
+}
+
+void ServoConsole::printStatus(uint32_t t_ms, const ServoState &s)
+{
+    Stream &out = serial_.port();
+    out.print(F("t_ms="));
+    out.print(t_ms);
+    out.print(' ');
+    printPositionFields(out, s);
+    out.println();
+}
+
+void ServoConsole::printState(const ServoState &s)
+{
+    Stream &out = serial_.port();
+    printPositionFields(out, s);
     out.print(F(" kp="));
     printReal(out, s.kp, 6);
     if (kind_ == PID_GAINS) {
