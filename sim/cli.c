@@ -23,8 +23,8 @@ int cli_parse_double(const char *s, double *out)
 {
     char *end = NULL;
     double v;
-    if (s == NULL || *s == '\0' || strchr(" \t\n", s[0]) != NULL)
-        return -1;
+    if (s == NULL || *s == '\0' || strchr(" \t\n", s[0]) != NULL || strpbrk(s, "xX") != NULL)
+        return -1; /* no leading space, no hexadecimal (strtod would take 0x5) */
     errno = 0;
     v = strtod(s, &end);
     if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))

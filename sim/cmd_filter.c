@@ -56,10 +56,10 @@ static int parse_amplitude(const char *cmd, const char *spec, const char *text, 
     motion_status_t st;
     if (cli_parse_double(text, &v) != 0)
         return cli_error(cmd, "--input '%s': amplitude '%s' is not a number of volts (%s)", spec, text, input_syntax);
-    st = filt_quantise(v, quantum, amp);
+    st = filt_quantise_whole(v, quantum, amp);
     if (st != MS_OK)
-        return cli_error(cmd, "--input '%s': %s (at most %g V with --quantum %g)", spec, motion_status_text(st),
-                         FILT_MAX_QUANTA * quantum, quantum);
+        return cli_error(cmd, "--input '%s': amplitude '%s': %s (--quantum %g, at most %g V)", spec, text,
+                         motion_status_text(st), quantum, FILT_MAX_QUANTA * quantum);
     return -1;
 }
 
@@ -256,6 +256,8 @@ static int parse_input(const char *cmd, const char *spec, double ts, double quan
             double t_start;
             if (cli_parse_double(fields[2], &t_start) != 0 || t_start < 0)
                 return cli_error(cmd, "--input '%s': T_START '%s' is not a number of seconds >= 0 (%s)", spec, fields[2], input_syntax);
+            if (t_start / ts > (double)MAX_SAMPLES)
+                return cli_error(cmd, "--input '%s': T_START '%s' is beyond the longest run (%llu samples)", spec, fields[2], MAX_SAMPLES);
             /* the first sample at or after T_START (1 ppm tolerance: 1.23/0.01 = 123.00000000000001) */
             in->k0 = (uint64_t)ceil(t_start / ts - 1e-6 * (t_start / ts > 1 ? t_start / ts : 1));
         }
@@ -342,19 +344,19 @@ int cmd_filter(int argc, char **argv)
         return cli_error(cmd, "--tau2 applies to --kind ma2 only");
     st = filt_taps(tau, ts, &taps);
     if (st != MS_OK)
-        return cli_error(cmd, "--tau %g, --ts %g: %s%s", tau, ts, motion_status_text(st),
+        return cli_error(cmd, "--tau %.12g, --ts %.12g: %s%s", tau, ts, motion_status_text(st),
                          st == MS_ERR_TOO_MANY_TAPS ? " (at most 65535)" : "");
     if (kind == ACCDEC_MA2 && (st = filt_taps(tau2, ts, &taps)) != MS_OK)
-        return cli_error(cmd, "--tau2 %g, --ts %g: %s%s", tau2, ts, motion_status_text(st),
+        return cli_error(cmd, "--tau2 %.12g, --ts %.12g: %s%s", tau2, ts, motion_status_text(st),
                          st == MS_ERR_TOO_MANY_TAPS ? " (at most 65535)" : "");
     st = accdec_configure(&cfg, (accdec_kind_t)kind, tau, tau2, ts, FILT_MAX_TAPS);
     if (st != MS_OK)
-        return cli_error(cmd, "--tau %g, --tau2 %g, --ts %g: %s (at most %u taps in all)", tau, tau2, ts,
+        return cli_error(cmd, "--tau %.12g, --tau2 %.12g, --ts %.12g: %s (at most %u taps in all)", tau, tau2, ts,
                          motion_status_text(st), FILT_MAX_TAPS);
     if (stream && fabs(quantum - 0.001) > 1e-15)
         return cli_error(cmd, "--stream writes the sketch's millivolt stream: it needs --quantum 0.001");
     if (!(duration >= 0))
-        return cli_error(cmd, "--duration %g: must be 0 s or more", duration);
+        return cli_error(cmd, "--duration %.12g: must be 0 s or more", duration);
     if ((rc = parse_input(cmd, input_spec, ts, quantum, &in)) >= 0)
         return rc;
 
@@ -364,11 +366,11 @@ int cmd_filter(int argc, char **argv)
         double r = duration / ts;
         if (!(r < (double)MAX_SAMPLES)) {
             free(in.samples);
-            return cli_error(cmd, "--duration %g s is more than %llu samples of %g s", duration, MAX_SAMPLES, ts);
+            return cli_error(cmd, "--duration %.12g s is more than %llu samples of %g s", duration, MAX_SAMPLES, ts);
         }
         last = (uint64_t)floor(r + 1e-9 * (r > 1 ? r : 1));
         if (in.kind == IN_CSV && last >= in.n_samples) {
-            rc = cli_error(cmd, "--duration %g s needs %llu samples; %s holds %llu", duration,
+            rc = cli_error(cmd, "--duration %.12g s needs %llu samples; %s holds %llu", duration,
                            (unsigned long long)last + 1, input_spec, (unsigned long long)in.n_samples);
             free(in.samples);
             return rc;

@@ -305,8 +305,13 @@ static void handle(const char *line)
                 st = apply_config(kind, taps, tau2_taps);
             else if (kind == ACCDEC_MA2)
                 st = apply_config(kind, tau_taps, taps);
-            else
-                tau2_taps = taps; /* used when kind becomes ma2 (checked then) */
+            else {
+                /* kept for when kind becomes ma2: it must fit the buffer as ma2 would use it */
+                accdec_config_t c;
+                st = accdec_configure(&c, ACCDEC_MA2, tau_taps * TS_S, taps * TS_S, TS_S, MAF_MAX_TAPS);
+                if (st == MS_OK)
+                    tau2_taps = taps;
+            }
         }
         if (st != MS_OK) {
             serial.reply_error(st);

@@ -91,13 +91,21 @@ def test_square_wave_is_high_for_the_first_half_of_each_period(motionsim):
     assert rows[1500]["y"] == 5.0 and rows[2400]["y"] == 0.0 and abs(rows[1950]["y"] - 2.5) < 1e-12
 
 
-def test_inputs_are_quantised_to_the_quantum(motionsim):
-    r = motionsim("filter", "--input", "step:1.2344", "--duration", 0.02)
+def test_inputs_are_quantised_to_the_quantum(motionsim, tmp_path):
+    # step/square amplitudes must be whole quanta (like the sketch's `u`); csv samples are rounded
+    r = motionsim("filter", "--input", "step:1.234", "--duration", 0.02)
     assert r.rc == 0, r.err
     assert [row["u"] for row in r.rows()[1]] == [1.234, 1.234, 1.234]
-    r = motionsim("filter", "--input", "step:1.2346", "--quantum", 0.01, "--duration", 0.01)
+    r = motionsim("filter", "--input", "step:1.23", "--quantum", 0.01, "--duration", 0.01)
     assert r.rc == 0, r.err
     assert [row["u"] for row in r.rows()[1]] == [1.23, 1.23]
+    r = motionsim("filter", "--input", "step:1.2346", "--quantum", 0.01, "--duration", 0.01)
+    assert r.rc == 2 and "whole number of input quanta" in r.err, r.err
+    src = tmp_path / "u.csv"
+    src.write_text("u\n1.2344\n1.2346\n-1.2345\n")
+    r = motionsim("filter", "--input", f"csv:{src}")
+    assert r.rc == 0, r.err
+    assert [row["u"] for row in r.rows()[1]] == [1.234, 1.235, -1.235]  # halves away from zero
 
 
 def test_csv_input_replays_the_u_column_and_round_trips(motionsim, tmp_path):
@@ -170,6 +178,13 @@ BAD = [
     (["--input", "step:5:-1"], "T_START"),
     (["--input", "step:5:1:2"], "expected step:AMPLITUDE"),
     (["--input", "step:40"], "outside the filter's range"),
+    (["--input", "step:0.0005"], "whole number of input quanta"),
+    (["--input", "step:1e-4"], "whole number of input quanta"),
+    (["--input", "square:2.0004:1"], "whole number of input quanta"),
+    (["--input", "step:0x5"], "not a number of volts"),
+    (["--input", "step:5:2e17"], "beyond the longest run"),
+    (["--input", "step:5:1e300"], "beyond the longest run"),
+    (["--tau", "0x9"], "not a finite number"),
     (["--input", "square:5"], "expected step:AMPLITUDE"),
     (["--input", "square:5:0"], "PERIOD"),
     (["--input", "square:5:0.015"], "whole number of samples"),

@@ -192,8 +192,11 @@ def main(argv):
             for k, t, u, y in rows:
                 f.write(f"{k * 10},{u:.3f},{y:.6f}\n")
         sim = base + ".motionsim.csv"
-        args = ["filter", "--kind", q.get("kind", "ma"), "--tau", q.get("tau", "9"), "--tau2", q.get("tau2", "3"),
-                "--ts", q.get("ts", "0.01"), "--input", f"csv:{stream}"]
+        kind = q.get("kind", "ma")
+        args = ["filter", "--kind", kind, "--tau", q.get("tau", "9"), "--ts", q.get("ts", "0.01"),
+                "--input", f"csv:{stream}"]
+        if kind == "ma2":
+            args += ["--tau2", q.get("tau2", "3")]
         outputs.append((base + ".csv", sim if rows and run_motionsim(env, args, sim) else None))
     else:
         rows, changes = servo_rows(log)
@@ -215,13 +218,17 @@ def main(argv):
             p = subprocess.run(cmd, capture_output=True, text=True)
             print(f"  {p.stdout.strip()}" if p.returncode == 0 else f"  plot failed: {p.stderr.strip()}")
     print(f"  {base}.log (event log), {base}.input.emu (the script)")
-    return 1 if log.fails else 0
+    return 1 if log.fails or MOTIONSIM_FAILURES else 0
+
+
+MOTIONSIM_FAILURES = []
 
 
 def run_motionsim(env, args, out):
     p = subprocess.run([env.motionsim, *args, "-o", out], capture_output=True, text=True)
     if p.returncode != 0:
-        print(f"  motionsim {' '.join(args)}: {p.stderr.strip()}")
+        print(f"FAIL motionsim {' '.join(args)}: {p.stderr.strip()}")
+        MOTIONSIM_FAILURES.append(args)
         return False
     return True
 
