@@ -23,15 +23,33 @@ step() { printf '==> %s\n' "$*"; }
 ok()   { printf '    %s\n' "$*"; }
 die()  { printf 'setup: %s\n' "$*" >&2; exit 1; }
 
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then
-    command -v sudo >/dev/null 2>&1 || die "not root and sudo is missing: run 'make setup' as root or install sudo"
-    SUDO="sudo"
-fi
+# as_root CMD...: runs CMD as root (through sudo when not root); only package installs need it.
+as_root() {
+    if [ "$(id -u)" -eq 0 ]; then
+        "$@"
+    elif command -v sudo >/dev/null 2>&1; then
+        sudo "$@"
+    else
+        die "not root and sudo is missing, needed for: $*; run 'make setup' as root or install sudo"
+    fi
+}
+
+# go_download MODULE@VERSION: the module's directory from the Go module proxy, or dies with Go's reason.
+go_download() {
+    local go_bin=$1 mod=$2 json dir err
+    json=$(cd /tmp && GO111MODULE=on GOFLAGS=-mod=mod GOTOOLCHAIN=local "$go_bin" mod download -json "$mod" 2>&1) || true
+    dir=$(printf '%s\n' "$json" | sed -n 's/.*"Dir": *"\(.*\)".*/\1/p' | head -n1)
+    if [ -z "$dir" ] || [ ! -d "$dir" ]; then
+        err=$(printf '%s\n' "$json" | sed -n 's/.*"Error": *"\(.*\)".*/\1/p' | head -n1)
+        [ -n "$err" ] || err=$(printf '%s\n' "$json" | tail -n1)
+        die "the Go module proxy did not serve $mod: ${err:-no answer} (GOPROXY=$("$go_bin" env GOPROXY 2>/dev/null))"
+    fi
+    printf '%s\n' "$dir"
+}
 
 # --- 1. Debian packages ------------------------------------------------------------------
 DEB_PACKAGES=(
-    make gcc libc6-dev git ca-certificates  # host build of motionsim, tests, the emulator harness
+    make gcc g++ libc6-dev git ca-certificates  # host build of motionsim (C and the PID class in C++), tests, the emulator harness
     gcc-avr avr-libc binutils-avr           # AVR compiler and C library
     arduino-core-avr arduino-ctags          # the Arduino AVR core as Debian packages it
     avrdude                                 # flashing a real Mega (make upload)
@@ -51,9 +69,11 @@ if [ ${#missing[@]} -eq 0 ]; then
 else
     ok "installing: ${missing[*]}"
     command -v apt-get >/dev/null 2>&1 || die "apt-get not found; missing Debian packages: ${missing[*]}"
+    [ "$(id -u)" -eq 0 ] || command -v sudo >/dev/null 2>&1 \
+        || die "not root and sudo is missing; run 'make setup' as root or install sudo (missing Debian packages: ${missing[*]})"
     log=$(mktemp /tmp/motion-setup-apt.XXXXXX)
-    $SUDO apt-get update >"$log" 2>&1 || die "apt-get update failed (is the Debian mirror reachable?); log: $log"
-    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}" >>"$log" 2>&1 \
+    as_root apt-get update >"$log" 2>&1 || die "apt-get update failed (is the Debian mirror reachable?); log: $log"
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}" >>"$log" 2>&1 \
         || die "apt-get could not install: ${missing[*]}; log: $log"
     rm -f "$log"
     ok "installed"
@@ -103,21 +123,17 @@ else
     if [ -z "$GO" ]; then
         if ! command -v go >/dev/null 2>&1; then
             ok "installing Debian's golang-go to bootstrap a newer Go"
-            { $SUDO apt-get update && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y golang-go; } >/dev/null 2>&1 \
+            { as_root apt-get update && as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y golang-go; } >/dev/null 2>&1 \
                 || die "no Go toolchain: apt-get could not install golang-go"
         fi
         ok "fetching Go toolchain $GO_TOOLCHAIN from the Go module proxy"
-        tdir=$(cd /tmp && GO111MODULE=on GOFLAGS=-mod=mod go mod download -json "golang.org/toolchain@v0.0.1-$GO_TOOLCHAIN.linux-$(go env GOARCH)" \
-               | sed -n 's/.*"Dir": *"\(.*\)".*/\1/p')
-        [ -n "$tdir" ] && [ -d "$tdir" ] || die "the Go module proxy did not serve golang.org/toolchain $GO_TOOLCHAIN"
+        tdir=$(go_download "$(command -v go)" "golang.org/toolchain@v0.0.1-$GO_TOOLCHAIN.linux-$(go env GOARCH)") || exit 1
         rm -rf "$TOOLS/go" && cp -r "$tdir" "$TOOLS/go" && chmod -R u+w "$TOOLS/go"
         chmod +x "$TOOLS"/go/bin/* "$TOOLS"/go/pkg/tool/*/*
         GO="$TOOLS/go/bin/go"
     fi
     ok "building arduino-cli $ARDUINO_CLI_VERSION from the Go module proxy with $GO (about a minute)"
-    src=$(cd /tmp && GO111MODULE=on GOFLAGS=-mod=mod GOTOOLCHAIN=local "$GO" mod download -json "github.com/arduino/arduino-cli@v$ARDUINO_CLI_VERSION" \
-          | sed -n 's/.*"Dir": *"\(.*\)".*/\1/p')
-    [ -n "$src" ] && [ -d "$src" ] || die "the Go module proxy did not serve github.com/arduino/arduino-cli@v$ARDUINO_CLI_VERSION"
+    src=$(go_download "$GO" "github.com/arduino/arduino-cli@v$ARDUINO_CLI_VERSION") || exit 1
     (cd "$src" && GOFLAGS=-buildvcs=false GOTOOLCHAIN=local "$GO" build \
         -ldflags "-X github.com/arduino/arduino-cli/version.versionString=$ARDUINO_CLI_VERSION" \
         -o "$TOOLS/bin/arduino-cli" .) || die "building arduino-cli $ARDUINO_CLI_VERSION failed"
