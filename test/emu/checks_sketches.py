@@ -12,6 +12,7 @@ import re
 import subprocess
 import tempfile
 
+import emulate
 import emulog
 import sketches
 from checks_selftest import CheckResult
@@ -306,6 +307,10 @@ def settle_time(ts, ps, final, band):
     return t_in
 
 
+SERVO_PWM_PERIOD_MS = 510 * 64 / 16000.0   # analogWrite on Timer3: phase correct, clk/64 (2.04 ms)
+SERVO_REACT_MAX_MS = 20.0 + 2 * SERVO_PWM_PERIOD_MS + 2.0
+
+
 def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts=None, must_reach=False):
     gains_cmds = "\n".join(f"send {k} {v}\nwait ^OK {k}=" for k, v in gains)
     script = SERVO_SCRIPT.format(sketch=sketch, gains=gains_cmds, setpoint=setpoint, run_ms=run_ms)
@@ -323,18 +328,30 @@ def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts
     sim = [r.split(",") for r in out.splitlines()[1:] if r]
     sim_t = [float(r[0]) for r in sim]
     sim_p = [int(float(r[2])) for r in sim]
-    # firmware trace: the plant's count every 1 ms after the setpoint command; t = 0 where the
-    # first control period with the new setpoint drives the motor (first duty change), less
-    # motionsim's modelled sample-to-motor latency, so both start at their first sample.
-    # (the OK line's LF leaves the UART up to 18 ms after the command acted, at 9600 baud: the
-    # command's own transmission is the reference, the motor cannot move before it arrived)
+    # The reaction is bounded from the command's arrival (its last byte received by the sketch):
+    # the next 20 ms control period uses the new setpoint, its OCR value reaches the pin at the end
+    # of the running PWM period, the harness measures the duty at the end of the first full period
+    # at the new value and samples it every 1 ms; plus 1 ms for millis()' 1.024 ms steps and the
+    # loop's own work. A firmware that sits on a new setpoint for a period or more fails here.
     ok = log.first(rf"^OK setpoint={setpoint}$")
-    sent = next((t.cycle for t in log.tx if t.text == str(setpoint)), None)
-    mot = [(c, d, n) for c, d, n in log.motor if sent is not None and c >= sent]
+    fc = emulate.frame_cycles(log)
+    tx = next((t for t in log.tx if t.text == str(setpoint)), None)
+    if tx is None or ok is None:
+        return CheckResult(False, "no setpoint reply", [f"the setpoint was not sent or not answered 'OK setpoint="
+                                                        f"{setpoint}'"])
+    arrival = tx.cycle + (len(tx.text) + 2) * fc
+    mot = [(c, d, n) for c, d, n in log.motor if c >= tx.cycle]
     d0 = mot[0][1] if mot else 0.0
     first = next((c for c, d, n in mot if abs(d - d0) > 0.01), None)
     if first is None:
         return CheckResult(False, "the motor never moved", ["no duty change after the setpoint"])
+    react_ms = (first - arrival) / F_CPU * 1000.0
+    if not (0 <= react_ms <= SERVO_REACT_MAX_MS):
+        problems.append(f"the first duty change came {react_ms:.2f} ms after the setpoint arrived (bound: one "
+                        f"control period + 2 PWM periods + 2 ms = {SERVO_REACT_MAX_MS:.2f} ms)")
+    # firmware trace: the plant's count every 1 ms after the setpoint command; t = 0 where the
+    # first control period with the new setpoint drives the motor (first duty change, bounded
+    # above), less motionsim's modelled sample-to-motor latency, so both start at their first sample.
     t0 = first / F_CPU - 0.0012 - 0.002  # latency of motionsim's model; half a PWM period of measuring
     fw_t = [c / F_CPU - t0 for c, d, n in mot]
     fw_p = [n for c, d, n in mot]
@@ -368,7 +385,8 @@ def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts
         problems.append(f"`?` after the run should report setpoint={setpoint} position~{fw_final}: {q}")
     summary = (f"setpoint {setpoint}, gains {dict(gains) or 'default'}: final {fw_final} counts (motionsim "
                f"{sim_final}), settling (2 %) {st_fw:.2f} s (motionsim {st_sim:.2f} s), trace within "
-               f"{worst:.1f} counts of motionsim (tolerance {tol:.0f}); {log.end.get('speed')} real time")
+               f"{worst:.1f} counts of motionsim (tolerance {tol:.0f}); first duty change {react_ms:.1f} ms after the "
+               f"setpoint arrived (bound {SERVO_REACT_MAX_MS:.1f}); {log.end.get('speed')} real time")
     return CheckResult(not problems, summary, problems)
 
 
@@ -425,7 +443,7 @@ def stepper_algo(env, sketch):
 
 def sim_intervals(env, q, a, b):
     """motionsim ramp's whole-tick intervals for the parameters in the `?` reply q"""
-    import emulate  # tools/emu/emulate.py: the same argument mapping `make emulate` uses
+    # tools/emu/emulate.py: the same argument mapping `make emulate` uses
     out, _ = motionsim(env, *emulate.stepper_sim_args(q, a, b))
     rows = [r.split(",") for r in out.splitlines()[1:] if r]
     return [float(r[3]) for r in rows], [int(r[1]) for r in rows]
