@@ -58,6 +58,9 @@ void emu_pin_drive(avr_t *avr, emu_pin_t pin, int on, int level, uint64_t cycle)
 /* ---- phase-correct PWM outputs (emu_pwm.c) ---- */
 /* Emulates the output compare pin if `pin` is OCnA/B/C of timers 1, 3, 4, 5 (no-op otherwise). */
 int emu_pwm_attach(avr_t *avr, emu_pin_t pin);
+/* The period in cycles of the emulated timer whose output compare pin this is, while it runs in
+ * a dual-slope PWM mode (0: not an attached OCnx pin, or its timer is stopped). */
+uint64_t emu_pwm_period(emu_pin_t pin);
 
 /* ---- UART0 (emu_uart.c) ---- */
 typedef struct emu_line {
