@@ -85,6 +85,8 @@ int emu_script_load_text(const char *text, const char *name);
 /* Runs the script as far as it can at this cycle; returns the cycle at which to call it again
  * (UINT64_MAX: only when a new line arrives). Sets *finished when the script has ended. */
 uint64_t emu_script_step(avr_t *avr, int *finished);
+/* line number (and script name) of the first 'encoder' command, 0 if there is none */
+int emu_script_encoder_line(const char **name);
 
 /* ---- SPI master + attached device (emu_spi.c) ---- */
 typedef struct {
