@@ -73,9 +73,11 @@ COMMON_BAD = [
 
 
 def check_bad_input(env, sketch, key, ready_extra, bad_lines, while_busy=None, dynamic=(), pins=None, motor=None,
-                    same_after_busy=True):
-    """Every bad line gets exactly one ERR, no reset or crash, `?` is the same before and after
-    (keys in `dynamic` change by themselves and are left out)."""
+                    step_total=None):
+    """Every bad line gets exactly one ERR, no reset or crash, `?` is the same before and after:
+    every key while idle; while busy, the keys in `dynamic` change by themselves and are left out.
+    step_total: the STEP rising edges the whole run must have (the busy move's steps: no stray
+    pulse during bad input or after DONE)."""
     script = bad_input_script(sketch, key, ready_extra, bad_lines, while_busy)
     log = emulog.run(env.elf(sketch), script, pins=pins, motor=motor)
     problems = []
@@ -99,10 +101,8 @@ def check_bad_input(env, sketch, key, ready_extra, bad_lines, while_busy=None, d
         if before is None or after is None:
             problems.append("no `?` reply before/after the bad input")
         else:
-            b = {k: v for k, v in before.items() if k not in dynamic}
-            a = {k: v for k, v in after.items() if k not in dynamic}
-            if a != b:
-                problems.append(f"state changed by bad input: before {b}, after {a}")
+            if after != before:
+                problems.append(f"state changed by bad input: before {before}, after {after}")
     elif not problems:
         problems.append("the bad-input section did not run")
     busy_note = ""
@@ -123,8 +123,18 @@ def check_bad_input(env, sketch, key, ready_extra, bad_lines, while_busy=None, d
                 problems.append(f"state changed by bad input while busy: before {b}, after {a}")
         busy_note = f"; {len(marks)} refused while busy"
         errs = errs + log.lines_matching(r"^ERR ", bs, be)
-    summary = (f"{n_bad} bad inputs -> {len(log.lines_matching('^ERR ', start or 0, end))} ERR{busy_note}, "
-               f"no reset/crash, `?` unchanged; e.g. '{errs[0].text if errs else '-'}'")
+    step_note = ""
+    if step_total is not None:
+        n_steps = len(log.rising("STEP"))
+        step_note = f"; {n_steps} STEP pulses in the whole run (the move's {step_total})"
+        if n_steps != step_total:
+            problems.append(f"{n_steps} STEP rising edges in the whole run, want exactly the busy move's {step_total} "
+                            f"(a stray pulse during bad input or after DONE)")
+    resets = [k for _, k, _ in log.fails if k in ("reset", "crash", "halt", "stack")]
+    verdict = "no reset/crash, `?` unchanged" if not problems else (
+        f"FAILED ({', '.join(sorted(set(resets))) or 'see above'})")
+    summary = (f"{n_bad} bad inputs -> {len(log.lines_matching('^ERR ', start or 0, end))} ERR{busy_note}{step_note}, "
+               f"{verdict}; e.g. '{errs[0].text if errs else '-'}'")
     res = CheckResult(not problems, summary, problems)
     res.log = log
     return res
@@ -269,6 +279,172 @@ def check_filter(env):
     return CheckResult(not problems, summary, problems)
 
 
+# Every kind, restarts and `every`, a few emulated seconds: each command that restarts the filter
+# (kind, tau, tau2, reset) starts a segment that motionsim replays from rest with the segment's
+# parameters and the input the stream shows, line for line.
+FILTER_KINDS_SCRIPT = """\
+wait ^READY MovingAverageFilter$
+send ?
+wait ^kind=
+{restart}kind ma2
+wait ^OK kind=ma2$
+{restart}tau 0.5
+wait ^OK tau=
+{restart}tau2 0.2
+wait ^OK tau2=
+send u 5
+wait ^OK u=5.000$
+run 900
+{restart}tau 0.3
+wait ^OK tau=
+run 250
+{restart}tau2 0.1
+wait ^OK tau2=
+send u 2
+wait ^OK u=2.000$
+run 250
+{restart}reset
+wait ^OK reset$
+run 250
+{restart}kind exp
+wait ^OK kind=exp$
+run 100
+{restart}tau 0.2
+wait ^OK tau=
+run 300
+send u 4
+wait ^OK u=4.000$
+run 300
+{restart}reset
+wait ^OK reset$
+run 200
+send every 10
+wait ^OK every=10$
+run 800
+send ?
+wait ^kind=
+""".replace("{restart}", "wait ^[0-9]+,\nsend ")
+# (each restarting command is sent just after a stream line, a few ms after its sample's tick, so
+# that it is handled well before the next one: the segment boundaries below are then unambiguous)
+# the sketch's documented boot state (README, The MovingAverageFilter sketch)
+FILTER_BOOT = {"kind": "ma", "tau": "9", "tau2": "3"}
+RESTARTS = ("kind", "tau", "tau2", "reset")
+
+
+def filter_replay(env, prm, inputs):
+    """motionsim filter --stream lines (without the header) for a segment from rest"""
+    with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
+        f.write("u\n" + "\n".join(inputs) + "\n")
+        path = f.name
+    try:
+        args = ["filter", "--kind", prm["kind"], "--tau", prm["tau"], "--ts", "0.01", "--input", f"csv:{path}",
+                "--stream"]
+        if prm["kind"] == "ma2":
+            args += ["--tau2", prm["tau2"]]
+        out, _ = motionsim(env, *args)
+    finally:
+        os.unlink(path)
+    return out.splitlines()[1:]
+
+
+def check_filter_kinds(env):
+    """Each command that restarts the filter (kind, tau, tau2, reset) starts a segment; motionsim
+    replays each segment from rest with the parameters sent so far and the input the stream shows,
+    and every streamed line must be identical (its t_ms counted from the segment's first sample)."""
+    sketch = "MovingAverageFilter"
+    log = emulog.run(env.elf(sketch), FILTER_KINDS_SCRIPT, pins=sketches.filter_pins(env))
+    problems = []
+    fails_of(log, problems)
+    if problems:
+        return CheckResult(False, "emulation failed", problems)
+    rows = {}
+    for l in log.rx:
+        m = STREAM_RE.match(l.text)
+        if m:
+            rows[int(m.group(1)) // 10] = (m.group(2), m.group(3))
+    strobe = strobe_edges(log)
+    fc = emulate.frame_cycles(log)
+    if not rows or max(rows) >= len(strobe):
+        return CheckResult(False, f"{len(rows)} stream lines, {len(strobe)} strobe edges",
+                           ["the stream or the strobe is missing"])
+    # the input of every sample from the stream; `every 10` leaves gaps, in which u is constant
+    # (the script sends no `u` then), so a gap carries the u of the line before it
+    last_k = max(rows)
+    ev = next((t for t in log.tx if t.text == "every 10"), None)
+    ev_k = bisect.bisect_left(strobe, ev.cycle) if ev else last_k + 1
+    us, u = [], None
+    for k in range(last_k + 1):
+        if k in rows:
+            u = rows[k][0]
+        elif k < ev_k:
+            problems.append(f"sample {k} (t_ms={10 * k}) missing from the stream before `every 10`")
+            return CheckResult(False, "stream incomplete", problems)
+        us.append(u)
+    after = sorted(k for k in rows if k > ev_k + 10)
+    gaps = {b - a for a, b in zip(after, after[1:])}
+    if gaps != {10} or len({rows[k][0] for k in after}) != 1:
+        problems.append(f"after `every 10` the stream should come every 10 samples with u constant: gaps {gaps}")
+    # segment starts: the first sample whose ADC interrupt ran after the command was handled: the
+    # first tick after the command's arrival, or (if its OK came after that tick) possibly the next
+    params = dict(FILTER_BOOT)
+    segs = [([0], dict(params), "boot")]
+    ambiguous = 0
+    for t in log.tx:
+        word, _, arg = t.text.partition(" ")
+        if word not in RESTARTS:
+            continue
+        if word != "reset":
+            params[word] = arg
+        arrival = t.cycle + (len(t.text) + 2) * fc
+        ok = log.first(r"^OK " + re.escape(word), t.cycle)
+        k_a = bisect.bisect_left(strobe, arrival)
+        cands = [k_a] if ok and ok.cycle < strobe[k_a] else [k_a, k_a + 1]
+        ambiguous += len(cands) > 1
+        segs.append((cands, dict(params), t.text))
+    # pass 1: pick each start among its candidates by the lines that surely belong to the segment
+    starts = []
+    for i, (cands, prm, label) in enumerate(segs):
+        nxt_min = segs[i + 1][0][0] if i + 1 < len(segs) else last_k + 1
+        score = []
+        for k0 in cands:
+            ks = [k for k in range(k0, nxt_min) if k in rows]
+            sim = filter_replay(env, prm, us[k0:nxt_min]) if ks else []
+            bad = sum(1 for k in ks if k - k0 >= len(sim) or sim[k - k0] != f"{(k - k0) * 10},{rows[k][0]},{rows[k][1]}")
+            score.append((bad, k0))
+        starts.append(min(score)[1])
+    # pass 2: every line of every segment, with the chosen starts
+    checked = identical = 0
+    notes = []
+    for i, (cands, prm, label) in enumerate(segs):
+        k0 = starts[i]
+        k1 = starts[i + 1] if i + 1 < len(starts) else last_k + 1
+        ks = [k for k in range(k0, k1) if k in rows]
+        if not ks:
+            notes.append(f"{label} (superseded)")
+            continue
+        sim = filter_replay(env, prm, us[k0:k1])
+        bad = [k for k in ks if k - k0 >= len(sim) or sim[k - k0] != f"{(k - k0) * 10},{rows[k][0]},{rows[k][1]}"]
+        checked += len(ks)
+        identical += len(ks) - len(bad)
+        if label != "boot":
+            notes.append(f"{label} @{10 * k0} ms")
+        if bad:
+            k = bad[0]
+            problems.append(f"segment '{label}' ({prm['kind']} tau {prm['tau']}"
+                            f"{' tau2 ' + prm['tau2'] if prm['kind'] == 'ma2' else ''}) from t_ms={10 * k0}: "
+                            f"{len(bad)} of {len(ks)} lines differ from motionsim, first at t_ms={10 * k}: firmware "
+                            f"u,y '{rows[k][0]},{rows[k][1]}', motionsim "
+                            f"'{sim[k - k0].split(',', 1)[1] if k - k0 < len(sim) else None}'")
+    q, _ = query_reply(log, "kind", ev.cycle if ev else 0)
+    want = {"kind": "exp", "tau": "0.20", "every": "10", "drops": "0", "late": "0"}
+    if not q or any(q.get(k) != v for k, v in want.items()):
+        problems.append(f"`?` at the end should report {want}: {q}")
+    summary = (f"{len(segs)} segments ({'; '.join(notes)}) replayed from rest by motionsim filter --stream: "
+               f"{identical}/{checked} lines identical; {ambiguous} boundary(ies) needed the next sample tried; "
+               f"`every 10`: a line every 100 ms; `?` then {want}")
+    return CheckResult(not problems, summary, problems)
+
+
 def check_filter_bad_input(env):
     return check_bad_input(
         env, "MovingAverageFilter", "kind", "", COMMON_BAD + [
@@ -276,6 +452,8 @@ def check_filter_bad_input(env):
             ("tau below Ts", "send tau 0.005"), ("tau not whole samples", "send tau 9.005"),
             ("tau too long for the buffer", "send tau 60"), ("unknown kind", "send kind median"),
             ("every 0", "send every 0"), ("every above 1000", "send every 1001"), ("extra word", "send reset now"),
+            # kind ma: tau2 is kept for ma2 and checked as ma2 would use it (9 s + 25 s > 2000 taps)
+            ("tau2 too long for ma2's buffer, kind ma", "send tau2 25"),
         ], pins=sketches.filter_pins(env))
 
 
@@ -425,6 +603,11 @@ STEPPER_FAST = {"sigmoid": [("len", "100"), ("hold", "2")],
                 "leib": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")],        # vmax > v0 at every step
                 "simplistic": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")]}
 # the move during which commands are sent must outlast them (about 0.5 s of serial traffic)
+# The parameters `?` must report at boot: seed 003 section 4.3.2's defaults for the lab's two
+# sketches (minimum speed 1 step/s, maximum 20 steps/s, acceleration 10 steps/s^2); SCurveStepper's
+# documented table (README, Sketches: len 250, 200 -> 4000 steps/s, flex 5, each entry held 4 steps).
+STEPPER_DEFAULTS = {"leib": {"v0": 1, "vmax": 20, "accel": 10}, "simplistic": {"v0": 1, "vmax": 20, "accel": 10},
+                    "sigmoid": {"v0": 200, "vmax": 4000, "flex": 5, "len": 250, "hold": 4}}
 STEPPER_BUSY_TARGET = {"sigmoid": 1000, "leib": 50, "simplistic": 50}
 STEPPER_MOVES = [(0, 50, "the lab's 0 -> 50, default parameters"), (50, 3050, "long move with cruise"),
                  (3050, -200, "negative move with cruise")]
@@ -471,14 +654,23 @@ def check_stepper(env, sketch):
     dir_edges = log.pins.get("DIR", [])
     figures = []
     worst_all = 0.0
+    ticks_seen = set()
+    cpt = None
     for a, b, label in STEPPER_MOVES:
         m = log.mark(f"move {a} {b}")
         if m is None:
             problems.append(f"{label}: not reached")
             break
-        q, _ = query_reply(log, "pos", 0, m)
         q = emulog.query_fields(log.lines_matching("^pos=", 0, m)[-1].text)
+        # the parameters in force: the documented defaults, then the values `set` sent
+        want_q = dict(STEPPER_DEFAULTS[algo])
+        if a != 0:
+            want_q.update(STEPPER_FAST[algo])
+        wrong = {k: q.get(k) for k, v in want_q.items() if q.get(k) is None or float(q[k]) != float(v)}
+        if wrong:
+            problems.append(f"{label}: `?` before the move reports {wrong}, want {want_q}")
         tick_hz = float(q["tick_hz"])
+        ticks_seen.add(q["tick_hz"])
         cpt = F_CPU / tick_hz
         ok = log.first(rf"^OK {a} {b}$", m)
         done = log.first(rf"^DONE {b}$", m)
@@ -545,7 +737,13 @@ def check_stepper(env, sketch):
                        f"edges within a {spread:.0f}-cycle window of the ideal timeline, "
                        f"first step {lat_us:.0f} us after its interval from the command, DIR "
                        + (f"set {setup_us:.0f} us before step 1" if setup_us is not None else "already right"))
-    summary = f"algo={algo} tick_hz=2 MHz (1 tick = 8 cycles); " + "; ".join(figures)
+    # every STEP pulse of the run belongs to a move: none between moves, none after DONE
+    want_total = sum(abs(b - a) for a, b, _ in STEPPER_MOVES)
+    if len(rises) != want_total:
+        problems.append(f"{len(rises)} STEP rising edges in the whole run, want exactly {want_total} (the moves' steps)")
+    ticks = ", ".join(sorted(ticks_seen)) or "?"
+    summary = (f"algo={algo} tick_hz={ticks} (1 tick = {cpt:g} cycles); `?` parameters = defaults, then the values "
+               f"set; {len(rises)} STEP pulses in the run; " if cpt else f"algo={algo}; ") + "; ".join(figures)
     return CheckResult(not problems, summary, problems)
 
 
@@ -563,7 +761,7 @@ def check_stepper_bad_input(env, sketch):
     tgt = STEPPER_BUSY_TARGET[algo]
     return check_bad_input(env, sketch, "pos", "", COMMON_BAD + extra,
                            while_busy=(f"send {tgt}", rf"^OK 0 {tgt}$", busy, rf"^DONE {tgt}$", 60000),
-                           dynamic=("pos", "state"), pins=sketches.stepper_pins(env))
+                           dynamic=("pos", "state"), pins=sketches.stepper_pins(env), step_total=tgt)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -587,6 +785,8 @@ def checks_for(env):
     if "MovingAverageFilter" in names:
         checks.append(("MovingAverageFilter: 60 s at 100 Hz, strobe timing, stream == motionsim filter, PWM == y",
                        lambda: check_filter(env)))
+        checks.append(("MovingAverageFilter: ma2, exp, tau/tau2 changes, reset and every 10 == motionsim filter",
+                       lambda: check_filter_kinds(env)))
         checks.append(("MovingAverageFilter: bad input gets ERR, state unchanged",
                        lambda: check_filter_bad_input(env)))
     if "ProportionalClosedLoop" in names:
