@@ -32,8 +32,16 @@ $(BUILD)/emu/firmware.stamp: $(EMU_FW_SRCS) tools/build_firmware.sh
 	@if ls firmware/*/*.ino >/dev/null 2>&1; then bash tools/build_firmware.sh >$(BUILD)/emu/firmware.log 2>&1 || { cat $(BUILD)/emu/firmware.log; exit 1; }; fi
 	@touch $@
 
+# LeibRampStepper in the lab's timed-loop mode (STEPPER_TIMED_LOOP=1), for its own emulator check
+EMU_TIMED_ELF := $(BUILD)/emu/timed/LeibRampStepper/LeibRampStepper.ino.elf
+$(EMU_TIMED_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/timed
+	@if [ -f firmware/LeibRampStepper/LeibRampStepper.ino ]; then FIRMWARE_OUT=$(BUILD)/emu/timed \
+	  FIRMWARE_DEFINES="-DSTEPPER_TIMED_LOOP=1" bash tools/build_firmware.sh LeibRampStepper \
+	  >$(BUILD)/emu/timed.log 2>&1 || { cat $(BUILD)/emu/timed.log; exit 1; }; fi
+
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 
