@@ -2,7 +2,7 @@
 #
 #   build/motionemu                 the harness: our C program on libsimavr (tools/emu/*.c)
 #   build/emu/emu_selftest.elf      a tiny avr-libc program with known timing (harness self-test)
-#   make emulate SKETCH=<name> [INPUT=<file>]   run a sketch in the emulator -> build/emulate/
+#   make emulate SKETCH=<name> [INPUT=<file>] [EMULATE_OUT=<dir>]   run a sketch in the emulator -> build/emulate/
 #
 # EMU_DEPS is what `make test` builds first; EMU_SUITES is the emulator suite for tools/run_tests.py
 # (one TAP line per check, "# summary:" lines carry the figures).
@@ -45,5 +45,7 @@ EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf 
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 
+# EMULATE_OUT: where the outputs go (default build/emulate)
+EMULATE_OUT ?= $(BUILD)/emulate
 emulate: check-setup $(EMU_DEPS)
-	@$(PY) tools/emu/emulate.py $(if $(SKETCH),--sketch "$(SKETCH)") $(if $(INPUT),--input "$(INPUT)") --out $(BUILD)/emulate
+	@$(PY) tools/emu/emulate.py $(if $(SKETCH),--sketch "$(SKETCH)") $(if $(INPUT),--input "$(INPUT)") --out "$(EMULATE_OUT)"
