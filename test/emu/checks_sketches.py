@@ -488,7 +488,7 @@ def settle_time(ts, ps, final, band):
 # A Kp with which `motionsim servo --ctrl p` ends within 2 % of a 1000-count step and settles
 # (0.3: 992 counts, 15 % overshoot, settled in 0.36 s). The lab's 0.02 stops at 798 counts: the
 # duty 0.02 x 202 = 4.04 % then drives too little current to overcome the plant's static friction.
-P_TUNED_KP = float(os.environ.get("EMU_P_TUNED_KP", "0.3"))
+P_TUNED_KP = 0.3
 SERVO_PWM_PERIOD_MS = 510 * 64 / 16000.0   # analogWrite on Timer3: phase correct, clk/64 (2.04 ms)
 SERVO_REACT_MAX_MS = 20.0 + 1.0 + 2 * SERVO_PWM_PERIOD_MS + 1.0
 
