@@ -9,8 +9,9 @@ from first principles, never recorded from the harness:
   - SPI clk/16: a byte is 8 * 16 = 128 cycles;
   - ADC: code = floor(V * 1024 / 5 V);
   - Timer3 phase-correct 8-bit PWM clk/64: period 510 * 64 = 32640 cycles, high 2 * OCR * 64.
-And a broken firmware must be reported: reset, watchdog, halt, a reply that never comes, an ELF
-that is not for the ATmega2560.
+And a broken firmware must be reported: reset, watchdog, halt, a store outside the data space, a
+call into erased flash, a stack overflow, a reply that never comes, an ELF that is not for the
+ATmega2560.
 """
 import os
 import subprocess
@@ -170,12 +171,19 @@ def check_adc_pwm():
 def check_failure_detection():
     problems = []
     seen = []
-    for cmd, kind in (("reset", "reset"), ("wdt", "reset"), ("halt", "halt")):
-        log = emulog.run(SELFTEST, f"wait ^READY\nsend {cmd}\nrun 100\n")
+    # wild: a store to 0x8000, beyond the data space (simavr's crash state); void: a call into
+    # erased flash; recurse: recursion without end (SP below __heap_start, reported once)
+    for cmd, kind in (("reset", "reset"), ("wdt", "reset"), ("halt", "halt"), ("wild", "crash"), ("void", "crash"),
+                      ("recurse", "stack")):
+        log = emulog.run(SELFTEST, f"wait ^READY\nsend {cmd}\nwait ^OK\nrun 100\n")
         kinds = [k for _, k, _ in log.fails]
         seen.append(f"{cmd}->{','.join(kinds) or 'nothing'}")
-        if log.rc != 1 or kind not in kinds:
-            problems.append(f"'{cmd}' should be reported as {kind} with exit status 1: got {kinds}, rc={log.rc}")
+        if log.rc != 1 or not kinds or kinds[0] != kind:
+            problems.append(f"'{cmd}' should be reported first as {kind} with exit status 1: got {kinds}, rc={log.rc}")
+        if kind == "stack" and kinds.count("stack") != 1:
+            problems.append(f"a stack overflow should be reported once, got {kinds.count('stack')} 'stack' failures")
+        if kind == "crash" and log.end.get("reason") != "crash":
+            problems.append(f"'{cmd}': the run should end with reason crash, got {log.end.get('reason')}")
     log = emulog.run(SELFTEST, "wait ^READY\ntimeout 50\nwait ^never$\n")
     kinds = [k for _, k, _ in log.fails]
     seen.append(f"silent->{','.join(kinds) or 'nothing'}")
@@ -201,14 +209,24 @@ def check_elf_validation():
     p = subprocess.run([emulog.MOTIONEMU, SELFTEST, "-e", "frobnicate 3"], capture_output=True, text=True)
     if p.returncode != 2 or "unknown command" not in p.stderr:
         problems.append(f"an unknown script command must be refused: rc={p.returncode} {p.stderr.strip()}")
-    return CheckResult(not problems, "non-ELF, avr5 ELF, bad pin, bad script command all refused", problems)
+    for extra in ([], ["--motor", "PWM=D3,DIR=D12,CS=D53"]):
+        p = subprocess.run([emulog.MOTIONEMU, SELFTEST, "-e", "encoder 5", *extra], capture_output=True, text=True)
+        if p.returncode != 2 or len(p.stderr.strip().splitlines()) != 1 or "--ls7366r" not in p.stderr:
+            problems.append(f"'encoder' without --ls7366r ({' '.join(extra) or 'no device'}) must be refused in one "
+                            f"line naming --ls7366r: rc={p.returncode} {p.stderr.strip()!r}")
+    return CheckResult(not problems, "non-ELF, avr5 ELF, bad pin, bad script command, 'encoder' without --ls7366r "
+                       "all refused", problems)
 
 
 def check_motor_coupling():
     """PWM 128/255 on D3 with DIR low (DIRPOS=0: low = positive): the plant must see exactly
     100 * 128 / 255 = 50.196 %, and the LS7366R must count what the plant turned."""
     script = ("wait ^READY\nsend pwm 128\nwait ^OK pwm\nrun 300\nmark read\nsend enc\nwait ^OK enc\n"
-              "send pwm 0\nwait ^OK pwm\nrun 300\n")
+              "send pwm 0\nwait ^OK pwm\nrun 300\n"
+              # analogWrite(255) (PORT high, OC3C off), PWM again, then a reversal's analogWrite(0) +
+              # analogWrite(64): the pin follows PORT for a few cycles (a glitch) before OC3C is back
+              "mark dig1\nsend dig1\nwait ^OK dig1\nrun 20\nsend pwm 200\nwait ^OK pwm 200\nrun 20\n"
+              "mark rev\nsend rev 64\nwait ^OK rev 64\nrun 30\n")
     log = emulog.run(SELFTEST, script, motor="PWM=D3,DIR=D12,CS=D53,DIRPOS=0")
     problems = []
     _fails(log, problems)
@@ -233,11 +251,23 @@ def check_motor_coupling():
     else:
         problems.append("no encoder reply")
     stop = log.first(r"^OK pwm 0$")
-    after = [d for c, d, n in log.motor if stop and c > stop.cycle + 3 * PWM_PERIOD]
+    after = [d for c, d, n in log.motor if stop and c > stop.cycle + 3 * PWM_PERIOD and c < log.mark("dig1")]
     if not after or any(d != 0 for d in after):
         problems.append("after pwm 0 the plant must see 0 %")
+    # each phase from two PWM periods after its reply: 100 % (pin held high), 200/255, then 64/255
+    # exactly (the glitch lies more than a period back)
+    # (a phase ends when the next command is sent: it cannot act before it was sent)
+    for label, start, nxt, want_pct in (("dig1", r"^OK dig1$", "pwm 200", 100.0),
+                                        ("pwm 200", r"^OK pwm 200$", "rev 64", 100.0 * 200 / 255),
+                                        ("rev 64", r"^OK rev 64$", None, 100.0 * 64 / 255)):
+        a = log.first(start)
+        b = next((t.cycle for t in log.tx if t.text == nxt), None) if nxt else None
+        ds = [d for c, d, n in log.motor if a and c > a.cycle + 2 * PWM_PERIOD and (b is None or c < b)]
+        if not ds or max(abs(d - want_pct) for d in ds) > 1e-3:
+            problems.append(f"after {label} the plant should see {want_pct:.3f} %, saw {sorted(set(ds))[:6]}")
     summary = (f"plant saw {run[-1][1] if run else '?'} % for OCR 128 (exact {want:.4f} %); encoder read "
-               f"{enc.text.split()[2] if enc else '?'} counts after 0.3 s")
+               f"{enc.text.split()[2] if enc else '?'} counts after 0.3 s; 100 %, 200/255 and 64/255 after a "
+               f"reversal's PORT glitch")
     return CheckResult(not problems, summary, problems)
 
 
@@ -247,6 +277,6 @@ CHECKS = [
     ("harness self-test: LS7366R on SPI and SPI byte time", check_ls7366r_spi),
     ("harness self-test: ADC codes and phase-correct PWM waveform", check_adc_pwm),
     ("harness self-test: PWM duty -> DC-motor plant -> LS7366R count", check_motor_coupling),
-    ("harness self-test: reset, watchdog, halt and timeout are failures", check_failure_detection),
+    ("harness self-test: reset, watchdog, halt, crash, stack overflow and timeout are failures", check_failure_detection),
     ("harness self-test: ELF and argument validation", check_elf_validation),
 ]

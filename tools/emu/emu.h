@@ -58,6 +58,9 @@ void emu_pin_drive(avr_t *avr, emu_pin_t pin, int on, int level, uint64_t cycle)
 /* ---- phase-correct PWM outputs (emu_pwm.c) ---- */
 /* Emulates the output compare pin if `pin` is OCnA/B/C of timers 1, 3, 4, 5 (no-op otherwise). */
 int emu_pwm_attach(avr_t *avr, emu_pin_t pin);
+/* The period in cycles of the emulated timer whose output compare pin this is, while it runs in
+ * a dual-slope PWM mode (0: not an attached OCnx pin, or its timer is stopped). */
+uint64_t emu_pwm_period(emu_pin_t pin);
 
 /* ---- UART0 (emu_uart.c) ---- */
 typedef struct emu_line {
@@ -82,6 +85,8 @@ int emu_script_load_text(const char *text, const char *name);
 /* Runs the script as far as it can at this cycle; returns the cycle at which to call it again
  * (UINT64_MAX: only when a new line arrives). Sets *finished when the script has ended. */
 uint64_t emu_script_step(avr_t *avr, int *finished);
+/* line number (and script name) of the first 'encoder' command, 0 if there is none */
+int emu_script_encoder_line(const char **name);
 
 /* ---- SPI master + attached device (emu_spi.c) ---- */
 typedef struct {

@@ -2,7 +2,7 @@
 #
 #   build/motionemu                 the harness: our C program on libsimavr (tools/emu/*.c)
 #   build/emu/emu_selftest.elf      a tiny avr-libc program with known timing (harness self-test)
-#   make emulate SKETCH=<name> [INPUT=<file>]   run a sketch in the emulator -> build/emulate/
+#   make emulate SKETCH=<name> [INPUT=<file>] [EMULATE_OUT=<dir>]   run a sketch in the emulator -> build/emulate/
 #
 # EMU_DEPS is what `make test` builds first; EMU_SUITES is the emulator suite for tools/run_tests.py
 # (one TAP line per check, "# summary:" lines carry the figures).
@@ -32,10 +32,20 @@ $(BUILD)/emu/firmware.stamp: $(EMU_FW_SRCS) tools/build_firmware.sh
 	@if ls firmware/*/*.ino >/dev/null 2>&1; then bash tools/build_firmware.sh >$(BUILD)/emu/firmware.log 2>&1 || { cat $(BUILD)/emu/firmware.log; exit 1; }; fi
 	@touch $@
 
+# LeibRampStepper in the lab's timed-loop mode (STEPPER_TIMED_LOOP=1), for its own emulator check
+EMU_TIMED_ELF := $(BUILD)/emu/timed/LeibRampStepper/LeibRampStepper.ino.elf
+$(EMU_TIMED_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/timed
+	@if [ -f firmware/LeibRampStepper/LeibRampStepper.ino ]; then FIRMWARE_OUT=$(BUILD)/emu/timed \
+	  FIRMWARE_DEFINES="-DSTEPPER_TIMED_LOOP=1" bash tools/build_firmware.sh LeibRampStepper \
+	  >$(BUILD)/emu/timed.log 2>&1 || { cat $(BUILD)/emu/timed.log; exit 1; }; fi
+
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 
+# EMULATE_OUT: where the outputs go (default build/emulate)
+EMULATE_OUT ?= $(BUILD)/emulate
 emulate: check-setup $(EMU_DEPS)
-	@$(PY) tools/emu/emulate.py $(if $(SKETCH),--sketch "$(SKETCH)") $(if $(INPUT),--input "$(INPUT)") --out $(BUILD)/emulate
+	@$(PY) tools/emu/emulate.py $(if $(SKETCH),--sketch "$(SKETCH)") $(if $(INPUT),--input "$(INPUT)") --out "$(EMULATE_OUT)"

@@ -1,17 +1,18 @@
 /* emu_motor.c - the servo sketches' hardware around the emulated chip: H-bridge + DC motor with a
  * quadrature encoder (the plant model motionsim uses, sim/plant_dcmotor.c) + LS7366R on SPI.
  *
- * Duty from the pins: the PWM pin's edges are timed; at each rising edge the period just ended
- * gives duty = high time / period, held until the next rising edge. When the pin holds still for
- * longer than two periods (the last one seen, or 4.1 ms = two periods of Arduino's 490 Hz PWM
- * before any), it is a constant level: analogWrite(0) or (255) give 0 % or 100 %; when PWM starts
- * again that level holds until its first full period. DIR gives the sign, BRAKE (when given)
- * forces 0 %.
- * The plant is advanced by the emulated time between events: every edge of these pins, every SPI
- * exchange with the counter, and every 1 ms; each 1 ms a "motor <cycle> <duty_pct> <counts>" line
- * is logged (counts = the encoder's x4 count, what an LS7366R in x4 mode counts).
- * The duty of a PWM period is known at its end and applied from there on, a lag of one period
- * (about 2 ms at 490 Hz), the same order as the chip's own buffered OCR update.
+ * Duty from the pins: the fraction of time the PWM pin was high over the last PWM period, a window
+ * that slides with time. The window is the period of the emulated timer that drives the pin
+ * (emu_pwm.c: 2.04 ms for analogWrite on timers 1, 3, 4, 5), or 2.04 ms (Arduino's 490 Hz) when no
+ * emulated timer runs it. For a steady PWM wave the window holds exactly one period wherever it
+ * starts, so the duty is exact at every instant; a new OCR value ramps in over one period; a pin
+ * held still gives 0 % or 100 % one period later (analogWrite(0) or (255)); and a glitch (the
+ * few cycles a pin follows PORT while analogWrite() reconnects it) counts for its own length only.
+ * DIR gives the sign, BRAKE (when given) forces 0 %.
+ * The plant is advanced by the emulated time between events, with the duty at the start of each
+ * step: every edge of these pins, every SPI exchange with the counter, and every 1 ms; each 1 ms a
+ * "motor <cycle> <duty_pct> <counts>" line is logged (counts = the encoder's x4 count, what an
+ * LS7366R in x4 mode counts).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -20,12 +21,7 @@
 #include "emu.h"
 #include "ls7366r.h"
 
-#if __has_include("plant_dcmotor.h")
 #include "plant_dcmotor.h"
-#define EMU_HAVE_PLANT 1
-#else
-#define EMU_HAVE_PLANT 0
-#endif
 
 static avr_t *the_avr;
 static ls7366r_t chip;
@@ -38,30 +34,40 @@ static int64_t manual_quad;
 static int have_motor;
 static emu_motor_config_t cfg;
 static uint64_t plant_cycle;    /* the plant has been advanced up to this cycle */
-static int pwm_level;
-static uint64_t last_rise, last_fall, last_edge;
-static int have_rise;
-static uint64_t period_cycles;  /* last full PWM period */
-static double pwm_duty;         /* 0..1, last full period */
+static int pwm_level;            /* the PWM pin's level now */
+#define EDGE_RING 64              /* a window of one period holds 2 edges of a steady wave */
+static uint64_t edge_cycle[EDGE_RING]; /* the PWM pin's last edges, newest at edge_head - 1 */
+static unsigned edge_head, edge_count;
 static uint64_t samples;
 static double duty_min = 1e9, duty_max = -1e9;
 
-#if EMU_HAVE_PLANT
 static plant_dcmotor_t plant;
-#endif
 
-/* a pin that has not moved for this long is a constant level, not PWM */
-static uint64_t still_cycles(void)
-{
-    return period_cycles ? 2 * period_cycles : (uint64_t)(0.0041 * EMU_F_CPU);
-}
+#define DEFAULT_WINDOW (510u * 64u) /* Arduino's analogWrite: 8-bit phase correct, clk/64 */
 
-/* 0..1: the last full period's duty, or the constant level once the pin has held still */
+/* 0..1: the time the PWM pin was high in the window (now - one PWM period, now] */
 static double pwm_fraction(uint64_t now)
 {
-    if (now - last_edge > still_cycles())
-        return pwm_level ? 1.0 : 0.0;
-    return pwm_duty;
+    uint64_t window = emu_pwm_period(cfg.pwm);
+    if (!window)
+        window = DEFAULT_WINDOW;
+    uint64_t from = now > window ? now - window : 0;
+    uint64_t high = 0, end = now;
+    int level = pwm_level;
+    /* walk back over the edges: before each edge the pin had the other level */
+    for (unsigned i = 0; i < edge_count && end > from; i++) {
+        uint64_t c = edge_cycle[(edge_head + EDGE_RING - 1 - i) % EDGE_RING];
+        if (c > end)
+            c = end;
+        uint64_t start = c > from ? c : from;
+        if (level)
+            high += end - start;
+        end = start;
+        level = !level;
+    }
+    if (level && end > from)
+        high += end - from; /* the level before the oldest edge remembered */
+    return now > from ? (double)high / (double)(now - from) : (double)pwm_level;
 }
 
 static double current_duty_pct(uint64_t now)
@@ -76,17 +82,13 @@ static double current_duty_pct(uint64_t now)
 
 /* the plant's LS7366R count wraps at 32 bits; unwrapped here so the chip model sees the motion */
 static int64_t quad_unwrapped;
-#if EMU_HAVE_PLANT
 static int32_t quad_last;
-#endif
 
 static int64_t plant_quad(void)
 {
-#if EMU_HAVE_PLANT
     int32_t now = plant_dcmotor_count(&plant);
     quad_unwrapped += (int32_t)((uint32_t)now - (uint32_t)quad_last);
     quad_last = now;
-#endif
     return quad_unwrapped;
 }
 
@@ -96,11 +98,7 @@ static void plant_advance(uint64_t now)
     if (!have_motor || now <= plant_cycle)
         return;
     double duty = current_duty_pct(plant_cycle);
-#if EMU_HAVE_PLANT
     plant_dcmotor_advance(&plant, duty, (double)(now - plant_cycle) / EMU_F_CPU);
-#else
-    (void)duty;
-#endif
     plant_cycle = now;
 }
 
@@ -146,22 +144,10 @@ static void pwm_edge(void *param, uint64_t cycle, int level)
 {
     (void)param;
     plant_advance(cycle);
-    if (cycle - last_edge > still_cycles()) {
-        /* PWM (re)starts after a constant level: that level holds until a full period is seen */
-        pwm_duty = pwm_level ? 1.0 : 0.0;
-        have_rise = 0;
-    }
-    if (level) {
-        if (have_rise && last_fall > last_rise) {
-            period_cycles = cycle - last_rise;
-            pwm_duty = (double)(last_fall - last_rise) / (double)period_cycles;
-        }
-        last_rise = cycle;
-        have_rise = 1;
-    } else {
-        last_fall = cycle;
-    }
-    last_edge = cycle;
+    edge_cycle[edge_head] = cycle;
+    edge_head = (edge_head + 1) % EDGE_RING;
+    if (edge_count < EDGE_RING)
+        edge_count++;
     pwm_level = level;
 }
 
@@ -188,15 +174,6 @@ static avr_cycle_count_t motor_tick(struct avr_t *avr, avr_cycle_count_t when, v
 
 int emu_motor_attach(avr_t *avr, const emu_motor_config_t *c)
 {
-#if !EMU_HAVE_PLANT
-    (void)c;
-    (void)avr;
-    (void)pwm_edge;
-    (void)other_edge;
-    (void)motor_tick;
-    fprintf(stderr, "motionemu: built without sim/plant_dcmotor.h: no motor model\n");
-    return -1;
-#else
     the_avr = avr;
     cfg = *c;
     plant_dcmotor_params_t params;
@@ -212,7 +189,6 @@ int emu_motor_attach(avr_t *avr, const emu_motor_config_t *c)
         return -1;
     avr_cycle_timer_register(avr, EMU_F_CPU / 1000, motor_tick, NULL);
     return emu_encoder_attach(avr, cfg.cs);
-#endif
 }
 
 void emu_motor_summary(uint64_t cycle)

@@ -270,3 +270,13 @@ int emu_pwm_attach(avr_t *avr, emu_pin_t pin)
             }
     return 0;
 }
+
+uint64_t emu_pwm_period(emu_pin_t pin)
+{
+    for (int i = 0; i < 4; i++)
+        for (int ch = 0; ch < 3; ch++)
+            if (state[i].d && state[i].used[ch] && state[i].running && timers[i].oc[ch].port == pin.port &&
+                timers[i].oc[ch].bit == pin.bit)
+                return period_cycles(&state[i]);
+    return 0;
+}

@@ -14,7 +14,8 @@
  *   run <ms>           let <ms> of emulated time pass
  *   until <ms>         run until time <ms>
  *   adc <ch> <volts>   set analog input A<ch> (0..15) to <volts> (0..5 V)
- *   encoder <counts>   with --ls7366r (no motor): move the encoder to <counts> (x4 quadrature)
+ *   encoder <counts>   with --ls7366r (no motor): move the encoder to <counts> (x4 quadrature);
+ *                      motionemu refuses a script that has it without --ls7366r
  *   mark <text>        log "mark <cycle> <text>" (to split a run into sections)
  *   end                stop the emulation here
  * The script ends after its last command, once every queued byte has been sent.
@@ -39,6 +40,7 @@ typedef struct {
     uint8_t *bytes;   /* decoded text */
     size_t len;
     char *src;        /* the text as written (for the log) */
+    const char *name; /* the script it came from (file or --exec) */
     regex_t re;
 } cmd_t;
 
@@ -215,6 +217,7 @@ static int add_cmd(char *line, int lineno)
     if (rc)
         return -1;
     c->src = strdup(arg);
+    c->name = script_name;
     ncmds++;
     return 0;
 }
@@ -250,6 +253,16 @@ int emu_script_load(const char *path)
     }
     fclose(f);
     return bad ? -1 : 0;
+}
+
+int emu_script_encoder_line(const char **name)
+{
+    for (size_t i = 0; i < ncmds; i++)
+        if (cmds[i].op == OP_ENCODER) {
+            *name = cmds[i].name;
+            return cmds[i].lineno;
+        }
+    return 0;
 }
 
 static void send_bytes(uint64_t cycle, const uint8_t *b, size_t n, int crlf, const char *tag)

@@ -11,11 +11,21 @@ script (default: the sketch family's standard scenario), then writes into the ou
                     filter   k,t_s,u,y      (the sketch's serial stream)
                     servo    t_s,setpoint,position_counts,error_counts,duty_pct (encoder count of the
                              emulated motor and the duty measured on the PWM/DIR pins, every 1 ms)
-  <S>.motionsim.csv motionsim for the same parameters (read from the sketch's `?` replies and the
-                    commands sent), and <S>.png: the firmware's CSV with motionsim's overlaid.
+                    one file per setpoint: <S>.csv, <S>-2.csv, ... (t = 0 when the command arrived)
+  <S>.motionsim.csv motionsim for the parameters in force (the sketch's last `?` reply and `OK key=`
+                    replies before the move or setpoint), and <S>.png: the firmware's CSV with
+                    motionsim's overlaid. Servo segments after the first get an overlay only when
+                    motionsim can start where the firmware was: motor at rest, controller without
+                    memory (P, or PID with Ki = Kd = 0); motionsim then runs the step from 0 and is
+                    shifted by the position at the start. motionsim's t = 0 (its first sample) is
+                    placed at the firmware's first encoder read that drove a new duty.
+Earlier outputs of the same sketch are deleted first. Exit status: 0 ok, 1 the firmware or
+motionsim failed, 2 bad SKETCH or INPUT.
 """
 import argparse
+import glob
 import os
+import re
 import subprocess
 import sys
 
@@ -44,6 +54,22 @@ def last_query(log, key):
     return emulog.query_fields(lines[-1].text) if lines else {}
 
 
+def params_before(log, key, cycle):
+    """The parameters in force before `cycle`: the fields of the last `?` reply (a line starting
+    with `key=`), updated by every later `OK name=value` reply to a `set`/gain command."""
+    q = {}
+    for l in log.rx:
+        if l.cycle >= cycle:
+            break
+        if l.text.startswith(key + "="):
+            q = emulog.query_fields(l.text)
+        else:
+            m = re.match(r"^OK (\w+)=(\S+)$", l.text)
+            if m and q:
+                q[m.group(1)] = m.group(2)
+    return q
+
+
 def frame_cycles(log):
     for cycle, tag, rest in log.events:
         if tag == "uart":
@@ -56,7 +82,7 @@ def frame_cycles(log):
 # ---- stepper ---------------------------------------------------------------------------------
 
 def stepper_moves(log):
-    """[(from, to, t0_cycle, [rising edge cycles])] per 'OK <from> <to>' reply"""
+    """[(from, to, t0_cycle, [rising edge cycles], ok_cycle)] per 'OK <from> <to>' reply"""
     moves = []
     fc = frame_cycles(log)
     oks = log.lines_matching(r"^OK -?\d+ -?\d+$")
@@ -70,7 +96,7 @@ def stepper_moves(log):
         done = log.first(r"^DONE ", ok.cycle, end)
         stop = done.cycle if done else end
         edges = [c for c in rises if c >= t0 and (stop is None or c <= stop)]
-        moves.append((a, b, t0, edges))
+        moves.append((a, b, t0, edges, ok.cycle))
     return moves
 
 
@@ -101,22 +127,80 @@ def stepper_sim_args(q, a, b):
 
 # ---- servo -----------------------------------------------------------------------------------
 
-def servo_rows(log):
+def servo_segments(log):
+    """[(setpoint, t0 cycle, ok cycle, rows)] per 'OK setpoint=' reply: rows (t_s from the command's
+    arrival, setpoint, counts, error, duty) from the motor samples up to the next command's arrival"""
     fc = frame_cycles(log)
-    changes = []  # (effective cycle, setpoint)
+    changes = []  # (arrival cycle, setpoint, ok cycle)
     for ok in log.lines_matching(r"^OK setpoint=-?\d+$"):
         sp = int(ok.text.split("=")[1])
         tx = [t for t in log.tx if t.cycle < ok.cycle and t.text.strip() == str(sp)]
-        changes.append((tx[-1].cycle + (len(tx[-1].text) + 2) * fc if tx else ok.cycle, sp))
-    t0 = changes[0][0] if changes else 0
-    rows, sp, i = [], 0, 0
-    for c, duty, counts in log.motor:
-        while i < len(changes) and changes[i][0] <= c:
-            sp = changes[i][1]
-            i += 1
-        if c >= t0:
-            rows.append(((c - t0) / F_CPU, sp, counts, sp - counts, duty))
-    return rows, changes
+        changes.append((tx[-1].cycle + (len(tx[-1].text) + 2) * fc if tx else ok.cycle, sp, ok.cycle))
+    segs = []
+    for i, (t0, sp, okc) in enumerate(changes):
+        t1 = changes[i + 1][0] if i + 1 < len(changes) else None
+        rows = [((c - t0) / F_CPU, sp, counts, sp - counts, duty) for c, duty, counts in log.motor
+                if c >= t0 and (t1 is None or c < t1)]
+        segs.append((sp, t0, okc, rows))
+    return segs
+
+
+def servo_sim_args(q, setpoint, duration_s):
+    args = ["servo", "--ctrl", "pid" if "ki" in q else "p", "--kp", q.get("kp", "0.02"), "--setpoint", str(setpoint),
+            "--duration", f"{max(0.02, duration_s):.3f}"]
+    if "ki" in q:
+        args += ["--ki", q["ki"], "--kd", q.get("kd", "0")]
+    return args
+
+
+def servo_overlay_start(log, q, t0, first):
+    """None if motionsim can replay a segment starting at t0 (shifted by the position then), else why not"""
+    if first:
+        return None
+    if "ki" in q and (float(q.get("ki", "0")) != 0 or float(q.get("kd", "0")) != 0):
+        return "the PID's integral/derivative carry state from the previous setpoint"
+    before = [(c, n) for c, d, n in log.motor if t0 - 0.1 * F_CPU <= c <= t0]
+    if not before or len({n for _, n in before}) != 1:
+        return "the motor was still moving when the setpoint changed"
+    return None
+
+
+def first_sample_s(log, t0, t1):
+    """seconds from t0 to the encoder read (chip select falling) of the control period that first
+    drove a new duty after t0 (before t1): motionsim's t = 0 is its first sample"""
+    d0 = next((d for c, d, n in log.motor if c >= t0), None)
+    first = next((c for c, d, n in log.motor if c >= t0 and (t1 is None or c < t1) and abs(d - d0) > 0.01), None)
+    reads = [c for c, lv in log.pins.get("CS", []) if lv == 0 and t0 <= c < (first or 0)]
+    return (reads[-1] - t0) / F_CPU if reads else 0.0
+
+
+def shift_csv(path, offset, dt):
+    """motionsim servo CSV: offset added to the setpoint and position columns, dt to the time"""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    out = [lines[0]]
+    for line in lines[1:]:
+        r = line.split(",")
+        if len(r) >= 3:
+            r[0] = fmt(float(r[0]) + dt)
+            r[1] = fmt(float(r[1]) + offset)
+            r[2] = fmt(float(r[2]) + offset)
+        out.append(",".join(r))
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def has_commands(script):
+    return any(l.strip() and not l.strip().startswith("#") for l in script.splitlines())
+
+
+def remove_old_outputs(out, sketch):
+    """build/emulate/<S>.* and <S>-<n>.* of an earlier run (not another sketch's files)"""
+    for path in glob.glob(os.path.join(out, glob.escape(sketch) + ".*")) + \
+            glob.glob(os.path.join(out, glob.escape(sketch) + "-*")):
+        rest = os.path.basename(path)[len(sketch):]
+        if rest.startswith(".") or re.match(r"^-\d+\.", rest):
+            os.remove(path)
 
 
 def main(argv):
@@ -143,20 +227,38 @@ def main(argv):
         return 2
     if a.input:
         try:
-            script = open(a.input, encoding="utf-8").read()
+            with open(a.input, encoding="utf-8") as f:
+                script = f.read()
+        except UnicodeDecodeError as e:
+            print(f"make emulate: INPUT '{a.input}' is not a text script (byte {e.start} is not UTF-8)",
+                  file=sys.stderr)
+            return 2
         except OSError as e:
-            print(f"make emulate: cannot read INPUT '{a.input}': {e}", file=sys.stderr)
+            print(f"make emulate: cannot read INPUT '{a.input}': {e.strerror}", file=sys.stderr)
+            return 2
+        if "\x00" in script:
+            print(f"make emulate: INPUT '{a.input}' is not a text script (it holds NUL bytes)", file=sys.stderr)
+            return 2
+        if not has_commands(script):
+            print(f"make emulate: INPUT '{a.input}' holds no commands (only blank lines and # comments)",
+                  file=sys.stderr)
             return 2
     else:
         script = sketches.default_input(s)
     os.makedirs(a.out, exist_ok=True)
+    remove_old_outputs(a.out, s)
     base = os.path.join(a.out, s)
     with open(base + ".input.emu", "w") as f:
         f.write(script)
     print(f"emulating {s} ({elf}) with {a.input or 'the default input'} ...", flush=True)
-    log = emulog.run(elf, script, log_path=base + ".log", **hargs)
+    # the harness reads the user's file itself, so its messages name that file and line
+    log = emulog.run(elf, input_path=a.input or base + ".input.emu", log_path=base + ".log", **hargs)
     if log.rc == 2:
-        print(f"make emulate: the harness refused to run: {log.stderr.strip()}", file=sys.stderr)
+        msg = " / ".join(l for l in log.stderr.strip().splitlines() if l.strip())
+        print(f"make emulate: the harness refused to run: {msg}", file=sys.stderr)
+        for ext in (".input.emu", ".log"):
+            if os.path.exists(base + ext):
+                os.remove(base + ext)
         return 2
     for c, k, t in log.fails:
         print(f"FAIL {k} at {c / F_CPU:.4f} s: {t}")
@@ -164,20 +266,19 @@ def main(argv):
           f"{log.end.get('t_s', '?')} s emulated in {log.end.get('wall_s', '?')} s")
     outputs = []   # (firmware csv, motionsim csv or None)
     if fam == "stepper":
-        q = {}
-        for l in log.rx:
-            if l.text.startswith("pos="):
-                q = emulog.query_fields(l.text)
-                break
-        for i, (fr, to, t0, edges) in enumerate(stepper_moves(log)):
+        for i, (fr, to, t0, edges, okc) in enumerate(stepper_moves(log)):
+            q = params_before(log, "pos", okc)  # the parameters in force for this move
             path = base + (".csv" if i == 0 else f"-{i + 1}.csv")
             tick = float(q.get("tick_hz", "2000000"))
             write_csv(path, "step,position,t_s,interval_ticks,speed_sps,accel_sps2",
                       stepper_rows(fr, to, t0, edges, tick, float(q.get("v0", "0"))))
             sim = path[:-4] + ".motionsim.csv"
+            if not q:
+                print(f"  no `?` reply before move {fr} -> {to}: no motionsim overlay (send ? first)")
+                outputs.append((path, None))
+                continue
             outputs.append((path, sim if run_motionsim(env, stepper_sim_args(q, fr, to), sim) else None))
     elif fam == "filter":
-        import re
         rows = []
         for l in log.rx:
             m = re.match(r"^(\d+),(\d+\.\d+),(-?\d+\.\d+)$", l.text)
@@ -185,7 +286,7 @@ def main(argv):
                 t_ms = int(m.group(1))
                 rows.append((t_ms // 10, t_ms / 1000.0, float(m.group(2)), float(m.group(3))))
         write_csv(base + ".csv", "k,t_s,u,y", rows)
-        q = last_query(log, "kind")
+        q = params_before(log, "kind", float("inf"))  # the last `?`, updated by later `OK tau=` etc.
         stream = base + ".stream.csv"
         with open(stream, "w") as f:
             f.write("t_ms,u,y\n")
@@ -199,16 +300,27 @@ def main(argv):
             args += ["--tau2", q.get("tau2", "3")]
         outputs.append((base + ".csv", sim if rows and run_motionsim(env, args, sim) else None))
     else:
-        rows, changes = servo_rows(log)
-        write_csv(base + ".csv", "t_s,setpoint,position_counts,error_counts,duty_pct", rows)
-        q = last_query(log, "setpoint")
-        sim = base + ".motionsim.csv"
-        args = ["servo", "--ctrl", "pid" if "ki" in q else "p", "--kp", q.get("kp", "0.02"),
-                "--setpoint", str(changes[0][1] if changes else 0),
-                "--duration", f"{max(0.02, rows[-1][0] if rows else 1.0):.3f}"]
-        if "ki" in q:
-            args += ["--ki", q["ki"], "--kd", q.get("kd", "0")]
-        outputs.append((base + ".csv", sim if changes and run_motionsim(env, args, sim) else None))
+        segs = servo_segments(log)
+        if not segs:
+            write_csv(base + ".csv", "t_s,setpoint,position_counts,error_counts,duty_pct", [])
+            outputs.append((base + ".csv", None))
+        for i, (sp, t0, okc, rows) in enumerate(segs):
+            path = base + (".csv" if i == 0 else f"-{i + 1}.csv")
+            write_csv(path, "t_s,setpoint,position_counts,error_counts,duty_pct", rows)
+            q = params_before(log, "setpoint", okc) or last_query(log, "setpoint")
+            why = servo_overlay_start(log, q, t0, i == 0)
+            if why or not rows:
+                print(f"  {os.path.basename(path)}: no motionsim overlay ({why or 'no samples'})")
+                outputs.append((path, None))
+                continue
+            p0 = rows[0][2] if i else 0
+            sim = path[:-4] + ".motionsim.csv"
+            dt = first_sample_s(log, t0, segs[i + 1][1] if i + 1 < len(segs) else None)
+            if run_motionsim(env, servo_sim_args(q, sp - p0, rows[-1][0] - dt), sim):
+                shift_csv(sim, p0, dt)
+                outputs.append((path, sim))
+            else:
+                outputs.append((path, None))
     for csv, sim in outputs:
         print(f"  {csv}" + (f"  (motionsim: {sim})" if sim else ""))
         if not a.no_plot:

@@ -149,11 +149,15 @@ class EmuLog:
 
 
 def run(elf, script_text=None, pins=None, motor=None, ls7366r=None, duration_ms=None, max_ms=None,
-        log_path=None, extra=None, timeout=600):
-    """Runs motionemu on `elf` with an INPUT script given as text; returns the parsed EmuLog."""
+        log_path=None, extra=None, timeout=600, input_path=None):
+    """Runs motionemu on `elf` with an INPUT script given as text (or as a file: input_path, which
+    the harness's messages then name); returns the parsed EmuLog. A run over `timeout` seconds of
+    wall time raises RuntimeError naming the script."""
     args = [MOTIONEMU, elf]
     tmp = None
-    if script_text is not None:
+    if input_path is not None:
+        args += ["--input", input_path]
+    elif script_text is not None:
         tmp = tempfile.NamedTemporaryFile("w", suffix=".emu", delete=False)
         tmp.write(script_text)
         tmp.close()
@@ -172,7 +176,11 @@ def run(elf, script_text=None, pins=None, motor=None, ls7366r=None, duration_ms=
     out_path = log_path or tempfile.mktemp(suffix=".log")
     args += ["-o", out_path]
     try:
-        p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+        try:
+            p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            raise RuntimeError(f"motionemu ran over {timeout} s of wall time on {elf} with "
+                               f"{input_path or 'its script'}") from None
         text = open(out_path, encoding="latin-1").read() if os.path.exists(out_path) else ""
         log = EmuLog.parse(text)
         log.rc = p.returncode

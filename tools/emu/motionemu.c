@@ -265,6 +265,13 @@ int main(int argc, char **argv)
             return 2;
         have_script = 1;
     }
+    const char *enc_script = NULL;
+    int enc_line = emu_script_encoder_line(&enc_script);
+    if (enc_line && !ls_spec) {
+        fprintf(stderr, "motionemu: %s:%d: 'encoder' needs --ls7366r CS=<pin> (with --motor the motor turns the "
+                        "encoder)\n", enc_script, enc_line);
+        return 2;
+    }
     if (!have_script && duration_ms <= 0) {
         fprintf(stderr, "motionemu: nothing to run: give --input, --exec or --duration\n");
         return 2;
@@ -379,6 +386,7 @@ int main(int argc, char **argv)
     int script_done = !have_script;
     int booted = 0;
     uint16_t min_sp = 0xffff;
+    int stack_reported = 0;
     const char *reason = "done";
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -408,9 +416,12 @@ int main(int argc, char **argv)
             uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
             if (sp < min_sp) {
                 min_sp = sp;
-                if (sp < heap_start && sp != 0)
+                /* reported once: the lowest SP reached is in the end line (stack_min_free) */
+                if (sp < heap_start && sp != 0 && !stack_reported) {
                     emu_fail(avr->cycle, "stack", "stack pointer 0x%04x below the end of static data 0x%04" PRIx64
                              " (stack overflow)", sp, heap_start);
+                    stack_reported = 1;
+                }
             }
         }
         uint64_t now = avr->cycle;

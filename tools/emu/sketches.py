@@ -97,7 +97,8 @@ def servo_motor_spec(env):
 
 def servo_pins(env):
     g = lambda n: env.header_int("servo", n)  # noqa: E731
-    return {"PWM": f"D{g('SERVO_PIN_PWM')}", "DIR": f"D{g('SERVO_PIN_DIR')}", "BRAKE": f"D{g('SERVO_PIN_BRAKE')}"}
+    return {"PWM": f"D{g('SERVO_PIN_PWM')}", "DIR": f"D{g('SERVO_PIN_DIR')}", "BRAKE": f"D{g('SERVO_PIN_BRAKE')}",
+            "CS": f"D{g('SERVO_PIN_ENCODER_CS')}"}
 
 
 # ---- default INPUT scripts -------------------------------------------------------------------

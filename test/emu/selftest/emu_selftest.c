@@ -10,7 +10,10 @@
  *  - UART0 9600 baud 8N1 (U2X0 = 1, UBRR0 = 207): one byte = 10 * 8 * 208 = 16640 cycles;
  *  - SPI master fosc/16, mode 0: one byte = 8 * 16 = 128 cycles; LS7366R on CS = PB0 (D53).
  * Commands (lines ending in CR LF): ping, ?, burst, enc, enc2, mdr, spi, adc, pwm <0..255>,
- * reset (jumps to 0), wdt (watchdog reset), halt (cli; sleep), anything else -> "ERR unknown".
+ * reset (jumps to 0), wdt (watchdog reset), halt (cli; sleep), wild (writes beyond the SRAM), void
+ * (calls into erased flash), recurse (recursion without end), dig1 (OC3C off, PE5 high by PORT, as
+ * analogWrite(pin, 255)), rev <0..255> (analogWrite(pin, 0) then (pin, v), as on a motor reversal),
+ * anything else -> "ERR unknown".
  */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -68,6 +71,19 @@ static uint32_t ls_read(uint8_t ir, uint8_t n)
         v = (v << 8) | spi_byte(0);
     CS_HIGH();
     return v;
+}
+
+/* beyond the ATmega2560's data space (0x0000-0x21FF): no memory answers there */
+static volatile uint16_t wild_addr = 0x8000;
+/* a word address in the erased flash above this small program (256 KiB flash: 0x00000-0x1FFFF words) */
+static volatile uint16_t void_addr = 0xF000;
+
+/* recursion without end: each level keeps a frame alive (the sum uses it after the call) */
+static uint16_t deep(uint16_t n)
+{
+    volatile uint8_t frame[16];
+    frame[n & 15] = (uint8_t)n;
+    return (uint16_t)(deep(n + 1) + frame[n & 15]);
 }
 
 ISR(TIMER1_COMPA_vect)
@@ -203,6 +219,37 @@ int main(void)
             set_sleep_mode(SLEEP_MODE_PWR_DOWN);
             sleep_enable();
             sleep_cpu();
+        } else if (!strcmp(line, "wild")) {
+            println("OK writing beyond the SRAM");
+            while (!(UCSR0A & _BV(TXC0)))
+                ;
+            *(volatile uint8_t *)wild_addr = 0x55;
+            println("OK still running");
+        } else if (!strcmp(line, "void")) {
+            println("OK jumping into empty flash");
+            while (!(UCSR0A & _BV(TXC0)))
+                ;
+            ((void (*)(void))void_addr)();
+        } else if (!strcmp(line, "recurse")) {
+            println("OK recursing without end");
+            while (!(UCSR0A & _BV(TXC0)))
+                ;
+            snprintf(buf, sizeof buf, "depth %u", deep(1));
+            println(buf);
+        } else if (!strcmp(line, "dig1")) {
+            TCCR3A = _BV(WGM30);   /* analogWrite(pin, 255): OC3C off, PE5 high by PORT */
+            PORTE |= _BV(PE5);
+            println("OK dig1");
+        } else if (!strncmp(line, "rev ", 4)) {
+            /* HBridge::setDuty on a reversal: analogWrite(pin, 0), then analogWrite(pin, v). While
+             * OC3C is off the pin follows PORT, still high from dig1: a glitch of a few cycles. */
+            int v = atoi(line + 4);
+            TCCR3A = _BV(WGM30);
+            PORTE &= (uint8_t)~_BV(PE5);
+            OCR3C = (uint8_t)v;
+            TCCR3A = _BV(WGM30) | _BV(COM3C1);
+            snprintf(buf, sizeof buf, "OK rev %d", v);
+            println(buf);
         } else {
             println("ERR unknown");
         }
