@@ -123,19 +123,28 @@ test: check-setup $(BUILD)/motionsim unit $(EMU_DEPS)
 	@MOTIONSIM=$(abspath $(BUILD)/motionsim) $(PY) tools/run_tests.py $(TEST_SUITES)
 
 # ---------------------------------------------------------------------------------------
-# A real board over USB (cannot run without one).
+# A real board over USB (cannot run without one). Every refusal is one line and exit 2: the checks
+# are $(error) calls, which make expands before it runs the recipe's first command.
+board-error = $(error make $@: $(1))
+one-word    = $(and $(1),$(filter 1,$(words $(1))))
+VALID_SKETCH = $(and $(call one-word,$(SKETCH)),$(filter $(SKETCHES),$(SKETCH)))
+PORT_CHECK = $(if $(PORT),,$(call board-error,PORT=<device> is missing (e.g. PORT=/dev/ttyACM0); sketches: $(SKETCHES)))
+PORT_EXISTS = $(if $(and $(call one-word,$(PORT)),$(wildcard $(PORT))),,$(call board-error,PORT '$(PORT)' does not exist (is the Mega plugged in? try ls /dev/ttyACM* /dev/ttyUSB*)))
+MONITOR_BAUDS := 9600 19200 38400 57600 115200
+
 upload:
-	@if [ -z "$(SKETCH)" ] || [ ! -f "firmware/$(SKETCH)/$(SKETCH).ino" ]; then \
-	  echo "make upload: SKETCH=<name> is $(if $(SKETCH),unknown ('$(SKETCH)'),missing); sketches: $(SKETCHES)" >&2; exit 2; fi
-	@if [ -z "$(PORT)" ]; then echo "make upload: PORT=<device> is missing (e.g. PORT=/dev/ttyACM0); sketches: $(SKETCHES)" >&2; exit 2; fi
-	@if [ ! -e "$(PORT)" ]; then echo "make upload: PORT '$(PORT)' does not exist (is the Mega plugged in? try ls /dev/ttyACM* /dev/ttyUSB*)" >&2; exit 2; fi
+	$(if $(VALID_SKETCH),,$(call board-error,SKETCH=<name> is $(if $(SKETCH),unknown ('$(SKETCH)'),missing); sketches: $(SKETCHES)))
+	$(PORT_CHECK)
+	$(if $(and $(wildcard $(PY)),$(wildcard .tools/arduino-cli)),,$(call board-error,the toolchain is not installed: run 'make setup' first))
+	$(PORT_EXISTS)
 	@bash tools/build_firmware.sh $(SKETCH)
 	avrdude -c wiring -p m2560 -P $(PORT) -b 115200 -D -U flash:w:$(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.hex:i
 
 monitor:
-	@if [ -z "$(PORT)" ]; then echo "make monitor: PORT=<device> is missing (e.g. PORT=/dev/ttyACM0)" >&2; exit 2; fi
-	@if [ ! -e "$(PORT)" ]; then echo "make monitor: PORT '$(PORT)' does not exist (is the Mega plugged in?)" >&2; exit 2; fi
-	@case "$(BAUD)" in ''|9600|19200|38400|57600|115200) ;; *) echo "make monitor: BAUD '$(BAUD)' is not one of 9600 19200 38400 57600 115200" >&2; exit 2;; esac
+	$(if $(PORT),,$(call board-error,PORT=<device> is missing (e.g. PORT=/dev/ttyACM0)))
+	$(if $(filter-out $(MONITOR_BAUDS),$(BAUD)),$(call board-error,BAUD '$(BAUD)' is not one of $(MONITOR_BAUDS)))
+	$(if $(wildcard $(PY)),,$(call board-error,the Python environment ($(PY)) is not installed: run 'make setup' first))
+	$(PORT_EXISTS)
 	$(PY) -m serial.tools.miniterm --eol CRLF --raw $(PORT) $(or $(BAUD),9600)
 
 clean:

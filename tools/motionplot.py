@@ -5,16 +5,21 @@ The kind of file is recognised from its header and gets the plot a user expects:
 
   ramp        step,position,t_s,interval_ticks,speed_sps,accel_sps2  -> step rate and acceleration vs time
   filter      k,t_s,u,y                                              -> input and output voltage vs time
+  filter --stream  t_ms,u,y (the MovingAverageFilter sketch's lines) -> the same, vs time in ms
   servo       t_s,setpoint,position_counts,error_counts,duty_pct     -> position/setpoint and duty vs time
   pid-replay  t_ms,computed,output                                   -> controller output vs time
   ramp --compare  algo,steps,move_time_s,...                         -> bars of each algorithm's deviations
   anything else                                                      -> every column vs the first one
 A file whose first column holds text (labels, like `ramp --compare`'s algorithm names) is drawn
-as bars, one panel per numeric column; text anywhere else is an error.
+as bars, one panel per numeric column; text anywhere else is an error. A header with no rows
+(a zero-step move) is valid and gets empty axes marked "0 rows"; a file that is not UTF-8 text
+(or holds NUL bytes) is refused as "not a text CSV file".
 """
 import csv
+import io
 import math
 import os
+import textwrap
 
 import matplotlib
 
@@ -29,6 +34,8 @@ KNOWN = [
      ("t_s", [(["u"], "input voltage (V)"), (["y"], "output voltage (V)")])),
     (("t_s", "setpoint", "position_counts", "error_counts", "duty_pct"),
      ("t_s", [(["setpoint", "position_counts"], "position (encoder counts)"), (["duty_pct"], "PWM duty (%)")])),
+    (("t_ms", "u", "y"),
+     ("t_ms", [(["u"], "input voltage (V)"), (["y"], "output voltage (V)")])),
     (("t_ms", "computed", "output"),
      ("t_ms", [(["output"], "controller output")])),
 ]
@@ -43,13 +50,23 @@ AXIS_LABELS = {"t_s": "time (s)", "t_ms": "time (ms)", "step": "step number", "k
 
 
 class CsvData:
-    """Columns of a motionsim CSV as lists of floats (empty cells become NaN)."""
+    """Columns of a motionsim CSV as lists of floats (empty cells become NaN).
+    A header with no rows is valid (e.g. `motionsim ramp --from 5 --to 5`, a move of zero steps)."""
 
     def __init__(self, path):
         self.path = path
-        with open(path, newline="") as f:
-            rows = list(csv.reader(f))
-        if not rows:
+        try:
+            with open(path, newline="", encoding="utf-8") as f:
+                text = f.read()
+        except UnicodeDecodeError:
+            raise ValueError(f"{path}: not a text CSV file (not UTF-8 text)") from None
+        if "\x00" in text:
+            raise ValueError(f"{path}: not a text CSV file (it holds NUL bytes)")
+        try:
+            rows = list(csv.reader(io.StringIO(text, newline="")))
+        except csv.Error as e:
+            raise ValueError(f"{path}: not a text CSV file ({e})") from None
+        if not rows or not any(h.strip() for h in rows[0]):
             raise ValueError(f"{path}: empty file (no header line)")
         self.header = [h.strip() for h in rows[0]]
         self.columns = {h: [] for h in self.header}
@@ -74,11 +91,19 @@ class CsvData:
                     self.columns[h].append(float(cell) if cell.strip() != "" else math.nan)
                 except ValueError:
                     raise ValueError(f"{path}:{lineno}: column {h}: {cell!r} is not a number") from None
-        if not any(self.columns.values()) and len(rows) < 2:
-            raise ValueError(f"{path}: no data rows")
 
     def __len__(self):
         return len(self.columns[self.header[0]]) if self.header else 0
+
+
+def panel_spec(panel, x):
+    """A panel is (y columns, y label) drawn against the figure's x column, or
+    (y columns, y label, x column[, x label]) with its own x (e.g. the sigmoid's period by step).
+    Returns (y columns, y label, x column, x label)."""
+    ycols, ylabel = panel[0], panel[1]
+    px = panel[2] if len(panel) > 2 and panel[2] else x
+    xlabel = panel[3] if len(panel) > 3 and panel[3] else AXIS_LABELS.get(px, px)
+    return list(ycols), ylabel, px, xlabel
 
 
 def default_layout(header):
@@ -106,7 +131,7 @@ def plot_bars(data, out_png, title=None, columns=None):
         ax.set_ylabel(ylabel, fontsize="small")
         ax.grid(True, axis="y", alpha=0.35)
         ax.margins(y=0.2)
-    fig.suptitle(title or os.path.basename(data.path))
+    fig.suptitle(textwrap.fill(title or os.path.basename(data.path), 100))
     fig.tight_layout()
     fig.savefig(out_png, dpi=110)
     plt.close(fig)
@@ -115,31 +140,37 @@ def plot_bars(data, out_png, title=None, columns=None):
 def plot(data, out_png, title=None, x=None, panels=None, overlays=()):
     """Plots `data` into out_png. overlays: [(label, CsvData)] drawn dashed on the same panels
     (e.g. the exact ramp under the Leib ramp, or the simulator under the firmware).
-    A file with a label column is drawn as bars (plot_bars)."""
+    panels: [(y columns, y label[, x column[, x label]])] (see panel_spec); x: the default x column.
+    A file with a label column is drawn as bars (plot_bars); a file with a header and no rows
+    gets its usual (empty) axes with the note "0 rows"."""
     if data.labels is not None:
-        cols = [(y, label) for ys, label in panels for y in ys] if panels else None
+        cols = [(y, p[1]) for p in panels for y in p[0]] if panels else None
         return plot_bars(data, out_png, title=title, columns=cols)
     dx, dpanels = default_layout(data.header)
     x = x or dx
-    panels = panels or dpanels
-    if x not in data.columns:
-        raise ValueError(f"{data.path}: no column {x!r} (columns: {', '.join(data.header)})")
-    fig, axes = plt.subplots(len(panels), 1, figsize=(9, 2.9 * len(panels) + 0.6), sharex=True, squeeze=False)
-    for ax, (ycols, ylabel) in zip(axes[:, 0], panels):
+    specs = [panel_spec(p, x) for p in (panels or dpanels)]
+    shared = len({px for _, _, px, _ in specs}) == 1
+    fig, axes = plt.subplots(len(specs), 1, figsize=(9, 2.9 * len(specs) + 0.6), sharex=shared, squeeze=False)
+    for i, (ax, (ycols, ylabel, px, xlabel)) in enumerate(zip(axes[:, 0], specs)):
+        if px not in data.columns:
+            raise ValueError(f"{data.path}: no column {px!r} (columns: {', '.join(data.header)})")
         for y in ycols:
             if y not in data.columns:
                 raise ValueError(f"{data.path}: no column {y!r} (columns: {', '.join(data.header)})")
-            ax.plot(data.columns[x], data.columns[y], label=y if not overlays else f"{y}", linewidth=1.4)
+            ax.plot(data.columns[px], data.columns[y], label=y, linewidth=1.4)
         for label, other in overlays:
             for y in ycols:
-                if y in other.columns and x in other.columns:
-                    ax.plot(other.columns[x], other.columns[y], "--", linewidth=1.1, label=f"{y} ({label})")
+                if y in other.columns and px in other.columns:
+                    ax.plot(other.columns[px], other.columns[y], "--", linewidth=1.1, label=f"{y} ({label})")
+        if len(data) == 0:
+            ax.text(0.5, 0.5, "0 rows", transform=ax.transAxes, ha="center", va="center", color="grey")
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.35)
         if len(ycols) > 1 or overlays:
             ax.legend(loc="best", fontsize="small")
-    axes[-1, 0].set_xlabel(AXIS_LABELS.get(x, x))
-    fig.suptitle(title or os.path.basename(data.path))
+        if not shared or i == len(specs) - 1:
+            ax.set_xlabel(xlabel)
+    fig.suptitle(textwrap.fill(title or os.path.basename(data.path), 100))
     fig.tight_layout()
     fig.savefig(out_png, dpi=110)
     plt.close(fig)

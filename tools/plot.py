@@ -7,6 +7,9 @@ Without -o the PNG goes beside the CSV (FILE.png). The columns to plot are chose
 CSV's header (ramp, filter, servo and pid-replay files each get their usual plot); --x/--y
 override that. --overlay draws another CSV's same columns dashed on the same axes, e.g. the
 exact ramp under the Leib ramp, or motionsim under the firmware's emulated output.
+A CSV with a header and no rows (e.g. a zero-step move) is plotted as empty axes marked "0 rows"
+(exit 0); a file that is not CSV text, a malformed row or a missing file is one line on stderr,
+exit 2.
 """
 import argparse
 import os

@@ -8,17 +8,23 @@ Scenarios are listed in tools/scenarios/*.json, one file per capability. Each sc
    "title": "Leib ramp, 0 -> 50 steps",       plot and chart title
    "args": ["ramp", "--algo", "leib", ...],   motionsim arguments (CSV on stdout)
    "overlay": ["ramp_exact_0_50"],            optional: scenarios drawn dashed on the same axes
-   "x": "t_s", "panels": [[["speed_sps"], "step rate (steps/s)"], ...]}   optional plot layout
+   "x": "t_s",                                optional: the x column (default from the header)
+   "panels": [[["speed_sps"], "step rate (steps/s)"],                       optional plot layout:
+              [["interval_ticks"], "timer period (ticks)", "step", "step number"]]}
+                                              y columns, y label[, own x column[, x label]]
 
 For each scenario it writes <out>/<name>.csv and <out>/<name>.png, and then one workbook
-<out>/profiles.xlsx with an index sheet and, per scenario, a sheet holding the data and a native
-Excel chart of each plotted panel (XY scatter with straight lines, so time is to scale even when
-steps are unevenly spaced), with the overlays as extra series; a table with a label column
-(`ramp --compare`) gets a column chart per deviation instead.
+<out>/profiles.xlsx with an index sheet and, per scenario, a sheet with the data and native Excel
+charts (see write_workbook): a line chart first (over the rows' own times when they are evenly
+spaced, over a uniform resampling grid for a ramp's uneven step times), then for a ramp XY
+scatters at the exact step times; a table with a label column (`ramp --compare`) gets a column
+chart per deviation instead.
 """
 import argparse
+import bisect
 import glob
 import json
+import math
 import os
 import subprocess
 import sys
@@ -54,7 +60,7 @@ def layout_of(s, data):
     if "x" in s:
         x = s["x"]
     if "panels" in s:
-        panels = [(p[0], p[1]) for p in s["panels"]]
+        panels = [tuple(p) for p in s["panels"]]
     return x, panels
 
 
@@ -69,29 +75,104 @@ def sheet_name(name, used):
     return cand
 
 
+# ---- the workbook's charts -----------------------------------------------------------------
+# Excel's line chart (c:lineChart) spaces its points evenly along a category axis, whatever the
+# category values are. That is to scale only when the rows are evenly spaced in time: the filter
+# (one row per Ts) and the servo (one row per control period) are drawn as line charts over their
+# own t_s column. A ramp has one row per step and its steps are unevenly spaced, so its step rate
+# is first resampled on a uniform time grid (GRID_MAX points at most) and that is the line chart;
+# an XY scatter at the exact step times follows it.
+GRID_MAX = 1000          # grid points at most (the step is the smallest 1, 2 or 5 x 10^k that fits)
+MAX_LABELS = 12          # category-axis labels at most
+
+
+def uniform_spacing(xs):
+    """The spacing of xs if they are evenly spaced (every difference within 1 ppm of the mean),
+    else None."""
+    if len(xs) < 2 or any(math.isnan(v) for v in xs):
+        return None
+    dt = (xs[-1] - xs[0]) / (len(xs) - 1)
+    if not dt > 0:
+        return None
+    for a, b in zip(xs, xs[1:]):
+        if not abs((b - a) - dt) <= 1e-6 * dt:
+            return None
+    return dt
+
+
+def nice_step(span, max_points):
+    """The smallest step of the form 1, 2 or 5 x 10^k with span/step <= max_points."""
+    e = math.floor(math.log10(span / max_points))
+    for k in (e - 1, e, e + 1):
+        for m in (1, 2, 5):
+            step = float(f"{m}e{k}")
+            if span / step <= max_points:
+                return step
+    return float(f"1e{e + 2}")
+
+
+def time_grid(t_end):
+    """(dt, [t_j = j*dt for t_j < t_end]): at most GRID_MAX points, at least GRID_MAX/2.5."""
+    dt = nice_step(t_end, GRID_MAX)
+    times = [round(j * dt, 10) for j in range(math.ceil(t_end / dt) + 1)]
+    return dt, [t for t in times if t < t_end]
+
+
+def held_step_rate(step_times, speeds, t):
+    """The step rate at time t by sample-and-hold: row i's speed_sps (F / interval_ticks, the mean
+    speed of its interval) for t in [t_(i-1), t_i), where t_0 = 0 is the start of the move; None
+    from the last step on (the move is over). step_times must be non-decreasing."""
+    i = bisect.bisect_right(step_times, t)
+    return speeds[i] if i < len(step_times) else None
+
+
+def is_ramp(data):
+    cols = motionplot.KNOWN[0][0]
+    return tuple(data.header[:len(cols)]) == cols
+
+
+def category_axis(name, n, dt):
+    """Line-chart x axis over n evenly spaced times dt apart: a label (and tick) every m points,
+    m from 1, 2, 5, 10, 20, 50, ... so that at most MAX_LABELS labels show, with as many decimals
+    as m*dt needs."""
+    m = 1
+    while math.ceil(n / m) > MAX_LABELS:
+        m = m * 5 // 2 if str(m)[0] == "2" else m * 2
+    label_step = m * dt
+    decimals = 0
+    while decimals < 9 and abs(round(label_step, decimals) - label_step) > 1e-9 * label_step:
+        decimals += 1
+    return {"name": name, "interval_unit": m, "interval_tick": m, "position_axis": "on_tick",
+            "num_format": "0" if decimals == 0 else "0." + "0" * decimals,
+            "major_gridlines": {"visible": True, "line": {"color": "#D9D9D9"}}}
+
+
 def write_workbook(path, done):
+    """Writes the workbook: an index sheet, then per scenario a sheet with its CSV columns (A...),
+    the extra columns its line chart needs (after one blank column) and its charts to the right:
+      evenly spaced rows (filter, servo): a line chart per panel over the t_s column; overlays on
+          the same time base are copied beside the data as '<column> (<overlay>)';
+      a ramp: a line chart of the step rate on a uniform grid ('t_s (grid)', 'speed_sps (grid)'
+          and 'speed_sps (grid, <overlay>)', sample-and-hold, see held_step_rate), then an XY
+          scatter per panel at the exact step times (overlays drawn from their own sheets);
+      a label table (ramp --compare): a column chart per deviation."""
     import xlsxwriter  # in .venv (requirements.txt)
 
     wb = xlsxwriter.Workbook(path, {"strings_to_numbers": False, "nan_inf_to_errors": True})
     bold = wb.add_format({"bold": True})
     index = wb.add_worksheet("index")
-    index.write_row(0, 0, ["scenario", "title", "rows", "motionsim command"], bold)
+    index.write_row(0, 0, ["scenario", "title", "rows", "charts", "motionsim command"], bold)
     index.set_column(0, 0, 30)
     index.set_column(1, 1, 60)
-    index.set_column(3, 3, 90)
+    index.set_column(3, 3, 50)
+    index.set_column(4, 4, 90)
     used = {"index"}
     sheets = {}
     for s, data in done:
         sheets[s["name"]] = sheet_name(s["name"], used)
-    for row, (s, data) in enumerate(done, start=1):
-        sh = sheets[s["name"]]
-        index.write_url(row, 0, f"internal:'{sh}'!A1", string=s["name"])
-        index.write(row, 1, s["title"])
-        index.write_number(row, 2, len(data))
-        index.write(row, 3, "motionsim " + " ".join(s["args"]))
-
     by_name = {s["name"]: (s, data) for s, data in done}
-    for s, data in done:
+
+    for row, (s, data) in enumerate(done, start=1):
         sh = sheets[s["name"]]
         ws = wb.add_worksheet(sh)
         ws.write_row(0, 0, data.header, bold)
@@ -100,55 +181,159 @@ def write_workbook(path, done):
         ws.freeze_panes(1, 0)
         n = len(data)
         col_of = {h: i for i, h in enumerate(data.header)}
-        anchor_col = len(data.header) + 1
+        free_col = len(data.header) + 1          # first column of the extra block
         if data.labels is not None:
-            # a label file (ramp --compare): one column chart per deviation, one bar per label
-            cols = [c for c in motionplot.COMPARE_COLUMNS if c[0] in col_of] or \
-                   [(h, h) for h in data.header if h != data.labels]
-            for p_i, (col, ylabel) in enumerate(cols):
-                chart = wb.add_chart({"type": "column"})
-                chart.add_series({
-                    "name": ylabel,
-                    "categories": [sh, 1, col_of[data.labels], n, col_of[data.labels]],
-                    "values": [sh, 1, col_of[col], n, col_of[col]],
-                    "data_labels": {"value": True, "num_format": "0.###"},
-                })
-                chart.set_title({"name": s["title"] if p_i == 0 else ylabel, "name_font": {"size": 11}})
-                chart.set_y_axis({"name": ylabel})
-                chart.set_legend({"none": True})
-                chart.set_size({"width": 620, "height": 260})
-                ws.insert_chart(n + 3 + p_i * 14, 0, chart)
-            continue
-        x, panels = layout_of(s, data)
-        for p_i, (ycols, ylabel) in enumerate(panels):
-            chart = wb.add_chart({"type": "scatter", "subtype": "straight"})
-            for y in ycols:
-                chart.add_series({
-                    "name": y,
-                    "categories": [sh, 1, col_of[x], n, col_of[x]],
-                    "values": [sh, 1, col_of[y], n, col_of[y]],
-                    "line": {"width": 1.5},
-                })
-            for other_name in s.get("overlay", []):
-                if other_name not in by_name:
-                    continue
-                os_, od = by_name[other_name]
-                ocol = {h: i for i, h in enumerate(od.header)}
-                for y in ycols:
-                    if y in ocol and x in ocol:
-                        chart.add_series({
-                            "name": f"{y} ({other_name})",
-                            "categories": [sheets[other_name], 1, ocol[x], len(od), ocol[x]],
-                            "values": [sheets[other_name], 1, ocol[y], len(od), ocol[y]],
-                            "line": {"width": 1.0, "dash_type": "dash"},
-                        })
-            chart.set_title({"name": s["title"] if p_i == 0 else ylabel, "name_font": {"size": 11}})
-            chart.set_x_axis({"name": motionplot.AXIS_LABELS.get(x, x), "major_gridlines": {"visible": True}})
-            chart.set_y_axis({"name": ylabel})
-            chart.set_legend({"position": "bottom"})
-            chart.set_size({"width": 760, "height": 330})
-            ws.insert_chart(1 + p_i * 17, anchor_col, chart)
+            what = write_compare_charts(wb, ws, sh, s, data, col_of)
+        else:
+            x, panels = layout_of(s, data)
+            specs = [motionplot.panel_spec(p, x) for p in panels]
+            overlays = [(o, by_name[o][1]) for o in s.get("overlay", []) if o in by_name]
+            dt = uniform_spacing(data.columns[x]) if all(px == x for _, _, px, _ in specs) else None
+            charts, what, end_col = [], "", free_col
+            if dt is not None:
+                charts, what, end_col = uniform_line_charts(wb, ws, sh, s, data, specs, overlays, col_of,
+                                                            free_col, dt, bold)
+            elif is_ramp(data) and n > 0:
+                charts, what, end_col = ramp_grid_chart(wb, ws, sh, s, data, overlays, free_col, bold)
+            if dt is None:
+                charts += scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first=not charts)
+                what += ("; " if what else "") + "XY scatter per panel at the exact " + \
+                    ("step times" if is_ramp(data) else "x values")
+            for i, chart in enumerate(charts):
+                ws.insert_chart(1 + i * 17, end_col + 1, chart)
+        index.write_url(row, 0, f"internal:'{sh}'!A1", string=s["name"])
+        index.write(row, 1, s["title"])
+        index.write_number(row, 2, len(data))
+        index.write(row, 3, what)
+        index.write(row, 4, "motionsim " + " ".join(s["args"]))
     wb.close()
+
+
+def write_compare_charts(wb, ws, sh, s, data, col_of):
+    """A label file (ramp --compare): one column chart per deviation, one bar per label, below the table."""
+    n = len(data)
+    cols = [c for c in motionplot.COMPARE_COLUMNS if c[0] in col_of] or \
+           [(h, h) for h in data.header if h != data.labels]
+    for p_i, (col, ylabel) in enumerate(cols):
+        chart = wb.add_chart({"type": "column"})
+        chart.add_series({
+            "name": ylabel,
+            "categories": [sh, 1, col_of[data.labels], n, col_of[data.labels]],
+            "values": [sh, 1, col_of[col], n, col_of[col]],
+            "data_labels": {"value": True, "num_format": "0.###"},
+        })
+        chart.set_title({"name": s["title"] if p_i == 0 else ylabel, "name_font": {"size": 11}})
+        chart.set_y_axis({"name": ylabel})
+        chart.set_legend({"none": True})
+        chart.set_size({"width": 620, "height": 260})
+        ws.insert_chart(n + 3 + p_i * 14, 0, chart)
+    return "column chart per deviation"
+
+
+def uniform_line_charts(wb, ws, sh, s, data, specs, overlays, col_of, free_col, dt, bold):
+    """Evenly spaced rows: a line chart per panel over the x column. An overlay whose x column runs
+    on the same times (its first rows equal ours within 1 ppm of dt) is copied into this sheet,
+    at most as many rows as ours, and drawn dashed; others are left out of the line chart."""
+    n = len(data)
+    xs = data.columns[specs[0][2]]
+    charts = []
+    for p_i, (ycols, ylabel, px, xlabel) in enumerate(specs):
+        chart = wb.add_chart({"type": "line"})
+        for y in ycols:
+            chart.add_series({"name": y, "categories": [sh, 1, col_of[px], n, col_of[px]],
+                              "values": [sh, 1, col_of[y], n, col_of[y]], "line": {"width": 1.5}})
+        for oname, od in overlays:
+            ox = od.columns.get(px)
+            if ox is None:
+                continue
+            m = min(n, len(od))
+            if m == 0 or any(not abs(a - b) <= 1e-6 * dt for a, b in zip(xs[:m], ox[:m])):
+                continue
+            for y in ycols:
+                if y not in od.columns:
+                    continue
+                ws.write(0, free_col, f"{y} ({oname})", bold)
+                ws.write_column(1, free_col, od.columns[y][:m])
+                chart.add_series({"name": f"{y} ({oname})", "categories": [sh, 1, col_of[px], n, col_of[px]],
+                                  "values": [sh, 1, free_col, m, free_col],
+                                  "line": {"width": 1.0, "dash_type": "dash"}})
+                free_col += 1
+        chart.set_title({"name": s["title"] if p_i == 0 else ylabel, "name_font": {"size": 11}})
+        chart.set_x_axis(category_axis(xlabel, n, dt))
+        chart.set_y_axis({"name": ylabel})
+        chart.set_legend({"position": "bottom"})
+        chart.set_size({"width": 760, "height": 330})
+        charts.append(chart)
+    return charts, "line chart per panel (rows are evenly spaced in time)", free_col
+
+
+def ramp_grid_chart(wb, ws, sh, s, data, overlays, free_col, bold):
+    """A ramp: its step rate (and each ramp overlay's) resampled on one uniform time grid from 0
+    to the end of the longest move (held_step_rate), written beside the data and drawn as a line chart."""
+    series = [("speed_sps (grid)", data)] + \
+             [(f"speed_sps (grid, {o})", od) for o, od in overlays if is_ramp(od) and len(od) > 0]
+    series = [(name, d) for name, d in series
+              if all(a <= b for a, b in zip(d.columns["t_s"], d.columns["t_s"][1:]))]
+    if not series or series[0][1] is not data:
+        return [], "", free_col
+    t_end = max(d.columns["t_s"][-1] for _, d in series)
+    if not t_end > 0:
+        return [], "", free_col
+    dt, grid = time_grid(t_end)
+    g0 = free_col
+    ws.write(0, g0, "t_s (grid)", bold)
+    ws.write_column(1, g0, grid)
+    ws.write_comment(0, g0 + 1,
+                     f"Step rate on a uniform {dt:g} s grid, sample-and-hold: at grid time t, the "
+                     "speed_sps of the step whose interval [t_(i-1), t_i) contains t (t_0 = 0, the "
+                     "start of the move); empty once the move is over.", {"x_scale": 2, "y_scale": 1.5})
+    chart = wb.add_chart({"type": "line"})
+    for k, (name, d) in enumerate(series):
+        c = g0 + 1 + k
+        ws.write(0, c, name, bold)
+        ts, vs = d.columns["t_s"], d.columns["speed_sps"]
+        for j, t in enumerate(grid):
+            v = held_step_rate(ts, vs, t)
+            if v is not None:
+                ws.write_number(1 + j, c, v)
+        chart.add_series({"name": name, "categories": [sh, 1, g0, len(grid), g0],
+                          "values": [sh, 1, c, len(grid), c],
+                          "line": {"width": 1.5} if k == 0 else {"width": 1.0, "dash_type": "dash"}})
+    ws.set_column(g0, g0 + len(series), 14)
+    chart.set_title({"name": s["title"], "name_font": {"size": 11}})
+    chart.set_x_axis(category_axis(f"time (s), uniform grid every {dt:g} s", len(grid), dt))
+    chart.set_y_axis({"name": "step rate (steps/s)"})
+    chart.set_legend({"position": "bottom"})
+    chart.set_size({"width": 760, "height": 330})
+    return [chart], f"line chart of step rate on a {dt:g} s grid (sample-and-hold)", g0 + len(series) + 1
+
+
+def scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first):
+    """An XY scatter with straight lines per panel: x to scale whatever its spacing. Overlays are
+    drawn dashed from their own sheets."""
+    n = len(data)
+    charts = []
+    for p_i, (ycols, ylabel, px, xlabel) in enumerate(specs):
+        chart = wb.add_chart({"type": "scatter", "subtype": "straight"})
+        for y in ycols:
+            chart.add_series({"name": y, "categories": [sh, 1, col_of[px], n, col_of[px]],
+                              "values": [sh, 1, col_of[y], n, col_of[y]], "line": {"width": 1.5}})
+        for oname, od in overlays:
+            ocol = {h: i for i, h in enumerate(od.header)}
+            for y in ycols:
+                if y in ocol and px in ocol:
+                    chart.add_series({"name": f"{y} ({oname})",
+                                      "categories": [sheets[oname], 1, ocol[px], len(od), ocol[px]],
+                                      "values": [sheets[oname], 1, ocol[y], len(od), ocol[y]],
+                                      "line": {"width": 1.0, "dash_type": "dash"}})
+        title = s["title"] if first and p_i == 0 else f"{ylabel} by {xlabel}"
+        chart.set_title({"name": title, "name_font": {"size": 11}})
+        chart.set_x_axis({"name": xlabel, "major_gridlines": {"visible": True}})
+        chart.set_y_axis({"name": ylabel})
+        chart.set_legend({"position": "bottom"})
+        chart.set_size({"width": 760, "height": 330})
+        charts.append(chart)
+    return charts
 
 
 def main(argv):

@@ -1,9 +1,13 @@
 """The foundation's tools on their own: tools/plot on any motionsim-style CSV, the profiles
-workbook, and the Makefile's refusals for a real board (issue 2, items 5 and 7)."""
+workbook (read back with openpyxl), and the Makefile's refusals for a real board (issue 2, items 5
+and 7)."""
+import csv
 import json
+import math
 import os
+import re
 import subprocess
-import zipfile
+import sys
 
 import pytest
 
@@ -17,7 +21,7 @@ def run(cmd, **kw):
 
 def is_png(path):
     with open(path, "rb") as f:
-        return f.read(8) == b"\x89PNG\r\n\x1a\n"
+        return f.read(8) == b"\x89PNG\r\n\x1a\n" and os.path.getsize(path) > 1000
 
 
 def test_plot_works_alone_on_an_unknown_csv(tmp_path):
@@ -68,67 +72,356 @@ def test_plot_missing_file(tmp_path):
     assert r.returncode == 2 and "nope.csv" in r.stderr
 
 
-def scenario_names():
-    names = []
+def test_plot_header_only_csv_draws_empty_axes(tmp_path, motionsim):
+    """A zero-step move is a valid motionsim output: a header and no rows."""
+    src = tmp_path / "e.csv"
+    r = motionsim("ramp", "--from", "5", "--to", "5", "-o", src)
+    assert r.rc == 0, r.err
+    assert src.read_text().strip().count("\n") == 0
+    r = run([PLOT, str(src)])
+    assert r.returncode == 0, r.stderr
+    assert is_png(tmp_path / "e.png")
+
+
+@pytest.mark.parametrize("content", [
+    open(os.path.join(ROOT, "docs", "img", "ramp_leib_0_50.png"), "rb").read(),  # binary, not UTF-8
+    b"t_s,y\n0,1\x00\n",                                                           # NUL byte
+    "t_s,y\n0,1\n".encode("utf-16"),
+], ids=["png", "nul", "utf16"])
+def test_plot_refuses_a_binary_file_with_one_line(tmp_path, content):
+    src = tmp_path / "bin.csv"
+    src.write_bytes(content)
+    r = run([PLOT, str(src)])
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "not a text CSV file" in lines[0], r.stderr
+    assert not (tmp_path / "bin.png").exists()
+
+
+PID_VECTOR = os.path.join(ROOT, "test", "data", "pid_v1", "b_pid_windup.csv")
+PID_VECTOR_F = os.path.join(ROOT, "test", "data", "pid_v1", "float32", "b_pid_windup.csv")
+RAMP = ["--v0", "10", "--vmax", "100", "--accel", "100", "--tick-hz", "1000000"]
+SIGMOID = ["--algo", "sigmoid", "--len", "50", "--fmin", "500", "--fmax", "4000", "--flex", "5",
+           "--timer-hz", "2000000", "--hold", "2"]
+# every kind of CSV motionsim writes, generated live
+OUTPUTS = {
+    "ramp_exact": ["ramp", "--algo", "exact", "--to", "300"] + RAMP,
+    "ramp_simplistic": ["ramp", "--algo", "simplistic", "--to", "300"] + RAMP,
+    "ramp_leib": ["ramp", "--algo", "leib", "--to", "300"] + RAMP,
+    "ramp_sigmoid": ["ramp", "--to", "400"] + SIGMOID,
+    "ramp_leib_integer": ["ramp", "--algo", "leib", "--to", "300", "--integer-ticks"] + RAMP,
+    "ramp_sigmoid_integer": ["ramp", "--to", "400", "--integer-ticks"] + SIGMOID,
+    "ramp_negative": ["ramp", "--algo", "leib", "--from", "300", "--to", "-20"] + RAMP,
+    "ramp_one_step": ["ramp", "--algo", "leib", "--from", "7", "--to", "8"] + RAMP,
+    "ramp_zero_length": ["ramp", "--algo", "leib", "--from", "7", "--to", "7"] + RAMP,
+    "ramp_compare": ["ramp", "--compare", "--to", "300"] + RAMP,
+    "filter_ma": ["filter", "--kind", "ma", "--tau", "1", "--duration", "3"],
+    "filter_ma2": ["filter", "--kind", "ma2", "--tau", "1", "--tau2", "0.5", "--duration", "3"],
+    "filter_exp": ["filter", "--kind", "exp", "--tau", "1", "--input", "square:5:2", "--duration", "4"],
+    "filter_stream": ["filter", "--kind", "ma", "--tau", "1", "--duration", "3", "--stream"],
+    "servo_p": ["servo", "--ctrl", "p", "--duration", "1"],
+    "servo_pid": ["servo", "--ctrl", "pid", "--kp", "0.1", "--ki", "0.1", "--kd", "0.002", "--duration", "1"],
+    "servo_pid_double_metrics": ["servo", "--ctrl", "pid", "--kp", "0.1", "--precision", "double",
+                                 "--duration", "1", "--metrics"],
+    "pid_replay": ["pid-replay", PID_VECTOR],
+    "pid_replay_float": ["pid-replay", "--float", PID_VECTOR_F],
+}
+
+
+@pytest.mark.parametrize("kind", sorted(OUTPUTS))
+def test_plot_works_on_every_motionsim_output(tmp_path, motionsim, kind):
+    src = tmp_path / f"{kind}.csv"
+    r = motionsim(*OUTPUTS[kind], "-o", src)
+    assert r.rc == 0, r.err
+    assert src.read_text().count("\n") >= (1 if kind == "ramp_zero_length" else 2)
+    out = tmp_path / "plot.png"
+    r = run([PLOT, str(src), "-o", str(out)])
+    assert r.returncode == 0, r.stderr
+    assert is_png(out)
+
+
+# ---- make profiles: CSV, PNG and the workbook, read back ------------------------------------
+
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+
+
+def scenarios():
+    items = []
     d = os.path.join(ROOT, "tools", "scenarios")
     for f in sorted(os.listdir(d)):
         if f.endswith(".json"):
             with open(os.path.join(d, f)) as fh:
-                names += [s["name"] for s in json.load(fh)]
-    return names
+                items += json.load(fh)
+    return items
 
 
-def test_profiles_writes_csv_png_and_a_workbook_with_a_chart_per_scenario(tmp_path):
-    names = scenario_names()
-    assert names, "no scenarios in tools/scenarios"
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], rows[1:]
+
+
+def col_values(ws, col_letter, first, last):
+    return [ws[f"{col_letter}{r}"].value for r in range(first, last + 1)]
+
+
+REF = re.compile(r"^'?(.+?)'?!\$([A-Z]+)\$(\d+):\$([A-Z]+)\$(\d+)$")
+
+
+def parse_ref(ref):
+    m = REF.match(ref)
+    assert m, ref
+    sheet, c1, r1, c2, r2 = m.groups()
+    assert c1 == c2, f"{ref}: not one column"
+    return sheet, c1, int(r1), int(r2)
+
+
+def series_refs(chart):
+    """[(categories or x ref, values ref)] of a chart's series, whatever its type."""
+    out = []
+    for s in chart.series:
+        if s.xVal is not None:     # scatter
+            out.append((s.xVal.numRef.f, s.yVal.numRef.f))
+        else:
+            cat = s.cat.numRef.f if s.cat.numRef is not None else s.cat.strRef.f
+            out.append((cat, s.val.numRef.f))
+    return out
+
+
+@pytest.fixture(scope="module")
+def profiles(tmp_path_factory):
+    out = tmp_path_factory.mktemp("profiles")
     motionsim = os.environ.get("MOTIONSIM", os.path.join(ROOT, "build", "motionsim"))
     r = run([os.path.join(ROOT, ".venv", "bin", "python"), "tools/profiles.py", "--motionsim", motionsim,
-             "--out", str(tmp_path)])
+             "--out", str(out)])
     assert r.returncode == 0, r.stderr
-    for n in names:
-        csv_path = tmp_path / f"{n}.csv"
-        assert csv_path.stat().st_size > 0, n
-        assert len(csv_path.read_text().splitlines()) >= 3, n
-        assert is_png(tmp_path / f"{n}.png"), n
-    with zipfile.ZipFile(tmp_path / "profiles.xlsx") as z:
-        files = z.namelist()
-        sheets = [f for f in files if f.startswith("xl/worksheets/sheet")]
-        charts = [f for f in files if f.startswith("xl/charts/chart")]
-        workbook = z.read("xl/workbook.xml").decode()
-        # index sheet + one per scenario, each scenario sheet with at least one native chart
-        assert len(sheets) == len(names) + 1
-        assert len(charts) >= len(names)
-        for n in names:
-            assert f'name="{n[:31]}"' in workbook, n
-        for c in charts:
-            xml = z.read(c).decode()
-            assert "<c:scatterChart>" in xml or "<c:lineChart>" in xml or "<c:barChart>" in xml
+    import openpyxl
+    return out, openpyxl.load_workbook(out / "profiles.xlsx")
 
 
-def make(*args):
-    return run(["make", "--no-print-directory"] + list(args))
+def test_profiles_writes_csv_and_png_per_scenario(profiles):
+    out, _ = profiles
+    items = scenarios()
+    assert items, "no scenarios in tools/scenarios"
+    for s in items:
+        csv_path = out / f"{s['name']}.csv"
+        assert len(csv_path.read_text().splitlines()) >= 3, s["name"]
+        assert is_png(out / f"{s['name']}.png"), s["name"]
+
+
+def test_ramp_plots_are_against_time():
+    """README: the ramps' step rate is drawn against time (the sigmoid's period by step is a second panel)."""
+    import motionplot
+    import profiles as prof
+    for s in scenarios():
+        if s["args"][0] != "ramp" or "--compare" in s["args"]:
+            continue
+        header = list(motionplot.KNOWN[0][0])
+        x, panels = prof.layout_of(s, type("D", (), {"header": header})())
+        ycols, _, px, _ = motionplot.panel_spec(panels[0], x)
+        assert ycols == ["speed_sps"] and px == "t_s", s["name"]
+
+
+def test_workbook_has_a_sheet_per_scenario_with_a_line_chart_first(profiles):
+    from openpyxl.chart import BarChart, LineChart, ScatterChart
+    _, wb = profiles
+    items = scenarios()
+    assert len(wb.sheetnames) == len(items) + 1 and wb.sheetnames[0] == "index"
+    for s in items:
+        assert len(s["name"]) <= 31 and s["name"] in wb.sheetnames, s["name"]
+        charts = wb[s["name"]]._charts
+        assert charts, s["name"]
+        if "--compare" in s["args"]:
+            assert all(isinstance(c, BarChart) and c.barDir == "col" for c in charts), s["name"]
+        else:
+            assert isinstance(charts[0], LineChart), s["name"]
+        if s["args"][0] == "ramp" and "--compare" not in s["args"]:
+            # the grid line chart, then an XY scatter at the exact step times per panel
+            assert all(isinstance(c, ScatterChart) for c in charts[1:]) and len(charts) >= 2, s["name"]
+
+
+def test_workbook_chart_series_point_at_the_sheets_columns(profiles):
+    """Every series reads whole columns: line and column charts this sheet's own cells (its CSV
+    columns, overlay columns copied beside them, or the ramp's grid block); an XY scatter's overlay
+    series another scenario's sheet, named in the scenario's overlay list."""
+    from openpyxl.chart import LineChart, ScatterChart
+    out, wb = profiles
+    for s in scenarios():
+        name = s["name"]
+        header, rows = read_csv(out / f"{name}.csv")
+        for chart in wb[name]._charts:
+            for cat, val in series_refs(chart):
+                csheet, ccol, cr1, cr2 = parse_ref(cat)
+                vsheet, vcol, vr1, vr2 = parse_ref(val)
+                assert csheet == vsheet and cr1 == vr1 == 2, (name, cat, val)
+                ws = wb[csheet]
+                chead, vhead = ws[f"{ccol}1"].value, ws[f"{vcol}1"].value
+                if csheet != name:
+                    assert isinstance(chart, ScatterChart) and csheet in s.get("overlay", []), (name, cat)
+                    oheader, orows = read_csv(out / f"{csheet}.csv")
+                    assert chead in oheader and vhead in oheader and cr2 == vr2 == len(orows) + 1, (name, cat)
+                    continue
+                if chead == "t_s (grid)":
+                    assert isinstance(chart, LineChart) and vhead.startswith("speed_sps (grid"), (name, vhead)
+                    assert vr2 == cr2 and ws[f"{ccol}{cr2 + 1}"].value is None, (name, cat)
+                    continue
+                # the CSV's own x column (time, or the labels of a compare table), every row
+                assert chead in header and cr2 == len(rows) + 1, (name, cat)
+                assert ws[f"{ccol}{cr2 + 1}"].value is None
+                if vhead in header:
+                    assert vr2 == cr2, (name, val)
+                    continue
+                # an overlay copied beside the data: "<column> (<overlay>)", rows that share our times
+                base, _, rest = vhead.partition(" (")
+                other = rest[:-1]
+                assert isinstance(chart, LineChart) and base in header and other in s.get("overlay", []), vhead
+                oheader, orows = read_csv(out / f"{other}.csv")
+                assert vr2 == min(len(rows), len(orows)) + 1, (name, val)
+                want = [float(r[oheader.index(base)]) for r in orows[:vr2 - 1]]
+                assert col_values(ws, vcol, 2, vr2) == pytest.approx(want, rel=2e-15), (name, vhead)
+                ot = [float(r[oheader.index(chead)]) for r in orows[:vr2 - 1]]
+                assert col_values(ws, ccol, 2, vr2) == pytest.approx(ot, rel=1e-6, abs=1e-9), (name, vhead)
+
+
+def test_line_charts_over_the_rows_own_times_only_when_they_are_evenly_spaced(profiles):
+    """A category axis spaces points evenly: a line chart over t_s is to scale only if t_s is."""
+    out, wb = profiles
+    for s in scenarios():
+        if "--compare" in s["args"]:
+            continue
+        ws = wb[s["name"]]
+        header, rows = read_csv(out / f"{s['name']}.csv")
+        cat = series_refs(ws._charts[0])[0][0]
+        _, ccol, _, _ = parse_ref(cat)
+        if ws[f"{ccol}1"].value == "t_s (grid)":
+            continue
+        t = [float(r[header.index(ws[f"{ccol}1"].value)]) for r in rows]
+        dt = (t[-1] - t[0]) / (len(t) - 1)
+        assert all(abs((b - a) - dt) <= 1e-6 * dt for a, b in zip(t, t[1:])), s["name"]
+        assert s["args"][0] in ("filter", "servo"), s["name"]
+
+
+def test_workbook_cells_equal_the_csv(profiles):
+    out, wb = profiles
+    for s in scenarios():
+        ws = wb[s["name"]]
+        header, rows = read_csv(out / f"{s['name']}.csv")
+        assert [c.value for c in ws[1]][:len(header)] == header
+        for j, h in enumerate(header):
+            got = [ws.cell(row=2 + i, column=1 + j).value for i in range(len(rows))]
+            try:
+                want = [float(r[j]) for r in rows]
+            except ValueError:
+                assert got == [r[j] for r in rows], (s["name"], h)
+                continue
+            # the cell keeps 16 significant digits (XlsxWriter writes %.16G)
+            assert got == pytest.approx(want, rel=2e-15), (s["name"], h)
+        assert ws.cell(row=2 + len(rows), column=1).value is None
+
+
+def held(step_times, speeds, t):
+    """The README's rule, written out independently: the speed of step i where
+    t_(i-1) <= t < t_i (t_0 = 0, the start of the move); None from the last step on."""
+    for ti, v in zip(step_times, speeds):
+        if t < ti:
+            return v
+    return None
+
+
+def test_ramp_grid_is_the_sample_and_hold_step_rate(profiles):
+    out, wb = profiles
+    checked = 0
+    for s in scenarios():
+        if s["args"][0] != "ramp" or "--compare" in s["args"]:
+            continue
+        ws = wb[s["name"]]
+        heads = {c.value: c.column_letter for c in ws[1] if c.value is not None}
+        gcol = heads["t_s (grid)"]
+        grid = []
+        r = 2
+        while ws[f"{gcol}{r}"].value is not None:
+            grid.append(ws[f"{gcol}{r}"].value)
+            r += 1
+        sources = {"speed_sps (grid)": s["name"]}
+        for o in s.get("overlay", []):
+            sources[f"speed_sps (grid, {o})"] = o
+        ends = []
+        for col_name, src in sources.items():
+            assert col_name in heads, (s["name"], col_name)
+            header, rows = read_csv(out / f"{src}.csv")
+            ts = [float(row[header.index("t_s")]) for row in rows]
+            vs = [float(row[header.index("speed_sps")]) for row in rows]
+            ends.append(ts[-1])
+            got = col_values(ws, heads[col_name], 2, 1 + len(grid))
+            want = [held(ts, vs, t) for t in grid]
+            assert [g is None for g in got] == [w is None for w in want], (s["name"], col_name)
+            assert [g for g in got if g is not None] == \
+                pytest.approx([w for w in want if w is not None], rel=2e-15), (s["name"], col_name)
+            checked += 1
+        # the grid: 0, dt, 2 dt, ... with dt = 1, 2 or 5 x 10^k, 200..1000 points, up to the last step
+        dt = grid[1] - grid[0]
+        assert grid[0] == 0 and 200 <= len(grid) <= 1000, s["name"]
+        assert all(abs(t - j * dt) <= 1e-9 for j, t in enumerate(grid)), s["name"]
+        mant = dt / 10 ** math.floor(math.log10(dt))
+        assert min(abs(mant - m) for m in (1, 2, 5)) < 1e-6, (s["name"], dt)
+        assert grid[-1] < max(ends) <= grid[-1] + dt + 1e-12, s["name"]
+    assert checked >= 10
+
+
+# ---- make upload / make monitor: each refusal is one line, exit 2 ---------------------------
+
+def make(*args, cwd=None):
+    cmd = ["make", "--no-print-directory"]
+    if cwd:
+        cmd += ["-f", os.path.join(ROOT, "Makefile"), "-C", str(cwd)]
+    return subprocess.run(cmd + list(args), capture_output=True, text=True, cwd=ROOT, timeout=120)
+
+
+def one_line_refusal(r, *fragments):
+    """Exactly one line on stderr (make's $(error) line), nothing on stdout, exit 2."""
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and r.stdout.strip() == "", r.stderr + r.stdout
+    for f in fragments:
+        assert f in lines[0], lines[0]
+    return lines[0]
+
+
+def sketch_names():
+    return sorted(d for d in os.listdir(os.path.join(ROOT, "firmware")) if d != "libraries")
 
 
 def test_make_upload_without_sketch_lists_the_sketches():
-    r = make("upload")
-    assert r.returncode != 0
-    line = [l for l in r.stderr.splitlines() if l.startswith("make upload:")]
-    assert len(line) == 1 and "SKETCH=<name> is missing" in line[0]
-    sketches = [d for d in os.listdir(os.path.join(ROOT, "firmware")) if d != "libraries"]
-    for s in sketches:
-        assert s in line[0]
+    line = one_line_refusal(make("upload"), "make upload: SKETCH=<name> is missing")
+    for s in sketch_names():
+        assert s in line
 
 
-def test_make_upload_unknown_sketch_and_missing_port():
-    r = make("upload", "SKETCH=NoSuchSketch", "PORT=/dev/null")
-    assert r.returncode != 0 and "unknown ('NoSuchSketch')" in r.stderr
-    sketch = sorted(d for d in os.listdir(os.path.join(ROOT, "firmware")) if d != "libraries")[0]
-    r = make("upload", f"SKETCH={sketch}")
-    assert r.returncode != 0 and "PORT=<device> is missing" in r.stderr
-    r = make("upload", f"SKETCH={sketch}", "PORT=/dev/no-such-tty")
-    assert r.returncode != 0 and "does not exist" in r.stderr
+@pytest.mark.parametrize("bad", ["NoSuchSketch", "libraries", "LeibRampStepper SCurveStepper",
+                                 "LeibRampStepper%", "%"])
+def test_make_upload_unknown_sketch(bad):
+    line = one_line_refusal(make("upload", f"SKETCH={bad}", "PORT=/dev/null"), f"unknown ('{bad}')")
+    for s in sketch_names():
+        assert s in line
 
 
-def test_make_monitor_needs_a_port():
-    r = make("monitor")
-    assert r.returncode != 0 and "PORT=<device> is missing" in r.stderr
+def test_make_upload_port_missing_or_absent():
+    sketch = sketch_names()[0]
+    line = one_line_refusal(make("upload", f"SKETCH={sketch}"), "PORT=<device> is missing")
+    for s in sketch_names():
+        assert s in line
+    one_line_refusal(make("upload", f"SKETCH={sketch}", "PORT=/dev/no-such-tty"), "does not exist")
+
+
+def test_make_monitor_refusals():
+    one_line_refusal(make("monitor"), "make monitor: PORT=<device> is missing")
+    one_line_refusal(make("monitor", "PORT=/dev/no-such-tty"), "'/dev/no-such-tty' does not exist")
+    one_line_refusal(make("monitor", "PORT=/dev/null", "BAUD=1200"), "BAUD '1200' is not one of")
+
+
+def test_make_monitor_and_upload_without_setup_say_run_make_setup(tmp_path):
+    """A checkout without .venv (the Makefile run in an empty folder with one sketch)."""
+    (tmp_path / "firmware" / "Blink").mkdir(parents=True)
+    (tmp_path / "firmware" / "Blink" / "Blink.ino").write_text("void setup() {}\nvoid loop() {}\n")
+    one_line_refusal(make("monitor", "PORT=/dev/null", cwd=tmp_path), "run 'make setup' first")
+    one_line_refusal(make("upload", "SKETCH=Blink", "PORT=/dev/null", cwd=tmp_path), "run 'make setup' first")
