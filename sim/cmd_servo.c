@@ -3,7 +3,7 @@
  * (sim/plant_dcmotor.h), with the same controller code and number format as the Mega:
  *
  *   at t_k = k x period:   position := encoder count (the LS7366R read that starts the period)
- *                          duty := P: pctrl_duty_pct (float)   PID: Compute() of pid_v1 in float
+ *                          duty := P: pctrl_duty_pct (float)   PID: Compute() of pidv1_ctrl, float
  *                                  (PID_v1 set up as the sketch: limits -100..100, sample time =
  *                                  period, AUTOMATIC; the PID clock is t_k in ms)
  *   at t_k + latency:      the bridge gets duty_pwm_from_pct(duty): 8-bit PWM + polarity, i.e.
@@ -23,7 +23,7 @@
 #include "csv_float.h"
 #include "duty_pwm.h"
 #include "pctrl.h"
-#include "pid_v1.h"
+#include "pidv1_ctrl.h"
 #include "plant_dcmotor.h"
 
 /* Time from the encoder sample to the new duty on the motor, as on the Mega (measured in simavr

@@ -544,7 +544,7 @@ const char *pv_cell(const pv_vector_t *v, size_t r, const char *col)
     return v->cells[r * v->n_cols + (size_t)c];
 }
 
-/* The replay, once per precision: M is the pv_real_t member (d or f), P the pid_v1 prefix,
+/* The replay, once per precision: M is the pv_real_t member (d or f), P the pidv1_ctrl function prefix,
  * Q the prefix of the local functions. */
 #define PV_REPLAY_BODY(real, M, P, T, FN, Q)                                                          \
     static void Q##apply(T *c, real *out, const pv_cmd_t *cmd)                                   \

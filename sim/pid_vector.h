@@ -1,5 +1,5 @@
 /* sim/pid_vector.h - the PID_v1 reference vectors (reference/pid_v1/README.md, scenarios.md):
- * load NAME.csv and its set-up NAME.json, and replay them through pid_v1 in double or in float,
+ * load NAME.csv and its set-up NAME.json, and replay them through pidv1_ctrl in double or in float,
  * following the vectors' procedure exactly:
  *   set-up: clock := t0_ms; Input/Output/Setpoint := input0/output0/setpoint0; construct with
  *           kp, ki, kd, pon, direction; run the "setup" calls in order;
@@ -7,7 +7,7 @@
  *           computed := Compute() at t_ms; report computed, Output and the controller state.
  * Numbers are parsed twice, with strtod and strtof, so each precision sees the correctly rounded
  * value of the decimal text (the float32/ files are written for float). Used by
- * `motionsim pid-replay` and by test/unit/test_pid_v1.c.
+ * `motionsim pid-replay` and by test/unit/test_pidv1_ctrl.c.
  *
  * Command syntax (the `command` column and the "setup" array): calls separated by ';', arguments
  * by spaces: Output:=v, SetMode(AUTOMATIC|MANUAL|n), SetTunings(Kp Ki Kd[ POn]) with POn
@@ -20,7 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "pid_v1.h"
+#include "pidv1_ctrl.h"
 
 #define PV_MAX_CMDS 8
 

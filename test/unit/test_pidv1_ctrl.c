@@ -1,4 +1,4 @@
-/* Unit tests: pid_v1 against the PID_v1 1.2.1 reference vectors (seed 003 section 4.2 asks for
+/* Unit tests: pidv1_ctrl against the PID_v1 1.2.1 reference vectors (seed 003 section 4.2 asks for
  * "PID by Brett Beauregard"; the vectors in test/data/pid_v1/ were recorded from that library,
  * see the README there), in double (pid_*) and in float (pidf_*), every row bit for bit:
  * computed, output, and the internal state columns (output_sum, last_input, last_time_ms, working
@@ -18,7 +18,7 @@
 
 #include "../../sim/json_flat.c"
 #include "../../sim/pid_vector.c"
-#include "pid_v1.h"
+#include "pidv1_ctrl.h"
 
 static const char *data_dir(void)
 {
@@ -397,5 +397,5 @@ int main(void)
     qsort(tests, n, sizeof tests[0], by_name);
     for (i = 0; i < sizeof fixed / sizeof fixed[0]; i++)
         tests[n++] = fixed[i];
-    return _cmocka_run_group_tests("pid_v1", tests, n, NULL, NULL);
+    return _cmocka_run_group_tests("pidv1_ctrl", tests, n, NULL, NULL);
 }
