@@ -57,6 +57,7 @@ int cmd_pid_replay(int argc, char **argv)
     replay_out_t o;
     FILE *f;
     int rc;
+    motion_status_t st;
     const cli_opt_t opts[] = {
         {"--float", CLI_FLAG, &use_float, NULL, "run the controller in 32-bit float, as on the Mega (compare with float32/ vectors)", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
@@ -82,10 +83,10 @@ int cmd_pid_replay(int argc, char **argv)
     o.f = f;
     o.v = &v;
     fputs("t_ms,computed,output\n", f);
-    if (use_float)
-        pv_replay_float(&v, row_float, &o);
-    else
-        pv_replay_double(&v, row_double, &o);
+    st = use_float ? pv_replay_float(&v, row_float, &o) : pv_replay_double(&v, row_double, &o);
     pv_free(&v);
-    return cli_close_output(argv[0], f, out_path);
+    rc = cli_close_output(argv[0], f, out_path);
+    if (st != MS_OK) /* not expected: pv_load refuses what the constructor would reject */
+        return cli_error(argv[0], "the controller refused the set-up: %s", motion_status_text(st));
+    return rc;
 }

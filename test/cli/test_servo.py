@@ -335,12 +335,43 @@ def test_pid_replay_bad_json_is_refused(motionsim, tmp_path, json_text, words):
     assert r.out == ""
 
 
+SETUP = ('{{"kp": {kp}, "ki": {ki}, "kd": {kd}, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": 0, '
+         '"input0": 0, "output0": 0, "setpoint0": 0, "setup": ["SetMode(AUTOMATIC)"]}}')
+
+
+@pytest.mark.parametrize("gains, key", [((-1, 0, 0), "kp"), ((1, -0.5, 0), "ki"), ((1, 0, -1e-9), "kd")])
+def test_pid_replay_refuses_a_negative_gain_at_construction(motionsim, tmp_path, gains, key):
+    # reference README, "Construction": with a negative gain PID_v1's constructor rejects the
+    # tunings and its working gains stay indeterminate: the library has no behaviour to replay
+    kp, ki, kd = gains
+    path = write_vector(tmp_path, ["", ""], json_text=SETUP.format(kp=kp, ki=ki, kd=kd))
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err), r.err
+    assert f'"{key}" is negative' in r.err and "constructor" in r.err, r.err
+    assert r.out == ""
+
+
+def test_pid_replay_negative_gains_later_are_ignored_as_pid_v1_does(motionsim, tmp_path):
+    # SetTunings with a negative gain after construction is well defined (ignored, vector h):
+    # the replay accepts it and the output is the same as without the call
+    plain = motionsim("pid-replay", write_vector(tmp_path, ["", "", ""], json_text=SETUP.format(kp=1, ki=0, kd=0)))
+    with_bad = motionsim("pid-replay", write_vector(tmp_path, ["", "SetTunings(-1 0 0)", ""],
+                                                    json_text=SETUP.format(kp=1, ki=0, kd=0), name="w"))
+    assert plain.rc == 0 and with_bad.rc == 0, with_bad.err
+    assert plain.out == with_bad.out
+
+
 def test_pid_replay_file_problems(motionsim, tmp_path):
     r = motionsim("pid-replay")
     assert r.rc == 2 and one_line(r.err) and "VECTOR.csv" in r.err
     r = motionsim("pid-replay", "a.csv", "b.csv")
     assert r.rc == 2 and one_line(r.err)
+    # a missing vector is "cannot read", with or without a .json beside it
     r = motionsim("pid-replay", str(tmp_path / "missing.csv"))
+    assert r.rc == 2 and one_line(r.err) and "cannot read" in r.err and "missing.csv" in r.err, r.err
+    # a vector without its set-up
+    (tmp_path / "alone.csv").write_text(open(os.path.join(VECTORS, "a_p_only.csv")).read())
+    r = motionsim("pid-replay", str(tmp_path / "alone.csv"))
     assert r.rc == 2 and one_line(r.err) and "no set-up file" in r.err
     r = motionsim("pid-replay", str(tmp_path / "vector.txt"))
     assert r.rc == 2 and one_line(r.err) and ".csv" in r.err
@@ -354,7 +385,13 @@ def test_pid_replay_file_problems(motionsim, tmp_path):
     text[2] = text[2].rsplit(",", 1)[0]
     open(path, "w").write("\n".join(text) + "\n")
     r = motionsim("pid-replay", path)
-    assert r.rc == 2 and one_line(r.err) and ":3:" in r.err and "fields" in r.err
+    # the counts in the message: the row has 5 fields, the header (written above) 6
+    assert r.rc == 2 and one_line(r.err) and ":3: 5 fields, the header has 6" in r.err, r.err
+    # a bad cell is quoted as it was in the file
+    text[2] = "12x," + text[1].split(",", 1)[1]
+    open(path, "w").write("\n".join(text) + "\n")
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err) and ":3: t_ms '12x' is not a whole number" in r.err, r.err
     open(path, "w").write("t_ms,computed\n0,1\n")
     r = motionsim("pid-replay", path)
     assert r.rc == 2 and one_line(r.err) and "t_ms, input, setpoint and command" in r.err

@@ -151,6 +151,7 @@ static void replay_vector(void **state)
     check_t k;
     char err[512];
     size_t cols_checked = 0, i;
+    motion_status_t st;
     static const char *const needed[] = {"computed", "output", "output_sum", "kp", "ki", "kd", "mode"};
     if (pv_load(&v, path, err, sizeof err) != 0)
         fail_msg("%s", err);
@@ -164,10 +165,11 @@ static void replay_vector(void **state)
     memset(&k, 0, sizeof k);
     k.v = &v;
     k.name = path;
-    if (is_float)
-        pv_replay_float(&v, row_float, &k);
-    else
-        pv_replay_double(&v, row_double, &k);
+    st = is_float ? pv_replay_float(&v, row_float, &k) : pv_replay_double(&v, row_double, &k);
+    if (st != MS_OK) {
+        pv_free(&v);
+        fail_msg("%s: the constructor refused the set-up (%s)", path, motion_status_text(st));
+    }
     print_message("# %s (%s): %zu rows, %zu mismatches\n", path, is_float ? "float" : "double", v.n_rows, k.mismatches);
     pv_free(&v);
     if (k.mismatches != 0)
