@@ -1,9 +1,9 @@
 /* sim/cmd_pid_replay.c - `motionsim pid-replay [--float] VECTOR.csv`: replays a PID_v1 reference
- * vector (reference/pid_v1/: NAME.csv with its set-up in NAME.json) through our pid_v1 module and
- * writes CSV `t_ms,computed,output`, one row per vector row. In double (default) the output must
- * equal the vector's `output` column bit for bit; with --float the module runs in 32-bit float,
- * as on the Mega, and must equal the float32/ vectors. Numbers are written in the shortest form
- * that reads back to the same value of the precision used (as the vectors are).
+ * vector (reference/pid_v1/: NAME.csv with its set-up in NAME.json) through our pidv1_ctrl
+ * module and writes CSV `t_ms,computed,output`, one row per vector row. In double (default) the
+ * output must equal the vector's `output` column bit for bit; with --float the module runs in
+ * 32-bit float, as on the Mega, and must equal the float32/ vectors. Numbers are written in the
+ * shortest form that reads back to the same value of the precision used (as the vectors are).
  */
 #include <math.h>
 #include <stdio.h>
@@ -57,6 +57,7 @@ int cmd_pid_replay(int argc, char **argv)
     replay_out_t o;
     FILE *f;
     int rc;
+    motion_status_t st;
     const cli_opt_t opts[] = {
         {"--float", CLI_FLAG, &use_float, NULL, "run the controller in 32-bit float, as on the Mega (compare with float32/ vectors)", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
@@ -82,10 +83,10 @@ int cmd_pid_replay(int argc, char **argv)
     o.f = f;
     o.v = &v;
     fputs("t_ms,computed,output\n", f);
-    if (use_float)
-        pv_replay_float(&v, row_float, &o);
-    else
-        pv_replay_double(&v, row_double, &o);
+    st = use_float ? pv_replay_float(&v, row_float, &o) : pv_replay_double(&v, row_double, &o);
     pv_free(&v);
-    return cli_close_output(argv[0], f, out_path);
+    rc = cli_close_output(argv[0], f, out_path);
+    if (st != MS_OK) /* not expected: pv_load refuses what the constructor would reject */
+        return cli_error(argv[0], "the controller refused the set-up: %s", motion_status_text(st));
+    return rc;
 }

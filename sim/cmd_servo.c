@@ -3,7 +3,7 @@
  * (sim/plant_dcmotor.h), with the same controller code and number format as the Mega:
  *
  *   at t_k = k x period:   position := encoder count (the LS7366R read that starts the period)
- *                          duty := P: pctrl_duty_pct (float)   PID: Compute() of pid_v1 in float
+ *                          duty := P: pctrl_duty_pct (float)   PID: Compute() of pidv1_ctrl, float
  *                                  (PID_v1 set up as the sketch: limits -100..100, sample time =
  *                                  period, AUTOMATIC; the PID clock is t_k in ms)
  *   at t_k + latency:      the bridge gets duty_pwm_from_pct(duty): 8-bit PWM + polarity, i.e.
@@ -11,7 +11,8 @@
  * One CSV row per period: t_s,setpoint,position_counts,error_counts,duty_pct (the duty as the
  * controller computed it, before the 8-bit quantisation). The setpoint steps from the plant's
  * rest position 0 at t = 0. --metrics prints the step-response figures on stderr (stdout stays
- * pure CSV); see step_metrics() for the definitions.
+ * pure CSV); see step_metrics() for the definitions (overshoot against the setpoint; rise and
+ * settling time only when the trace has settled).
  */
 #include <math.h>
 #include <stdio.h>
@@ -23,7 +24,7 @@
 #include "csv_float.h"
 #include "duty_pwm.h"
 #include "pctrl.h"
-#include "pid_v1.h"
+#include "pidv1_ctrl.h"
 #include "plant_dcmotor.h"
 
 /* Time from the encoder sample to the new duty on the motor, as on the Mega (measured in simavr
@@ -36,8 +37,13 @@
 enum { CTRL_P = 0, CTRL_PID = 1 };
 enum { PREC_FLOAT = 0, PREC_DOUBLE = 1 };
 
+/* The trace counts as settled when its last SERVO_SETTLE_SAMPLES samples lie within the 2 % band
+ * around the final one (so it moved less than the band during that window). */
+#define SERVO_SETTLE_SAMPLES 10
+
 typedef struct {
     double rise_time_s, overshoot_pct, settling_time_s, sse_counts, final_counts, peak_counts;
+    int settled;
 } metrics_t;
 
 /* The time at which f(t) = (y(t) - y0)/(yf - y0) first reaches level, linearly interpolated
@@ -53,44 +59,56 @@ static double crossing_time(const double *t, const double *frac, size_t n, doubl
     return NAN;
 }
 
-/* Step-response figures in the usual (MATLAB stepinfo) sense, relative to the final value yf =
- * the last sample and the initial value y0 = the first:
- *   rise time        10 % -> 90 % of yf - y0 (first crossings, interpolated between samples)
- *   overshoot        (peak - yf)/(yf - y0) x 100 %, 0 if the response never passes yf
- *   settling time    the first sample time after which |y - yf| <= 2 % |yf - y0| for good
+/* Step-response figures. y0 = the first sample, yf = the last, step = setpoint - y0:
+ *   overshoot        the largest excursion beyond the setpoint in the step's direction, as
+ *                    max(0, max_k sign(step) (y_k - setpoint)) / |step| x 100 %  (NaN if step = 0)
  *   steady-state error  setpoint - yf (counts)
- * With friction a P loop stops short of the setpoint: yf is where it stopped, and the error
- * says how far that is from the setpoint. The run must be long enough for yf to be final. */
+ *   settled          the last SERVO_SETTLE_SAMPLES samples are all within the 2 % band
+ *                    |y - yf| <= 0.02 |yf - y0|: otherwise the trace is still moving at the end
+ *                    and yf is not a final value
+ *   settling time    (settled only) the first sample time after which |y - yf| stays within
+ *                    that band for good
+ *   rise time        (settled only) 10 % -> 90 % of yf - y0, first crossings interpolated
+ *                    between samples (MATLAB stepinfo's definitions relative to yf)
+ * Unsettled, rise and settling time are NaN; rise time is NaN too if yf = y0. With friction a P
+ * loop stops short of the setpoint: yf is where it stopped, the error says how far that is. */
 static metrics_t step_metrics(const double *t, const double *y, size_t n, double setpoint)
 {
     metrics_t m;
-    double y0 = y[0], yf = y[n - 1], span = yf - y0, peak = 0.0;
-    double *frac = calloc(n, sizeof *frac);
+    double y0 = y[0], yf = y[n - 1], span = yf - y0, step = setpoint - y0;
+    double dir = step >= 0 ? 1.0 : -1.0, excess = 0.0;
+    double *frac;
     size_t i, last_out = 0;
     int outside = 0;
     m.final_counts = yf;
     m.sse_counts = setpoint - yf;
     m.peak_counts = y0;
-    for (i = 0; i < n; i++)
-        if ((y[i] - y0) * (span >= 0 ? 1 : -1) > (m.peak_counts - y0) * (span >= 0 ? 1 : -1))
-            m.peak_counts = y[i];
-    if (span == 0.0 || frac == NULL) {
-        m.rise_time_s = m.overshoot_pct = m.settling_time_s = NAN;
-        free(frac);
-        return m;
-    }
+    m.rise_time_s = m.settling_time_s = NAN;
+    m.settled = 0;
     for (i = 0; i < n; i++) {
-        frac[i] = (y[i] - y0) / span;
-        if (frac[i] > peak)
-            peak = frac[i];
+        if ((y[i] - y0) * dir > (m.peak_counts - y0) * dir)
+            m.peak_counts = y[i];
+        if ((y[i] - setpoint) * dir > excess)
+            excess = (y[i] - setpoint) * dir;
+    }
+    m.overshoot_pct = step != 0.0 ? excess / fabs(step) * 100.0 : NAN;
+    for (i = 0; i < n; i++)
         if (fabs(y[i] - yf) > 0.02 * fabs(span)) {
             last_out = i;
             outside = 1;
         }
-    }
+    m.settled = n > SERVO_SETTLE_SAMPLES && (!outside || last_out < n - SERVO_SETTLE_SAMPLES);
+    if (!m.settled)
+        return m;
+    m.settling_time_s = outside ? t[last_out + 1] - t[0] : 0.0;
+    if (span == 0.0) /* it never left y0 (or came back to it): no rise */
+        return m;
+    frac = calloc(n, sizeof *frac);
+    if (frac == NULL)
+        return m;
+    for (i = 0; i < n; i++)
+        frac[i] = (y[i] - y0) / span;
     m.rise_time_s = crossing_time(t, frac, n, 0.9) - crossing_time(t, frac, n, 0.1);
-    m.overshoot_pct = peak > 1.0 ? (peak - 1.0) * 100.0 : 0.0;
-    m.settling_time_s = outside ? t[last_out + 1 < n ? last_out + 1 : last_out] - t[0] : 0.0;
     free(frac);
     return m;
 }
@@ -98,31 +116,36 @@ static metrics_t step_metrics(const double *t, const double *y, size_t n, double
 int cmd_servo(int argc, char **argv)
 {
     int ctrl = CTRL_P, precision = PREC_FLOAT, want_metrics = 0;
-    int seen_ki = 0, seen_kd = 0;
+    int seen_ki = 0, seen_kd = 0, seen_precision = 0;
     double kp = 0.02, ki = 0.0, kd = 0.0, duration_s = 3.0;
     int32_t setpoint = 1000, period_ms = 20, latency_us = SERVO_DEFAULT_LATENCY_US;
     const char *out_path = NULL;
     const cli_opt_t opts[] = {
         {"--ctrl", CLI_CHOICE, &ctrl, NULL, "controller: p (ProportionalClosedLoop) or pid (PIDClosedLoop); default p", "p|pid", NULL},
         {"--kp", CLI_DOUBLE, &kp, "X", "proportional gain, % duty per count (default 0.02, the lab's)", NULL, NULL},
-        {"--ki", CLI_DOUBLE, &ki, "X", "integral gain, % per count-second (PID only; default 0)", NULL, &seen_ki},
-        {"--kd", CLI_DOUBLE, &kd, "X", "derivative gain, % per count/s (PID only; default 0)", NULL, &seen_kd},
+        {"--ki", CLI_DOUBLE, &ki, "X", "integral gain, % per count-second (--ctrl pid only; default 0)", NULL, &seen_ki},
+        {"--kd", CLI_DOUBLE, &kd, "X", "derivative gain, % per count/s (--ctrl pid only; default 0)", NULL, &seen_kd},
         {"--setpoint", CLI_INT32, &setpoint, "COUNTS", "position setpoint in encoder counts, |sp| <= 1000000 (default 1000)", NULL, NULL},
         {"--duration", CLI_DOUBLE, &duration_s, "S", "simulated time in s, 0 < S <= 3600 (default 3)", NULL, NULL},
         {"--period-ms", CLI_INT32, &period_ms, "MS", "control period in ms, 1..1000 (default 20, as the sketches)", NULL, NULL},
         {"--latency-us", CLI_INT32, &latency_us, "US", "encoder sample -> new duty at the motor, 0..period (default 1200)", NULL, NULL},
-        {"--precision", CLI_CHOICE, &precision, NULL, "PID arithmetic: float (as on the Mega; default) or double", "float|double", NULL},
+        {"--precision", CLI_CHOICE, &precision, NULL, "PID arithmetic: float (as on the Mega; default) or double (--ctrl pid only)", "float|double", &seen_precision},
         {"--metrics", CLI_FLAG, &want_metrics, NULL, "print rise time, overshoot, settling time, steady-state error on stderr", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
     };
     const cli_spec_t spec = {
-        "servo", "[--ctrl p|pid] [--kp X] [--ki X] [--kd X] [--setpoint COUNTS] [--duration S] [--metrics] [-o FILE]",
+        "servo", "[--ctrl p|pid] [--kp X] [--ki X] [--kd X] [--setpoint COUNTS] [--duration S] [--precision float|double] [--metrics] [-o FILE]",
         "Closed-loop position control of the DC gearmotor + LS7366R encoder plant (Pololu 37D 30:1\n"
         "12 V, 64 counts/motor turn, on an L298P shield): samples the count every period, runs the\n"
         "sketch's controller (P, or PID_v1 behaviour in float), drives the plant with the 8-bit PWM\n"
         "duty after --latency-us. CSV: t_s,setpoint,position_counts,error_counts,duty_pct.\n"
         "--metrics: one line on stderr, 'metrics: rise_time_s=.. overshoot_pct=.. settling_time_s=..\n"
-        "steady_state_error_counts=.. final_position_counts=.. peak_position_counts=..'.",
+        "steady_state_error_counts=.. final_position_counts=.. peak_position_counts=.. settled=0|1'.\n"
+        "With y0 the first and yf the last position: overshoot = the largest excursion beyond the\n"
+        "setpoint in the step's direction / |setpoint - y0| x 100; steady-state error = setpoint - yf;\n"
+        "settled=1 when the last 10 samples lie within 2 % of |yf - y0| around yf, else the run ended\n"
+        "while still moving (settled=0, rise and settling time nan: run longer); settling time = the\n"
+        "first time after which |y - yf| stays within that band; rise time = 10 % -> 90 % of yf - y0.",
         opts, sizeof opts / sizeof opts[0], 0};
     plant_dcmotor_params_t params;
     plant_dcmotor_t plant;
@@ -138,8 +161,11 @@ int cmd_servo(int argc, char **argv)
     int rc = cli_parse(&spec, argc, argv, NULL, NULL);
     if (rc >= 0)
         return rc;
-    if (ctrl == CTRL_P && ((seen_ki && ki != 0) || (seen_kd && kd != 0)))
-        return cli_error(argv[0], "--ki/--kd need --ctrl pid (the P controller has only kp)");
+    /* options the P controller would silently ignore are refused */
+    if (ctrl == CTRL_P && (seen_ki || seen_kd))
+        return cli_error(argv[0], "%s needs --ctrl pid (the P controller has only kp)", seen_ki ? "--ki" : "--kd");
+    if (ctrl == CTRL_P && seen_precision)
+        return cli_error(argv[0], "--precision needs --ctrl pid (the P controller is float, as on the Mega)");
     if (kp < 0 || ki < 0 || kd < 0)
         return cli_error(argv[0], "%s: %s", kp < 0 ? "--kp" : ki < 0 ? "--ki" : "--kd", motion_status_text(MS_ERR_GAIN_NEGATIVE));
     if (kp > SERVO_GAIN_MAX || ki > SERVO_GAIN_MAX || kd > SERVO_GAIN_MAX)
@@ -233,8 +259,9 @@ int cmd_servo(int argc, char **argv)
         metrics_t m = step_metrics(t_log, y_log, n_steps, setpoint);
         fprintf(stderr,
                 "metrics: rise_time_s=%.4f overshoot_pct=%.3f settling_time_s=%.4f steady_state_error_counts=%.0f "
-                "final_position_counts=%.0f peak_position_counts=%.0f\n",
-                m.rise_time_s, m.overshoot_pct, m.settling_time_s, m.sse_counts, m.final_counts, m.peak_counts);
+                "final_position_counts=%.0f peak_position_counts=%.0f settled=%d\n",
+                m.rise_time_s, m.overshoot_pct, m.settling_time_s, m.sse_counts, m.final_counts, m.peak_counts,
+                m.settled);
     }
     free(t_log);
     free(y_log);

@@ -296,6 +296,16 @@ static int load_json(pv_vector_t *v, const char *path, char *err, size_t err_n)
         pv_err(err, err_n, "%s: %s", path, msg);
         goto done;
     }
+    /* PID_v1's constructor passes the gains to SetTunings, which ignores the whole call when one
+     * is negative: the working gains and POn are then left uninitialised (reference README,
+     * "Construction"), so the library has no defined behaviour to replay. */
+    if (v->kp.d < 0 || v->ki.d < 0 || v->kd.d < 0) {
+        pv_err(err, err_n,
+               "%s: \"%s\" is negative: PID_v1's constructor rejects negative gains and leaves its "
+               "working gains undefined, so there is nothing to replay",
+               path, v->kp.d < 0 ? "kp" : v->ki.d < 0 ? "ki" : "kd");
+        goto done;
+    }
     m = json_flat_get(j, "pon");
     if (m == NULL || m->kind != JSON_FLAT_STRING || parse_symbol(m->text, "P_ON_M", "P_ON_E", &v->pon) != 0) {
         pv_err(err, err_n, "%s: \"pon\" must be \"P_ON_E\" or \"P_ON_M\"", path);
@@ -409,21 +419,37 @@ static size_t split_commas(char *line, char **fields, size_t max)
     return n;
 }
 
+/* Fails pv_load: the message is formatted first (it may quote cells of v), then v is freed. */
+static int pv_fail(pv_vector_t *v, char *err, size_t n, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+static int pv_fail(pv_vector_t *v, char *err, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, n, fmt, ap);
+    va_end(ap);
+    pv_free(v);
+    return -1;
+}
+
 int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n)
 {
     char msg[256];
     char *p, *line;
-    size_t lines = 0, r, cap_rows;
+    size_t lines = 0, r, cap_rows, len = strlen(csv_path);
     int lineno = 1;
     int c_t, c_in, c_sp, c_cmd;
     memset(v, 0, sizeof *v);
-    if (find_json(csv_path, v->json_path, sizeof v->json_path, err, err_n) != 0)
-        return -1;
-    if (load_json(v, v->json_path, err, err_n) != 0)
-        return -1;
+    if (len < 5 || strcmp(csv_path + len - 4, ".csv") != 0)
+        return pv_err(err, err_n, "'%s': a vector file name ends in .csv", csv_path);
+    /* the vector itself first: a missing CSV is "cannot read", whatever the .json */
     v->csv_text = read_file(csv_path, err, err_n);
     if (v->csv_text == NULL)
         return -1;
+    if (find_json(csv_path, v->json_path, sizeof v->json_path, err, err_n) != 0 ||
+        load_json(v, v->json_path, err, err_n) != 0) {
+        pv_free(v);
+        return -1;
+    }
     for (p = v->csv_text; *p != '\0'; p++)
         lines += *p == '\n';
     cap_rows = lines + 1;
@@ -434,17 +460,13 @@ int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n)
         *p = '\0';
     if (p != NULL && p > line && p[-1] == '\r')
         p[-1] = '\0';
-    if (line[0] == '\0') {
-        pv_free(v);
-        return pv_err(err, err_n, "%s:1: empty header line", csv_path);
-    }
+    if (line[0] == '\0')
+        return pv_fail(v, err, err_n, "%s:1: empty header line", csv_path);
     {
         size_t n = split_commas(line, NULL, 0);
         v->header = (char **)malloc(n * sizeof *v->header);
-        if (v->header == NULL) {
-            pv_free(v);
-            return pv_err(err, err_n, "out of memory");
-        }
+        if (v->header == NULL)
+            return pv_fail(v, err, err_n, "out of memory");
         /* split again into the array (split_commas stopped writing at max = 0 but cut the text) */
         {
             size_t i;
@@ -460,16 +482,12 @@ int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n)
     c_in = col_index(v, "input");
     c_sp = col_index(v, "setpoint");
     c_cmd = col_index(v, "command");
-    if (c_t < 0 || c_in < 0 || c_sp < 0 || c_cmd < 0) {
-        pv_free(v);
-        return pv_err(err, err_n, "%s:1: the header needs columns t_ms, input, setpoint and command", csv_path);
-    }
+    if (c_t < 0 || c_in < 0 || c_sp < 0 || c_cmd < 0)
+        return pv_fail(v, err, err_n, "%s:1: the header needs columns t_ms, input, setpoint and command", csv_path);
     v->rows = (pv_row_t *)calloc(cap_rows, sizeof *v->rows);
     v->cells = (char **)calloc(cap_rows * v->n_cols, sizeof *v->cells);
-    if (v->rows == NULL || v->cells == NULL) {
-        pv_free(v);
-        return pv_err(err, err_n, "out of memory");
-    }
+    if (v->rows == NULL || v->cells == NULL)
+        return pv_fail(v, err, err_n, "out of memory");
     r = 0;
     while (p != NULL) {
         char **f;
@@ -486,40 +504,29 @@ int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n)
         if (line[0] == '\0') {
             if (p == NULL)
                 break;
-            pv_free(v);
-            return pv_err(err, err_n, "%s:%d: empty line", csv_path, lineno);
+            return pv_fail(v, err, err_n, "%s:%d: empty line", csv_path, lineno);
         }
         f = &v->cells[r * v->n_cols];
         n = split_commas(line, f, v->n_cols);
-        if (n != v->n_cols) {
-            pv_free(v);
-            return pv_err(err, err_n, "%s:%d: %zu fields, the header has %zu", csv_path, lineno, n, v->n_cols);
-        }
+        if (n != v->n_cols)
+            return pv_fail(v, err, err_n, "%s:%d: %zu fields, the header has %zu", csv_path, lineno, n, v->n_cols);
         row = &v->rows[r];
-        if (parse_uint32(f[c_t], &row->t_ms) != 0) {
-            pv_free(v);
-            return pv_err(err, err_n, "%s:%d: t_ms '%s' is not a whole number 0..4294967295", csv_path, lineno, f[c_t]);
-        }
+        if (parse_uint32(f[c_t], &row->t_ms) != 0)
+            return pv_fail(v, err, err_n, "%s:%d: t_ms '%s' is not a whole number 0..4294967295", csv_path, lineno,
+                           f[c_t]);
         if (parse_real(f[c_in], &row->input) != 0 || parse_real(f[c_sp], &row->setpoint) != 0) {
-            pv_free(v);
-            return pv_err(err, err_n, "%s:%d: input and setpoint must be finite numbers", csv_path, lineno);
+            return pv_fail(v, err, err_n, "%s:%d: input and setpoint must be finite numbers", csv_path, lineno);
         }
-        if (strlen(f[c_cmd]) >= sizeof cmd_copy) {
-            pv_free(v);
-            return pv_err(err, err_n, "%s:%d: command too long", csv_path, lineno);
-        }
+        if (strlen(f[c_cmd]) >= sizeof cmd_copy)
+            return pv_fail(v, err, err_n, "%s:%d: command too long", csv_path, lineno);
         strcpy(cmd_copy, f[c_cmd]);
-        if (parse_commands(cmd_copy, row->cmds, &row->n_cmds, msg, sizeof msg) != 0) {
-            pv_free(v);
-            return pv_err(err, err_n, "%s:%d: %s", csv_path, lineno, msg);
-        }
+        if (parse_commands(cmd_copy, row->cmds, &row->n_cmds, msg, sizeof msg) != 0)
+            return pv_fail(v, err, err_n, "%s:%d: %s", csv_path, lineno, msg);
         r++;
     }
     v->n_rows = r;
-    if (r == 0) {
-        pv_free(v);
-        return pv_err(err, err_n, "%s: no data rows", csv_path);
-    }
+    if (r == 0)
+        return pv_fail(v, err, err_n, "%s: no data rows", csv_path);
     return 0;
 }
 
@@ -544,7 +551,7 @@ const char *pv_cell(const pv_vector_t *v, size_t r, const char *col)
     return v->cells[r * v->n_cols + (size_t)c];
 }
 
-/* The replay, once per precision: M is the pv_real_t member (d or f), P the pid_v1 prefix,
+/* The replay, once per precision: M is the pv_real_t member (d or f), P the pidv1_ctrl function prefix,
  * Q the prefix of the local functions. */
 #define PV_REPLAY_BODY(real, M, P, T, FN, Q)                                                          \
     static void Q##apply(T *c, real *out, const pv_cmd_t *cmd)                                   \
@@ -561,12 +568,15 @@ const char *pv_cell(const pv_vector_t *v, size_t r, const char *col)
         case PV_SET_DIRECTION: P##set_direction(c, cmd->n); break;                               \
         }                                                                                        \
     }                                                                                            \
-    static void Q##replay(const pv_vector_t *v, FN fn, void *user)                              \
+    static motion_status_t Q##replay(const pv_vector_t *v, FN fn, void *user)                   \
     {                                                                                            \
         T c;                                                                                     \
         real in = v->input0.M, out = v->output0.M, sp = v->setpoint0.M;                          \
         size_t r, k;                                                                             \
-        (void)P##init(&c, &in, &out, &sp, v->kp.M, v->ki.M, v->kd.M, v->pon, v->direction, v->t0_ms); \
+        motion_status_t st =                                                                     \
+            P##init(&c, &in, &out, &sp, v->kp.M, v->ki.M, v->kd.M, v->pon, v->direction, v->t0_ms); \
+        if (st != MS_OK) /* PID_v1 would be left with undefined gains (pv_load refuses that) */  \
+            return st;                                                                           \
         for (k = 0; k < v->n_setup; k++)                                                         \
             Q##apply(&c, &out, &v->setup[k]);                                                    \
         for (r = 0; r < v->n_rows; r++) {                                                        \
@@ -579,17 +589,18 @@ const char *pv_cell(const pv_vector_t *v, size_t r, const char *col)
             computed = P##compute(&c, row->t_ms);                                                \
             fn(user, r, computed, out, &c);                                                      \
         }                                                                                        \
+        return MS_OK;                                                                            \
     }
 
 PV_REPLAY_BODY(double, d, pid_, pid_ctrl_t, pv_row_fn_double, pvd_)
 PV_REPLAY_BODY(float, f, pidf_, pidf_ctrl_t, pv_row_fn_float, pvf_)
 
-void pv_replay_double(const pv_vector_t *v, pv_row_fn_double fn, void *user)
+motion_status_t pv_replay_double(const pv_vector_t *v, pv_row_fn_double fn, void *user)
 {
-    pvd_replay(v, fn, user);
+    return pvd_replay(v, fn, user);
 }
 
-void pv_replay_float(const pv_vector_t *v, pv_row_fn_float fn, void *user)
+motion_status_t pv_replay_float(const pv_vector_t *v, pv_row_fn_float fn, void *user)
 {
-    pvf_replay(v, fn, user);
+    return pvf_replay(v, fn, user);
 }

@@ -1,5 +1,5 @@
 /* sim/pid_vector.h - the PID_v1 reference vectors (reference/pid_v1/README.md, scenarios.md):
- * load NAME.csv and its set-up NAME.json, and replay them through pid_v1 in double or in float,
+ * load NAME.csv and its set-up NAME.json, and replay them through pidv1_ctrl in double or in float,
  * following the vectors' procedure exactly:
  *   set-up: clock := t0_ms; Input/Output/Setpoint := input0/output0/setpoint0; construct with
  *           kp, ki, kd, pon, direction; run the "setup" calls in order;
@@ -7,7 +7,7 @@
  *           computed := Compute() at t_ms; report computed, Output and the controller state.
  * Numbers are parsed twice, with strtod and strtof, so each precision sees the correctly rounded
  * value of the decimal text (the float32/ files are written for float). Used by
- * `motionsim pid-replay` and by test/unit/test_pid_v1.c.
+ * `motionsim pid-replay` and by test/unit/test_pidv1_ctrl.c.
  *
  * Command syntax (the `command` column and the "setup" array): calls separated by ';', arguments
  * by spaces: Output:=v, SetMode(AUTOMATIC|MANUAL|n), SetTunings(Kp Ki Kd[ POn]) with POn
@@ -20,7 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "pid_v1.h"
+#include "pidv1_ctrl.h"
 
 #define PV_MAX_CMDS 8
 
@@ -71,17 +71,21 @@ typedef struct {
 } pv_vector_t;
 
 /* Loads csv_path and the .json beside it (NAME.json in the same folder, or in the parent folder
- * when the CSV is in a float32/ folder). Returns 0, or -1 with one line in err. */
+ * when the CSV is in a float32/ folder). Returns 0, or -1 with one line in err (v is then empty).
+ * A set-up with a negative kp, ki or kd is refused: PID_v1's constructor ignores such tunings and
+ * leaves its working gains uninitialised (reference README, "Construction"). */
 int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n);
 void pv_free(pv_vector_t *v);
 
 /* The raw text of column col in row r (without the header line), or NULL without that column. */
 const char *pv_cell(const pv_vector_t *v, size_t r, const char *col);
 
-/* Replays every row; fn is called after each row's Compute(). */
+/* Replays every row; fn is called after each row's Compute(). Returns the constructor's status
+ * (pid_init); anything but MS_OK means nothing was replayed. pv_load already refuses the one case
+ * PID_v1's constructor rejects (a negative gain), so MS_OK is expected. */
 typedef void (*pv_row_fn_double)(void *user, size_t row, int computed, double output, const pid_ctrl_t *c);
 typedef void (*pv_row_fn_float)(void *user, size_t row, int computed, float output, const pidf_ctrl_t *c);
-void pv_replay_double(const pv_vector_t *v, pv_row_fn_double fn, void *user);
-void pv_replay_float(const pv_vector_t *v, pv_row_fn_float fn, void *user);
+motion_status_t pv_replay_double(const pv_vector_t *v, pv_row_fn_double fn, void *user);
+motion_status_t pv_replay_float(const pv_vector_t *v, pv_row_fn_float fn, void *user);
 
 #endif

@@ -29,10 +29,12 @@
  * (or read the timer's compare register) and hold it for the next period.
  *
  * Default parameters: a Pololu 37D metal gearmotor, 12 V, 30:1, with 64 CPR motor-shaft encoder
- * (item #4752; pololu.com/product/1442 and the "37D Metal Gearmotors" datasheet), driven by an
- * Arduino Motor Shield R3 (L298P) from a 12 V supply. Datasheet figures at 12 V: 330 rpm and
- * 0.15 A free-run (9900 rpm at the motor), 5.5 A stall (extrapolated), 64 counts per motor
- * revolution = 1920 per output revolution, "can begin rotating at voltages as low as 1 V".
+ * (Pololu item #4752, pololu.com/product/4752; the figures are from Pololu's 37D comparison table,
+ * where the 30:1 row lists #4742 without and #4752 with encoder, and the "37D Metal Gearmotors"
+ * datasheet), driven by an Arduino Motor Shield R3 (L298P) from a 12 V supply. Datasheet figures
+ * at 12 V: 330 rpm and 0.15 A free-run (9900 rpm at the motor), 5.5 A stall (extrapolated), 64
+ * counts per motor revolution = 1920 per output revolution, "can begin rotating at voltages as low
+ * as 1 V".
  *
  *   parameter            default      source / derivation
  *   supply_v             12.0 V       the motor's rated voltage
@@ -52,6 +54,17 @@
  * bridge (by construction: k and the friction split come from that point) and 5.5 A stall. On
  * the shield, 100 % duty gives 861 rad/s (8220 rpm motor, 274 rpm output, ~8770 counts/s); the
  * motor breaks away at 5.8 % duty and, once turning, keeps turning down to 3.9 % duty.
+ *
+ * Limitation - no bridge current limit. The L298 is rated 2 A DC per bridge (2.5 A repetitive, 3 A
+ * non-repetitive 100 us peaks; the Motor Shield R3 states 2 A per channel) and has no current
+ * limiting of its own. The model draws whatever i = (V - k w)/R gives: at 100 % duty from
+ * standstill 10 V / 2.18 ohm = 4.58 A, above 2 A for the first 30 ms of the run-up; at standstill
+ * any duty above 44.8 % exceeds 2 A (a stalled shaft would stay there). The real bridge's
+ * saturation drop also grows with current (L298 datasheet, "typical saturation voltage vs. output
+ * current"), where the model keeps a fixed 2 V, so large duty steps from rest (e.g. Kp 0.1 on a
+ * 1000-count step: 100 %) accelerate somewhat faster in the model than on a real shield, which
+ * would run outside its rating or shut down thermally. Not modelled because the part's behaviour
+ * beyond its rating is not specified.
  */
 #ifndef PLANT_DCMOTOR_H
 #define PLANT_DCMOTOR_H

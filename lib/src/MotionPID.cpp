@@ -1,4 +1,4 @@
-/* MotionPID.cpp - PID_v1's interface over pid_v1.c (see MotionPID.h). */
+/* MotionPID.cpp - PID_v1's interface over pidv1_ctrl.c (see MotionPID.h). */
 #include "MotionPID.h"
 
 MotionPID::MotionPID(double *Input, double *Output, double *Setpoint, double Kp, double Ki, double Kd, int POn,

@@ -1,14 +1,15 @@
-/* MotionPID.h - the C++ face of pid_v1 for sketches: the public interface and constants of the
- * Arduino PID library PID_v1 1.2.1 (class PID) under a name that cannot collide with it, so the
- * lab's code (seed 003 section 4.2) reads the same with MotionPID in place of PID:
+/* MotionPID.h - the C++ face of pidv1_ctrl.h for sketches: the public interface and constants
+ * of the Arduino PID library PID_v1 1.2.1 (class PID) under a name that cannot collide with it
+ * (neither the class nor the header file, even on a case-insensitive file system), so the lab's
+ * code (seed 003 section 4.2) reads the same with MotionPID in place of PID:
  *
  *   double Input, Output, Setpoint;
  *   MotionPID myPID(&Input, &Output, &Setpoint, Kp, Ki, Kd, DIRECT);
  *   myPID.SetOutputLimits(-100, 100); myPID.SetSampleTime(20); myPID.SetMode(AUTOMATIC);
  *   ... Input = position; myPID.Compute(); ... use Output ...
  *
- * Behaviour is PID_v1's, bit for bit (see pid_v1.h). On the AVR double is float, exactly as the
- * real library runs there. The constants AUTOMATIC, MANUAL, DIRECT, REVERSE, P_ON_E, P_ON_M are
+ * Behaviour is PID_v1's, bit for bit (see pidv1_ctrl.h). On the AVR double is float, exactly as
+ * the real library runs there. The constants AUTOMATIC, MANUAL, DIRECT, REVERSE, P_ON_E, P_ON_M are
  * the same macros with the same values as PID_v1.h (identical redefinitions are legal, so both
  * headers may even be included together).
  *
@@ -22,7 +23,7 @@
 
 #include <stdint.h>
 
-#include "pid_v1.h"
+#include "pidv1_ctrl.h"
 
 #ifndef AUTOMATIC
 #define AUTOMATIC 1

@@ -7,6 +7,7 @@
 - The stepper sketches' options (issue: stepper ramps): the lab's timed loop, the LED mirror off,
   the ISR trace pin.
 - MovingAverageFilter's tap buffer: SRAM grows by exactly 2 bytes per tap (issue: filters).
+- No header of ours can be opened by `#include <PID_v1.h>` on a case-insensitive file system.
 """
 import os
 import re
@@ -16,6 +17,12 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 STANDIN = os.path.join(ROOT, "test", "firmware", "pid_v1_standin", "PID")
+# The real library's source files (PID_v1 1.2.1: PID_v1.h and PID_v1.cpp in the library "PID",
+# reference/pid_v1/README.md "Provenance").
+REAL_PID_V1_FILES = ("PID_v1.h", "PID_v1.cpp")
+# Folders on the include path of every sketch build: lib/src (library MotionCore) and MotionBoard.
+OUR_INCLUDE_DIRS = (os.path.join(ROOT, "lib", "src"),
+                    os.path.join(ROOT, "firmware", "libraries", "MotionBoard", "src"))
 
 
 def build(tmp_path, sketch, defines="", extra_libs=""):
@@ -40,6 +47,18 @@ def test_use_real_pid_v1_builds_against_a_pid_v1_library(tmp_path):
     assert (tmp_path / "fw" / "PIDClosedLoop" / "PIDClosedLoop.ino.elf").exists()
     # the PID library was really used (it is not needed by the default build)
     assert "pid_v1_standin" in log, log[-3000:]
+
+
+def test_no_file_of_ours_is_named_like_the_real_pid_v1_files():
+    # macOS and Windows file systems ignore case: a lib/src/pid_v1.h would be opened by the
+    # sketch's `#include <PID_v1.h>` (USE_REAL_PID_V1=1) instead of the real library's header.
+    real = {name.lower() for name in REAL_PID_V1_FILES}
+    seen = 0
+    for d in OUR_INCLUDE_DIRS:
+        for name in os.listdir(d):
+            seen += 1
+            assert name.lower() not in real, os.path.join(d, name)
+    assert seen > 10  # the folders were really listed
 
 
 def test_default_pid_build_does_not_use_the_pid_library(tmp_path):

@@ -2,7 +2,7 @@
 
 Expectations come from the seed (003 section 4.1: duty = Kp x (setpoint - measured), Kp = 0.02,
 clamped to +-100 %), from the plant's documented friction figures (breakaway at 5.8 % duty), from
-step-response definitions re-implemented here, and from the PID_v1 reference vectors in
+step-response definitions (README "motionsim servo") re-implemented here, and from the PID_v1 reference vectors in
 test/data/pid_v1/ (recorded from the real library).
 """
 import csv
@@ -31,27 +31,42 @@ def parse_metrics(err):
     return {k: float(v) for k, v in (kv.split("=") for kv in m.group(1).split())}
 
 
+SETTLE_SAMPLES = 10  # README "motionsim servo": settled = the last 10 samples within the band
+
+
 def step_metrics(t, y, setpoint):
-    """rise 10-90 %, overshoot, 2 % settling, steady-state error, relative to the final value."""
+    """The README's definitions, written independently: overshoot beyond the setpoint in the
+    step's direction over |step|; steady-state error setpoint - yf; settled when the last 10
+    samples lie within 2 % of |yf - y0| of yf; then settling time (first time after which the
+    trace stays in that band) and rise time 10-90 % of yf - y0, else both nan."""
     y0, yf = y[0], y[-1]
-    span = yf - y0
-    frac = [(v - y0) / span for v in y]
+    step = setpoint - y0
+    sign = 1 if step >= 0 else -1
+    overshoot = max(0.0, max(sign * (v - setpoint) for v in y)) / abs(step) * 100 if step else math.nan
+    band = 0.02 * abs(yf - y0)
+    outside = [i for i, v in enumerate(y) if abs(v - yf) > band]
+    settled = len(y) > SETTLE_SAMPLES and (not outside or outside[-1] < len(y) - SETTLE_SAMPLES)
+    rise = settle = math.nan
+    if settled:
+        settle = t[outside[-1] + 1] - t[0] if outside else 0.0
+        if yf != y0:
+            frac = [(v - y0) / (yf - y0) for v in y]
 
-    def cross(level):
-        for i, f in enumerate(frac):
-            if f >= level:
-                if i == 0:
-                    return t[0]
-                return t[i - 1] + (level - frac[i - 1]) / (f - frac[i - 1]) * (t[i] - t[i - 1])
-        return math.nan
-
-    outside = [i for i, v in enumerate(y) if abs(v - yf) > 0.02 * abs(span)]
-    settle = t[min(outside[-1] + 1, len(t) - 1)] - t[0] if outside else 0.0
-    return {"rise_time_s": cross(0.9) - cross(0.1),
-            "overshoot_pct": max(0.0, (max(frac) - 1) * 100),
+            def cross(level):
+                for i, f in enumerate(frac):
+                    if f >= level:
+                        if i == 0:
+                            return t[0]
+                        return t[i - 1] + (level - frac[i - 1]) / (f - frac[i - 1]) * (t[i] - t[i - 1])
+                return math.nan
+            rise = cross(0.9) - cross(0.1)
+    return {"rise_time_s": rise,
+            "overshoot_pct": overshoot,
             "settling_time_s": settle,
             "steady_state_error_counts": setpoint - yf,
-            "final_position_counts": yf}
+            "final_position_counts": yf,
+            "peak_position_counts": max(y, key=lambda v: sign * (v - y0)),
+            "settled": 1.0 if settled else 0.0}
 
 
 # ---------------------------------------------------------------- servo
@@ -84,18 +99,54 @@ def test_duty_saturates_at_100_percent(motionsim):
     assert rows[-1]["position_counts"] < -1000  # a negative setpoint drives it backwards
 
 
-def test_metrics_on_stderr_match_their_definitions(motionsim):
-    for args in (["--ctrl", "p"], ["--ctrl", "pid", "--kp", "0.1", "--ki", "0.1", "--kd", "0.002", "--duration", "5"]):
-        r = motionsim("servo", *args, "--metrics")
-        assert r.rc == 0, r.err
-        plain = motionsim("servo", *args)
-        assert r.out == plain.out  # stdout stays the same pure CSV
-        assert one_line(r.err)
-        got = parse_metrics(r.err)
-        _, rows = r.rows()
-        want = step_metrics([x["t_s"] for x in rows], [x["position_counts"] for x in rows], rows[0]["setpoint"])
-        for k, v in want.items():
-            assert got[k] == pytest.approx(v, abs=1e-3), k
+METRIC_RUNS = [
+    ["--ctrl", "p"],
+    ["--ctrl", "p", "--kp", "0.1"],
+    ["--ctrl", "pid", "--kp", "0.1", "--ki", "0.1", "--kd", "0.002", "--duration", "5"],
+    # ends 5.5 % past the setpoint, held there by friction: overshoot measured against the
+    # setpoint, not against the last sample (which would give 0)
+    ["--ctrl", "pid", "--kp", "0.02", "--ki", "0.01", "--duration", "3"],
+    # still moving at the end: not settled, so no settling or rise time
+    ["--ctrl", "p", "--duration", "0.5"],
+    ["--ctrl", "p", "--kp", "0.5", "--setpoint", "-3000", "--duration", "2"],  # a negative step
+    ["--ctrl", "p", "--setpoint", "50"],  # below breakaway: never moves
+    ["--ctrl", "p", "--setpoint", "0"],   # no step: overshoot undefined
+]
+
+
+def same(a, b):
+    return (math.isnan(a) and math.isnan(b)) or a == pytest.approx(b, abs=1e-3)
+
+
+@pytest.mark.parametrize("args", METRIC_RUNS, ids=lambda a: " ".join(a))
+def test_metrics_on_stderr_match_their_definitions(motionsim, args):
+    r = motionsim("servo", *args, "--metrics")
+    assert r.rc == 0, r.err
+    plain = motionsim("servo", *args)
+    assert r.out == plain.out  # stdout stays the same pure CSV
+    assert one_line(r.err)
+    got = parse_metrics(r.err)
+    _, rows = r.rows()
+    want = step_metrics([x["t_s"] for x in rows], [x["position_counts"] for x in rows], rows[0]["setpoint"])
+    assert set(got) == set(want)
+    for k, v in want.items():
+        assert same(got[k], v), (k, got[k], v)
+
+
+def test_metrics_counterexamples(motionsim):
+    # the two runs that the old final-value definitions got wrong, with the figures read off
+    # their CSV by hand: the PID ends at 1055 (55 counts = 5.5 % past 1000) ...
+    m = parse_metrics(motionsim("servo", "--ctrl", "pid", "--kp", "0.02", "--ki", "0.01", "--duration", "3",
+                                "--metrics").err)
+    assert m["final_position_counts"] == 1055 and m["overshoot_pct"] == pytest.approx(5.5)
+    assert m["steady_state_error_counts"] == -55 and m["settled"] == 1
+    # ... and the P loop is still climbing at 0.5 s (about 14 counts per period)
+    r = motionsim("servo", "--ctrl", "p", "--duration", "0.5", "--metrics")
+    m = parse_metrics(r.err)
+    _, rows = r.rows()
+    assert rows[-1]["position_counts"] - rows[-2]["position_counts"] > 10
+    assert m["settled"] == 0 and math.isnan(m["settling_time_s"]) and math.isnan(m["rise_time_s"])
+    assert m["steady_state_error_counts"] == 1000 - rows[-1]["position_counts"]
 
 
 def test_pid_removes_the_friction_error(motionsim):
@@ -131,7 +182,13 @@ def test_double_precision_pid_stays_close_to_float(motionsim):
     (["--kp", "-0.02"], "gains must not be negative"),
     (["--ctrl", "pid", "--ki", "-1"], "gains must not be negative"),
     (["--ctrl", "pid", "--kd", "-1"], "gains must not be negative"),
-    (["--ki", "0.1"], "--ctrl pid"),
+    (["--ki", "0.1"], "--ki needs --ctrl pid"),
+    # options the P controller would ignore are refused, whatever their value
+    (["--ctrl", "p", "--ki", "0"], "--ki needs --ctrl pid"),
+    (["--ctrl", "p", "--kd", "0.001"], "--kd needs --ctrl pid"),
+    (["--kd", "0"], "--kd needs --ctrl pid"),
+    (["--ctrl", "p", "--precision", "double"], "--precision needs --ctrl pid"),
+    (["--precision", "float"], "--precision needs --ctrl pid"),
     (["--kp", "5000"], "at most"),
     (["--setpoint", "2000000"], "outside"),
     (["--setpoint", "12.5"], "whole number"),
@@ -278,12 +335,43 @@ def test_pid_replay_bad_json_is_refused(motionsim, tmp_path, json_text, words):
     assert r.out == ""
 
 
+SETUP = ('{{"kp": {kp}, "ki": {ki}, "kd": {kd}, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": 0, '
+         '"input0": 0, "output0": 0, "setpoint0": 0, "setup": ["SetMode(AUTOMATIC)"]}}')
+
+
+@pytest.mark.parametrize("gains, key", [((-1, 0, 0), "kp"), ((1, -0.5, 0), "ki"), ((1, 0, -1e-9), "kd")])
+def test_pid_replay_refuses_a_negative_gain_at_construction(motionsim, tmp_path, gains, key):
+    # reference README, "Construction": with a negative gain PID_v1's constructor rejects the
+    # tunings and its working gains stay indeterminate: the library has no behaviour to replay
+    kp, ki, kd = gains
+    path = write_vector(tmp_path, ["", ""], json_text=SETUP.format(kp=kp, ki=ki, kd=kd))
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err), r.err
+    assert f'"{key}" is negative' in r.err and "constructor" in r.err, r.err
+    assert r.out == ""
+
+
+def test_pid_replay_negative_gains_later_are_ignored_as_pid_v1_does(motionsim, tmp_path):
+    # SetTunings with a negative gain after construction is well defined (ignored, vector h):
+    # the replay accepts it and the output is the same as without the call
+    plain = motionsim("pid-replay", write_vector(tmp_path, ["", "", ""], json_text=SETUP.format(kp=1, ki=0, kd=0)))
+    with_bad = motionsim("pid-replay", write_vector(tmp_path, ["", "SetTunings(-1 0 0)", ""],
+                                                    json_text=SETUP.format(kp=1, ki=0, kd=0), name="w"))
+    assert plain.rc == 0 and with_bad.rc == 0, with_bad.err
+    assert plain.out == with_bad.out
+
+
 def test_pid_replay_file_problems(motionsim, tmp_path):
     r = motionsim("pid-replay")
     assert r.rc == 2 and one_line(r.err) and "VECTOR.csv" in r.err
     r = motionsim("pid-replay", "a.csv", "b.csv")
     assert r.rc == 2 and one_line(r.err)
+    # a missing vector is "cannot read", with or without a .json beside it
     r = motionsim("pid-replay", str(tmp_path / "missing.csv"))
+    assert r.rc == 2 and one_line(r.err) and "cannot read" in r.err and "missing.csv" in r.err, r.err
+    # a vector without its set-up
+    (tmp_path / "alone.csv").write_text(open(os.path.join(VECTORS, "a_p_only.csv")).read())
+    r = motionsim("pid-replay", str(tmp_path / "alone.csv"))
     assert r.rc == 2 and one_line(r.err) and "no set-up file" in r.err
     r = motionsim("pid-replay", str(tmp_path / "vector.txt"))
     assert r.rc == 2 and one_line(r.err) and ".csv" in r.err
@@ -297,7 +385,13 @@ def test_pid_replay_file_problems(motionsim, tmp_path):
     text[2] = text[2].rsplit(",", 1)[0]
     open(path, "w").write("\n".join(text) + "\n")
     r = motionsim("pid-replay", path)
-    assert r.rc == 2 and one_line(r.err) and ":3:" in r.err and "fields" in r.err
+    # the counts in the message: the row has 5 fields, the header (written above) 6
+    assert r.rc == 2 and one_line(r.err) and ":3: 5 fields, the header has 6" in r.err, r.err
+    # a bad cell is quoted as it was in the file
+    text[2] = "12x," + text[1].split(",", 1)[1]
+    open(path, "w").write("\n".join(text) + "\n")
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err) and ":3: t_ms '12x' is not a whole number" in r.err, r.err
     open(path, "w").write("t_ms,computed\n0,1\n")
     r = motionsim("pid-replay", path)
     assert r.rc == 2 and one_line(r.err) and "t_ms, input, setpoint and command" in r.err

@@ -9,6 +9,7 @@ extern "C" {
 #include "cmocka_all.h"
 }
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -141,10 +142,101 @@ static void set_clock_replaces_the_default(void **state)
     assert_true(pid.Compute());
 }
 
+/* ---- the held-back vectors' behaviours (reference/pid_v1/README.md, copy in test/data/pid_v1/),
+ * through the class: the same situations as test_pidv1_ctrl.c, expectations worked out by hand
+ * from the README (Kp 2, Ki 5, Kd 1 at 20 ms: |kp| 2, |ki| 0.1, |kd| 50). ---- */
+static void near(double got, double want)
+{
+    if (fabs(got - want) >= 1e-9)
+        fail_msg("got %.17g, want %.17g", got, want);
+}
+
+/* "In MANUAL the gains are not negated (i) ... The reverse sign only takes effect when
+ * SetTunings is called." */
+static void direction_in_manual_waits_for_set_tunings(void **state)
+{
+    (void)state;
+    double in = 60, out = 0, sp = 50;
+    g_now_ms = 0;
+    MotionPID pid(&in, &out, &sp, 2, 5, 1, DIRECT);
+    pid.SetOutputLimits(0, 100);
+    pid.SetSampleTime(20);
+    pid.SetControllerDirection(REVERSE); /* MANUAL */
+    assert_int_equal(pid.GetDirection(), REVERSE);
+    near(pid.State().kp, 2);
+    out = 50;
+    pid.SetMode(AUTOMATIC);
+    assert_true(pid.Compute());
+    near(out, 29); /* still direct-acting: 2 x (-10) + (50 + 0.1 x (-10)) */
+    pid.SetTunings(2, 5, 1);
+    near(pid.State().kp, -2);
+    near(pid.State().ki, -0.1);
+    near(pid.State().kd, -50);
+    g_now_ms = 20;
+    assert_true(pid.Compute());
+    near(out, 70); /* now reverse-acting: (-2)(-10) + (49 + (-0.1)(-10)) */
+}
+
+/* d_reverse: REVERSE, limits 0..100, direction switched to DIRECT and back while AUTOMATIC;
+ * "it negates kp, ki and kd ... outputSum is not negated." */
+static void reverse_and_direction_changes_in_automatic(void **state)
+{
+    (void)state;
+    double in = 60, out = 50, sp = 50;
+    g_now_ms = 0;
+    MotionPID pid(&in, &out, &sp, 2, 5, 1, P_ON_E, REVERSE);
+    pid.SetOutputLimits(0, 100);
+    pid.SetSampleTime(20);
+    pid.SetMode(AUTOMATIC);
+    assert_true(pid.Compute());
+    near(out, 71); /* (-2)(-10) + (50 + (-0.1)(-10)) */
+    pid.SetControllerDirection(DIRECT);
+    near(pid.State().kp, 2);
+    near(pid.State().ki, 0.1);
+    near(pid.State().kd, 50);
+    near(pid.State().output_sum, 51);
+    pid.SetControllerDirection(DIRECT); /* unchanged direction: no flip */
+    near(pid.State().kp, 2);
+    in = 62;
+    g_now_ms = 20;
+    assert_true(pid.Compute());
+    near(out, 0); /* 2 x (-12) + ((51 - 1.2) - 50 x 2) = -74.2, clamped to 0 */
+    pid.SetControllerDirection(REVERSE);
+    in = 61;
+    g_now_ms = 40;
+    assert_true(pid.Compute());
+    near(out, 22.9); /* (-2)(-11) + ((49.8 + 1.1) - (-50)(-1)) */
+    assert_int_equal(pid.GetDirection(), REVERSE);
+    near(pid.GetKp(), 2);
+}
+
+/* "If AUTOMATIC, it immediately clamps both the Output variable and outputSum (f at 2500) ...
+ * In MANUAL nothing is clamped (e at 3200)." */
+static void set_output_limits_clamps_at_once_only_in_automatic(void **state)
+{
+    (void)state;
+    double in = 0, out = 54, sp = 6;
+    g_now_ms = 0;
+    MotionPID pid(&in, &out, &sp, 1, 0, 0, DIRECT);
+    pid.SetOutputLimits(-100, 100);
+    pid.SetSampleTime(20);
+    pid.SetMode(AUTOMATIC);
+    assert_true(pid.Compute());
+    near(out, 60);
+    pid.SetOutputLimits(0, 50);
+    near(out, 50);
+    near(pid.State().output_sum, 50);
+    pid.SetMode(MANUAL);
+    out = 10;
+    pid.SetOutputLimits(20, 40);
+    near(out, 10);
+    near(pid.State().output_sum, 50);
+}
+
 int main(void)
 {
     static const char *const names[] = {"a_p_only", "b_pid_windup", "e_manual_auto", "g_irregular_calls", "h_invalid_args"};
-    struct CMUnitTest tests[8];
+    struct CMUnitTest tests[16];
     size_t n = 0, i;
     for (i = 0; i < sizeof names / sizeof names[0]; i++) {
         tests[n].name = names[i];
@@ -157,6 +249,9 @@ int main(void)
     const struct CMUnitTest fixed[] = {
         cmocka_unit_test(constants_and_constructors),
         cmocka_unit_test(set_clock_replaces_the_default),
+        cmocka_unit_test(direction_in_manual_waits_for_set_tunings),
+        cmocka_unit_test(reverse_and_direction_changes_in_automatic),
+        cmocka_unit_test(set_output_limits_clamps_at_once_only_in_automatic),
     };
     for (i = 0; i < sizeof fixed / sizeof fixed[0]; i++)
         tests[n++] = fixed[i];

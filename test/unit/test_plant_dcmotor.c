@@ -63,6 +63,33 @@ static void defaults_match_the_datasheet(void **state)
     assert_close(p.counts_per_rev * p.gear_ratio, 1920, 0, "counts per output revolution");
 }
 
+/* The documented limitation (plant_dcmotor.h, README "Servo control"): no current limit, so the
+ * model exceeds the L298P's 2 A per channel. From the model's equations: at 100 % duty from rest
+ * i = (V - k w)/R starts at V/R = 10 V / (12/5.5) ohm and falls below 2 A when w = (V - 2 A R)/k,
+ * reached at t = -tau ln(1 - w/w_ss); at standstill 2 A needs V = 2 A R, i.e. a duty of
+ * db + (2 A R / (12 V - 2 V)) (100 - db). */
+static void current_is_not_limited_to_the_bridge_rating(void **state)
+{
+    plant_dcmotor_params_t p;
+    plant_dcmotor_t m;
+    double v, w_2a, t_2a, duty_2a;
+    (void)state;
+    plant_dcmotor_default_params(&p);
+    v = p.supply_v - p.bridge_drop_v;
+    w_2a = (v - 2.0 * p.resistance_ohm) / p.k_v_s_per_rad;
+    t_2a = -p.inertia_kg_m2 / damping(&p) * log(1 - w_2a / steady_speed(&p, 100));
+    duty_2a = p.deadband_pct + 2.0 * p.resistance_ohm / v * (100 - p.deadband_pct);
+    assert_close(v / p.resistance_ohm, 4.58, 5e-3, "start current at 100 % (A), documented as 4.58 A");
+    assert_close(t_2a, 0.0296, 1e-4, "time above 2 A at 100 % (s), documented as 30 ms");
+    assert_close(duty_2a, 44.8, 0.05, "duty for 2 A at standstill (%), documented as 44.8 %");
+    plant_dcmotor_init(&m, &p);
+    plant_dcmotor_advance(&m, 100, 1e-9);
+    assert_close(plant_dcmotor_current_a(&m), v / p.resistance_ohm, 1e-5, "current just after the start (A)");
+    plant_dcmotor_init(&m, &p);
+    plant_dcmotor_advance(&m, 100, t_2a);
+    assert_close(plant_dcmotor_current_a(&m), 2.0, 1e-6, "current when the run-up reaches 2 A (A)");
+}
+
 static void constant_duty_reaches_torque_balance_speed(void **state)
 {
     static const double duties[] = {100, 50, 20, 7, -30, -100, 150, -150};
@@ -276,6 +303,7 @@ int main(void)
         cmocka_unit_test(coasting_stops_in_finite_time),
         cmocka_unit_test(count_rounds_and_wraps_at_32_bits),
         cmocka_unit_test(bad_parameters_are_refused),
+        cmocka_unit_test(current_is_not_limited_to_the_bridge_rating),
     };
     return cmocka_run_group_tests_name("plant_dcmotor", tests, NULL, NULL);
 }

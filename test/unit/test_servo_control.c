@@ -9,7 +9,7 @@
 
 #include "duty_pwm.h"
 #include "pctrl.h"
-#include "pid_v1.h"
+#include "pidv1_ctrl.h"
 #include "plant_dcmotor.h"
 
 /* ---- pctrl ---- */

@@ -4,7 +4,10 @@
 const char *MotionSerial::poll(uint8_t max_bytes)
 {
     while (max_bytes-- > 0 && port_.available() > 0) {
-        int c = port_.read();
+        int c;
+        if (queue_ != 0 && queue_->room() < reserve_)
+            break; /* back-pressure: leave the input unread until a reply surely fits */
+        c = port_.read();
         motion_status_t err = MS_OK;
         if (c < 0)
             break;
@@ -23,14 +26,14 @@ const char *MotionSerial::poll(uint8_t max_bytes)
 
 void MotionSerial::reply_error(motion_status_t status)
 {
-    port_.print(F("ERR "));
-    port_.println(reinterpret_cast<const __FlashStringHelper *>(motion_status_text(status)));
+    out_.print(F("ERR "));
+    out_.println(reinterpret_cast<const __FlashStringHelper *>(motion_status_text(status)));
 }
 
 void MotionSerial::reply_error(motion_status_t status, const __FlashStringHelper *detail)
 {
-    port_.print(F("ERR "));
-    port_.print(reinterpret_cast<const __FlashStringHelper *>(motion_status_text(status)));
-    port_.print(F(": "));
-    port_.println(detail);
+    out_.print(F("ERR "));
+    out_.print(reinterpret_cast<const __FlashStringHelper *>(motion_status_text(status)));
+    out_.print(F(": "));
+    out_.println(detail);
 }

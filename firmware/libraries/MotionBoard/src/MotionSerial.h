@@ -4,6 +4,13 @@
  * answers a bad line (too long, non-printable bytes) with "ERR <reason>" at once, and hands
  * complete lines to the sketch. reply_error() prints "ERR <sentence for the status>" with the
  * sentence read from flash, so the sketches' error texts cost no SRAM.
+ *
+ * Two ways to reply. MotionSerial(Serial): replies are printed straight to the port (they block
+ * while the port's transmit buffer is full; the stepper and filter sketches). MotionSerial(Serial,
+ * queue, reserve): replies go into a SerialOutQueue and poll() reads no byte while the queue has
+ * less than `reserve` bytes free, so every reply a command can draw (the line errors here, and
+ * the sketch's own replies, which must print to out()) always fits: input waits in the port's
+ * receive buffer instead of output blocking the loop (the servo sketches).
  */
 #ifndef MOTION_SERIAL_H
 #define MOTION_SERIAL_H
@@ -13,12 +20,24 @@
 #include <line_reader.h>
 #include <motion_status.h>
 
+#include "SerialOutQueue.h"
+
 class MotionSerial {
 public:
-    explicit MotionSerial(Stream &port) : port_(port) { line_reader_init(&reader_); }
+    explicit MotionSerial(Stream &port) : port_(port), out_(port), queue_(0), reserve_(0)
+    {
+        line_reader_init(&reader_);
+    }
+    /* Replies through queue; input is read only while queue->room() >= reply_reserve_bytes. */
+    MotionSerial(Stream &port, SerialOutQueue &queue, uint16_t reply_reserve_bytes)
+        : port_(port), out_(queue), queue_(&queue), reserve_(reply_reserve_bytes)
+    {
+        line_reader_init(&reader_);
+    }
 
     /* Returns the next complete command line (valid until the next call), or NULL when none is
-     * waiting. Reads at most max_bytes bytes per call so a flood cannot stall the caller. */
+     * waiting. Reads at most max_bytes bytes per call so a flood cannot stall the caller, and
+     * with a queue none while its room is below the reserve. */
     const char *poll(uint8_t max_bytes = 64);
 
     /* "ERR <sentence>" */
@@ -27,9 +46,14 @@ public:
     void reply_error(motion_status_t status, const __FlashStringHelper *detail);
 
     Stream &port() { return port_; }
+    /* Where replies go: the queue if there is one, else the port. */
+    Print &out() { return out_; }
 
 private:
     Stream &port_;
+    Print &out_;
+    SerialOutQueue *queue_;
+    uint16_t reserve_;
     line_reader_t reader_;
 };
 

@@ -9,7 +9,7 @@
 
 void ServoConsole::ready(const __FlashStringHelper *sketch_name)
 {
-    Stream &out = serial_.port();
+    Print &out = serial_.out();
     out.print(F("READY "));
     out.println(sketch_name);
 }
@@ -52,19 +52,30 @@ static void printPositionFields(Print &out, const ServoState &s)
     ServoConsole::printReal(out, s.duty_pct, 2);
 }
 
-void ServoConsole::printStatus(uint32_t t_ms, const ServoState &s)
+void ServoConsole::queueStatus(uint32_t t_ms, const ServoState &s)
 {
-    Stream &out = serial_.port();
+    status_t_ms_ = t_ms;
+    status_state_ = s;
+    status_pending_ = true; /* written by the next poll() that finds room */
+}
+
+/* Writes the pending status line if it fits. */
+void ServoConsole::flushStatus()
+{
+    if (!status_pending_ || queue_.room() < STATUS_MAX_BYTES)
+        return;
+    Print &out = serial_.out();
     out.print(F("t_ms="));
-    out.print(t_ms);
+    out.print(status_t_ms_);
     out.print(' ');
-    printPositionFields(out, s);
+    printPositionFields(out, status_state_);
     out.println();
+    status_pending_ = false;
 }
 
 void ServoConsole::printState(const ServoState &s)
 {
-    Stream &out = serial_.port();
+    Print &out = serial_.out();
     printPositionFields(out, s);
     out.print(F(" kp="));
     printReal(out, s.kp, 6);
@@ -100,7 +111,7 @@ ServoConsole::Event ServoConsole::handleGain(const char *name, const char *value
         serial_.reply_error(MS_ERR_OUT_OF_RANGE, F("gains 0..1000"));
         return NOTHING;
     }
-    Stream &out = serial_.port();
+    Print &out = serial_.out();
     out.print(F("OK "));
     out.print(name);
     out.print('=');
@@ -117,12 +128,27 @@ ServoConsole::Event ServoConsole::handleGain(const char *name, const char *value
 
 ServoConsole::Event ServoConsole::poll(ServoState &s)
 {
-    const char *line = serial_.poll();
+    const char *line;
+    Event e = NOTHING;
+    queue_.pump();
+    /* The status line first; no command is read while it waits, so it cannot be starved. At
+     * most one line is formatted per pass, which bounds the time a pass can take. */
+    if (!status_pending_) {
+        line = serial_.poll(); /* reads nothing unless REPLY_MAX_BYTES are free */
+        if (line != NULL)
+            e = handleLine(line, s);
+    } else {
+        flushStatus();
+    }
+    queue_.pump();
+    return e;
+}
+
+ServoConsole::Event ServoConsole::handleLine(const char *line, ServoState &s)
+{
     const char *cursor;
     char word[LINE_READER_MAX + 1], value[LINE_READER_MAX + 1]; /* a word never overflows these */
     int len;
-    if (line == NULL)
-        return NOTHING;
     cursor = line;
     len = text_next_word(&cursor, word, sizeof word);
     if (len < 0) {
@@ -150,8 +176,8 @@ ServoConsole::Event ServoConsole::poll(ServoState &s)
             return NOTHING;
         }
         s.setpoint_counts = sp;
-        serial_.port().print(F("OK setpoint="));
-        serial_.port().println(sp);
+        serial_.out().print(F("OK setpoint="));
+        serial_.out().println(sp);
         return SETPOINT_CHANGED;
     }
     if (text_word_is(word, "kp") || (kind_ == PID_GAINS && (text_word_is(word, "ki") || text_word_is(word, "kd")))) {

@@ -1,10 +1,10 @@
 /* PID_v1.h (stand-in) - the public interface of the Arduino PID library PID_v1 1.2.1, forwarding
- * to lib/src/pid_v1.c; for the compile check of PIDClosedLoop's USE_REAL_PID_V1 switch only. */
+ * to lib/src/pidv1_ctrl.c; for the compile check of PIDClosedLoop's USE_REAL_PID_V1 switch only. */
 #ifndef PID_v1_h
 #define PID_v1_h
 #define LIBRARY_VERSION 1.2.1
 
-#include <pid_v1.h>
+#include <pidv1_ctrl.h>
 
 #define AUTOMATIC 1
 #define MANUAL 0

@@ -1,4 +1,4 @@
-/* pid_v1_body.h - the one implementation of pid_v1.h, included twice by pid_v1.c with
+/* pidv1_ctrl_body.h - the one implementation of pidv1_ctrl.h, included twice by pidv1_ctrl.c with
  *   PID_REAL  the number type (double or float)
  *   PID_FN(x) the function name for x (pid_##x or pidf_##x)
  *   PID_T     the state type (pid_ctrl_t or pidf_ctrl_t)

@@ -1,4 +1,4 @@
-/* Unit tests: pid_v1 against the PID_v1 1.2.1 reference vectors (seed 003 section 4.2 asks for
+/* Unit tests: pidv1_ctrl against the PID_v1 1.2.1 reference vectors (seed 003 section 4.2 asks for
  * "PID by Brett Beauregard"; the vectors in test/data/pid_v1/ were recorded from that library,
  * see the README there), in double (pid_*) and in float (pidf_*), every row bit for bit:
  * computed, output, and the internal state columns (output_sum, last_input, last_time_ms, working
@@ -12,13 +12,14 @@
 #include "cmocka_all.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../../sim/json_flat.c"
 #include "../../sim/pid_vector.c"
-#include "pid_v1.h"
+#include "pidv1_ctrl.h"
 
 static const char *data_dir(void)
 {
@@ -150,6 +151,7 @@ static void replay_vector(void **state)
     check_t k;
     char err[512];
     size_t cols_checked = 0, i;
+    motion_status_t st;
     static const char *const needed[] = {"computed", "output", "output_sum", "kp", "ki", "kd", "mode"};
     if (pv_load(&v, path, err, sizeof err) != 0)
         fail_msg("%s", err);
@@ -163,10 +165,11 @@ static void replay_vector(void **state)
     memset(&k, 0, sizeof k);
     k.v = &v;
     k.name = path;
-    if (is_float)
-        pv_replay_float(&v, row_float, &k);
-    else
-        pv_replay_double(&v, row_double, &k);
+    st = is_float ? pv_replay_float(&v, row_float, &k) : pv_replay_double(&v, row_double, &k);
+    if (st != MS_OK) {
+        pv_free(&v);
+        fail_msg("%s: the constructor refused the set-up (%s)", path, motion_status_text(st));
+    }
     print_message("# %s (%s): %zu rows, %zu mismatches\n", path, is_float ? "float" : "double", v.n_rows, k.mismatches);
     pv_free(&v);
     if (k.mismatches != 0)
@@ -319,6 +322,146 @@ static void clock_wraps_without_a_gap(void **state)
     assert_int_equal(pid_compute(&c, t - 21U + 19U), 0);
 }
 
+/* ---- behaviours of the held-back vectors d, f and i, from the reference README's facts ----
+ * reference/pid_v1/README.md (copy: test/data/pid_v1/README.md) describes scenarios whose CSVs
+ * are held back. Each test below builds the situation and checks the README's statement, with
+ * expectations worked out by hand from its "One computation, in order" and "Gain scaling"
+ * sections (Kp 2, Ki 5, Kd 1, SetSampleTime(20): |kp| = 2, |ki| = 5 x 0.1 x 0.2 = 0.1,
+ * |kd| = 1 / 0.1 / 0.2 = 50). Generated for double (pid_*) and float (pidf_*); the tolerance
+ * covers float rounding only, never a sign or a missing clamp. */
+#define NEAR(got, want) assert_true(fabs((double)(got) - (double)(want)) < 1e-4)
+
+#define HELD_BACK_TESTS(real, P, T, SUFFIX)                                                          \
+    /* "SetControllerDirection(d) ... In MANUAL the gains are not negated (i). The direction is    \
+     * stored, but the controller stays direct-acting after going back to AUTOMATIC ... The       \
+     * reverse sign only takes effect when SetTunings is called (at 2000)." */                    \
+    static void direction_in_manual_waits_for_set_tunings_##SUFFIX(void **state)                    \
+    {                                                                                              \
+        real in = 60, out = 0, sp = 50;                                                            \
+        T c;                                                                                       \
+        (void)state;                                                                               \
+        assert_int_equal(P##init(&c, &in, &out, &sp, 2, 5, 1, PID_P_ON_E, PID_DIRECT, 0), MS_OK);  \
+        assert_int_equal(P##set_output_limits(&c, 0, 100), MS_OK);                                 \
+        assert_int_equal(P##set_sample_time(&c, 20), MS_OK);                                       \
+        P##set_direction(&c, PID_REVERSE); /* MANUAL: stored, gains untouched */                   \
+        assert_int_equal(P##get_direction(&c), PID_REVERSE);                                       \
+        NEAR(c.kp, 2);                                                                             \
+        NEAR(c.ki, 0.1);                                                                           \
+        NEAR(c.kd, 50);                                                                            \
+        out = 50;                                                                                  \
+        P##set_mode(&c, PID_AUTOMATIC); /* Initialize: output_sum = 50, last_input = 60 */         \
+        assert_int_equal(P##compute(&c, 0), 1);                                                    \
+        /* still direct-acting: sum = 50 + 0.1 x (-10) = 49; out = 2 x (-10) + 49 = 29 */          \
+        NEAR(c.output_sum, 49);                                                                    \
+        NEAR(out, 29);                                                                             \
+        /* SetTunings applies the stored REVERSE: all three working gains negative */              \
+        assert_int_equal(P##set_tunings(&c, 2, 5, 1), MS_OK);                                      \
+        NEAR(c.kp, -2);                                                                            \
+        NEAR(c.ki, -0.1);                                                                          \
+        NEAR(c.kd, -50);                                                                           \
+        NEAR(P##get_kp(&c), 2); /* the getters keep the user's values */                           \
+        assert_int_equal(P##compute(&c, 20), 1);                                                   \
+        /* reverse-acting: sum = 49 + (-0.1)(-10) = 50; out = (-2)(-10) + 50 = 70 */                \
+        NEAR(c.output_sum, 50);                                                                    \
+        NEAR(out, 70);                                                                             \
+    }                                                                                              \
+                                                                                                   \
+    /* d_reverse: "REVERSE, limits 0..100; direction switched to DIRECT and back while AUTOMATIC". \
+     * "Applies the tunings, which also computes the working gains ... and negates them for        \
+     * REVERSE"; "If AUTOMATIC and d differs from the stored direction, it negates kp, ki and kd.  \
+     * It always stores d. outputSum is not negated." */                                           \
+    static void reverse_and_direction_changes_in_automatic_##SUFFIX(void **state)                   \
+    {                                                                                              \
+        real in = 60, out = 50, sp = 50;                                                           \
+        T c;                                                                                       \
+        (void)state;                                                                               \
+        assert_int_equal(P##init(&c, &in, &out, &sp, 2, 5, 1, PID_P_ON_E, PID_REVERSE, 0), MS_OK); \
+        NEAR(c.kp, -2); /* at the default 100 ms: ki = -5 x 0.1, kd = -1 / 0.1 */                  \
+        NEAR(c.ki, -0.5);                                                                          \
+        NEAR(c.kd, -10);                                                                           \
+        assert_int_equal(P##set_output_limits(&c, 0, 100), MS_OK);                                 \
+        assert_int_equal(P##set_sample_time(&c, 20), MS_OK);                                       \
+        NEAR(c.ki, -0.1);                                                                          \
+        NEAR(c.kd, -50);                                                                           \
+        P##set_mode(&c, PID_AUTOMATIC);                                                            \
+        assert_int_equal(P##compute(&c, 0), 1);                                                    \
+        /* input above setpoint raises a reverse-acting output: sum = 50 + (-0.1)(-10) = 51,      \
+         * out = (-2)(-10) + 51 = 71 */                                                            \
+        NEAR(c.output_sum, 51);                                                                    \
+        NEAR(out, 71);                                                                             \
+        P##set_direction(&c, PID_DIRECT); /* AUTOMATIC and different: every gain flips */          \
+        NEAR(c.kp, 2);                                                                             \
+        NEAR(c.ki, 0.1);                                                                           \
+        NEAR(c.kd, 50);                                                                            \
+        NEAR(c.output_sum, 51); /* not negated */                                                  \
+        assert_int_equal(P##get_direction(&c), PID_DIRECT);                                        \
+        NEAR(P##get_kp(&c), 2);                                                                    \
+        NEAR(P##get_ki(&c), 5);                                                                    \
+        NEAR(P##get_kd(&c), 1);                                                                    \
+        P##set_direction(&c, PID_DIRECT); /* the same direction again: nothing flips */            \
+        NEAR(c.kp, 2);                                                                             \
+        in = 62; /* dInput = 2: the derivative term is -kd x 2 = -100 */                           \
+        assert_int_equal(P##compute(&c, 20), 1);                                                   \
+        /* sum = 51 + 0.1 x (-12) = 49.8; out = 2 x (-12) + (49.8 - 100) = -74.2 -> clamp 0 */     \
+        NEAR(c.output_sum, 49.8);                                                                  \
+        NEAR(out, 0);                                                                              \
+        P##set_direction(&c, PID_REVERSE); /* and back */                                          \
+        NEAR(c.kp, -2);                                                                            \
+        NEAR(c.ki, -0.1);                                                                          \
+        NEAR(c.kd, -50);                                                                           \
+        NEAR(c.output_sum, 49.8);                                                                  \
+        in = 61; /* dInput = -1: -kd x (-1) = -50 */                                               \
+        assert_int_equal(P##compute(&c, 40), 1);                                                   \
+        /* sum = 49.8 + (-0.1)(-11) = 50.9; out = (-2)(-11) + (50.9 - 50) = 22.9 */               \
+        NEAR(c.output_sum, 50.9);                                                                  \
+        NEAR(out, 22.9);                                                                           \
+    }                                                                                              \
+                                                                                                   \
+    /* "SetOutputLimits(min, max): ... If AUTOMATIC, it immediately clamps both the Output        \
+     * variable and outputSum. f at 2500 shows this on a row without a computation: output        \
+     * 60.61->50 and outputSum 54.01->50. In MANUAL nothing is clamped: e at 3200: Output stays   \
+     * at 10, below the new minimum of 20; outputSum is clamped at the next Initialize (e at      \
+     * 3500); Output is clamped at the next computation." */                                      \
+    static void set_output_limits_clamps_at_once_only_in_automatic_##SUFFIX(void **state)           \
+    {                                                                                              \
+        real in = 0, out = 0, sp = 6;                                                              \
+        T c;                                                                                       \
+        (void)state;                                                                               \
+        assert_int_equal(P##init(&c, &in, &out, &sp, 1, 0, 0, PID_P_ON_E, PID_DIRECT, 0), MS_OK);  \
+        assert_int_equal(P##set_output_limits(&c, -100, 100), MS_OK);                              \
+        assert_int_equal(P##set_sample_time(&c, 20), MS_OK);                                      \
+        out = 54;                                                                                  \
+        P##set_mode(&c, PID_AUTOMATIC); /* output_sum = 54 */                                      \
+        assert_int_equal(P##compute(&c, 0), 1);                                                    \
+        NEAR(out, 60); /* 1 x 6 + 54 */                                                            \
+        NEAR(c.output_sum, 54);                                                                    \
+        assert_int_equal(P##set_output_limits(&c, 0, 50), MS_OK); /* no computation follows */    \
+        NEAR(out, 50);                                                                             \
+        NEAR(c.output_sum, 50);                                                                    \
+        assert_int_equal(P##set_output_limits(&c, 55, 80), MS_OK); /* and from below */           \
+        NEAR(out, 55);                                                                             \
+        NEAR(c.output_sum, 55);                                                                    \
+        /* MANUAL: the limits are stored, nothing is clamped */                                   \
+        P##set_mode(&c, PID_MANUAL);                                                               \
+        out = 10;                                                                                  \
+        assert_int_equal(P##set_output_limits(&c, 20, 90), MS_OK);                                 \
+        NEAR(out, 10);                                                                             \
+        NEAR(c.output_sum, 55);                                                                    \
+        NEAR(c.out_min, 20);                                                                       \
+        assert_int_equal(P##set_output_limits(&c, -100, 30), MS_OK);                               \
+        NEAR(c.output_sum, 55); /* above the new max: still not clamped in MANUAL */               \
+        out = 35;                                                                                  \
+        P##set_mode(&c, PID_AUTOMATIC); /* Initialize: sum = clamp(35) = 30; Output stays 35 */    \
+        NEAR(c.output_sum, 30);                                                                    \
+        NEAR(out, 35);                                                                             \
+        sp = 0; /* error 0: the computation only clamps */                                         \
+        assert_int_equal(P##compute(&c, 20), 1);                                                   \
+        NEAR(out, 30);                                                                             \
+    }
+
+HELD_BACK_TESTS(double, pid_, pid_ctrl_t, double)
+HELD_BACK_TESTS(float, pidf_, pidf_ctrl_t, float)
+
 #define MAX_VECTORS 64
 
 static int add_dir(const char *dir, char kind, struct CMUnitTest *tests, char specs[][600], size_t *n)
@@ -375,7 +518,7 @@ static int by_name(const void *a, const void *b)
 
 int main(void)
 {
-    static struct CMUnitTest tests[MAX_VECTORS + 16];
+    static struct CMUnitTest tests[MAX_VECTORS + 24];
     static char specs[MAX_VECTORS][600];
     char f32[600];
     size_t n = 0;
@@ -389,6 +532,12 @@ int main(void)
         cmocka_unit_test(init_rejects_null_and_negative_gains),
         cmocka_unit_test(unvalidated_values_behave_as_pid_v1),
         cmocka_unit_test(clock_wraps_without_a_gap),
+        cmocka_unit_test(direction_in_manual_waits_for_set_tunings_double),
+        cmocka_unit_test(direction_in_manual_waits_for_set_tunings_float),
+        cmocka_unit_test(reverse_and_direction_changes_in_automatic_double),
+        cmocka_unit_test(reverse_and_direction_changes_in_automatic_float),
+        cmocka_unit_test(set_output_limits_clamps_at_once_only_in_automatic_double),
+        cmocka_unit_test(set_output_limits_clamps_at_once_only_in_automatic_float),
     };
     size_t i;
     add_dir(data_dir(), 'd', tests, specs, &n);
@@ -397,5 +546,5 @@ int main(void)
     qsort(tests, n, sizeof tests[0], by_name);
     for (i = 0; i < sizeof fixed / sizeof fixed[0]; i++)
         tests[n++] = fixed[i];
-    return _cmocka_run_group_tests("pid_v1", tests, n, NULL, NULL);
+    return _cmocka_run_group_tests("pidv1_ctrl", tests, n, NULL, NULL);
 }

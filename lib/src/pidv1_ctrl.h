@@ -1,4 +1,4 @@
-/* pid_v1.h - PID controller with the exact behaviour of the Arduino PID library PID_v1 1.2.1
+/* pidv1_ctrl.h - PID controller with the exact behaviour of the Arduino PID library PID_v1 1.2.1
  * (Brett Beauregard), as a C module: the same sample-time gating, gain scaling, integral clamp,
  * derivative on measurement, P_ON_E/P_ON_M, MANUAL/AUTOMATIC with its Initialize, direction
  * quirks and argument checks, in the same order of operations (P + (I - D)), so it reproduces
@@ -12,7 +12,7 @@
  * Working gains: kp = Kp, ki = Ki*T, kd = Kd/T with T = sample_time_ms/1000, negated when the
  * direction is REVERSE; set_sample_time rescales ki and kd by new/old instead of recomputing.
  *
- * Two builds of one body (pid_v1_body.h): pid_* in double and pidf_* in float, so a host program
+ * Two builds of one body (pidv1_ctrl_body.h): pid_* in double and pidf_* in float, so a host program
  * can run both precisions; on the AVR double is float, so pid_* there is what the Mega runs.
  * Clock: unsigned 32-bit milliseconds passed in by the caller (millis() on the board).
  * Units: whatever the linked variables use (here encoder counts in, PWM duty % out).
@@ -25,8 +25,8 @@
  * Not validated, as in PID_v1: mode (only 1 is AUTOMATIC), direction (only 1 is REVERSE),
  * POn (only 1 is P_ON_E), NaN/infinite gains and limits. Callers validate user input first.
  */
-#ifndef PID_V1_H
-#define PID_V1_H
+#ifndef PIDV1_CTRL_H
+#define PIDV1_CTRL_H
 
 #include <stdint.h>
 
