@@ -68,6 +68,29 @@ def check_pins_and_timers():
     return CheckResult(not problems, summary, problems)
 
 
+def check_pin_direction():
+    """'dir': PF2 (D56) changes every 1000 cycles with interrupts off: output low, input, pull-up on,
+    output high, output low. The log must show each direction change (ddr) and each level change
+    (pin) at its cycle, and nothing for the changes that leave the level alone."""
+    log = emulog.run(SELFTEST, "wait ^READY\nsend dir\nwait ^OK dir$\n", pins={"P": "D56"})
+    problems = []
+    _fails(log, problems)
+    events = sorted([(c, "ddr", v) for c, v in log.ddr.get("P", [])] + [(c, "pin", v) for c, v in log.pins.get("P", [])])
+    want = [(0, "ddr", 1), (1000, "ddr", 0), (2000, "pin", 1), (3000, "ddr", 1), (4000, "pin", 0)]
+    got = [(c - events[0][0], kind, v) for c, kind, v in events] if events else []
+    if got != want:
+        problems.append(f"PF2 events (cycle from the first, kind, value) {got}, the program makes {want}")
+    ok = log.first(r"^OK dir$")
+    if ok and (log.output_before("P", ok.cycle) != 1 or log.level_before("P", ok.cycle) != 0):
+        problems.append("at the end PF2 should be an output driven low")
+    before = log.output_before("P", events[0][0]) if events else None
+    if before != 0:
+        problems.append(f"PF2 should be an input before the first change (reset state), got {before}")
+    summary = "PF2 output-low, input, pull-up, output-high, output-low logged as " + (
+        ", ".join(f"{k} {v} @+{c}" for c, k, v in got) if got else "nothing")
+    return CheckResult(not problems, summary, problems)
+
+
 def check_serial():
     script = ("wait ^READY EmuSelfTest$\nmark ping\nsend ping\nwait ^OK pong$\nmark burst\nsend burst\n"
               "wait ^0123456789$\nwait ^0123456789$\nsend nonsense\nwait ^ERR unknown$\nsend ?\nwait ^n=\n")
@@ -273,6 +296,7 @@ def check_motor_coupling():
 
 CHECKS = [
     ("harness self-test: pin edges and timer timing from first principles", check_pins_and_timers),
+    ("harness self-test: pin direction (DDR) and level changes at their cycles", check_pin_direction),
     ("harness self-test: UART0 frames, lines and replies", check_serial),
     ("harness self-test: LS7366R on SPI and SPI byte time", check_ls7366r_spi),
     ("harness self-test: ADC codes and phase-correct PWM waveform", check_adc_pwm),

@@ -698,8 +698,18 @@ def check_stepper(env, sketch, elf=None, bound_ticks=1.0, mode="timer"):
         last_dir = max((c for c, _ in dir_edges if c < edges[0]), default=None)
         # DIR setup time, when this move changed DIR (it may also hold from an earlier move)
         setup_us = (edges[0] - last_dir) / 16 if last_dir is not None and last_dir >= t0 - fc else None
+        # STEP, DIR and ENABLE are outputs (DDRx bit set) at step 1 and stay so to the last step;
+        # ENABLE (active low) is driven low throughout: an input pin reads 0 too, hence the DDR test
+        for sig in ("STEP", "DIR", "ENABLE"):
+            if not log.output_before(sig, edges[0]):
+                problems.append(f"{label}: {sig} is not an output at the first step (its DDR bit was never set)")
         if log.level_before("ENABLE", edges[0]) != 0:
-            problems.append(f"{label}: ENABLE (active low) is not low during the move")
+            problems.append(f"{label}: ENABLE (active low) is high at the first step: the driver is off")
+        for sig, moves in (("ENABLE", log.changes_between("ENABLE", edges[0], edges[-1])),
+                           ("STEP", [c for c, _ in log.ddr.get("STEP", []) if edges[0] <= c <= edges[-1]]),
+                           ("DIR", [c for c, _ in log.ddr.get("DIR", []) if edges[0] <= c <= edges[-1]])):
+            if moves:
+                problems.append(f"{label}: {sig} changed level or direction during the move at cycles {moves[:3]}")
         # intervals vs motionsim ramp --integer-ticks
         want, pos = sim_intervals(env, q, a, b)
         if len(want) != n or pos[-1] != b:
@@ -746,8 +756,11 @@ def check_stepper(env, sketch, elf=None, bound_ticks=1.0, mode="timer"):
     if len(rises) != want_total:
         problems.append(f"{len(rises)} STEP rising edges in the whole run, want exactly {want_total} (the moves' steps)")
     ticks = ", ".join(sorted(ticks_seen)) or "?"
+    drive = [p for p in problems if "output" in p or "ENABLE" in p or "direction" in p]
     summary = (f"algo={algo} tick_hz={ticks} (1 tick = {cpt:g} cycles); `?` parameters = defaults, then the values "
-               f"set; {len(rises)} STEP pulses in the run; " if cpt else f"algo={algo}; ") + "; ".join(figures)
+               f"set; {len(rises)} STEP pulses in the run; "
+               + ("" if drive else "STEP/DIR/ENABLE outputs (DDR set) and ENABLE driven low from step 1 to the last "
+                  "of every move; ") if cpt else f"algo={algo}; ") + "; ".join(figures)
     return CheckResult(not problems, summary, problems)
 
 

@@ -42,7 +42,8 @@ typedef struct {
 
 /* "D54", "54", "A0" (analog pin 0 = D54), "PF0" or "F0". Returns 0 on success. */
 int emu_pin_parse(const char *spec, emu_pin_t *pin);
-/* Watch a pin: every level change is logged as "pin <cycle> <name> <level>". */
+/* Watch a pin: every level change is logged as "pin <cycle> <name> <level>", every change of its
+ * DDRx bit as "ddr <cycle> <name> <1 output | 0 input>" (reset state: input, level 0). */
 int emu_pin_watch(avr_t *avr, const char *name, emu_pin_t pin);
 /* Calls fn(param, cycle, new_level) on every level change of the pin, before the new level is
  * stored: inside fn, emu_pin_level() of that pin still reports the level before the edge. */

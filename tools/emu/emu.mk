@@ -2,6 +2,7 @@
 #
 #   build/motionemu                 the harness: our C program on libsimavr (tools/emu/*.c)
 #   build/emu/emu_selftest.elf      a tiny avr-libc program with known timing (harness self-test)
+#   build/emu/pid_v1_avr.elf        lib's PID module + the PID_v1 float32 vectors, for the ATmega2560
 #   make emulate SKETCH=<name> [INPUT=<file>] [EMULATE_OUT=<dir>]   run a sketch in the emulator -> build/emulate/
 #
 # EMU_DEPS is what `make test` builds first; EMU_SUITES is the emulator suite for tools/run_tests.py
@@ -24,6 +25,23 @@ $(BUILD)/emu/wrong_mcu.elf: test/emu/selftest/wrong_mcu.c
 	@mkdir -p $(dir $@)
 	avr-gcc -mmcu=atmega328p -Os -Wall -Wextra -Werror $< -o $@
 
+# lib's PID module on the real target: test/emu/pid_avr/pid_v1_avr.c replays the PID_v1 float32
+# reference vectors (test/data/pid_v1) through it, built by avr-gcc with the Arduino core's C flags
+# (double = float on the AVR). EMU_PID_SRC is the module's one .c file in lib/src (a glob, so that a
+# renamed module is still found; set it here if lib/src ever holds two pid*.c); its header is the
+# .h of the same name.
+EMU_PID_SRC  := $(wildcard lib/src/pid*.c)
+EMU_PID_DATA := test/data/pid_v1
+EMU_PID_ELF  := $(BUILD)/emu/pid_v1_avr.elf
+$(BUILD)/emu/pid_vectors.h: test/emu/pid_avr/gen_pid_vectors.py $(wildcard $(EMU_PID_DATA)/*.json $(EMU_PID_DATA)/float32/*.csv)
+	@mkdir -p $(dir $@)
+	$(PY) $< $(EMU_PID_DATA) > $@.tmp && mv $@.tmp $@
+$(EMU_PID_ELF): test/emu/pid_avr/pid_v1_avr.c $(BUILD)/emu/pid_vectors.h $(EMU_PID_SRC) $(wildcard lib/src/*.h)
+	@test $(words $(EMU_PID_SRC)) -eq 1 || { echo "emu.mk: EMU_PID_SRC should name lib's one PID module, found: '$(EMU_PID_SRC)'" >&2; exit 1; }
+	avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -Os -g -std=gnu11 -ffunction-sections -fdata-sections -flto \
+	  -Wall -Wextra -Werror -Ilib/src -I$(BUILD)/emu -DEMU_PID_HEADER='"$(notdir $(EMU_PID_SRC:.c=.h))"' \
+	  -fuse-linker-plugin -Wl,--gc-sections $< $(EMU_PID_SRC) -o $@ -lm
+
 # The sketches the emulator checks are built by the same script as `make firmware`; its stamp
 # makes `make test` rebuild them when firmware/ or lib/ changed.
 EMU_FW_SRCS := $(shell find firmware lib -type f 2>/dev/null)
@@ -41,7 +59,7 @@ $(EMU_TIMED_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
 	  >$(BUILD)/emu/timed.log 2>&1 || { cat $(BUILD)/emu/timed.log; exit 1; }; fi
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_PID_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

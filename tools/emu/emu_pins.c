@@ -4,7 +4,9 @@
  * Arduino "mega" variant): D0-D1 = PE0-PE1 (USART0), D2 = PE4, D3 = PE5, ..., D54-D69 = PF0-PK7
  * (A0-A15). A pin's level is what simavr's port pin IRQ reports: PORT writes of output pins and
  * timer compare outputs (PWM) both arrive there; repeated equal values are filtered here so that
- * only real edges are logged.
+ * only real edges are logged. A watched pin's direction is logged too ("ddr <cycle> <name> 1" when
+ * its DDRx bit is set, 0 when cleared; reset state: input), from simavr's DDR write IRQ, so that a
+ * check can tell a pin driven low from an input pin that merely reads 0.
  */
 #include <ctype.h>
 #include <stdlib.h>
@@ -80,6 +82,7 @@ typedef struct pin_state {
     int level;      /* the level we report */
     int irq_level;  /* the level simavr's port logic last reported */
     int overridden; /* driven by the harness (emulated PWM output), not by PORT */
+    int output;     /* its DDRx bit (0 at reset: input) */
     listener_t *listeners;
     struct pin_state *next;
 } pin_state_t;
@@ -112,13 +115,26 @@ static void pin_changed(struct avr_irq_t *irq, uint32_t value, void *param)
         set_level(p, p->irq_level);
 }
 
+static void ddr_changed(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    (void)irq;
+    pin_state_t *p = param;
+    int output = (value >> p->pin.bit) & 1; /* the IRQ carries the whole DDRx byte */
+    if (output == p->output)
+        return;
+    p->output = output;
+    if (p->watched)
+        emu_log(p->avr->cycle, "ddr", "%s %d", p->name, output);
+}
+
 static pin_state_t *pin_get(avr_t *avr, emu_pin_t pin)
 {
     for (pin_state_t *p = pins; p; p = p->next)
         if (p->pin.port == pin.port && p->pin.bit == pin.bit)
             return p;
     avr_irq_t *irq = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(pin.port), pin.bit);
-    if (!irq)
+    avr_irq_t *dir = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(pin.port), IOPORT_IRQ_DIRECTION_ALL);
+    if (!irq || !dir)
         return NULL;
     pin_state_t *p = calloc(1, sizeof *p);
     if (!p)
@@ -128,6 +144,7 @@ static pin_state_t *pin_get(avr_t *avr, emu_pin_t pin)
     snprintf(p->name, sizeof p->name, "P%c%d", pin.port, pin.bit);
     p->level = 0; /* reset state of every port pin: input, no pull-up */
     avr_irq_register_notify(irq, pin_changed, p);
+    avr_irq_register_notify(dir, ddr_changed, p);
     p->next = pins;
     pins = p;
     return p;

@@ -53,6 +53,7 @@ class EmuLog:
         self.rx = []          # Line: lines from the firmware
         self.tx = []          # Line: what the script sent (text as written)
         self.pins = {}        # name -> [(cycle, level)]
+        self.ddr = {}         # name -> [(cycle, 1 output / 0 input)]: the pin's DDRx bit
         self.motor = []       # (cycle, duty_pct, counts)
         self.marks = []       # Line
         self.fails = []       # (cycle, kind, text)
@@ -82,6 +83,9 @@ class EmuLog:
             elif tag == "pin":
                 name, level = rest.split()
                 log.pins.setdefault(name, []).append((cycle, int(level)))
+            elif tag == "ddr":
+                name, out = rest.split()
+                log.ddr.setdefault(name, []).append((cycle, int(out)))
             elif tag == "motor":
                 duty, counts = rest.split()
                 log.motor.append((cycle, float(duty), int(counts)))
@@ -115,6 +119,20 @@ class EmuLog:
                 break
             level = lv
         return level
+
+    def output_before(self, pin, cycle):
+        """1 if the pin was an output (DDRx bit set) just before `cycle`; 0 (input: the reset state)
+        if the firmware never made it one."""
+        out = 0
+        for c, o in self.ddr.get(pin, []):
+            if c >= cycle:
+                break
+            out = o
+        return out
+
+    def changes_between(self, pin, a, b):
+        """cycles in [a, b] at which the pin's level or direction changed"""
+        return sorted(c for c, _ in self.pins.get(pin, []) + self.ddr.get(pin, []) if a <= c <= b)
 
     def lines_matching(self, pattern, after=0, before=None):
         rx = re.compile(pattern)

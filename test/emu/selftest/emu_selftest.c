@@ -10,6 +10,8 @@
  *  - UART0 9600 baud 8N1 (U2X0 = 1, UBRR0 = 207): one byte = 10 * 8 * 208 = 16640 cycles;
  *  - SPI master fosc/16, mode 0: one byte = 8 * 16 = 128 cycles; LS7366R on CS = PB0 (D53).
  * Commands (lines ending in CR LF): ping, ?, burst, enc, enc2, mdr, spi, adc, pwm <0..255>,
+ * dir (PF2 = D56, interrupts off, one change every 1000 cycles: output low, input, pull-up on, output
+ * high, output low: the harness must log its direction changes as well as its level changes),
  * reset (jumps to 0), wdt (watchdog reset), halt (cli; sleep), wild (writes beyond the SRAM), void
  * (calls into erased flash), recurse (recursion without end), dig1 (OC3C off, PE5 high by PORT, as
  * analogWrite(pin, 255)), rev <0..255> (analogWrite(pin, 0) then (pin, v), as on a motor reversal),
@@ -95,6 +97,18 @@ ISR(TIMER1_COMPA_vect)
     do {                                                \
         __asm__ __volatile__("sbi %0, 1" ::"I"(_SFR_IO_ADDR(PINF))); \
         __builtin_avr_delay_cycles(998);                \
+    } while (0)
+
+/* one sbi/cbi (2 cycles) then 998 cycles: 1000 cycles per change */
+#define SBI_1000(reg, bit)                                                    \
+    do {                                                                      \
+        __asm__ __volatile__("sbi %0, %1" ::"I"(_SFR_IO_ADDR(reg)), "I"(bit)); \
+        __builtin_avr_delay_cycles(998);                                      \
+    } while (0)
+#define CBI_1000(reg, bit)                                                    \
+    do {                                                                      \
+        __asm__ __volatile__("cbi %0, %1" ::"I"(_SFR_IO_ADDR(reg)), "I"(bit)); \
+        __builtin_avr_delay_cycles(998);                                      \
     } while (0)
 
 int main(void)
@@ -201,6 +215,16 @@ int main(void)
             TCCR3A = _BV(WGM30) | _BV(COM3C1);
             snprintf(buf, sizeof buf, "OK pwm %d", v);
             println(buf);
+        } else if (!strcmp(line, "dir")) {
+            uint8_t sreg = SREG;
+            cli();
+            SBI_1000(DDRF, PF2);  /* output, PORTF2 = 0: driven low (direction 1, level stays 0) */
+            CBI_1000(DDRF, PF2);  /* input (direction 0) */
+            SBI_1000(PORTF, PF2); /* input with pull-up: reads 1 (level 1) */
+            SBI_1000(DDRF, PF2);  /* output high (direction 1) */
+            CBI_1000(PORTF, PF2); /* output low (level 0) */
+            SREG = sreg;
+            println("OK dir");
         } else if (!strcmp(line, "reset")) {
             println("OK jumping to 0");
             while (!(UCSR0A & _BV(TXC0)))
