@@ -81,6 +81,74 @@ motion_status_t text_parse_int32(const char *word, int32_t lo, int32_t hi, int32
     return MS_OK;
 }
 
+/* Powers of ten that are exact in a float (5^10 < 2^24) and so in any double. */
+static const double exact_pow10[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10};
+#define EXACT_POW10_MAX 10
+#define EXACT_MANTISSA_MAX 16777216UL /* 2^24: every integer up to it is exact in a float */
+
+/* The correctly rounded value of a validated decimal word when its significant digits fit in 2^24
+ * and its decimal exponent in +-10: both operands of one multiplication or division are then
+ * exact, so IEEE arithmetic rounds once, correctly, in float (AVR) as in double (host).
+ * avr-libc's strtod is not correctly rounded ("0.05" gives 0x3D4CCCCC, one unit below the
+ * nearest float 0x3D4CCCCD; so do 0.15, 0.9, 1.234, 7.7), which would make the board run other
+ * parameters than motionsim. Returns 0 when the word is outside that range (strtod then). */
+static int parse_short_decimal(const char *word, double *out)
+{
+    const char *p = word;
+    int negative = 0, exp10 = 0, exp_negative = 0;
+    int pending_zeros = 0; /* zeros not yet multiplied into the mantissa */
+    uint32_t mantissa = 0;
+    long exp_value = 0;
+    double v;
+    if (*p == '+' || *p == '-')
+        negative = (*p++ == '-');
+    for (int fraction = 0;; p++) {
+        if (*p == '.' && !fraction) {
+            fraction = 1;
+            continue;
+        }
+        if (!is_digit(*p))
+            break;
+        if (fraction)
+            exp10--;
+        if (*p == '0') {
+            pending_zeros++; /* trailing zeros of the fraction need not enter the mantissa */
+            continue;
+        }
+        for (; pending_zeros > 0; pending_zeros--) {
+            if (mantissa > EXACT_MANTISSA_MAX / 10U)
+                return 0;
+            mantissa *= 10U;
+        }
+        if (mantissa > (EXACT_MANTISSA_MAX - (uint32_t)(*p - '0')) / 10U)
+            return 0;
+        mantissa = mantissa * 10U + (uint32_t)(*p - '0');
+    }
+    /* zeros left over are worth 10^pending_zeros: fold them into the exponent */
+    exp10 += pending_zeros;
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-')
+            exp_negative = (*p++ == '-');
+        for (; is_digit(*p); p++) {
+            if (exp_value > 1000)
+                return 0;
+            exp_value = exp_value * 10 + (*p - '0');
+        }
+        exp10 += exp_negative ? -(int)exp_value : (int)exp_value;
+    }
+    if (mantissa == 0) {
+        *out = negative ? -0.0 : 0.0;
+        return 1;
+    }
+    if (exp10 < -EXACT_POW10_MAX || exp10 > EXACT_POW10_MAX)
+        return 0;
+    v = (double)mantissa;
+    v = exp10 < 0 ? v / exact_pow10[-exp10] : v * exact_pow10[exp10];
+    *out = negative ? -v : v;
+    return 1;
+}
+
 motion_status_t text_parse_real(const char *word, double lo, double hi, double *out)
 {
     const char *p = word;
@@ -114,9 +182,11 @@ motion_status_t text_parse_real(const char *word, double lo, double hi, double *
     }
     if (*p != '\0')
         return MS_ERR_NOT_A_NUMBER;
-    v = strtod(word, &end);
-    if (end != p)
-        return MS_ERR_NOT_A_NUMBER;
+    if (!parse_short_decimal(word, &v)) {
+        v = strtod(word, &end);
+        if (end != p)
+            return MS_ERR_NOT_A_NUMBER;
+    }
     /* overflow gives +-HUGE_VAL; NaN fails both comparisons */
     if (!(v >= lo && v <= hi))
         return MS_ERR_OUT_OF_RANGE;

@@ -28,7 +28,11 @@ int text_at_end(const char *cursor);
 motion_status_t text_parse_int32(const char *word, int32_t lo, int32_t hi, int32_t *out);
 
 /* Whole-word decimal number in [lo, hi]: [sign] digits [. digits] [e [sign] digits], at least
- * one digit in the mantissa; finite. MS_ERR_NOT_A_NUMBER, MS_ERR_OUT_OF_RANGE, or MS_OK. */
+ * one digit in the mantissa; finite. MS_ERR_NOT_A_NUMBER, MS_ERR_OUT_OF_RANGE, or MS_OK.
+ * Correctly rounded for up to 8 significant digits (< 2^24) and decimal exponents within +-10
+ * (one exact multiply or divide), beyond that as the C library's strtod; avr-libc's strtod alone
+ * is one unit off for words such as "0.05", so the board would otherwise run other numbers than
+ * motionsim. */
 motion_status_t text_parse_real(const char *word, double lo, double hi, double *out);
 
 /* Case-sensitive word equality, for command names. */

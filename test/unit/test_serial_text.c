@@ -2,6 +2,8 @@
  * Serial Monitor input into commands, and to explain a rejection ("ERR <reason>"). */
 #include "cmocka_all.h"
 
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "line_reader.h"
@@ -178,6 +180,47 @@ static void real_rejects_junk_nan_inf_hex_and_range(void **state)
     assert_true(v == 42);
 }
 
+/* text_parse_real must return the correctly rounded value (avr-libc's strtod is not; see
+ * text_parse.c). The oracle is the host C library's strtod, which is correctly rounded (glibc),
+ * on words of every shape: short decimals (the exact fast path), long ones and big exponents. */
+static void real_is_correctly_rounded_like_the_host_strtod(void **state)
+{
+    static const char *const fixed[] = {
+        "0.05", "0.15", "0.9", "1.234", "7.7", "0.0005", "0.1", "0.3", "2.0004", "16777216",
+        "16777217", "0.050000000", "-0.05", "500", "1005", "1e10", "1e-10", "1.5e-11", "123456.7",
+        "0.000000001", "3.14159265358979", "99999999999", "0", "-0", "0e5", "000.0100", "1e+3",
+    };
+    char word[32];
+    uint32_t seed = 12345;
+    (void)state;
+    for (size_t i = 0; i < sizeof fixed / sizeof fixed[0]; i++) {
+        double v = -1.0, want = strtod(fixed[i], NULL);
+        assert_int_equal(text_parse_real(fixed[i], -1e12, 1e12, &v), MS_OK);
+        assert_memory_equal(&v, &want, sizeof v);
+    }
+    for (int i = 0; i < 200000; i++) {
+        double v = -1.0, want;
+        uint32_t m, frac, e;
+        seed = seed * 1664525U + 1013904223U;
+        m = seed >> 8;                    /* up to 8 digits */
+        seed = seed * 1664525U + 1013904223U;
+        frac = (seed >> 8) % 9U;          /* digits after the point */
+        e = (seed >> 4) % 25U;            /* exponent -12 .. 12 */
+        snprintf(word, sizeof word, "%u", (unsigned)m);
+        if (frac > 0 && frac < strlen(word)) {
+            size_t n = strlen(word);
+            memmove(word + n - frac + 1, word + n - frac, frac + 1);
+            word[n - frac] = '.';
+        }
+        if (e != 12)
+            snprintf(word + strlen(word), sizeof word - strlen(word), "e%d", (int)e - 12);
+        want = strtod(word, NULL);
+        assert_int_equal(text_parse_real(word, -1e30, 1e30, &v), MS_OK);
+        if (memcmp(&v, &want, sizeof v) != 0)
+            fail_msg("'%s': %.17g, strtod %.17g", word, v, want);
+    }
+}
+
 static void words_split_on_blanks(void **state)
 {
     const char *cur = "  set\tvmax  20 ";
@@ -210,6 +253,7 @@ int main(void)
         cmocka_unit_test(int32_rejects_junk_and_overflow_without_touching_output),
         cmocka_unit_test(real_accepts_decimal_forms),
         cmocka_unit_test(real_rejects_junk_nan_inf_hex_and_range),
+        cmocka_unit_test(real_is_correctly_rounded_like_the_host_strtod),
         cmocka_unit_test(words_split_on_blanks),
     };
     return cmocka_run_group_tests_name("serial_text", tests, NULL, NULL);
