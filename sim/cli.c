@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -24,12 +25,29 @@ int cli_parse_double(const char *s, double *out)
     char *end = NULL;
     double v;
     if (s == NULL || *s == '\0' || strchr(" \t\n", s[0]) != NULL || strpbrk(s, "xX") != NULL)
-        return -1; /* no leading space, no hexadecimal (strtod would take 0x5) */
+        return CLI_NUM_MALFORMED; /* no leading space, no hexadecimal (strtod would take 0x5) */
     errno = 0;
     v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
-        return -1;
+    if (end == s || *end != '\0' || isnan(v))
+        return CLI_NUM_MALFORMED;
+    if (errno == ERANGE || isinf(v)) {
+        /* "inf" is spelled out (malformed); a huge exponent overflows; a tiny one underflows to a
+         * subnormal or 0 */
+        if (isinf(v) && errno != ERANGE)
+            return CLI_NUM_MALFORMED;
+        return fabs(v) <= DBL_MIN ? CLI_NUM_UNDERFLOW : CLI_NUM_OVERFLOW;
+    }
     *out = v;
+    return 0;
+}
+
+int cli_float_range(double x)
+{
+    double m = fabs(x);
+    if (m > FLT_MAX)
+        return CLI_NUM_OVERFLOW;
+    if (m != 0.0 && m < FLT_MIN)
+        return CLI_NUM_UNDERFLOW;
     return 0;
 }
 
@@ -37,8 +55,8 @@ static int parse_integer(const char *s, long long lo, long long hi, long long *o
 {
     char *end = NULL;
     long long v;
-    if (s == NULL || *s == '\0' || strchr(" \t\n", s[0]) != NULL)
-        return -1;
+    if (s == NULL || *s == '\0' || strchr(" \t\n", s[0]) != NULL || strpbrk(s, "xX") != NULL)
+        return -1; /* base 10 only: strtoll would stop at the x of 0x5 anyway; said here too */
     errno = 0;
     v = strtoll(s, &end, 10);
     if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
@@ -81,6 +99,19 @@ static const char *kind_metavar(const cli_opt_t *o)
     }
 }
 
+/* Column where option descriptions start ("  " + option + at least two blanks). An option whose
+ * name and value are wider than HELP_NAME_WIDTH gets its own line and the description goes on the
+ * next one, at the same column, so a long choice list never runs into its text. */
+#define HELP_NAME_WIDTH 30
+
+static void print_option_help(const char *left, const char *help)
+{
+    if (strlen(left) > HELP_NAME_WIDTH)
+        printf("  %s\n  %-*s  %s\n", left, HELP_NAME_WIDTH, "", help);
+    else
+        printf("  %-*s  %s\n", HELP_NAME_WIDTH, left, help);
+}
+
 static void print_help(const cli_spec_t *spec)
 {
     size_t i;
@@ -90,14 +121,14 @@ static void print_help(const cli_spec_t *spec)
     printf("\noptions:\n");
     for (i = 0; i < spec->n_opts; i++) {
         const cli_opt_t *o = &spec->opts[i];
-        char left[96];
+        char left[128];
         if (o->kind == CLI_FLAG)
             snprintf(left, sizeof left, "%s", o->name);
         else
             snprintf(left, sizeof left, "%s %s", o->name, kind_metavar(o));
-        printf("  %-30s %s\n", left, o->help != NULL ? o->help : "");
+        print_option_help(left, o->help != NULL ? o->help : "");
     }
-    printf("  %-30s %s\n", "-h, --help", "show this help and exit");
+    print_option_help("-h, --help", "show this help and exit");
 }
 
 /* Finds the index of `value` in a '|'-separated list, or -1. */
@@ -121,6 +152,10 @@ int cli_parse(const cli_spec_t *spec, int argc, char **argv, const char **positi
 {
     int i;
     size_t npos = 0;
+    unsigned char given[CLI_MAX_OPTS];
+    if (spec->n_opts > CLI_MAX_OPTS)
+        return cli_error(spec->cmd, "internal error: more than %d options", CLI_MAX_OPTS);
+    memset(given, 0, sizeof given);
     for (i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const char *value = NULL;
@@ -149,6 +184,10 @@ int cli_parse(const cli_spec_t *spec, int argc, char **argv, const char **positi
         }
         if (o == NULL)
             return cli_error(spec->cmd, "unknown option '%.*s' (try 'motionsim %s --help')", (int)name_len, arg, spec->cmd);
+        /* a second value would silently replace the first: refuse it, as a typo usually */
+        if (given[k])
+            return cli_error(spec->cmd, "%s given twice", o->name);
+        given[k] = 1;
         if (o->kind == CLI_FLAG) {
             if (eq != NULL)
                 return cli_error(spec->cmd, "option %s takes no value", o->name);
@@ -166,8 +205,19 @@ int cli_parse(const cli_spec_t *spec, int argc, char **argv, const char **positi
         }
         switch (o->kind) {
         case CLI_DOUBLE:
-            if (cli_parse_double(value, (double *)o->dest) != 0)
+            switch (cli_parse_double(value, (double *)o->dest)) {
+            case 0:
+                break;
+            case CLI_NUM_OVERFLOW:
+                return cli_error(spec->cmd, "%s: '%s' is out of range: it overflows a double (magnitude above 1.8e308)",
+                                 o->name, value);
+            case CLI_NUM_UNDERFLOW:
+                return cli_error(spec->cmd,
+                                 "%s: '%s' is out of range: it underflows a double (nonzero magnitude below 2.2e-308)",
+                                 o->name, value);
+            default:
                 return cli_error(spec->cmd, "%s: '%s' is not a finite number", o->name, value);
+            }
             break;
         case CLI_INT32:
             if (cli_parse_int32(value, (int32_t *)o->dest) != 0)
@@ -213,13 +263,20 @@ FILE *cli_open_output(const char *cmd, const char *path)
 
 int cli_close_output(const char *cmd, FILE *f, const char *path)
 {
-    int bad = ferror(f);
+    int bad = ferror(f), closed_bad, err;
+    errno = 0;
     if (f == stdout)
-        bad |= fflush(f) != 0;
+        closed_bad = fflush(f) != 0;
     else
-        bad |= fclose(f) != 0;
-    if (bad) {
-        fprintf(stderr, "motionsim %s: writing '%s' failed\n", cmd, path != NULL ? path : "stdout");
+        closed_bad = fclose(f) != 0;
+    err = errno;
+    if (bad || closed_bad) {
+        /* the reason is known when flushing the rest failed too (the usual case: a full disk) */
+        if (closed_bad && err != 0)
+            fprintf(stderr, "motionsim %s: writing '%s' failed: %s\n", cmd, path != NULL ? path : "stdout",
+                    strerror(err));
+        else
+            fprintf(stderr, "motionsim %s: writing '%s' failed\n", cmd, path != NULL ? path : "stdout");
         return CLI_EXIT_RUNTIME;
     }
     return CLI_EXIT_OK;

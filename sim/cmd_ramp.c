@@ -68,6 +68,23 @@ static kin_row_t kin_row(kin_t *k, double interval_ticks, uint32_t whole_ticks, 
     return row;
 }
 
+/* Accounts for n more rows equal to the last one (a cruise): only the running time moves on. */
+static void kin_skip(kin_t *k, uint32_t n, double interval_ticks, uint32_t whole_ticks, int whole)
+{
+    if (whole)
+        k->t_sum_whole += (uint64_t)n * whole_ticks;
+    else
+        k->t_sum_ticks += (double)n * interval_ticks;
+}
+
+/* Time of step n after kin_skip: the running sum, or the exact ramp's closed form. */
+static double kin_time_s(const kin_t *k, int whole, const ramp_exact_t *exact, uint32_t n)
+{
+    if (exact != NULL)
+        return ramp_exact_time_s(exact, n);
+    return whole ? (double)k->t_sum_whole / k->tick_hz : k->t_sum_ticks / k->tick_hz;
+}
+
 /* ---- --compare ---- */
 typedef struct {
     const char *name;
@@ -80,31 +97,31 @@ typedef struct {
     uint32_t a_max_step;
 } cmp_t;
 
-static motion_status_t compare_one(cmp_t *c, ramp_algo_t algo, const ramp_params_t *p, int32_t from, int32_t to,
-                                   int whole)
+/* Deviation of the planned ramp r from the planned exact ramp ex, step by step. Cruise steps are
+ * accounted for in one go: once both ramps are in a cruise whose next step repeats the step just
+ * taken (same interval in each), the rows in between would all equal that row (same intervals and
+ * deviations, acceleration 0 in both), and the step-time deviation changes linearly there, so its
+ * extremes are at the two ends, which are stepped normally. The sums get n times the row's
+ * squares: the result equals stepping through (test_ramp.py checks it), at a cost that no longer
+ * grows with the cruise (a 2^32-step move takes milliseconds). */
+static void compare_one(cmp_t *c, ramp_t *r, ramp_t *ex, const ramp_params_t *p, int whole)
 {
-    ramp_t r, ex;
     ramp_step_t s, e;
     kin_t kr, ke;
-    motion_status_t st = ramp_plan(&r, algo, p, from, to);
-    if (st != MS_OK)
-        return st;
-    st = ramp_plan(&ex, RAMP_ALGO_EXACT, p, from, to);
-    if (st != MS_OK)
-        return st;
     memset(c, 0, sizeof *c);
-    c->name = ramp_algo_name(algo);
-    c->steps = r.steps_total;
+    c->name = ramp_algo_name(r->algo);
+    c->steps = r->steps_total;
     kin_init(&kr, (double)p->tick_hz, p->v0_sps);
     kin_init(&ke, (double)p->tick_hz, p->v0_sps);
-    while (ramp_next(&r, &s) && ramp_next(&ex, &e)) {
-        double own_t = (algo == RAMP_ALGO_EXACT && !whole) ? ramp_exact_time_s(&r.u.exact, s.step) : -1.0;
+    while (ramp_next(r, &s) && ramp_next(ex, &e)) {
+        double own_t = (r->algo == RAMP_ALGO_EXACT && !whole) ? ramp_exact_time_s(&r->u.exact, s.step) : -1.0;
         kin_row_t a = kin_row(&kr, s.interval_ticks, s.whole_ticks, whole, own_t);
-        kin_row_t b = kin_row(&ke, e.interval_ticks, e.whole_ticks, 0, ramp_exact_time_s(&ex.u.exact, e.step));
+        kin_row_t b = kin_row(&ke, e.interval_ticks, e.whole_ticks, 0, ramp_exact_time_s(&ex->u.exact, e.step));
         double di = (a.dt_s - b.dt_s) * (double)p->tick_hz;
         double dpct = 100.0 * (a.dt_s - b.dt_s) / b.dt_s;
         double da = a.accel_sps2 - b.accel_sps2;
         double dt = fabs(a.t_s - b.t_s);
+        uint32_t skip;
         if (dt > c->t_max_dev_s)
             c->t_max_dev_s = dt;
         if (fabs(dpct) > fabs(c->i_max_dev_pct) || s.step == 1) {
@@ -121,8 +138,34 @@ static motion_status_t compare_one(cmp_t *c, ramp_algo_t algo, const ramp_params
         c->a_sum_sq += da * da;
         c->move_time_s = a.t_s;
         c->exact_time_s = b.t_s;
+        skip = ramp_cruise_skippable(r);
+        if (skip > 0) {
+            uint32_t skip_ex = ramp_cruise_skippable(ex);
+            if (skip_ex < skip)
+                skip = skip_ex;
+        }
+        if (skip > 0) {
+            /* the skipped steps repeat the next step of each ramp: skip only if that is this one */
+            ramp_t rn = *r, en = *ex;
+            ramp_step_t s2, e2;
+            if (ramp_next(&rn, &s2) && ramp_next(&en, &e2) && s2.interval_ticks == s.interval_ticks &&
+                s2.whole_ticks == s.whole_ticks && e2.interval_ticks == e.interval_ticks) {
+                (void)ramp_skip_cruise_at_most(r, skip);
+                (void)ramp_skip_cruise_at_most(ex, skip);
+                kin_skip(&kr, skip, s.interval_ticks, s.whole_ticks, whole);
+                kin_skip(&ke, skip, e.interval_ticks, e.whole_ticks, 0);
+                /* the step-time deviation at the last skipped step (the other end was this one) */
+                dt = fabs(kin_time_s(&kr, whole, r->algo == RAMP_ALGO_EXACT && !whole ? &r->u.exact : NULL,
+                                     r->steps_done) -
+                          ramp_exact_time_s(&ex->u.exact, ex->steps_done));
+                if (dt > c->t_max_dev_s)
+                    c->t_max_dev_s = dt;
+                /* each skipped row: the same di and dpct, and speed unchanged in both ramps */
+                c->i_sum_sq_ticks += (double)skip * di * di;
+                c->i_sum_sq_pct += (double)skip * dpct * dpct;
+            }
+        }
     }
-    return MS_OK;
 }
 
 static void compare_row(FILE *f, const cmp_t *c, double accel)
@@ -145,26 +188,28 @@ static void compare_row(FILE *f, const cmp_t *c, double accel)
     csv_row(f, v, 12);
 }
 
-static int run_compare(FILE *f, const ramp_params_t *p, int32_t from, int32_t to, int whole)
+typedef struct {
+    ramp_algo_t algo;
+    ramp_t plan;
+    const char *left_out; /* why this algorithm has no row, or NULL */
+    char why[200];        /* room for left_out's text */
+} cmp_plan_t;
+
+static void run_compare(FILE *f, cmp_plan_t *plans, size_t n, const ramp_t *exact, const ramp_params_t *p, int whole)
 {
-    static const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_SIMPLISTIC, RAMP_ALGO_LEIB};
     size_t i;
     fputs("algo,steps,move_time_s,move_time_dev_pct,step_time_max_dev_s,interval_max_dev_ticks,"
           "interval_max_dev_pct,interval_max_dev_step,interval_rms_dev_pct,accel_max_dev_sps2,"
           "accel_max_dev_pct,accel_max_dev_step,accel_rms_dev_sps2\n",
           f);
-    for (i = 0; i < sizeof algos / sizeof algos[0]; i++) {
+    for (i = 0; i < n && !ferror(f); i++) {
         cmp_t c;
-        motion_status_t st = compare_one(&c, algos[i], p, from, to, whole);
-        if (st != MS_OK) {
-            /* e.g. the simplistic ramp with v0 = 0: the others are still worth comparing */
-            fprintf(stderr, "motionsim ramp: %s left out of the comparison: %s\n", ramp_algo_name(algos[i]),
-                    motion_status_text(st));
+        ramp_t ex = *exact;
+        if (plans[i].left_out != NULL)
             continue;
-        }
+        compare_one(&c, &plans[i].plan, &ex, p, whole);
         compare_row(f, &c, p->accel_sps2);
     }
-    return CLI_EXIT_OK;
 }
 
 /* ---- the step table ---- */
@@ -178,7 +223,7 @@ static void table_rows(FILE *f, ramp_t *r, double tick_hz, double v_start, int w
     ramp_step_t s;
     kin_t k;
     kin_init(&k, tick_hz, v_start);
-    while (ramp_next(r, &s)) {
+    while (!ferror(f) && ramp_next(r, &s)) { /* stop at the first write error (a full disk) */
         double exact_t = (r->algo == RAMP_ALGO_EXACT && !whole) ? ramp_exact_time_s(&r->u.exact, s.step) : -1.0;
         kin_row_t row = kin_row(&k, s.interval_ticks, s.whole_ticks, whole, exact_t);
         fprintf(f, "%lu,%ld,", (unsigned long)s.step, (long)s.position);
@@ -198,6 +243,39 @@ static void table_rows(FILE *f, ramp_t *r, double tick_hz, double v_start, int w
     }
 }
 
+/* Why a double does not survive conversion to float, or NULL. */
+static const char *float_problem(double x)
+{
+    switch (cli_float_range(x)) {
+    case CLI_NUM_OVERFLOW: return "is out of range for a float (magnitude above 3.4e38)";
+    case CLI_NUM_UNDERFLOW: return "underflows a float (nonzero magnitude below 1.2e-38)";
+    default: return NULL;
+    }
+}
+
+/* Simplistic and Leib compute in float: why their parameters do not fit one (a sentence naming
+ * the option), or NULL. The exact ramp computes in double: always NULL. */
+static const char *float_params_problem(ramp_algo_t algo, const ramp_params_t *p, char *msg, size_t n)
+{
+    const char *names[3] = {"--v0", "--vmax", "--accel"};
+    double values[3];
+    int i;
+    if (algo != RAMP_ALGO_SIMPLISTIC && algo != RAMP_ALGO_LEIB)
+        return NULL;
+    values[0] = p->v0_sps;
+    values[1] = p->vmax_sps;
+    values[2] = p->accel_sps2;
+    for (i = 0; i < 3; i++) {
+        const char *why = float_problem(values[i]);
+        if (why != NULL) {
+            snprintf(msg, n, "%s: %g %s; %s computes in float, as on the Mega", names[i], values[i], why,
+                     ramp_algo_name(algo));
+            return msg;
+        }
+    }
+    return NULL;
+}
+
 static const char ramp_description[] =
     "Plans a stepper move with the same lib/ code as the Mega sketches and writes one CSV row per\n"
     "step (virtual time, nothing sleeps): step,position,t_s,interval_ticks,speed_sps,accel_sps2.\n"
@@ -213,14 +291,26 @@ static const char ramp_description[] =
     "Algorithms: simplistic (lab eqs. 1-2), leib (lab §4.3.3 steps 1-6), exact (true constant\n"
     "acceleration), sigmoid (seed 001 S-curve table; options --len --fmin --fmax --flex --timer-hz\n"
     "--hold instead of --v0 --vmax --accel --tick-hz).\n"
-    "--compare prints, for exact, simplistic and leib, how far each deviates from the exact ramp:\n"
-    "move time, largest step-time error, largest and RMS interval error, largest and RMS\n"
-    "acceleration error (with the step where the largest occurs).\n"
+    "--compare (no --algo) prints, for exact, simplistic and leib, how far each deviates from the\n"
+    "exact ramp: move time, largest step-time error, largest and RMS interval error, largest and\n"
+    "RMS acceleration error (with the step where the largest occurs); cruise steps are summed in\n"
+    "one go, so any move takes milliseconds. An algorithm that refuses the parameters is left out\n"
+    "with its reason on stderr; if the exact ramp refuses them, nothing is printed (exit 2).\n"
     "The firmware's intervals: LeibRampStepper = --algo leib --tick-hz 2000000 --integer-ticks.";
+
+/* Refuses a value that does not survive conversion to float (what the module computes in, as on
+ * the Mega): one line naming the option. Returns -1 when it fits. */
+static int check_float_option(const char *name, double x, const char *who)
+{
+    const char *why = float_problem(x);
+    if (why == NULL)
+        return -1;
+    return cli_error(RAMP_CMD, "%s: %g %s; %s computes in float, as on the Mega", name, x, why, who);
+}
 
 int cmd_ramp(int argc, char **argv)
 {
-    int algo = RAMP_ALGO_LEIB, compare = 0, whole = 0;
+    int algo = RAMP_ALGO_LEIB, compare = 0, whole = 0, algo_given = 0;
     int32_t from = 0, to = 50;
     double v0 = 1.0, vmax = 20.0, accel = 10.0;
     uint32_t tick_hz = 1000;
@@ -232,7 +322,8 @@ int cmd_ramp(int argc, char **argv)
     static const char *trap_names[4] = {"--v0", "--vmax", "--accel", "--tick-hz"};
     static const char *sig_names[6] = {"--len", "--fmin", "--fmax", "--flex", "--timer-hz", "--hold"};
     const cli_opt_t opts[] = {
-        {"--algo", CLI_CHOICE, &algo, NULL, "ramp algorithm (default leib)", "simplistic|leib|exact|sigmoid", NULL},
+        {"--algo", CLI_CHOICE, &algo, NULL, "ramp algorithm (default leib)", "simplistic|leib|exact|sigmoid",
+         &algo_given},
         {"--from", CLI_INT32, &from, "STEPS", "start position (default 0)", NULL, NULL},
         {"--to", CLI_INT32, &to, "STEPS", "target position (default 50); any int32", NULL, NULL},
         {"--v0", CLI_DOUBLE, &v0, "SPS", "minimum (start/stop) speed, steps/s (default 1)", NULL, &seen_trap[0]},
@@ -249,12 +340,15 @@ int cmd_ramp(int argc, char **argv)
         {"--hold", CLI_UINT32, &hold, "N", "sigmoid: steps per table entry, 1..65535 (default 4)", NULL, &seen_sig[5]},
         {"--integer-ticks", CLI_FLAG, &whole, NULL, "intervals in whole ticks, as the firmware's timer counts them",
          NULL, NULL},
-        {"--compare", CLI_FLAG, &compare, NULL, "deviation of simplistic and leib from exact (a table)", NULL, NULL},
+        {"--compare", CLI_FLAG, &compare, NULL,
+         "per algorithm, its deviation from the exact ramp (a table; not with --algo)", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
     };
-    const cli_spec_t spec = {RAMP_CMD, "[--algo A] [--from N --to N] [options] [--compare] [-o FILE]",
+    const cli_spec_t spec = {RAMP_CMD, "[--algo A | --compare] [--from N --to N] [options] [-o FILE]",
                              ramp_description, opts, sizeof opts / sizeof opts[0], 0};
-    ramp_t r;
+    ramp_t r, exact;
+    cmp_plan_t plans[3];
+    size_t n_plans = 0;
     ramp_params_t params;
     ramp_sigmoid_params_t sp;
     uint16_t *table = NULL;
@@ -266,6 +360,8 @@ int cmd_ramp(int argc, char **argv)
     rc = cli_parse(&spec, argc, argv, NULL, NULL);
     if (rc >= 0)
         return rc;
+    if (compare && algo_given)
+        return cli_error(RAMP_CMD, "--algo and --compare cannot be combined: --compare runs every algorithm");
     for (i = 0; i < 6; i++)
         if (seen_sig[i] && algo != RAMP_ALGO_SIGMOID)
             return cli_error(RAMP_CMD, "%s applies to --algo sigmoid only", sig_names[i]);
@@ -274,8 +370,6 @@ int cmd_ramp(int argc, char **argv)
             return cli_error(RAMP_CMD, "%s does not apply to --algo sigmoid (it uses --len --fmin --fmax --flex "
                                        "--timer-hz --hold)",
                              trap_names[i]);
-    if (compare && algo == RAMP_ALGO_SIGMOID)
-        return cli_error(RAMP_CMD, "--compare measures simplistic and leib against exact; not for sigmoid");
     if (len > 65535U)
         return cli_error(RAMP_CMD, "--len: %lu is more than 65535 entries", (unsigned long)len);
     if (hold > 65535U)
@@ -285,7 +379,13 @@ int cmd_ramp(int argc, char **argv)
     params.vmax_sps = vmax;
     params.accel_sps2 = accel;
     params.tick_hz = tick_hz;
+    v_start = v0;
+    rate = tick_hz;
     if (algo == RAMP_ALGO_SIGMOID) {
+        if ((rc = check_float_option("--fmin", fmin, "the S-curve table")) >= 0 ||
+            (rc = check_float_option("--fmax", fmax, "the S-curve table")) >= 0 ||
+            (rc = check_float_option("--flex", flex, "the S-curve table")) >= 0)
+            return rc;
         sp.len = (uint16_t)len;
         sp.hold = (uint16_t)hold;
         sp.fmin_hz = (float)fmin;
@@ -306,13 +406,30 @@ int cmd_ramp(int argc, char **argv)
         v_start = sp.fmin_hz;
         rate = (double)timer_hz;
     } else if (compare) {
-        st = ramp_params_check(&params);
-        v_start = v0;
-        rate = tick_hz;
+        /* every row is measured against the exact ramp: without it there is nothing to print */
+        static const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_SIMPLISTIC, RAMP_ALGO_LEIB};
+        size_t k;
+        st = ramp_plan(&exact, RAMP_ALGO_EXACT, &params, from, to);
+        if (st != MS_OK)
+            return cli_error(RAMP_CMD, "%s (the exact ramp, which --compare measures against)",
+                             motion_status_text(st));
+        for (k = 0; k < sizeof algos / sizeof algos[0]; k++) {
+            cmp_plan_t *c = &plans[n_plans++];
+            c->algo = algos[k];
+            c->left_out = float_params_problem(algos[k], &params, c->why, sizeof c->why);
+            if (c->left_out == NULL) {
+                st = ramp_plan(&c->plan, algos[k], &params, from, to);
+                if (st != MS_OK)
+                    c->left_out = motion_status_text(st); /* e.g. simplistic with v0 = 0 */
+            }
+        }
+        st = MS_OK;
     } else {
+        char msg[200];
+        const char *why = float_params_problem((ramp_algo_t)algo, &params, msg, sizeof msg);
+        if (why != NULL)
+            return cli_error(RAMP_CMD, "%s", why);
         st = ramp_plan(&r, (ramp_algo_t)algo, &params, from, to);
-        v_start = v0;
-        rate = tick_hz;
     }
     if (st != MS_OK) {
         free(table);
@@ -324,7 +441,12 @@ int cmd_ramp(int argc, char **argv)
         return CLI_EXIT_RUNTIME;
     }
     if (compare) {
-        run_compare(f, &params, from, to, whole);
+        size_t k;
+        for (k = 0; k < n_plans; k++)
+            if (plans[k].left_out != NULL)
+                fprintf(stderr, "motionsim ramp: %s left out of the comparison: %s\n", ramp_algo_name(plans[k].algo),
+                        plans[k].left_out);
+        run_compare(f, plans, n_plans, &exact, &params, whole);
     } else {
         table_header(f);
         table_rows(f, &r, rate, v_start, whole);

@@ -160,7 +160,9 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
     return 1;
 }
 
-uint32_t ramp_skip_cruise(ramp_t *r)
+/* The step ramp_skip_cruise jumps to (it hands out the step after it next), or 0 when the move is
+ * not in a cruise that can be skipped. */
+static uint32_t cruise_skip_target(const ramp_t *r)
 {
     uint32_t d = r->steps_total, done = r->steps_done, target;
     switch (r->algo) {
@@ -184,19 +186,42 @@ uint32_t ramp_skip_cruise(ramp_t *r)
     }
     case RAMP_ALGO_SIGMOID: {
         /* cruise: the steps after the len*hold accelerating ones and before as many decelerating */
-        uint32_t a = r->accel_steps, from_end;
+        uint32_t a = r->accel_steps;
         if (done == 0 || done < a || a > d / 2U || done + 1U >= d - a)
             return 0;
         target = d - a - 1U; /* the next step, D - A, is the last cruise step */
-        from_end = d + 1U - target;
-        (void)ramp_sigmoid_set_k(&r->u.sigmoid, target < from_end ? target : from_end);
         break;
     }
     default:
         return 0;
     }
-    if (target <= done)
+    return target > done ? target : 0;
+}
+
+uint32_t ramp_cruise_skippable(const ramp_t *r)
+{
+    uint32_t target = cruise_skip_target(r);
+    return target != 0 ? target - r->steps_done : 0;
+}
+
+uint32_t ramp_skip_cruise_at_most(ramp_t *r, uint32_t max_steps)
+{
+    uint32_t n = ramp_cruise_skippable(r), target;
+    if (n > max_steps)
+        n = max_steps;
+    if (n == 0)
         return 0;
+    target = r->steps_done + n;
+    if (r->algo == RAMP_ALGO_SIGMOID) {
+        uint32_t from_end = r->steps_total + 1U - target;
+        (void)ramp_sigmoid_set_k(&r->u.sigmoid, target < from_end ? target : from_end);
+    }
+    /* simplistic/Leib: the level stays K and the interval p; exact: stateless per step */
     r->steps_done = target;
-    return target - done;
+    return n;
+}
+
+uint32_t ramp_skip_cruise(ramp_t *r)
+{
+    return ramp_skip_cruise_at_most(r, UINT32_MAX);
 }

@@ -83,6 +83,15 @@ uint32_t ramp_steps_left(const ramp_t *r);
  * a sketch steps every step. */
 uint32_t ramp_skip_cruise(ramp_t *r);
 
+/* How many steps ramp_skip_cruise would skip now (0 when not in cruise), without skipping. They
+ * are all cruise steps with one interval and whole-tick count; for simplistic, Leib and sigmoid
+ * also those of the step just handed out and of the step after them (the exact ramp's cruise
+ * ends may straddle the end of its acceleration or the start of its deceleration). */
+uint32_t ramp_cruise_skippable(const ramp_t *r);
+
+/* ramp_skip_cruise, but skipping at most max_steps steps (e.g. to keep two ramps in step). */
+uint32_t ramp_skip_cruise_at_most(ramp_t *r, uint32_t max_steps);
+
 #ifdef __cplusplus
 }
 #endif

@@ -17,6 +17,11 @@ motion_status_t ramp_simplistic_plan(ramp_simplistic_t *s, const ramp_params_t *
     f = (float)params->tick_hz;
     ramp_accel_steps(v0, (float)params->vmax_sps, (float)params->accel_sps2, steps_total, &n.peak_sps,
                      &n.accel_steps);
+    /* S = 0 (vmax is less than one step of acceleration above v0) would make dp = 0 and crawl at
+     * v0 for the whole move: take S = 1 instead, one step from p_max to p_min, which needs only
+     * (vmax^2 - v0^2)/2 < a. Not for a one-step move: it starts and stops at v0. */
+    if (n.accel_steps == 0 && steps_total >= 2U)
+        n.accel_steps = 1;
     n.p_max = f / v0;
     if (!(n.p_max < 4294967296.0f))
         return MS_ERR_INTERVAL_TOO_LONG;

@@ -7,6 +7,12 @@
  * far too steep near vmax. That is the point of the exercise; `motionsim ramp --compare` measures it.
  * Intervals: step 1 is p_max, step S+1 reaches p_min (peak level S+1 for ramp_level); the last
  * step is p_max again. Float, as on the Mega. v0 must be > 0 (MS_ERR_V0_ZERO_SIMPLISTIC).
+ * S < 1: eq. (1) divides by S, and the lab's S = int((v^2 - v0^2)/2a) is 0 when vmax is less than
+ * one step of acceleration above v0 (e.g. v0 1, vmax 4, a 10: 0.75). Then S = 1: step 1 at
+ * p_max, step 2 at p_min = F/vmax (dp = p_max - p_min), cruise, the last step at p_max again;
+ * reaching vmax within one step is allowed, since it needs only (vmax^2 - v0^2)/2 < a (Leib, with
+ * S = 0, runs at F/vmax from step 1). A one-step move keeps S = 0: its one interval is p_max;
+ * a two-step move has S = 1 but no flat level above 1, so both steps are p_max.
  * Cost on the AVR: one float addition (~100 cycles) per accel/decel step.
  */
 #ifndef RAMP_SIMPLISTIC_H

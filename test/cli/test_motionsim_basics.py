@@ -1,4 +1,11 @@
-"""motionsim's top level: help, unknown commands and options, malformed numbers (issue: foundation)."""
+"""motionsim's top level: help, unknown commands and options, malformed numbers, options given
+twice, write errors (issue: foundation)."""
+import os
+import re
+
+import pytest
+
+DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data", "pid_v1")
 
 COMMANDS = ["ramp", "filter", "servo", "pid-replay"]
 
@@ -41,3 +48,75 @@ def test_unknown_option_exits_2_with_one_line(motionsim):
         assert r.rc == 2, c
         assert one_line(r.err) and "unknown option '--no-such-option'" in r.err, (c, r.err)
         assert r.out == "", c
+
+
+# one option with a value and one flag per subcommand, and the arguments each needs to run
+REPEATABLE = {
+    "ramp": (["--to", "5", "--to", "6"], "--to given twice"),
+    "filter": (["--tau", "9", "--tau", "3"], "--tau given twice"),
+    "servo": (["--kp", "0.02", "--kp", "0.05"], "--kp given twice"),
+    "pid-replay": (["--float", "--float", "x.csv"], "--float given twice"),
+}
+
+
+def test_an_option_given_twice_is_refused(motionsim, tmp_path):
+    """A second value used to replace the first without a word; now exit 2 with one line."""
+    for c, (args, message) in REPEATABLE.items():
+        r = motionsim(c, *args)
+        assert r.rc == 2 and r.out == "", c
+        assert r.err.strip().splitlines() == [f"motionsim {c}: {message}"], (c, r.err)
+        r = motionsim(c, "-o", tmp_path / "a.csv", "-o", tmp_path / "b.csv", "x.csv" if c == "pid-replay" else "-h")
+        assert r.rc == 2 and r.err.strip().splitlines() == [f"motionsim {c}: -o given twice"], (c, r.err)
+        assert not (tmp_path / "a.csv").exists() and not (tmp_path / "b.csv").exists()
+
+
+def test_help_descriptions_never_run_into_the_option(motionsim):
+    """Every option's description starts in one column, two blanks or more after the option; an
+    option too wide for the column (ramp's --algo choices) has its description on the next line."""
+    for c in COMMANDS:
+        lines = motionsim(c, "--help").out.split("\n")
+        opts = lines[lines.index("options:") + 1:]
+        opts = [line for line in opts if line]
+        col = None
+        i = 0
+        while i < len(opts):
+            line = opts[i]
+            assert line.startswith("  -"), (c, line)
+            m = re.match(r"  (\S.*?)  +(\S.*)$", line)
+            if m is None:
+                # the option alone; its description on the next line, indented to the column
+                nxt = opts[i + 1]
+                here = len(nxt) - len(nxt.lstrip())
+                i += 2
+            else:
+                here = m.start(2)
+                i += 1
+            col = here if col is None else col
+            assert here == col, (c, line)
+    algo = motionsim("ramp", "--help").out.split("\n")
+    k = algo.index("  --algo simplistic|leib|exact|sigmoid")
+    assert algo[k + 1].strip() == "ramp algorithm (default leib)"
+
+
+def test_integer_options_refuse_hex_and_doubles_say_why_they_are_out_of_range(motionsim):
+    cases = [
+        ("ramp", ["--to", "0x5"], "--to: '0x5' is not a whole number"),
+        ("ramp", ["--tick-hz", "0X10"], "--tick-hz: '0X10' is not a whole number"),
+        ("servo", ["--setpoint", "0x10"], "--setpoint: '0x10'"),
+        ("servo", ["--kp", "1e-320"], "--kp: '1e-320' is out of range: it underflows a double"),
+        ("filter", ["--tau", "1e999"], "--tau: '1e999' is out of range: it overflows a double"),
+    ]
+    for c, args, message in cases:
+        r = motionsim(c, *args)
+        assert r.rc == 2 and r.out == "", (c, args)
+        assert one_line(r.err) and message in r.err, (c, args, r.err)
+
+
+def test_a_write_error_is_reported_in_one_line(motionsim):
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full")
+    runs = {"ramp": [], "filter": [], "servo": [], "pid-replay": [os.path.join(DATA, "a_p_only.csv")]}
+    for c, args in runs.items():
+        r = motionsim(c, *args, "-o", "/dev/full")
+        assert r.rc == 1, (c, r.err)
+        assert r.err.strip().splitlines() == [f"motionsim {c}: writing '/dev/full' failed: No space left on device"]

@@ -6,6 +6,9 @@ recorded from motionsim itself."""
 import csv
 import io
 import math
+import os
+import struct
+import subprocess
 
 import pytest
 
@@ -146,6 +149,117 @@ def test_compare_without_simplistic_when_v0_is_zero(motionsim):
     assert "simplistic left out" in r.err and "v0 > 0" in r.err
 
 
+def test_compare_rows_left_out_carry_their_own_reason(motionsim):
+    # F/v0 = 1e6/1e-4 = 1e10 ticks: too long for simplistic's first interval, while the exact ramp's
+    # first step takes 2/(sqrt(v0^2 + 2a) + v0) = 0.447 s and Leib's F/sqrt(v0^2 + 2a) as long
+    r = motionsim("ramp", "--compare", "--to", "100", "--v0", "1e-4", "--vmax", "20", "--accel", "10",
+                  "--tick-hz", "1000000")
+    assert r.rc == 0, r.err
+    assert [row["algo"] for row in csv.DictReader(io.StringIO(r.out))] == ["exact", "leib"]
+    assert r.err.strip().splitlines() == [
+        "motionsim ramp: simplistic left out of the comparison: a step interval would exceed 2^32-1 timer ticks"]
+    # an acceleration beyond float: simplistic and Leib (float, as on the Mega) each say so, exact runs
+    r = motionsim("ramp", "--compare", "--to", "5", "--accel", "1e39")
+    assert r.rc == 0, r.err
+    assert [row["algo"] for row in csv.DictReader(io.StringIO(r.out))] == ["exact"]
+    lines = r.err.strip().splitlines()
+    assert len(lines) == 2
+    for line, algo in zip(lines, ["simplistic", "leib"]):
+        assert line.startswith(f"motionsim ramp: {algo} left out of the comparison: --accel: ")
+        assert f"{algo} computes in float" in line
+
+
+def test_compare_exits_2_when_the_exact_ramp_refuses(motionsim, tmp_path):
+    # v0 = 0, a = 1e-9: the exact ramp's first step takes sqrt(2/a) = 44721 s = 8.9e10 ticks at 2 MHz
+    out = tmp_path / "cmp.csv"
+    for extra in ([], ["-o", out]):
+        r = motionsim("ramp", "--compare", "--v0", "0", "--accel", "1e-9", "--tick-hz", "2000000", *extra)
+        assert r.rc == 2 and r.out == ""
+        lines = r.err.strip().splitlines()
+        assert len(lines) == 1
+        assert lines[0].startswith("motionsim ramp: a step interval would exceed 2^32-1 timer ticks")
+        assert "exact ramp" in lines[0]
+    assert not out.exists()
+
+
+def test_compare_refuses_algo(motionsim):
+    for args in (["--compare", "--algo", "leib"], ["--algo", "exact", "--compare"]):
+        r = motionsim("ramp", *args)
+        assert r.rc == 2 and r.out == ""
+        assert r.err.strip().splitlines() == [
+            "motionsim ramp: --algo and --compare cannot be combined: --compare runs every algorithm"]
+
+
+def compare_from_tables(motionsim, args, whole):
+    """--compare's figures recomputed step by step from the three step tables."""
+    extra = ["--integer-ticks"] if whole else []
+    ex = table(motionsim("ramp", "--algo", "exact", *args))
+    out = {}
+    for algo in ("exact", "simplistic", "leib"):
+        al = table(motionsim("ramp", "--algo", algo, *args, *extra))
+        if algo != "exact" and not whole:
+            # printed as the shortest text that reads back as the same float: read it as a float
+            for row in al:
+                row["interval_ticks"] = struct.unpack("f", struct.pack("f", row["interval_ticks"]))[0]
+        dev = [100 * (a["interval_ticks"] - e["interval_ticks"]) / e["interval_ticks"] for a, e in zip(al, ex)]
+        da = [a["accel_sps2"] - e["accel_sps2"] for a, e in zip(al, ex)]
+        out[algo] = {
+            "interval_max_dev_pct": max(dev, key=abs),
+            "interval_rms_dev_pct": math.sqrt(sum(d * d for d in dev) / len(dev)),
+            "accel_max_dev_sps2": max(da, key=abs),
+            "accel_rms_dev_sps2": math.sqrt(sum(d * d for d in da) / len(da)),
+            "step_time_max_dev_s": max(abs(a["t_s"] - e["t_s"]) for a, e in zip(al, ex)),
+            "move_time_s": al[-1]["t_s"],
+        }
+    return out
+
+
+@pytest.mark.parametrize("whole", [False, True], ids=["float", "integer-ticks"])
+def test_compare_summing_the_cruise_equals_stepping_through(motionsim, whole):
+    # 20000 steps, about 19750 of them cruising: --compare accounts for the cruise in one go
+    args = ["--to", "20000", "--v0", "10", "--vmax", "500", "--accel", "1000", "--tick-hz", "1000000"]
+    r = motionsim("ramp", "--compare", *args, *(["--integer-ticks"] if whole else []))
+    assert r.rc == 0, r.err
+    got = {row["algo"]: row for row in csv.DictReader(io.StringIO(r.out))}
+    want = compare_from_tables(motionsim, args, whole)
+    for algo, w in want.items():
+        for key, value in w.items():
+            assert float(got[algo][key]) == pytest.approx(value, rel=1e-9, abs=1e-12), (algo, key)
+
+
+def test_compare_of_the_longest_move_is_fast(motionsim):
+    # INT32_MIN -> INT32_MAX (2^32 - 1 steps) used to take about 25 minutes; the exact move time is
+    # 2 t_a + (D - 2 x_a)/vmax with x_a = (vmax^2 - v0^2)/2a, t_a = (vmax - v0)/a
+    v0, vmax, a, d = 100.0, 1000.0, 1000.0, 2 ** 32 - 1
+    r = motionsim("ramp", "--compare", "--from", "-2147483648", "--to", "2147483647", "--v0", v0, "--vmax", vmax,
+                  "--accel", a, "--tick-hz", "2000000", timeout=10)
+    assert r.rc == 0, r.err
+    rows = {row["algo"]: row for row in csv.DictReader(io.StringIO(r.out))}
+    assert list(rows) == ["exact", "simplistic", "leib"]
+    xa = (vmax * vmax - v0 * v0) / (2 * a)
+    assert float(rows["exact"]["move_time_s"]) == pytest.approx(2 * (vmax - v0) / a + (d - 2 * xa) / vmax,
+                                                                rel=1e-12)
+    for algo in ("simplistic", "leib"):
+        assert int(rows[algo]["steps"]) == d
+        # the cruise dominates: the move time is within 0.1 % of the exact one
+        assert float(rows[algo]["move_time_dev_pct"]) == pytest.approx(0, abs=0.1)
+
+
+def test_simplistic_reaches_vmax_in_one_step_when_s_is_0(motionsim):
+    # S = int((4^2 - 1^2)/(2*10)) = 0: one step at F/v0 = 1000, then F/vmax = 250, the last at F/v0
+    rows = table(motionsim("ramp", "--algo", "simplistic", "--v0", "1", "--vmax", "4", "--accel", "10", "--to", "5"))
+    assert [r["interval_ticks"] for r in rows] == [1000, 250, 250, 250, 1000]
+
+
+def test_write_error_stops_at_once(motionsim):
+    # 10^8 rows would take half an hour to compute; the first failed write ends the run
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full")
+    r = motionsim("ramp", "--to", "100000000", "-o", "/dev/full", timeout=10)
+    assert r.rc == 1 and r.out == ""
+    assert r.err.strip().splitlines() == ["motionsim ramp: writing '/dev/full' failed: No space left on device"]
+
+
 def sigmoid_period(i, length, fmin, fmax, flex, timer_hz):
     half = length / 2
     f = fmin + (fmax - fmin) / (1 + math.exp(-flex * (i - half) / half))
@@ -203,6 +317,17 @@ BAD = [
     (["--vmax", "5000"], "must not exceed the tick rate"),
     (["--accel", "nan"], "--accel: 'nan' is not a finite number"),
     (["--vmax", "inf"], "--vmax: 'inf' is not a finite number"),
+    (["--vmax", "1e-320"], "--vmax: '1e-320' is out of range: it underflows a double"),
+    (["--vmax", "1e400"], "--vmax: '1e400' is out of range: it overflows a double"),
+    (["--algo", "sigmoid", "--fmax", "1e39"], "--fmax: 1e+39 is out of range for a float (magnitude above 3.4e38)"),
+    (["--algo", "sigmoid", "--flex", "1e-39"], "--flex: 1e-39 underflows a float"),
+    (["--algo", "sigmoid", "--fmin", "-1e39"], "--fmin: -1e+39 is out of range for a float"),
+    (["--algo", "leib", "--accel", "1e39"], "--accel: 1e+39 is out of range for a float"),
+    (["--algo", "simplistic", "--v0", "1e-40"], "--v0: 1e-40 underflows a float"),
+    (["--to", "0x10"], "--to: '0x10' is not a whole number"),
+    (["--tick-hz", "0x10"], "--tick-hz: '0x10' is not a whole number"),
+    (["--to", "5", "--to", "6"], "--to given twice"),
+    (["--compare", "--compare"], "--compare given twice"),
     (["--accel", "1e-9", "--v0", "0", "--tick-hz", "4000000000"], "would exceed 2^32-1 timer ticks"),
     (["--algo", "simplistic", "--v0", "0"], "simplistic ramp needs v0 > 0"),
     (["--to", "2147483648"], "--to: '2147483648' is not a whole number"),
@@ -212,7 +337,7 @@ BAD = [
     (["--algo", "trapezoid"], "--algo: 'trapezoid' is not one of simplistic|leib|exact|sigmoid"),
     (["--len", "10"], "--len applies to --algo sigmoid only"),
     (["--algo", "sigmoid", "--v0", "3"], "--v0 does not apply to --algo sigmoid"),
-    (["--algo", "sigmoid", "--compare"], "--compare measures simplistic and leib"),
+    (["--algo", "sigmoid", "--compare"], "--algo and --compare cannot be combined"),
     (["--algo", "sigmoid", "--len", "1"], "table length must be at least 2"),
     (["--algo", "sigmoid", "--len", "70000"], "--len: 70000 is more than 65535"),
     (["--algo", "sigmoid", "--hold", "0"], "held for at least 1 timer period"),
@@ -237,3 +362,48 @@ def test_bad_input_exits_2_with_one_line(motionsim, args, message):
     lines = r.err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("motionsim ramp: ")
     assert message in lines[0]
+
+
+SKETCH_LIMITS = {
+    # sketch: [(line sent, the ERR line expected)], limits from StepperPins.h/StepperRamps.h (timer mode)
+    "LeibRampStepper": [
+        ("set vmax 5001", "ERR number out of range: vmax at most 5000 steps/s on this sketch"),
+        ("set v0 1e39", "ERR number out of range: v0 at most 5000 steps/s on this sketch"),
+        ("set accel 2e7", "ERR number out of range: accel at most 10000000 steps/s^2 on this sketch"),
+        ("set v0 -1e39", "ERR minimum speed v0 must not be negative"),
+        ("set accel -2e7", "ERR acceleration must be greater than 0 steps/s^2"),
+    ],
+    "SimplisticRampStepper": [
+        ("set vmax 8001", "ERR number out of range: vmax at most 8000 steps/s on this sketch"),
+    ],
+    "SCurveStepper": [
+        ("set vmax 10001", "ERR number out of range: vmax at most 10000 steps/s on this sketch"),
+        ("set len 1001", "ERR number out of range: len at most 1000 entries on this sketch"),
+        ("set hold 65536", "ERR number out of range: hold at most 65535 steps per entry on this sketch"),
+        ("set flex 1001", "ERR number out of range: flex at most 1000 on this sketch"),
+        ("set len -3", "ERR table length must be at least 2"),
+        ("set hold -1", "ERR each table entry must be held for at least 1 timer period"),
+    ],
+}
+
+
+@pytest.mark.parametrize("sketch", sorted(SKETCH_LIMITS))
+def test_sketch_names_the_limit_of_an_out_of_range_set(sketch, tmp_path):
+    """The stepper sketches, run in the emulator: `set` above the sketch's limit says the limit
+    after the module's sentence; a value too negative to parse gets the sentence for negatives."""
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    emu = os.path.join(root, "build", "motionemu")
+    elf = os.path.join(root, "build", "firmware", sketch, f"{sketch}.ino.elf")
+    if not (os.access(emu, os.X_OK) and os.path.exists(elf)):
+        pytest.skip("needs build/motionemu and the firmware (make test builds both)")
+    cases = SKETCH_LIMITS[sketch]
+    script = tmp_path / "limits.emu"
+    lines = [f"wait ^READY {sketch}$"]
+    for sent, _ in cases:
+        lines += [f"send {sent}", "wait ^ERR "]
+    script.write_text("\n".join(lines) + "\n")
+    log = tmp_path / "limits.log"
+    p = subprocess.run([emu, elf, "-i", str(script), "-o", str(log)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    got = [line.split(" ", 2)[2] for line in log.read_text().splitlines() if line.startswith("rx ")]
+    assert got[1:] == [want for _, want in cases]

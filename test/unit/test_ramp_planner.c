@@ -195,6 +195,68 @@ static void skipping_the_cruise_is_invisible(void **state)
     }
 }
 
+/* Skipping part of a cruise (ramp_skip_cruise_at_most, as motionsim ramp --compare does to keep
+ * two ramps in step): ramp_cruise_skippable says how many steps the full skip would take, without
+ * moving; a partial skip of m steps jumps exactly m, and every step after it equals a full run. */
+static void skipping_part_of_the_cruise_is_invisible(void **state)
+{
+    static uint16_t table[50];
+    const ramp_sigmoid_params_t sp = {50, 3, 500.0f, 5000.0f, 5.0f, 2000000UL};
+    const ramp_params_t p = {100.0, 1000.0, 1000.0, 2000000};
+    int algo;
+    (void)state;
+    assert_int_equal(ramp_sigmoid_fill(&sp, table, 50), MS_OK);
+    for (algo = RAMP_ALGO_SIMPLISTIC; algo <= RAMP_ALGO_SIGMOID; algo++) {
+        ramp_t full, skip, probe;
+        ramp_step_t a, b;
+        uint32_t i, can, cruise_left = 0;
+        if (algo == RAMP_ALGO_SIGMOID)
+            assert_int_equal(ramp_plan_sigmoid(&full, &sp, table, 50, 0, 5000), MS_OK);
+        else
+            assert_int_equal(ramp_plan(&full, (ramp_algo_t)algo, &p, 0, 5000), MS_OK);
+        for (i = 0; i < 700; i++)
+            assert_int_equal(ramp_next(&full, &a), 1);
+        skip = full;
+        probe = full;
+        can = ramp_cruise_skippable(&skip);
+        assert_memory_equal(&skip, &full, sizeof skip); /* asking moved nothing */
+        assert_int_equal(ramp_skip_cruise(&probe), can);
+        /* by stepping: the skippable steps are cruise steps with one interval, and they end at the
+         * last cruise step or one before it (Leib's flat level lasts one step into its decel label) */
+        probe = full;
+        assert_int_equal(ramp_next(&probe, &b), 1);
+        cruise_left = 1;
+        for (i = 1; i < can; i++) {
+            double iv = b.interval_ticks;
+            assert_int_equal(b.phase, RAMP_CRUISE);
+            assert_int_equal(ramp_next(&probe, &b), 1);
+            assert_true(b.interval_ticks == iv);
+            cruise_left++;
+        }
+        while (ramp_next(&probe, &b) && b.phase == RAMP_CRUISE)
+            cruise_left++;
+        assert_true(cruise_left == can || cruise_left == can + 1U);
+        assert_true(can > 3000);
+        assert_int_equal(ramp_skip_cruise_at_most(&skip, 1000), 1000);
+        assert_int_equal(ramp_cruise_skippable(&skip), can - 1000U);
+        assert_int_equal(ramp_skip_cruise_at_most(&skip, 0), 0);
+        for (i = 0; i < 1000; i++) {
+            assert_int_equal(ramp_next(&full, &a), 1);
+            assert_int_equal(a.phase, RAMP_CRUISE);
+        }
+        while (ramp_next(&full, &a)) {
+            assert_int_equal(ramp_next(&skip, &b), 1);
+            assert_int_equal(a.step, b.step);
+            assert_int_equal(a.position, b.position);
+            assert_true(a.interval_ticks == b.interval_ticks);
+            assert_int_equal(a.whole_ticks, b.whole_ticks);
+            assert_int_equal(a.phase, b.phase);
+        }
+        assert_int_equal(ramp_next(&skip, &b), 0);
+        assert_int_equal(ramp_skip_cruise_at_most(&skip, 5), 0); /* nothing left */
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -205,6 +267,7 @@ int main(void)
         cmocka_unit_test(unknown_algorithm_and_null_are_rejected),
         cmocka_unit_test(names),
         cmocka_unit_test(skipping_the_cruise_is_invisible),
+        cmocka_unit_test(skipping_part_of_the_cruise_is_invisible),
     };
     return cmocka_run_group_tests_name("ramp_planner", tests, NULL, NULL);
 }

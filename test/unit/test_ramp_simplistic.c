@@ -92,6 +92,55 @@ static void short_move(void **state)
     free(iv);
 }
 
+/* S = int((vmax^2 - v0^2)/2a) = 0 (v0 1, vmax 4, a 10: 15/20 = 0.75) would make eq. (1)'s
+ * dp = 0/0 or, as before, 0: a move crawling at v0. Instead S = 1: one step at p_max = F/v0 =
+ * 1000, then p_min = F/vmax = 250 (allowed: reaching 4 steps/s from 1 within one step needs only
+ * (16 - 1)/2 = 7.5 steps/s^2 < a), and the last step at F/v0 again. */
+static void vmax_within_one_step_of_v0_is_reached_in_one_step(void **state)
+{
+    const ramp_params_t p = {1.0, 4.0, 10.0, 1000};
+    const struct {
+        int32_t to;
+        double want[6];
+    } cases[] = {
+        {1, {1000}},                         /* one step: starts and stops at v0 */
+        {2, {1000, 1000}},                   /* two steps: no step between the two ends */
+        {3, {1000, 250, 1000}},
+        {5, {1000, 250, 250, 250, 1000}},
+        {-6, {1000, 250, 250, 250, 250, 1000}},
+    };
+    size_t c;
+    (void)state;
+    for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        uint32_t n, i;
+        double *iv = intervals(&p, 0, cases[c].to, &n);
+        assert_int_equal(n, ramp_distance(0, cases[c].to));
+        for (i = 1; i <= n; i++)
+            assert_true(fabs(iv[i] - cases[c].want[i - 1]) < 1e-9);
+        free(iv);
+    }
+    /* a long move cruises at vmax: every step but the first and the last at F/vmax */
+    {
+        uint32_t n, i;
+        ramp_t r;
+        double *iv = intervals(&p, 0, 1000, &n);
+        for (i = 2; i < n; i++)
+            assert_true(iv[i] == 250.0);
+        assert_true(iv[1] == 1000.0 && iv[n] == 1000.0);
+        free(iv);
+        assert_int_equal(ramp_plan(&r, RAMP_ALGO_SIMPLISTIC, &p, 0, 1000), MS_OK);
+        assert_int_equal(r.accel_steps, 1);
+    }
+    /* continuity: S just at 1 by the lab's formula (vmax 5: 24/20 = 1.2) gives the same shape */
+    {
+        const ramp_params_t p5 = {1.0, 5.0, 10.0, 1000};
+        uint32_t n;
+        double *iv = intervals(&p5, 0, 4, &n);
+        assert_true(iv[1] == 1000.0 && iv[2] == 200.0 && iv[3] == 200.0 && iv[4] == 1000.0);
+        free(iv);
+    }
+}
+
 static void bad_parameters_are_rejected(void **state)
 {
     const struct {
@@ -150,6 +199,7 @@ int main(void)
         cmocka_unit_test(acceleration_is_far_from_constant),
         cmocka_unit_test(deceleration_mirrors_acceleration),
         cmocka_unit_test(short_move),
+        cmocka_unit_test(vmax_within_one_step_of_v0_is_reached_in_one_step),
         cmocka_unit_test(bad_parameters_are_rejected),
         cmocka_unit_test(extreme_distances),
     };

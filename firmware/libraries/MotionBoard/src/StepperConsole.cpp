@@ -103,6 +103,16 @@ void StepperConsole::handle_set(const char *cursor)
         serial_.reply_error(st, F("no such parameter (see ?)"));
         return;
     }
+    if (st == MS_ERR_OUT_OF_RANGE) {
+        /* "ERR number out of range: vmax at most 5000 steps/s on this sketch" */
+        Stream &out = serial_.port();
+        out.print(F("ERR "));
+        out.print(reinterpret_cast<const __FlashStringHelper *>(motion_status_text(st)));
+        out.print(F(": "));
+        ramp_.print_limit(out, key);
+        out.println();
+        return;
+    }
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;

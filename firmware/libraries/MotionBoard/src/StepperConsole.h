@@ -9,7 +9,9 @@
  *   set <key> <value>    between moves: "OK <key>=<value>" (keys: v0 vmax accel; SCurveStepper:
  *                        v0 = fmin, vmax = fmax, flex, len, hold; accel is derived there)
  *   READY <SketchName>   printed once at the end of setup
- * Anything else, or a target or `set` while moving, gets "ERR <reason>" and changes nothing.
+ * Anything else, or a target or `set` while moving, gets "ERR <reason>" and changes nothing; a
+ * `set` value above this sketch's limit says which ("ERR number out of range: vmax at most 5000
+ * steps/s on this sketch", StepperRamp::print_limit).
  * Position and state are read from the interrupt's variables atomically (StepperDriver).
  */
 #ifndef STEPPER_CONSOLE_H

@@ -32,6 +32,22 @@ void stepper_print_real(Print &out, double v)
     out.print(buf);
 }
 
+/* A number word beyond the parser's range on the negative side ("-1e39"): refused below as any
+ * negative value is, with the module's own sentence, not as "out of range" with an upper limit. */
+static bool negative_word(const char *value)
+{
+    return value[0] == '-';
+}
+
+static void print_upper_limit(Print &out, const char *key, double limit, const __FlashStringHelper *unit)
+{
+    out.print(key);
+    out.print(F(" at most "));
+    stepper_print_real(out, limit);
+    out.print(unit);
+    out.print(F(" on this sketch"));
+}
+
 /* ---- TrapezoidRamp ---- */
 TrapezoidRamp::TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps)
     : algo_(algo), max_sps_(max_sps)
@@ -51,7 +67,7 @@ motion_status_t TrapezoidRamp::set(const char *key, const char *value)
 {
     ramp_params_t p = params_;
     ramp_t probe;
-    double v;
+    double v = 0.0;
     double *field;
     double hi = max_sps_;
     motion_status_t st;
@@ -61,11 +77,13 @@ motion_status_t TrapezoidRamp::set(const char *key, const char *value)
         field = &p.vmax_sps;
     else if (text_word_is(key, "accel")) {
         field = &p.accel_sps2;
-        hi = 1e7;
+        hi = STEPPER_MAX_ACCEL;
     } else
         return MS_ERR_UNKNOWN_COMMAND;
     st = text_parse_real(value, -1e7, hi, &v);
-    if (st != MS_OK)
+    if (st == MS_ERR_OUT_OF_RANGE && negative_word(value))
+        v = -1.0; /* the module check below names the problem with negative values */
+    else if (st != MS_OK)
         return st;
     *field = v;
     /* a one-step move has the longest first interval of all moves: if it plans, every move does */
@@ -86,6 +104,14 @@ void TrapezoidRamp::print_param(Print &out, const char *key) const
         stepper_print_real(out, params_.vmax_sps);
     else
         stepper_print_real(out, params_.accel_sps2);
+}
+
+void TrapezoidRamp::print_limit(Print &out, const char *key) const
+{
+    if (text_word_is(key, "accel"))
+        print_upper_limit(out, key, STEPPER_MAX_ACCEL, F(" steps/s^2"));
+    else
+        print_upper_limit(out, key, max_sps_, F(" steps/s"));
 }
 
 void TrapezoidRamp::print_params(Print &out) const
@@ -144,12 +170,14 @@ motion_status_t SCurveRamp::plan(ramp_t &r, int32_t from, int32_t to) const
 motion_status_t SCurveRamp::set(const char *key, const char *value)
 {
     ramp_sigmoid_params_t p = params_;
-    double v;
-    int32_t n;
+    double v = 0.0;
+    int32_t n = 0;
     motion_status_t st;
     if (text_word_is(key, "v0") || text_word_is(key, "vmax") || text_word_is(key, "flex")) {
-        st = text_parse_real(value, -1e7, text_word_is(key, "flex") ? 1000.0 : (double)max_sps_, &v);
-        if (st != MS_OK)
+        st = text_parse_real(value, -1e7, text_word_is(key, "flex") ? STEPPER_MAX_FLEX : (double)max_sps_, &v);
+        if (st == MS_ERR_OUT_OF_RANGE && negative_word(value))
+            v = -1.0; /* the table check names the problem with negative values */
+        else if (st != MS_OK)
             return st;
         if (text_word_is(key, "v0"))
             p.fmin_hz = (float)v;
@@ -160,7 +188,9 @@ motion_status_t SCurveRamp::set(const char *key, const char *value)
     } else if (text_word_is(key, "len") || text_word_is(key, "hold")) {
         int32_t hi = text_word_is(key, "len") ? (int32_t)SCURVE_MAX_LEN : 65535L;
         st = text_parse_int32(value, 0, hi, &n);
-        if (st != MS_OK)
+        if (st == MS_ERR_OUT_OF_RANGE && negative_word(value))
+            n = 0; /* below the minimum: the table check says so (len >= 2, hold >= 1) */
+        else if (st != MS_OK)
             return st;
         if (text_word_is(key, "len"))
             p.len = (uint16_t)n;
@@ -188,6 +218,18 @@ void SCurveRamp::print_param(Print &out, const char *key) const
         out.print(params_.len);
     else
         out.print(params_.hold);
+}
+
+void SCurveRamp::print_limit(Print &out, const char *key) const
+{
+    if (text_word_is(key, "flex"))
+        print_upper_limit(out, key, STEPPER_MAX_FLEX, F(""));
+    else if (text_word_is(key, "len"))
+        print_upper_limit(out, key, SCURVE_MAX_LEN, F(" entries"));
+    else if (text_word_is(key, "hold"))
+        print_upper_limit(out, key, 65535.0, F(" steps per entry"));
+    else
+        print_upper_limit(out, key, max_sps_, F(" steps/s"));
 }
 
 void SCurveRamp::print_params(Print &out) const

@@ -6,7 +6,11 @@
  *                 len and hold; its acceleration follows from those, so `set accel` is refused
  *                 (MS_ERR_DERIVED_PARAM) and `?` reports the table's mean acceleration.
  * Every `set` checks the new parameter set with the lib module before keeping it (the longest
- * interval, the 16-bit periods, ...), so a rejected value changes nothing.
+ * interval, the 16-bit periods, ...), so a rejected value changes nothing. A value above this
+ * sketch's limit is MS_ERR_OUT_OF_RANGE, and the console adds the limit (print_limit):
+ * "ERR number out of range: vmax at most 5000 steps/s on this sketch". A value far below any
+ * sensible one (beyond the parser's range, e.g. -1e39) is refused as a negative value would be,
+ * with the module's sentence ("minimum speed v0 must not be negative").
  */
 #ifndef STEPPER_RAMPS_H
 #define STEPPER_RAMPS_H
@@ -26,6 +30,9 @@ public:
     virtual void print_params(Print &out) const = 0;
     /* "key=value" of one parameter, for the OK reply to `set`. */
     virtual void print_param(Print &out, const char *key) const = 0;
+    /* The largest value `set <key>` accepts, after "ERR number out of range: ", e.g.
+     * "vmax at most 5000 steps/s on this sketch" (key: one `set` accepted). */
+    virtual void print_limit(Print &out, const char *key) const = 0;
 
 protected:
     ~StepperRamp() {}
@@ -35,6 +42,11 @@ protected:
  * "0.5", "333.3"), else with 7 significant digits ("1.234567e-01"). */
 void stepper_print_real(Print &out, double v);
 
+/* The largest acceleration `set accel` accepts on the trapezoid sketches, steps/s^2. */
+#define STEPPER_MAX_ACCEL 1e7
+/* The largest S-curve flexibility `set flex` accepts. */
+#define STEPPER_MAX_FLEX 1000.0
+
 class TrapezoidRamp : public StepperRamp {
 public:
     /* algo: RAMP_ALGO_SIMPLISTIC or RAMP_ALGO_LEIB; max_sps: the fastest step rate `set` allows. */
@@ -43,6 +55,7 @@ public:
     motion_status_t set(const char *key, const char *value) override;
     void print_params(Print &out) const override;
     void print_param(Print &out, const char *key) const override;
+    void print_limit(Print &out, const char *key) const override;
 
 private:
     ramp_algo_t algo_;
@@ -63,6 +76,7 @@ public:
     motion_status_t set(const char *key, const char *value) override;
     void print_params(Print &out) const override;
     void print_param(Print &out, const char *key) const override;
+    void print_limit(Print &out, const char *key) const override;
 
 private:
     motion_status_t apply(const ramp_sigmoid_params_t &p);
