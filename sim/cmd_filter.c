@@ -428,6 +428,8 @@ int cmd_filter(int argc, char **argv)
             row[3] = inv_q > 0 ? (double)num / y_scale : (double)num * quantum / den;
             csv_row(out, row, 4);
         }
+        if (ferror(out))
+            break; /* cli_close_output reports it */
     }
     free(buf);
     free(in.samples);

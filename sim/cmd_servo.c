@@ -249,6 +249,8 @@ int cmd_servo(int argc, char **argv)
         else
             csv_num_f32(f, (float)duty);
         fputc('\n', f);
+        if (ferror(f))
+            break; /* cli_close_output reports it */
         /* the old duty until the new one reaches the pin, then the new one to the next sample */
         plant_dcmotor_advance(&plant, applied, latency_us * 1e-6);
         applied = duty_pwm_applied_pct(duty_pwm_from_pct((float)duty));

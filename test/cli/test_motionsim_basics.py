@@ -120,3 +120,15 @@ def test_a_write_error_is_reported_in_one_line(motionsim):
         r = motionsim(c, *args, "-o", "/dev/full")
         assert r.rc == 1, (c, r.err)
         assert r.err.strip().splitlines() == [f"motionsim {c}: writing '/dev/full' failed: No space left on device"]
+
+
+def test_a_write_error_stops_a_long_run_at_once(motionsim):
+    # each command stops at the first failed row instead of computing the rest (seconds of work)
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full")
+    runs = {"filter": ["--duration", "20000"], "servo": ["--duration", "3600", "--period-ms", "1", "--latency-us", "500"],
+            "ramp": ["--to", "100000000"]}
+    for c, args in runs.items():
+        r = motionsim(c, *args, "-o", "/dev/full", timeout=5)
+        assert r.rc == 1, (c, r.err)
+        assert one_line(r.err) and r.err.startswith(f"motionsim {c}: writing '/dev/full' failed"), (c, r.err)
