@@ -137,6 +137,12 @@ static int load_csv(const char *cmd, const char *path, double ts, double quantum
             }
             n_cols = nf;
             for (i = 0; i < nf; i++) {
+                for (int j = 0; j < i; j++) {
+                    if (strcmp(fields[i], fields[j]) == 0) {
+                        rc = cli_error(cmd, "csv:%s: the header names column '%s' twice", path, fields[i]);
+                        goto out;
+                    }
+                }
                 if (strcmp(fields[i], "u") == 0)
                     col_u = i;
                 else if (strcmp(fields[i], "t_ms") == 0)

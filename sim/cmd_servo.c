@@ -169,7 +169,8 @@ int cmd_servo(int argc, char **argv)
     if (kp < 0 || ki < 0 || kd < 0)
         return cli_error(argv[0], "%s: %s", kp < 0 ? "--kp" : ki < 0 ? "--ki" : "--kd", motion_status_text(MS_ERR_GAIN_NEGATIVE));
     if (kp > SERVO_GAIN_MAX || ki > SERVO_GAIN_MAX || kd > SERVO_GAIN_MAX)
-        return cli_error(argv[0], "gains must be at most %g", SERVO_GAIN_MAX);
+        return cli_error(argv[0], "%s: gains must be at most %g", kp > SERVO_GAIN_MAX ? "--kp" : ki > SERVO_GAIN_MAX ? "--ki" : "--kd",
+                         SERVO_GAIN_MAX);
     if (setpoint < -SERVO_SETPOINT_MAX_COUNTS || setpoint > SERVO_SETPOINT_MAX_COUNTS)
         return cli_error(argv[0], "--setpoint: %ld is outside -%ld..%ld counts", (long)setpoint,
                          (long)SERVO_SETPOINT_MAX_COUNTS, (long)SERVO_SETPOINT_MAX_COUNTS);

@@ -212,6 +212,8 @@ CSV_BAD = [
     ("", "no samples"),
     ("u\n", "no samples"),
     ("a,b\n1,2\n", "no column named u"),
+    ("u,u\n1,2\n", "names column 'u' twice"),
+    ("t_ms,u,t_ms\n0,1,0\n", "names column 't_ms' twice"),
     ("u\n1\nx\n", "'x' is not a number"),
     ("u\n1\nnan\n", "is not a number"),
     ("u,t_ms\n1,0\n1,10\n1\n", "fields"),

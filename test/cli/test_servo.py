@@ -182,6 +182,9 @@ def test_double_precision_pid_stays_close_to_float(motionsim):
     (["--kp", "-0.02"], "gains must not be negative"),
     (["--ctrl", "pid", "--ki", "-1"], "gains must not be negative"),
     (["--ctrl", "pid", "--kd", "-1"], "gains must not be negative"),
+    (["--kp", "1e308"], "--kp: gains must be at most 1000"),
+    (["--ctrl", "pid", "--ki", "1001"], "--ki: gains must be at most 1000"),
+    (["--ctrl", "pid", "--kd", "1e4"], "--kd: gains must be at most 1000"),
     (["--ki", "0.1"], "--ki needs --ctrl pid"),
     # options the P controller would ignore are refused, whatever their value
     (["--ctrl", "p", "--ki", "0"], "--ki needs --ctrl pid"),
