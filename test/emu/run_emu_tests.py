@@ -2,7 +2,8 @@
 """test/emu/run_emu_tests.py - the emulator suite of `make test`: every check as one TAP line.
 
 Each check runs build/motionemu on a firmware ELF (the harness self-test program, lib's PID module
-with the PID_v1 float32 vectors, then every sketch under firmware/), compares what the firmware's pins and serial port did with motionsim
+with the PID_v1 float32 vectors, lib's number parser with decimal words and their nearest floats,
+then every sketch under firmware/), compares what the firmware's pins and serial port did with motionsim
 and the sketches' documented behaviour, and prints
     ok N - <check>            (or "not ok N - <check>" followed by "# <problem>" lines)
     # summary: <check>: <figures>
@@ -31,6 +32,7 @@ sys.path.insert(0, HERE)
 import sketches  # noqa: E402  (tools/emu/sketches.py)
 import checks_pid  # noqa: E402
 import checks_selftest  # noqa: E402
+import checks_text_parse  # noqa: E402
 import checks_sketches  # noqa: E402
 
 
@@ -46,7 +48,8 @@ def main(argv):
     a = ap.parse_args(argv)
     env = sketches.Env(firmware_dir=a.firmware_dir, source_dir=a.source_dir, motionsim=a.motionsim)
 
-    checks = list(checks_selftest.CHECKS) + list(checks_pid.CHECKS) + checks_sketches.checks_for(env)
+    checks = (list(checks_selftest.CHECKS) + list(checks_pid.CHECKS) + list(checks_text_parse.CHECKS)
+              + checks_sketches.checks_for(env))
     checks = [(n, f) for n, f in checks if a.only in n]
     if a.list:
         for n, _ in checks:

@@ -3,6 +3,7 @@
 #   build/motionemu                 the harness: our C program on libsimavr (tools/emu/*.c)
 #   build/emu/emu_selftest.elf      a tiny avr-libc program with known timing (harness self-test)
 #   build/emu/pid_v1_avr.elf        lib's PID module + the PID_v1 float32 vectors, for the ATmega2560
+#   build/emu/text_parse_avr.elf    lib's text_parse_real + decimal words and their nearest floats
 #   make emulate SKETCH=<name> [INPUT=<file>] [EMULATE_OUT=<dir>]   run a sketch in the emulator -> build/emulate/
 #
 # EMU_DEPS is what `make test` builds first; EMU_SUITES is the emulator suite for tools/run_tests.py
@@ -42,6 +43,20 @@ $(EMU_PID_ELF): test/emu/pid_avr/pid_v1_avr.c $(BUILD)/emu/pid_vectors.h $(EMU_P
 	  -Wall -Wextra -Werror -Ilib/src -I$(BUILD)/emu -DEMU_PID_HEADER='"$(notdir $(EMU_PID_SRC:.c=.h))"' \
 	  -fuse-linker-plugin -Wl,--gc-sections $< $(EMU_PID_SRC) -o $@ -lm
 
+# lib's number parser on the real target: test/emu/text_parse_avr/text_parse_avr.c feeds it the
+# decimal words of gen_real_words.py (with the nearest float of each, computed exactly in Python),
+# built with the same flags as the PID program, so text_parse_real runs on avr-libc's float
+# arithmetic and strtod as in the sketches.
+EMU_TEXT_ELF := $(BUILD)/emu/text_parse_avr.elf
+$(BUILD)/emu/real_words.h: test/emu/text_parse_avr/gen_real_words.py
+	@mkdir -p $(dir $@)
+	$(PY) $< > $@.tmp && mv $@.tmp $@
+$(EMU_TEXT_ELF): test/emu/text_parse_avr/text_parse_avr.c $(BUILD)/emu/real_words.h lib/src/text_parse.c \
+                 lib/src/text_parse.h lib/src/motion_status.h
+	avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -Os -g -std=gnu11 -ffunction-sections -fdata-sections -flto \
+	  -Wall -Wextra -Werror -Ilib/src -I$(BUILD)/emu \
+	  -fuse-linker-plugin -Wl,--gc-sections $< lib/src/text_parse.c -o $@ -lm
+
 # The sketches the emulator checks are built by the same script as `make firmware`; its stamp
 # makes `make test` rebuild them when firmware/ or lib/ changed.
 EMU_FW_SRCS := $(shell find firmware lib -type f 2>/dev/null)
@@ -59,7 +74,7 @@ $(EMU_TIMED_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
 	  >$(BUILD)/emu/timed.log 2>&1 || { cat $(BUILD)/emu/timed.log; exit 1; }; fi
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_PID_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 
