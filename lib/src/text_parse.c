@@ -120,7 +120,9 @@ static int parse_short_decimal(const char *word, double *out)
                 return 0;
             mantissa *= 10U;
         }
-        if (mantissa > (EXACT_MANTISSA_MAX - (uint32_t)(*p - '0')) / 10U)
+        /* mantissa * 10 + d <= 2^24, with constants only (a 32-bit division per digit is slow on the AVR) */
+        if (mantissa > EXACT_MANTISSA_MAX / 10U ||
+            (mantissa == EXACT_MANTISSA_MAX / 10U && (uint32_t)(*p - '0') > EXACT_MANTISSA_MAX % 10U))
             return 0;
         mantissa = mantissa * 10U + (uint32_t)(*p - '0');
     }
