@@ -98,7 +98,10 @@ $(BUILD)/test/unit-san/%: test/unit/%.cpp $(BUILD)/libmotion-san.a $(HDRS)
 	@mkdir -p $(dir $@)
 	$(CXX) $(HOST_CXXFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lm -o $@
 
+# A test program whose source is gone (renamed or deleted) must not keep running from build/.
+STALE_UNIT_BINS = $(filter-out $(UNIT_BINS) $(SAN_BINS),$(wildcard $(BUILD)/test/unit/* $(BUILD)/test/unit-san/*))
 unit: $(UNIT_BINS) $(SAN_BINS)
+	@$(if $(STALE_UNIT_BINS),echo "removing stale test programs: $(STALE_UNIT_BINS)"; rm -f $(STALE_UNIT_BINS),:)
 
 # ---------------------------------------------------------------------------------------
 firmware: check-setup
