@@ -49,8 +49,10 @@ help:
 setup:
 	@bash tools/setup.sh
 
+# $(error) stops make with one line (no second "Error 1" line from a failed recipe).
 check-setup:
-	@test -x .venv/bin/python -a -x .tools/arduino-cli || { echo "make: the toolchain is not installed: run 'make setup' first" >&2; exit 1; }
+	$(if $(wildcard .venv/bin/python),$(if $(wildcard .tools/arduino-cli),,$(error the toolchain is not installed: run 'make setup' first)),$(error the toolchain is not installed: run 'make setup' first))
+	@:
 
 # ---------------------------------------------------------------------------------------
 # Host objects: one set normal, one set with AddressSanitizer + UBSan.

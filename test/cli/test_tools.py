@@ -425,3 +425,11 @@ def test_make_monitor_and_upload_without_setup_say_run_make_setup(tmp_path):
     (tmp_path / "firmware" / "Blink" / "Blink.ino").write_text("void setup() {}\nvoid loop() {}\n")
     one_line_refusal(make("monitor", "PORT=/dev/null", cwd=tmp_path), "run 'make setup' first")
     one_line_refusal(make("upload", "SKETCH=Blink", "PORT=/dev/null", cwd=tmp_path), "run 'make setup' first")
+
+
+def test_targets_that_need_the_toolchain_say_run_make_setup_in_one_line(tmp_path):
+    """make test/firmware/profiles in a checkout without .venv and arduino-cli."""
+    (tmp_path / "firmware" / "Blink").mkdir(parents=True)
+    (tmp_path / "firmware" / "Blink" / "Blink.ino").write_text("void setup() {}\nvoid loop() {}\n")
+    for target in ("test", "firmware", "profiles"):
+        one_line_refusal(make(target, cwd=tmp_path), "run 'make setup' first")
