@@ -51,7 +51,7 @@ setup:
 
 # $(error) stops make with one line (no second "Error 1" line from a failed recipe).
 check-setup:
-	$(if $(wildcard .venv/bin/python),$(if $(wildcard .tools/arduino-cli),,$(error the toolchain is not installed: run 'make setup' first)),$(error the toolchain is not installed: run 'make setup' first))
+	$(if $(and $(wildcard .venv/bin/python),$(wildcard .tools/arduino-cli)),,$(error the toolchain is not installed: run 'make setup' first))
 	@:
 
 # ---------------------------------------------------------------------------------------

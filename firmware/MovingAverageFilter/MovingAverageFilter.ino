@@ -305,13 +305,10 @@ static void handle(const char *line)
                 st = apply_config(kind, taps, tau2_taps);
             else if (kind == ACCDEC_MA2)
                 st = apply_config(kind, tau_taps, taps);
-            else {
-                /* kept for when kind becomes ma2: it must fit the buffer as ma2 would use it */
-                accdec_config_t c;
-                st = accdec_configure(&c, ACCDEC_MA2, tau_taps * TS_S, taps * TS_S, TS_S, MAF_MAX_TAPS);
-                if (st == MS_OK)
-                    tau2_taps = taps;
-            }
+            else if (taps > MAF_MAX_TAPS)
+                st = MS_ERR_TOO_MANY_TAPS; /* can never fit, whatever tau is */
+            else
+                tau2_taps = taps; /* kept for ma2: tau + tau2 is checked when kind becomes ma2 */
         }
         if (st != MS_OK) {
             serial.reply_error(st);

@@ -42,8 +42,6 @@
  */
 #include <HBridge.h>
 #include <LS7366R.h>
-#include <MotionSerial.h>
-#include <SerialOutQueue.h>
 #include <ServoConsole.h>
 #include <ServoPins.h>
 
@@ -68,9 +66,7 @@ ServoPID myPID(&Input, &Output, &Setpoint, Kp, Ki, Kd, DIRECT);
 
 LS7366R encoder(SERVO_PIN_ENCODER_CS);
 HBridge motor(SERVO_PIN_PWM, SERVO_PIN_DIR, SERVO_PIN_BRAKE);
-SerialOutQueue serialOut(Serial); /* every line goes out through here: never blocks */
-MotionSerial serialLines(Serial, serialOut, ServoConsole::REPLY_MAX_BYTES);
-ServoConsole console(serialLines, serialOut, ServoConsole::PID_GAINS);
+ServoConsole console(Serial, ServoConsole::PID_GAINS); /* every line goes out through its queue: never blocks */
 
 ServoState servo; /* what the console shows and changes */
 uint32_t lastControlMs;
@@ -106,7 +102,7 @@ void setup()
     Serial.begin(9600);
     motor.begin();
     if (!encoder.begin())
-        serialOut.println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
+        console.out().println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
     Setpoint = 0;
     Input = encoder.read();
     Output = 0;

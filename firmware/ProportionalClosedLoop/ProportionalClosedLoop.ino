@@ -26,8 +26,6 @@
  */
 #include <HBridge.h>
 #include <LS7366R.h>
-#include <MotionSerial.h>
-#include <SerialOutQueue.h>
 #include <ServoConsole.h>
 #include <ServoPins.h>
 #include <pctrl.h>
@@ -38,9 +36,7 @@ const float Kp = 0.02f;               /* % duty per count (the lab's value) */
 
 LS7366R encoder(SERVO_PIN_ENCODER_CS);
 HBridge motor(SERVO_PIN_PWM, SERVO_PIN_DIR, SERVO_PIN_BRAKE);
-SerialOutQueue serialOut(Serial); /* every line goes out through here: never blocks */
-MotionSerial serialLines(Serial, serialOut, ServoConsole::REPLY_MAX_BYTES);
-ServoConsole console(serialLines, serialOut, ServoConsole::P_ONLY);
+ServoConsole console(Serial, ServoConsole::P_ONLY); /* every line goes out through its queue: never blocks */
 
 ServoState servo; /* setpoint, measured position, duty, gains */
 pctrl_t controller;
@@ -64,7 +60,7 @@ void setup()
     Serial.begin(9600);
     motor.begin();
     if (!encoder.begin())
-        serialOut.println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
+        console.out().println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
     servo.setpoint_counts = 0;
     servo.position_counts = encoder.read();
     servo.duty_pct = 0;

@@ -49,11 +49,6 @@ def fmt(v):
     return str(v)
 
 
-def last_query(log, key):
-    lines = log.lines_matching("^" + key + "=")
-    return emulog.query_fields(lines[-1].text) if lines else {}
-
-
 def params_before(log, key, cycle):
     """The parameters in force before `cycle`: the fields of the last `?` reply (a line starting
     with `key=`), updated by every later `OK name=value` reply to a `set`/gain command."""
@@ -307,8 +302,8 @@ def main(argv):
         for i, (sp, t0, okc, rows) in enumerate(segs):
             path = base + (".csv" if i == 0 else f"-{i + 1}.csv")
             write_csv(path, "t_s,setpoint,position_counts,error_counts,duty_pct", rows)
-            q = params_before(log, "setpoint", okc) or last_query(log, "setpoint")
-            why = servo_overlay_start(log, q, t0, i == 0)
+            q = params_before(log, "setpoint", okc)
+            why = servo_overlay_start(log, q, t0, i == 0) if q else "no `?` reply before this setpoint"
             if why or not rows:
                 print(f"  {os.path.basename(path)}: no motionsim overlay ({why or 'no samples'})")
                 outputs.append((path, None))

@@ -16,6 +16,8 @@ const char *MotionSerial::poll(uint8_t max_bytes)
             return reader_.line;
         case LINE_ERROR:
             reply_error(err);
+            if (queue_ != 0)
+                return NULL; /* one reply per call: the next line waits for the next pass */
             break;
         default:
             break;

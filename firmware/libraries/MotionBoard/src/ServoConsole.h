@@ -56,11 +56,16 @@ public:
     static const uint16_t REPLY_MAX_BYTES = 112;
     static const uint16_t STATUS_MAX_BYTES = 86;
 
-    /* serial must have been made with the same queue and REPLY_MAX_BYTES as its reserve. */
-    ServoConsole(MotionSerial &serial, SerialOutQueue &queue, Kind kind)
-        : serial_(serial), queue_(queue), kind_(kind), status_pending_(false), status_t_ms_(0)
+    /* The console owns the output queue and the line reader on `port` (Serial), wired together
+     * with REPLY_MAX_BYTES as the reader's reserve, so the two cannot disagree. */
+    ServoConsole(Stream &port, Kind kind)
+        : queue_(port), serial_(port, queue_, REPLY_MAX_BYTES), kind_(kind), status_pending_(false),
+          status_t_ms_(0)
     {
     }
+
+    /* Where a sketch prints its own lines (queued like every reply, e.g. a WARN at start-up). */
+    Print &out() { return queue_; }
 
     /* "READY <name>" (queued) */
     void ready(const __FlashStringHelper *sketch_name);
@@ -80,8 +85,8 @@ private:
     Event handleLine(const char *line, ServoState &s);
     void printState(const ServoState &s);
     void flushStatus();
-    MotionSerial &serial_;
-    SerialOutQueue &queue_;
+    SerialOutQueue queue_; /* before serial_, which is built on it */
+    MotionSerial serial_;
     Kind kind_;
     bool status_pending_;
     uint32_t status_t_ms_;
