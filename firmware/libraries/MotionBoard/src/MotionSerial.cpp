@@ -34,8 +34,13 @@ void MotionSerial::reply_error(motion_status_t status)
 
 void MotionSerial::reply_error(motion_status_t status, const __FlashStringHelper *detail)
 {
+    begin_error(status).println(detail);
+}
+
+Print &MotionSerial::begin_error(motion_status_t status)
+{
     out_.print(F("ERR "));
     out_.print(reinterpret_cast<const __FlashStringHelper *>(motion_status_text(status)));
     out_.print(F(": "));
-    out_.println(detail);
+    return out_;
 }

@@ -44,6 +44,8 @@ public:
     void reply_error(motion_status_t status);
     /* "ERR <sentence>: <detail>" with a detail string from flash, e.g. F("set what?") */
     void reply_error(motion_status_t status, const __FlashStringHelper *detail);
+    /* Prints "ERR <sentence>: " and returns out() for a detail the caller formats, then println(). */
+    Print &begin_error(motion_status_t status);
 
     Stream &port() { return port_; }
     /* Where replies go: the queue if there is one, else the port. */

@@ -105,12 +105,8 @@ void StepperConsole::handle_set(const char *cursor)
     }
     if (st == MS_ERR_OUT_OF_RANGE) {
         /* "ERR number out of range: vmax at most 5000 steps/s on this sketch" */
-        Stream &out = serial_.port();
-        out.print(F("ERR "));
-        out.print(reinterpret_cast<const __FlashStringHelper *>(motion_status_text(st)));
-        out.print(F(": "));
-        ramp_.print_limit(out, key);
-        out.println();
+        ramp_.print_limit(serial_.begin_error(st), key);
+        serial_.out().println();
         return;
     }
     if (st != MS_OK) {
