@@ -9,7 +9,7 @@
 # are ignored. At the end a table of flash and SRAM use is printed.
 #
 # Extra compile-time options for every sketch can be given in FIRMWARE_DEFINES, e.g.
-#   FIRMWARE_DEFINES="-DSTEP_LED_MIRROR=1" tools/build_firmware.sh LeibRampStepper
+#   FIRMWARE_DEFINES="-DSTEPPER_LED_MIRROR=0" tools/build_firmware.sh LeibRampStepper
 set -uo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
