@@ -26,36 +26,31 @@ $(BUILD)/emu/wrong_mcu.elf: test/emu/selftest/wrong_mcu.c
 	@mkdir -p $(dir $@)
 	avr-gcc -mmcu=atmega328p -Os -Wall -Wextra -Werror $< -o $@
 
+# Small AVR test programs built with the Arduino core's C flags (double = float on the AVR), so lib's
+# code runs on avr-libc's float arithmetic as in the sketches; test/emu/avr_uart.h prints their lines.
+AVR_TEST_CC := avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -Os -g -std=gnu11 -ffunction-sections -fdata-sections \
+               -flto -fuse-linker-plugin -Wl,--gc-sections -Wall -Wextra -Werror -Ilib/src -Itest/emu -I$(BUILD)/emu
+
 # lib's PID module on the real target: test/emu/pid_avr/pid_v1_avr.c replays the PID_v1 float32
-# reference vectors (test/data/pid_v1) through it, built by avr-gcc with the Arduino core's C flags
-# (double = float on the AVR). EMU_PID_SRC is the module's one .c file in lib/src (a glob, so that a
-# renamed module is still found; set it here if lib/src ever holds two pid*.c); its header is the
-# .h of the same name.
-EMU_PID_SRC  := $(wildcard lib/src/pid*.c)
+# reference vectors (test/data/pid_v1) through it.
 EMU_PID_DATA := test/data/pid_v1
 EMU_PID_ELF  := $(BUILD)/emu/pid_v1_avr.elf
 $(BUILD)/emu/pid_vectors.h: test/emu/pid_avr/gen_pid_vectors.py $(wildcard $(EMU_PID_DATA)/*.json $(EMU_PID_DATA)/float32/*.csv)
 	@mkdir -p $(dir $@)
 	$(PY) $< $(EMU_PID_DATA) > $@.tmp && mv $@.tmp $@
-$(EMU_PID_ELF): test/emu/pid_avr/pid_v1_avr.c $(BUILD)/emu/pid_vectors.h $(EMU_PID_SRC) $(wildcard lib/src/*.h)
-	@test $(words $(EMU_PID_SRC)) -eq 1 || { echo "emu.mk: EMU_PID_SRC should name lib's one PID module, found: '$(EMU_PID_SRC)'" >&2; exit 1; }
-	avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -Os -g -std=gnu11 -ffunction-sections -fdata-sections -flto \
-	  -Wall -Wextra -Werror -Ilib/src -I$(BUILD)/emu -DEMU_PID_HEADER='"$(notdir $(EMU_PID_SRC:.c=.h))"' \
-	  -fuse-linker-plugin -Wl,--gc-sections $< $(EMU_PID_SRC) -o $@ -lm
+$(EMU_PID_ELF): test/emu/pid_avr/pid_v1_avr.c test/emu/avr_uart.h $(BUILD)/emu/pid_vectors.h lib/src/pidv1_ctrl.c $(wildcard lib/src/*.h)
+	$(AVR_TEST_CC) $< lib/src/pidv1_ctrl.c -o $@ -lm
 
 # lib's number parser on the real target: test/emu/text_parse_avr/text_parse_avr.c feeds it the
 # decimal words of gen_real_words.py (with the nearest float of each, computed exactly in Python),
-# built with the same flags as the PID program, so text_parse_real runs on avr-libc's float
-# arithmetic and strtod as in the sketches.
+# so text_parse_real runs on avr-libc's float arithmetic and strtod as in the sketches.
 EMU_TEXT_ELF := $(BUILD)/emu/text_parse_avr.elf
 $(BUILD)/emu/real_words.h: test/emu/text_parse_avr/gen_real_words.py
 	@mkdir -p $(dir $@)
 	$(PY) $< > $@.tmp && mv $@.tmp $@
-$(EMU_TEXT_ELF): test/emu/text_parse_avr/text_parse_avr.c $(BUILD)/emu/real_words.h lib/src/text_parse.c \
-                 lib/src/text_parse.h lib/src/motion_status.h
-	avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -Os -g -std=gnu11 -ffunction-sections -fdata-sections -flto \
-	  -Wall -Wextra -Werror -Ilib/src -I$(BUILD)/emu \
-	  -fuse-linker-plugin -Wl,--gc-sections $< lib/src/text_parse.c -o $@ -lm
+$(EMU_TEXT_ELF): test/emu/text_parse_avr/text_parse_avr.c test/emu/avr_uart.h $(BUILD)/emu/real_words.h \
+                 lib/src/text_parse.c lib/src/text_parse.h lib/src/motion_status.h
+	$(AVR_TEST_CC) $< lib/src/text_parse.c -o $@ -lm
 
 # The sketches the emulator checks are built by the same script as `make firmware`; its stamp
 # makes `make test` rebuild them when firmware/ or lib/ changed.

@@ -3,8 +3,8 @@
  * every row that differs from the vector bit for bit. Runs in the emulator (build/motionemu):
  * test/emu/checks_pid.py starts it and reads its serial lines.
  *
- * The tables (build/emu/pid_vectors.h) come from test/emu/pid_avr/gen_pid_vectors.py; the module's
- * header is EMU_PID_HEADER, given by tools/emu/emu.mk (one variable there names lib's PID source).
+ * The tables (build/emu/pid_vectors.h) come from test/emu/pid_avr/gen_pid_vectors.py; the module
+ * is lib/src/pidv1_ctrl.c (tools/emu/emu.mk).
  * Replay, as sim/pid_vector.c does on the host: construct with the set-up, run its calls; per row
  * Input := input, Setpoint := setpoint, the row's calls left to right, computed := Compute(t_ms);
  * then computed, mode, last_time_ms and the float columns are compared.
@@ -19,23 +19,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include EMU_PID_HEADER
+#include "avr_uart.h"
+#include "pidv1_ctrl.h"
 #include "pid_vectors.h"
-
-static void tx(char c)
-{
-    while (!(UCSR0A & _BV(UDRE0)))
-        ;
-    UDR0 = (uint8_t)c;
-}
-
-static void println(const char *s)
-{
-    while (*s)
-        tx(*s++);
-    tx('\r');
-    tx('\n');
-}
 
 static float f_of(uint32_t bits)
 {

@@ -21,23 +21,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "avr_uart.h"
 #include "real_words.h"
 #include "text_parse.h"
-
-static void tx(char c)
-{
-    while (!(UCSR0A & _BV(UDRE0)))
-        ;
-    UDR0 = (uint8_t)c;
-}
-
-static void println(const char *s)
-{
-    while (*s)
-        tx(*s++);
-    tx('\r');
-    tx('\n');
-}
 
 static uint32_t bits_of(double f)
 {
