@@ -22,6 +22,7 @@ static void plan_geometry(ramp_t *r, ramp_algo_t algo, int32_t from, int32_t to)
     r->steps_done = 0;
     r->level = 0;
     r->whole_ticks = 0;
+    r->start_level = 0;
 }
 
 motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, int32_t from, int32_t to)
@@ -78,10 +79,100 @@ uint32_t ramp_steps_left(const ramp_t *r)
     return r->steps_total - r->steps_done;
 }
 
+/* c(n) = min(L0 + n, D + 1 - n, max(K, L0 - n)); from rest (L0 = 0) this is ramp_level */
+static uint32_t level_of(const ramp_t *r, uint32_t n)
+{
+    uint32_t l0 = r->start_level, from_end, c, k;
+    if (l0 == 0)
+        return ramp_level(r->steps_total, r->peak_level, n);
+    from_end = r->steps_total - n + 1U;
+    c = l0 + n < from_end ? l0 + n : from_end;
+    k = n < l0 && l0 - n > r->peak_level ? l0 - n : r->peak_level;
+    return c < k ? c : k;
+}
+
+int32_t ramp_position(const ramp_t *r)
+{
+    return ramp_position_after(r->from, r->dir, r->steps_done);
+}
+
+uint32_t ramp_stop_steps(const ramp_t *m)
+{
+    uint32_t lv = m->level;
+    if (m->steps_done == 0 && m->start_level == 0)
+        return 0;
+    if (m->algo == RAMP_ALGO_SIGMOID && lv > m->accel_steps)
+        lv = m->accel_steps; /* k keeps counting through the cruise; the table's top is len*hold */
+    return lv > 1U ? lv - 1U : 0U;
+}
+
+motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params_t *params, int32_t to)
+{
+    ramp_t n;
+    int32_t from;
+    uint32_t l0;
+    if (r == 0 || m == 0)
+        return MS_ERR_NULL;
+    from = ramp_position(m);
+    if (m->steps_done == 0 && m->start_level == 0) {
+        /* nothing handed out yet: a fresh plan from rest */
+        if (m->algo == RAMP_ALGO_SIGMOID)
+            return MS_ERR_BUSY;
+        return ramp_plan(r, m->algo, params, from, to);
+    }
+    if (ramp_distance(from, to) < ramp_stop_steps(m) || (to != from && ramp_direction(from, to) != m->dir))
+        return MS_ERR_BUSY;
+    l0 = m->level;
+    if (m->algo == RAMP_ALGO_SIGMOID) {
+        n = *m;
+        plan_geometry(&n, RAMP_ALGO_SIGMOID, from, to);
+        if (l0 > m->accel_steps)
+            l0 = m->accel_steps;
+        if (l0 < 1U)
+            l0 = 1U;
+        (void)ramp_sigmoid_set_k(&n.u.sigmoid, l0);
+        n.accel_steps = m->accel_steps;
+        n.peak_level = m->accel_steps;
+        n.whole_ticks = m->whole_ticks;
+    } else {
+        motion_status_t st;
+        if (params == 0)
+            return MS_ERR_NULL;
+        st = ramp_plan(&n, m->algo, params, from, to);
+        if (st != MS_OK)
+            return st;
+        /* the peak of the parameters, not limited by this move's length (the level rule does) */
+        if (m->algo == RAMP_ALGO_LEIB) {
+            float v;
+            uint32_t s;
+            ramp_accel_steps((float)params->v0_sps, (float)params->vmax_sps, (float)params->accel_sps2, UINT32_MAX,
+                             &v, &s);
+            n.peak_level = s;
+            n.u.leib.p = m->u.leib.p;
+        } else if (m->algo == RAMP_ALGO_SIMPLISTIC) {
+            /* S and dp of the parameters, not of this move's length */
+            st = ramp_simplistic_plan(&n.u.simplistic, params, UINT32_MAX);
+            if (st != MS_OK)
+                return st;
+            n.accel_steps = n.u.simplistic.accel_steps;
+            n.peak_level = n.u.simplistic.accel_steps + 1U;
+            n.u.simplistic.p = m->u.simplistic.p;
+        } else {
+            return MS_ERR_UNKNOWN_COMMAND;
+        }
+        n.whole_ticks = m->whole_ticks;
+    }
+    n.start_level = l0;
+    n.level = l0;
+    n.dir = m->dir;
+    *r = n;
+    return MS_OK;
+}
+
 /* whether the level rose, fell or stayed: the phase of the interval update */
 static ramp_phase_t level_change(ramp_t *r, uint32_t n)
 {
-    uint32_t lv = ramp_level(r->steps_total, r->peak_level, n);
+    uint32_t lv = level_of(r, n);
     ramp_phase_t ph = lv > r->level ? RAMP_ACCEL : (lv < r->level ? RAMP_DECEL : RAMP_CRUISE);
     r->level = lv;
     return ph;
@@ -111,7 +202,7 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
         /* step 1 takes the planned first interval; later steps update it by the level change,
          * and a cruise step keeps both the interval and its whole ticks (no float work at all) */
         ramp_phase_t change = RAMP_ACCEL;
-        if (n == 1) {
+        if (n == 1 && r->start_level == 0) {
             r->level = ramp_level(r->steps_total, r->peak_level, 1);
             p = r->algo == RAMP_ALGO_LEIB ? r->u.leib.p : r->u.simplistic.p;
         } else {
@@ -127,7 +218,7 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
             r->whole_ticks = ramp_ticks_from_float(p);
         s->interval_ticks = p;
         s->whole_ticks = r->whole_ticks;
-        s->phase = ramp_phase_label(r->steps_total, r->accel_steps, n);
+        s->phase = r->start_level == 0 ? ramp_phase_label(r->steps_total, r->accel_steps, n) : change;
         break;
     }
     case RAMP_ALGO_EXACT:
@@ -137,8 +228,10 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
         break;
     case RAMP_ALGO_SIGMOID: {
         uint32_t from_end = r->steps_total - n + 1U;
-        uint32_t k = n < from_end ? n : from_end;
+        uint32_t k = r->start_level + n < from_end ? r->start_level + n : from_end;
         uint32_t kold = r->u.sigmoid.k;
+        if (r->start_level != 0 && k > r->accel_steps)
+            k = r->accel_steps > kold ? r->accel_steps : kold; /* continued: hold at the table's top */
         uint16_t period;
         if (k > kold)
             period = ramp_sigmoid_move_k(&r->u.sigmoid, 1);
@@ -148,7 +241,9 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
             period = ramp_sigmoid_move_k(&r->u.sigmoid, 0);
         s->interval_ticks = period;
         s->whole_ticks = period;
-        s->phase = ramp_phase_label(r->steps_total, r->accel_steps, n);
+        r->whole_ticks = period;
+        s->phase = r->start_level == 0 ? ramp_phase_label(r->steps_total, r->accel_steps, n)
+                                       : (k > kold ? RAMP_ACCEL : (k < kold ? RAMP_DECEL : RAMP_CRUISE));
         break;
     }
     default:
@@ -170,7 +265,7 @@ static uint32_t cruise_skip_target(const ramp_t *r)
     case RAMP_ALGO_LEIB: {
         uint32_t k = r->peak_level;
         /* flat region: the steps whose level is K, i.e. K <= n <= D + 1 - K (all steps if K = 0) */
-        if (done == 0 || k > d / 2U || done < k || r->level != k)
+        if (done == 0 || r->level != k || (r->start_level == 0 && (k > d / 2U || done < k)))
             return 0;
         target = d - k; /* the next step, D + 1 - K, is the last flat one */
         break;
@@ -187,6 +282,8 @@ static uint32_t cruise_skip_target(const ramp_t *r)
     case RAMP_ALGO_SIGMOID: {
         /* cruise: the steps after the len*hold accelerating ones and before as many decelerating */
         uint32_t a = r->accel_steps;
+        if (r->start_level != 0)
+            return 0;
         if (done == 0 || done < a || a > d / 2U || done + 1U >= d - a)
             return 0;
         target = d - a - 1U; /* the next step, D - A, is the last cruise step */

@@ -54,6 +54,7 @@ typedef struct {
     uint32_t level;        /* c(n) of the last step handed out */
     uint32_t accel_steps;  /* steps labelled "accel" (and as many "decel") */
     uint32_t whole_ticks;  /* whole_ticks of the last step (reused while cruising) */
+    uint32_t start_level;  /* level before step 1: 0 from rest, else that of the move continued */
     union {
         ramp_simplistic_t simplistic;
         ramp_leib_t leib;
@@ -70,6 +71,20 @@ motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *para
  * least p->len). The table must stay unchanged until the move ends. */
 motion_status_t ramp_plan_sigmoid(ramp_t *r, const ramp_sigmoid_params_t *p, const uint16_t *table,
                                   uint16_t table_len, int32_t from, int32_t to);
+
+/* Continues `moving` (simplistic, Leib or sigmoid) from its last handed-out step without a speed
+ * jump: the new move starts at that position, level and interval, towards `to`, with the level
+ * rule c(n) = min(L0 + n, D + 1 - n, max(K, L0 - n)) (L0: the level reached, K: the peak of the
+ * parameters, now possibly changed: params, or NULL for sigmoid, which keeps its table). `to` must
+ * lie ahead in the same direction and at least ramp_stop_steps(moving) steps away, else
+ * MS_ERR_BUSY and *r is untouched (stop first, then plan a move from rest). *r may be moving. */
+motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *moving, const ramp_params_t *params, int32_t to);
+
+/* Steps a continued move needs to come to rest from `moving`'s last step (its level - 1). */
+uint32_t ramp_stop_steps(const ramp_t *moving);
+
+/* Position after the steps handed out so far. */
+int32_t ramp_position(const ramp_t *r);
 
 /* Hands out the next step: 1 and *s filled, or 0 when the move is complete. */
 uint8_t ramp_next(ramp_t *r, ramp_step_t *s);

@@ -1,0 +1,98 @@
+/* step_exact.h - exact constant-acceleration step times as step commands (step_queue.h), in
+ * integer arithmetic that gives the same bits on the host and on the AVR, fast enough for the
+ * planner to keep 100,000 steps/s queued.
+ *
+ * The motion (the lab handout's "uniform acceleration, constant speed and uniform deceleration"):
+ * a profile of D steps starts at speed u_s, accelerates (or decelerates, if u_s > vmax) at `accel`
+ * to the peak u_p = min(vmax, what D allows), cruises, and decelerates to v0 on the last step.
+ * In timer ticks, with C = 2F^2/a and U = v F / a ("the time to stop from v"):
+ *   accelerating from U_s:  T(n) = sqrt(U_s^2 + C n) - U_s
+ *   cruising at U_p:        T(n) = T(x1) + (n - x1) F / vmax
+ *   decelerating to U_e:    T(n) = T_end - (sqrt(U_e^2 + C (D - n)) - U_e)
+ * where x1 = (U_p^2 - U_s^2)/C is the (real) end of the acceleration; from rest (u_s = v0) this
+ * is the closed form t_n = (sqrt(v0^2 + 2 a n) - v0)/a of ramp_exact.h, step for step.
+ * How: the constants are exact 64-bit fixed point (1/256 tick) computed from the float parameters'
+ * mantissas; each square root is a float estimate corrected once by its exact 64-bit residual
+ * (Q - y^2 modulo 2^64), so no error accumulates, however long the move. Between exact points
+ * the commands follow the time law as quadratics (rate + add per step, 16.16 ticks), over
+ * 1 to 128 steps chosen so that the interpolation stays within about 0.1 tick; the executor's
+ * time is predicted exactly, so the next command absorbs every rounding. Every step edge
+ * floor(acc) is within 1 tick of round(F t_n) (test_step_exact: thousands of random moves).
+ * Limits (step_exact_set_params refuses others): tick_hz <= 2^25, accel >= 2 steps/s^2, and
+ * vmax/accel (the time to reach vmax from rest) at most 2^34 ticks (1073 s at 16 MHz).
+ * Cost on the AVR: one square root, about a dozen 64-bit operations and a few float divisions
+ * per command (`make bench` measures it); the cruise needs no square root.
+ */
+#ifndef STEP_EXACT_H
+#define STEP_EXACT_H
+
+#include <stdint.h>
+
+#include "motion_status.h"
+#include "ramp_common.h"
+#include "step_queue.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The parameter set in exact fixed point (u = 1/256 tick). */
+typedef struct {
+    uint64_t cu;  /* C = 2F^2/a, u^2 per step */
+    uint64_t vu;  /* vmax F/a, u */
+    uint64_t u0;  /* v0 F/a, u */
+    uint64_t p32; /* F/vmax, 2^-32 ticks per step */
+    float cu_f;   /* the same as floats, for estimates */
+    uint32_t tick_hz;
+} step_exact_consts_t;
+
+typedef struct {
+    step_exact_consts_t k;
+    uint32_t max_cmd_ticks; /* longest time one command may cover (stop latency), ticks */
+    /* the profile being emitted */
+    int32_t pos;      /* position after the last step emitted */
+    int8_t dir;       /* +1 / -1 of this profile */
+    uint32_t d;       /* steps of the profile */
+    uint32_t n;       /* steps emitted */
+    uint32_t n1;      /* steps 1..n1: region A (to the peak); n1 < n <= n2: cruise; after: decel */
+    uint32_t n2;
+    uint8_t a_down;   /* region A decelerates (u_s above vmax) */
+    uint64_t us, up, ue; /* speeds, u */
+    uint64_t r1;      /* C x1 - C n1: residual of the end of region A */
+    int64_t t_end16;  /* T_end, 2^-16 ticks */
+    int64_t acc16;    /* predicted executor time of step n, 2^-16 ticks from the profile start */
+    uint64_t y;       /* sqrt(...) at step n in regions A and D (0: not known) */
+    uint64_t u_now;   /* speed at step n, u */
+    uint8_t moving;   /* u_now is a real speed (not at rest) */
+} step_exact_t;
+
+/* Converts and checks a parameter set (ramp_params_check, then the limits above). On error
+ * nothing changes. Call before the first profile; a change applies to the next profile. */
+motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p);
+
+/* At rest at position pos (no profile). */
+void step_exact_reset(step_exact_t *e, int32_t pos);
+
+/* Starts a profile from the current state (position and speed after the last emitted step) to
+ * `to`. When moving and `to` is behind or closer than the stopping distance, returns
+ * MS_ERR_BUSY and changes nothing: plan step_exact_stop first, then the move from rest. */
+motion_status_t step_exact_plan(step_exact_t *e, int32_t to);
+
+/* Replaces the profile by the shortest stop from the current speed (decelerating at accel to
+ * v0); at rest it plans nothing. */
+void step_exact_stop(step_exact_t *e);
+
+/* Steps needed to stop from the current state (0 at rest). */
+uint32_t step_exact_stop_steps(const step_exact_t *e);
+
+/* The next command of the profile: 1 and *c, or 0 when the profile is complete (then at rest). */
+uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c);
+
+/* Speed after the last emitted step, steps/s (0 at rest). */
+float step_exact_speed_sps(const step_exact_t *e);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

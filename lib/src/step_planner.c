@@ -1,0 +1,325 @@
+/* step_planner.c - moves, stops and new targets of any ramp as step commands (see step_planner.h). */
+#include "step_planner.h"
+
+#define WIDE_ABOVE 65535U /* whole ticks: longer intervals go into WIDE commands */
+
+static void clear_state(step_planner_t *pl, int32_t pos)
+{
+    pl->active = 0;
+    pl->has_carry = 0;
+    pl->has_ready = 0;
+    pl->has_then = 0;
+    pl->pos = pos;
+    pl->target = pos;
+}
+
+motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                            int32_t pos)
+{
+    step_planner_t n;
+    motion_status_t st;
+    if (pl == 0 || params == 0)
+        return MS_ERR_NULL;
+    if (algo != RAMP_ALGO_SIMPLISTIC && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_EXACT)
+        return MS_ERR_UNKNOWN_COMMAND;
+    n.algo = algo;
+    n.exact.max_cmd_ticks = 0;
+    n.table = 0;
+    n.table_len = 0;
+    st = step_planner_set_params(&n, params);
+    if (st != MS_OK)
+        return st;
+    n.max_cmd_ticks = params->tick_hz / 250U; /* 4 ms */
+    n.exact.max_cmd_ticks = n.max_cmd_ticks;
+    clear_state(&n, pos);
+    step_exact_reset(&n.exact, pos);
+    *pl = n;
+    return MS_OK;
+}
+
+motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,
+                                          uint16_t table_len, int32_t pos)
+{
+    ramp_t probe;
+    motion_status_t st;
+    if (pl == 0 || p == 0)
+        return MS_ERR_NULL;
+    st = ramp_plan_sigmoid(&probe, p, table, table_len, pos, pos);
+    if (st != MS_OK)
+        return st;
+    pl->algo = RAMP_ALGO_SIGMOID;
+    pl->sig = *p;
+    pl->table = table;
+    pl->table_len = table_len;
+    pl->max_cmd_ticks = p->timer_hz / 250U;
+    clear_state(pl, pos);
+    return MS_OK;
+}
+
+motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t *params)
+{
+    motion_status_t st;
+    ramp_t probe;
+    if (pl == 0 || params == 0)
+        return MS_ERR_NULL;
+    if (pl->algo == RAMP_ALGO_EXACT) {
+        step_exact_t e = pl->exact;
+        st = step_exact_set_params(&e, params);
+        if (st != MS_OK)
+            return st;
+        /* the profile in progress keeps its constants until the next plan */
+        if (!pl->active && !pl->has_then)
+            pl->exact.k = e.k;
+    } else {
+        st = ramp_plan(&probe, pl->algo, params, 0, 1);
+        if (st != MS_OK)
+            return st;
+    }
+    pl->params = *params;
+    return MS_OK;
+}
+
+uint8_t step_planner_busy(const step_planner_t *pl)
+{
+    return pl->active || pl->has_ready || pl->has_then || pl->has_carry;
+}
+
+int32_t step_planner_position(const step_planner_t *pl)
+{
+    return pl->pos;
+}
+
+int32_t step_planner_target(const step_planner_t *pl)
+{
+    return pl->target;
+}
+
+void step_planner_halt(step_planner_t *pl, int32_t pos)
+{
+    clear_state(pl, pos);
+    step_exact_reset(&pl->exact, pos);
+}
+
+static uint32_t nonzero(uint32_t w)
+{
+    return w != 0 ? w : 1U;
+}
+
+/* the carried step becomes a one-step command handed out next (so a replan starts after it) */
+static void flush_carry(step_planner_t *pl)
+{
+    uint32_t w;
+    if (!pl->has_carry)
+        return;
+    w = nonzero(pl->carry.whole_ticks);
+    pl->ready.count = 1;
+    pl->ready.add = 0;
+    pl->ready.flags = (uint8_t)((pl->ramp.dir < 0 ? STEP_CMD_REVERSE : 0) | (w > WIDE_ABOVE ? STEP_CMD_WIDE : 0));
+    pl->ready.rate = w > WIDE_ABOVE ? w : w << 16;
+    pl->has_ready = 1;
+    pl->has_carry = 0;
+    pl->pos = ramp_position_after(pl->pos, pl->ramp.dir, 1);
+}
+
+static motion_status_t plan_from_rest(step_planner_t *pl, int32_t to)
+{
+    motion_status_t st;
+    if (pl->algo == RAMP_ALGO_EXACT) {
+        step_exact_t e = pl->exact;
+        st = step_exact_set_params(&e, &pl->params);
+        if (st != MS_OK)
+            return st;
+        step_exact_reset(&e, pl->pos);
+        st = step_exact_plan(&e, to);
+        if (st != MS_OK)
+            return st;
+        pl->exact = e;
+    } else if (pl->algo == RAMP_ALGO_SIGMOID) {
+        st = ramp_plan_sigmoid(&pl->ramp, &pl->sig, pl->table, pl->table_len, pl->pos, to);
+    } else {
+        st = ramp_plan(&pl->ramp, pl->algo, &pl->params, pl->pos, to);
+    }
+    if (st != MS_OK)
+        return st;
+    pl->active = 1;
+    pl->target = to;
+    return MS_OK;
+}
+
+/* moving: the ramp has steps left (the speed is not that of rest) */
+static uint8_t ramp_moving(const step_planner_t *pl)
+{
+    return pl->active && (pl->has_carry || ramp_steps_left(&pl->ramp) > 0);
+}
+
+static motion_status_t stop_ramp(step_planner_t *pl)
+{
+    ramp_t n;
+    uint32_t ds;
+    motion_status_t st;
+    flush_carry(pl);
+    ds = ramp_stop_steps(&pl->ramp);
+    st = ramp_plan_continue(&n, &pl->ramp, pl->algo == RAMP_ALGO_SIGMOID ? 0 : &pl->params,
+                            ramp_position_after(pl->pos, pl->ramp.dir, ds));
+    if (st != MS_OK)
+        return st;
+    pl->ramp = n;
+    pl->target = n.to;
+    return MS_OK;
+}
+
+motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
+{
+    motion_status_t st;
+    if (pl->algo == RAMP_ALGO_EXACT) {
+        step_exact_t e = pl->exact;
+        if (!e.moving || !pl->active)
+            return (pl->has_then = 0, plan_from_rest(pl, to));
+        st = step_exact_set_params(&e, &pl->params);
+        if (st != MS_OK)
+            return st;
+        if (step_exact_plan(&e, to) == MS_OK) {
+            pl->exact = e;
+            pl->has_then = 0;
+            pl->target = to;
+            return MS_OK;
+        }
+        step_exact_stop(&e);
+        pl->exact = e;
+        pl->has_then = 1;
+        pl->then_target = to;
+        pl->target = to;
+        return MS_OK;
+    }
+    if (!ramp_moving(pl)) {
+        pl->has_then = 0;
+        return plan_from_rest(pl, to);
+    }
+    flush_carry(pl);
+    {
+        ramp_t n;
+        st = ramp_plan_continue(&n, &pl->ramp, pl->algo == RAMP_ALGO_SIGMOID ? 0 : &pl->params, to);
+        if (st == MS_OK) {
+            pl->ramp = n;
+            pl->has_then = 0;
+            pl->target = to;
+            return MS_OK;
+        }
+        if (st != MS_ERR_BUSY)
+            return st;
+        st = stop_ramp(pl);
+        if (st != MS_OK)
+            return st;
+        pl->has_then = 1;
+        pl->then_target = to;
+        pl->target = to;
+        return MS_OK;
+    }
+}
+
+void step_planner_stop(step_planner_t *pl)
+{
+    pl->has_then = 0;
+    if (pl->algo == RAMP_ALGO_EXACT) {
+        if (pl->active && pl->exact.moving) {
+            step_exact_stop(&pl->exact);
+            pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d);
+        }
+        return;
+    }
+    if (ramp_moving(pl))
+        (void)stop_ramp(pl);
+}
+
+/* one command from the ramp's steps: a run of whole-tick intervals with a constant difference */
+static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
+{
+    ramp_t *r = &pl->ramp;
+    ramp_step_t s;
+    uint32_t w1, last, count = 1, dur;
+    int32_t add = 0;
+    uint8_t wide;
+    if (!pl->has_carry) {
+        uint32_t skip = ramp_cruise_skippable(r);
+        if (skip > 0) {
+            /* the cruise: whole commands of one interval */
+            uint32_t w = nonzero(r->whole_ticks), cap = pl->max_cmd_ticks / w;
+            if (cap < 1U)
+                cap = 1U;
+            if (cap > 65535U)
+                cap = 65535U;
+            if (skip > cap)
+                skip = cap;
+            skip = ramp_skip_cruise_at_most(r, skip);
+            c->count = (uint16_t)skip;
+            c->add = 0;
+            c->flags = (uint8_t)((r->dir < 0 ? STEP_CMD_REVERSE : 0) | (w > WIDE_ABOVE ? STEP_CMD_WIDE : 0));
+            c->rate = w > WIDE_ABOVE ? w : w << 16;
+            pl->pos = ramp_position_after(pl->pos, r->dir, skip);
+            return 1;
+        }
+        if (!ramp_next(r, &s))
+            return 0;
+    } else {
+        s = pl->carry;
+        pl->has_carry = 0;
+    }
+    w1 = nonzero(s.whole_ticks);
+    wide = w1 > WIDE_ABOVE;
+    last = w1;
+    dur = w1;
+    while (count < 65535U && dur < pl->max_cmd_ticks && ramp_cruise_skippable(r) == 0) {
+        uint32_t w;
+        int32_t d;
+        if (!ramp_next(r, &s))
+            break;
+        w = nonzero(s.whole_ticks);
+        d = (int32_t)(w - last);
+        if ((w > WIDE_ABOVE) != wide || (wide && w != last) || d > 32767 || d < -32767 ||
+            (count >= 2U && d != add)) {
+            pl->carry = s;
+            pl->has_carry = 1;
+            break;
+        }
+        if (count == 1U)
+            add = d;
+        count++;
+        last = w;
+        dur += w;
+    }
+    c->count = (uint16_t)count;
+    c->flags = (uint8_t)((r->dir < 0 ? STEP_CMD_REVERSE : 0) | (wide ? STEP_CMD_WIDE : 0));
+    c->rate = wide ? w1 : w1 << 16;
+    c->add = wide ? 0 : (int32_t)((uint32_t)add << 16);
+    pl->pos = ramp_position_after(pl->pos, r->dir, count);
+    return 1;
+}
+
+uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c)
+{
+    if (pl->has_ready) {
+        *c = pl->ready;
+        pl->has_ready = 0;
+        return 1;
+    }
+    for (;;) {
+        if (!pl->active) {
+            if (!pl->has_then)
+                return 0;
+            pl->has_then = 0;
+            if (pl->algo == RAMP_ALGO_EXACT)
+                step_exact_reset(&pl->exact, pl->pos);
+            if (plan_from_rest(pl, pl->then_target) != MS_OK)
+                return 0;
+        }
+        if (pl->algo == RAMP_ALGO_EXACT) {
+            if (step_exact_next(&pl->exact, c)) {
+                pl->pos = pl->exact.pos;
+                return 1;
+            }
+        } else if (next_from_ramp(pl, c)) {
+            return 1;
+        }
+        pl->active = 0;
+    }
+}

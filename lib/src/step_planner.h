@@ -1,0 +1,93 @@
+/* step_planner.h - the planner of the step engine: turns moves (to a target, a stop, a new target
+ * while moving) of any of our ramps into step commands (step_queue.h) for the step interrupt.
+ * It runs outside the interrupt (the sketch's loop(); motionsim), one command per call.
+ *
+ *   step_planner_t pl;  step_cmd_t c;
+ *   step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &params, 0);   (or _sigmoid)
+ *   step_planner_move(&pl, 20000);                      -> MS_OK, the move starts at pl's position
+ *   while (step_planner_next(&pl, &c)) push c;          (in the sketch: while the queue has room)
+ *
+ * Algorithms: RAMP_ALGO_EXACT is planned by step_exact.h (exact times, fixed point, no per-step
+ * work); simplistic, Leib and sigmoid step through ramp.h as before, and their whole-tick intervals
+ * are packed into commands without any rounding: a run of intervals changing by a constant whole
+ * number of ticks is one command (rate, add), so every reconstructed step time equals the sum
+ * of the algorithm's own whole-tick intervals exactly (`motionsim ramp --integer-ticks`); their
+ * cruise is one command per `max_cmd_ticks`.
+ * A new target while moving continues from the speed reached by the last command handed out:
+ * ahead and beyond the stopping distance, the move is replanned from there; otherwise the planner
+ * stops (decelerating at the set acceleration), then moves from rest to the target. step_planner_stop
+ * decelerates to rest. Parameter changes take effect at the next plan (move or stop).
+ * Cost on the AVR: exact, one command per call (see step_exact.h); the others, their own cost per
+ * step plus about 100 cycles of packing (`make bench` measures both).
+ */
+#ifndef STEP_PLANNER_H
+#define STEP_PLANNER_H
+
+#include <stdint.h>
+
+#include "motion_status.h"
+#include "ramp.h"
+#include "step_exact.h"
+#include "step_queue.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    ramp_algo_t algo;
+    ramp_params_t params;            /* trapezoid algorithms: in force for the next plan */
+    ramp_sigmoid_params_t sig;       /* sigmoid: its parameters and table */
+    const uint16_t *table;
+    uint16_t table_len;
+    uint32_t max_cmd_ticks;          /* longest time one command may cover (stop latency), ticks */
+    step_exact_t exact;
+    ramp_t ramp;
+    uint8_t active;                  /* a profile is being handed out */
+    uint8_t has_carry;               /* a step taken from the ramp, not yet in a command */
+    ramp_step_t carry;
+    uint8_t has_ready;               /* a command waiting to be handed out first */
+    step_cmd_t ready;
+    uint8_t has_then;                /* after the stop in progress: the move to this target */
+    int32_t then_target;
+    int32_t pos;                     /* position after the last command handed out */
+    int32_t target;                  /* where the current plan ends */
+} step_planner_t;
+
+/* A planner for simplistic, Leib or exact at rest at position pos. Checks the parameters (for
+ * exact also step_exact_set_params' limits); on error *pl is untouched. */
+motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                            int32_t pos);
+
+/* A sigmoid planner over a filled table (it must stay unchanged while a move runs). */
+motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,
+                                          uint16_t table_len, int32_t pos);
+
+/* New parameters for the next plan (checked first; on error nothing changes). */
+motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t *params);
+
+/* Plans a move to `to` from the current state (see above). MS_OK, or the ramp module's status
+ * (nothing changed). */
+motion_status_t step_planner_move(step_planner_t *pl, int32_t to);
+
+/* Decelerates to rest from the current state (no effect at rest). */
+void step_planner_stop(step_planner_t *pl);
+
+/* Forgets everything planned and not handed out and stands at pos (after a halt). */
+void step_planner_halt(step_planner_t *pl, int32_t pos);
+
+/* The next command: 1 and *c, or 0 when nothing more is planned (the axis will be at rest). */
+uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c);
+
+/* Something is still to be handed out. */
+uint8_t step_planner_busy(const step_planner_t *pl);
+
+/* Position after the last command handed out; the end of the current plan. */
+int32_t step_planner_position(const step_planner_t *pl);
+int32_t step_planner_target(const step_planner_t *pl);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,539 @@
+/* Unit tests: the step engine's pure parts (lib/src/step_queue.h, step_exact.h, step_planner.h).
+ * Golden data: the closed form of constant acceleration, t_n = (sqrt(v0^2 + 2 a n) - v0)/a with the
+ * cruise line and the mirrored deceleration (the lab handout's "uniform acceleration, constant
+ * speed and uniform deceleration"), computed here in long double independently of lib/; for the
+ * other ramps, their own whole-tick intervals from ramp_next (what `motionsim ramp --integer-ticks`
+ * prints), which the commands must reproduce exactly; the lab handout's Leib checkpoint. */
+#include "cmocka_all.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "ramp.h"
+#include "step_planner.h"
+#include "step_queue.h"
+
+/* ---- helpers ------------------------------------------------------------------------------ */
+
+static uint64_t rng_state = 88172645463325252ULL;
+static double urand(double a, double b)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return a + (b - a) * (double)(rng_state >> 11) / 9007199254740992.0;
+}
+static double lrand(double a, double b)
+{
+    return exp(urand(log(a), log(b)));
+}
+
+/* The closed form from rest (v0 = start and stop speed), long double, seconds. */
+typedef struct {
+    long double v0, a, vp, xa, ta, tt, d;
+} closed_t;
+
+static closed_t closed_plan(double v0, double vmax, double a, uint32_t d)
+{
+    closed_t c;
+    long double s = ((long double)vmax * vmax - (long double)v0 * v0) / (2.0L * a);
+    c.v0 = v0;
+    c.a = a;
+    c.d = d;
+    if (2.0L * s >= (long double)d) {
+        c.xa = d / 2.0L;
+        c.vp = sqrtl(c.v0 * c.v0 + 2.0L * c.a * c.xa);
+    } else {
+        c.xa = s;
+        c.vp = vmax;
+    }
+    c.ta = (c.vp - c.v0) / c.a;
+    c.tt = 2.0L * c.ta + (c.d - 2.0L * c.xa) / c.vp;
+    return c;
+}
+
+static long double closed_accel_time(const closed_t *c, long double x)
+{
+    return (sqrtl(c->v0 * c->v0 + 2.0L * c->a * x) - c->v0) / c->a;
+}
+
+static long double closed_time(const closed_t *c, uint32_t n)
+{
+    long double x = n;
+    if (x <= c->xa)
+        return closed_accel_time(c, x);
+    if (x <= c->d - c->xa)
+        return c->ta + (x - c->xa) / c->vp;
+    return c->tt - closed_accel_time(c, c->d - x);
+}
+
+/* Runs commands through the executor (the same functions the step interrupt calls). Records the
+ * absolute whole-tick time of every step (64-bit) and its direction. */
+typedef struct {
+    uint64_t *t;   /* t[1..n] */
+    int8_t *dir;
+    uint32_t n, cap;
+    uint32_t commands;
+    step_exec_t x;
+    uint64_t abs16; /* absolute time, 2^-16 ticks */
+} trace_t;
+
+static void trace_init(trace_t *tr, uint32_t cap)
+{
+    tr->t = calloc(cap + 2U, sizeof *tr->t);
+    tr->dir = calloc(cap + 2U, sizeof *tr->dir);
+    assert_non_null(tr->t);
+    assert_non_null(tr->dir);
+    tr->n = 0;
+    tr->cap = cap;
+    tr->commands = 0;
+    step_exec_init(&tr->x, 0x8000U);
+    tr->abs16 = 0x8000U;
+}
+
+static void trace_free(trace_t *tr)
+{
+    free(tr->t);
+    free(tr->dir);
+}
+
+static void trace_cmd(trace_t *tr, const step_cmd_t *c)
+{
+    assert_true(c->count >= 1U);
+    tr->commands++;
+    step_exec_load(&tr->x, c);
+    while (tr->x.left > 0U) {
+        uint64_t before = tr->x.acc;
+        uint16_t edge;
+        if (tr->x.flags & STEP_CMD_WIDE) {
+            assert_true(c->rate > 0xFFFFU); /* WIDE only where a normal command cannot hold it */
+            tr->abs16 += (uint64_t)tr->x.rate << 16;
+        } else {
+            tr->abs16 += tr->x.rate;
+        }
+        edge = step_exec_next(&tr->x);
+        (void)before;
+        assert_int_equal(edge, (uint16_t)(tr->abs16 >> 16)); /* the 16-bit view agrees */
+        tr->n++;
+        assert_true(tr->n <= tr->cap);
+        tr->t[tr->n] = tr->abs16 >> 16;
+        tr->dir[tr->n] = (c->flags & STEP_CMD_REVERSE) ? -1 : 1;
+    }
+}
+
+/* hands commands to the trace until it holds at least `steps` steps */
+static void drain_steps(step_planner_t *pl, trace_t *tr, uint32_t steps)
+{
+    step_cmd_t c;
+    while (tr->n < steps && step_planner_next(pl, &c))
+        trace_cmd(tr, &c);
+    assert_true(tr->n >= steps);
+}
+
+static uint32_t drain(step_planner_t *pl, trace_t *tr, uint32_t max_cmds)
+{
+    step_cmd_t c;
+    uint32_t k = 0;
+    while (k < max_cmds && step_planner_next(pl, &c)) {
+        trace_cmd(tr, &c);
+        k++;
+    }
+    return k;
+}
+
+/* ---- the queue ---------------------------------------------------------------------------- */
+
+static void queue_fifo_full_empty(void **state)
+{
+    step_queue_t q;
+    step_cmd_t c = {0, 0, 1, 0}, o;
+    uint32_t i;
+    (void)state;
+    step_queue_init(&q);
+    assert_int_equal(step_queue_used(&q), 0);
+    assert_int_equal(step_queue_pop(&q, &o), 0);
+    for (i = 0; i < STEP_QUEUE_LEN - 1U; i++) {
+        c.rate = i;
+        assert_int_equal(step_queue_push(&q, &c), 1);
+    }
+    assert_int_equal(step_queue_free(&q), 0);
+    assert_int_equal(step_queue_push(&q, &c), 0); /* full: refused, nothing overwritten */
+    for (i = 0; i < STEP_QUEUE_LEN - 1U; i++) {
+        assert_int_equal(step_queue_pop(&q, &o), 1);
+        assert_int_equal(o.rate, i);
+    }
+    assert_int_equal(step_queue_pop(&q, &o), 0);
+    /* wrap-around many times */
+    for (i = 0; i < 1000U; i++) {
+        c.rate = i;
+        assert_int_equal(step_queue_push(&q, &c), 1);
+        assert_int_equal(step_queue_pop(&q, &o), 1);
+        assert_int_equal(o.rate, i);
+    }
+    assert_int_equal(step_queue_push(&q, &c), 1);
+    step_queue_clear(&q);
+    assert_int_equal(step_queue_used(&q), 0);
+}
+
+/* rate + add per step, in 16.16: 2.5, 3.75, 5.0 ticks -> edges at floor(0.5 + sums) */
+static void executor_follows_its_formula(void **state)
+{
+    step_exec_t x;
+    step_cmd_t c = {0x28000U, 0x14000, 3, 0};
+    (void)state;
+    step_exec_init(&x, 0x8000U);
+    step_exec_load(&x, &c);
+    assert_int_equal(step_exec_next(&x), 3);  /* 0.5 + 2.5 */
+    assert_int_equal(step_exec_next(&x), 6);  /* 3.0 + 3.75 = 6.75 */
+    assert_int_equal(step_exec_next(&x), 11); /* 6.75 + 5.0 = 11.75 */
+    assert_int_equal(x.left, 0);
+    c.rate = 100000U; /* WIDE: whole ticks, the fraction stays */
+    c.add = 0;
+    c.count = 1;
+    c.flags = STEP_CMD_WIDE;
+    step_exec_load(&x, &c);
+    assert_int_equal(step_exec_next(&x), (uint16_t)(11U + 100000U));
+}
+
+/* ---- exact: the closed form, every step --------------------------------------------------- */
+
+static void check_exact_move(double v0, double vmax, double a, uint32_t tick_hz, uint32_t d, int32_t from,
+                             uint32_t *worst_out)
+{
+    ramp_params_t p = {(float)v0, (float)vmax, (float)a, tick_hz};
+    step_planner_t pl;
+    trace_t tr;
+    closed_t cf;
+    uint32_t n;
+    int32_t to = (int32_t)((int64_t)from + (from > 0 ? -(int64_t)d : (int64_t)d));
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, from), MS_OK);
+    assert_int_equal(step_planner_move(&pl, to), MS_OK);
+    trace_init(&tr, d);
+    drain(&pl, &tr, UINT32_MAX);
+    assert_int_equal(tr.n, d);
+    assert_int_equal(step_planner_position(&pl), to);
+    /* the parameters as the board holds them: floats */
+    cf = closed_plan((float)v0, (float)vmax, (float)a, d);
+    for (n = 1; n <= d; n++) {
+        long double want = floorl(closed_time(&cf, n) * tick_hz + 0.5L);
+        long double err = (long double)tr.t[n] - (long double)want;
+        if (fabsl(err) > 1.0L)
+            fail_msg("v0 %g vmax %g a %g F %u D %u: step %u at %llu ticks, closed form %.0Lf", v0, vmax, a, tick_hz, d, n,
+                     (unsigned long long)tr.t[n], want);
+        if (worst_out && fabsl(err) > *worst_out)
+            *worst_out = (uint32_t)fabsl(err);
+        assert_int_equal(tr.dir[n], to > from ? 1 : -1);
+    }
+    trace_free(&tr);
+}
+
+static void exact_reference_moves_every_step(void **state)
+{
+    /* the benchmark's reference move: 20,000 steps, accel vmax^2/10,000 (5,000-step ramps) */
+    const double rates[] = {5000, 20000, 50000, 70000, 100000, 160000};
+    uint32_t i, worst = 0;
+    (void)state;
+    for (i = 0; i < sizeof rates / sizeof rates[0]; i++)
+        check_exact_move(0, rates[i], rates[i] * rates[i] / 10000.0, 16000000, 20000, 0, &worst);
+    /* the sketch's defaults, and moves of 1, 2, 3 steps */
+    check_exact_move(0, 20000, 50000, 16000000, 20000, 0, &worst);
+    for (i = 1; i <= 3; i++)
+        check_exact_move(0, 20000, 50000, 16000000, i, 0, &worst);
+    assert_true(worst <= 1U);
+}
+
+static void exact_random_moves_every_step(void **state)
+{
+    uint32_t i, worst = 0;
+    (void)state;
+    for (i = 0; i < 3000U; i++) {
+        uint32_t f = (i % 3U) == 0 ? 2000000U : 16000000U;
+        double a = lrand(50, 3e6);
+        double vmax = lrand(20, 160000);
+        double v0 = (i % 4U) == 0 ? 0.0 : vmax * urand(0, 0.6);
+        uint32_t d = (uint32_t)lrand(1, 60000);
+        ramp_params_t p = {(float)v0, (float)vmax, (float)a, f};
+        step_planner_t pl;
+        if (step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0) != MS_OK)
+            continue; /* outside step_exact's stated limits */
+        check_exact_move(v0, vmax, a, f, d, (i & 1U) ? 0 : 1000, &worst);
+    }
+    assert_true(worst <= 1U);
+}
+
+/* 2^31 - 1 steps: every acceleration and deceleration step, and the cruise at every command's end
+ * and at random steps in between (no drift over 2 billion steps). */
+static void exact_longest_move_no_drift(void **state)
+{
+    ramp_params_t p = {0.0f, 100000.0f, 1000000.0f, 16000000};
+    step_planner_t pl;
+    step_cmd_t c;
+    step_exec_t x;
+    closed_t cf;
+    uint64_t abs16 = 0x8000U, n = 0, checked = 0;
+    const uint32_t d = 2147483647U;
+    (void)state;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, INT32_MIN), MS_OK);
+    assert_int_equal(step_planner_move(&pl, -1), MS_OK);
+    cf = closed_plan(0, 100000, 1000000, d);
+    step_exec_init(&x, 0x8000U);
+    while (step_planner_next(&pl, &c)) {
+        uint8_t ramping = n < 6000U || n + 6000U > d;
+        uint64_t end;
+        if (!ramping && !(c.flags & STEP_CMD_WIDE) && c.add == 0) {
+            /* cruise: jump to the command's end in one go */
+            abs16 += (uint64_t)c.rate * c.count;
+            n += c.count;
+            end = abs16 >> 16;
+            if (fabsl((long double)end - floorl(closed_time(&cf, (uint32_t)n) * 16e6L + 0.5L)) > 1.0L)
+                fail_msg("cruise step %llu at %llu ticks", (unsigned long long)n, (unsigned long long)end);
+            checked++;
+            continue;
+        }
+        step_exec_load(&x, &c);
+        while (x.left > 0U) {
+            abs16 += (x.flags & STEP_CMD_WIDE) ? (uint64_t)x.rate << 16 : x.rate;
+            (void)step_exec_next(&x);
+            n++;
+            if (fabsl((long double)(abs16 >> 16) - floorl(closed_time(&cf, (uint32_t)n) * 16e6L + 0.5L)) > 1.0L)
+                fail_msg("step %llu at %llu ticks", (unsigned long long)n, (unsigned long long)(abs16 >> 16));
+            checked++;
+        }
+    }
+    assert_true(n == d);
+    assert_int_equal(step_planner_position(&pl), -1);
+    assert_true(checked > 12000U);
+}
+
+/* ---- simplistic, Leib, sigmoid: the algorithm's own whole ticks, exactly ------------------ */
+
+static void check_stepwise_move(step_planner_t *pl, ramp_t *ref, uint32_t d)
+{
+    trace_t tr;
+    ramp_step_t s;
+    uint64_t t = 0;
+    uint32_t n = 0;
+    trace_init(&tr, d);
+    drain(pl, &tr, UINT32_MAX);
+    assert_int_equal(tr.n, d);
+    while (ramp_next(ref, &s)) {
+        n++;
+        t += s.whole_ticks != 0 ? s.whole_ticks : 1U;
+        if (tr.t[n] != t)
+            fail_msg("step %u: commands give %llu ticks, the ramp %llu", n, (unsigned long long)tr.t[n],
+                     (unsigned long long)t);
+    }
+    assert_int_equal(n, d);
+    trace_free(&tr);
+}
+
+static void stepwise_random_moves_exact_ticks(void **state)
+{
+    uint32_t i;
+    static uint16_t table[400];
+    (void)state;
+    for (i = 0; i < 3000U; i++) {
+        step_planner_t pl;
+        ramp_t ref;
+        uint32_t d = (uint32_t)lrand(1, 30000);
+        int32_t from = (int32_t)urand(-1e6, 1e6), to = (i & 1U) ? from + (int32_t)d : from - (int32_t)d;
+        if (i % 3U == 2U) {
+            ramp_sigmoid_params_t sp;
+            sp.len = (uint16_t)urand(2, 400);
+            sp.hold = (uint16_t)urand(1, 6);
+            sp.timer_hz = 2000000;
+            sp.fmin_hz = (float)urand(40, 1000);
+            sp.fmax_hz = sp.fmin_hz + (float)lrand(10, 30000);
+            sp.flex = (float)urand(0.5, 10);
+            if (ramp_sigmoid_fill(&sp, table, 400) != MS_OK)
+                continue;
+            assert_int_equal(step_planner_init_sigmoid(&pl, &sp, table, sp.len, from), MS_OK);
+            assert_int_equal(ramp_plan_sigmoid(&ref, &sp, table, sp.len, from, to), MS_OK);
+        } else {
+            ramp_algo_t algo = (i % 3U) == 0 ? RAMP_ALGO_LEIB : RAMP_ALGO_SIMPLISTIC;
+            double vmax = lrand(20, 30000);
+            ramp_params_t p = {(float)(vmax * urand(0.01, 0.5)), (float)vmax, (float)lrand(10, 1e6), 2000000};
+            if (step_planner_init_trapezoid(&pl, algo, &p, from) != MS_OK)
+                continue;
+            assert_int_equal(ramp_plan(&ref, algo, &p, from, to), MS_OK);
+        }
+        assert_int_equal(step_planner_move(&pl, to), MS_OK);
+        check_stepwise_move(&pl, &ref, d);
+        assert_int_equal(step_planner_position(&pl), to);
+    }
+}
+
+/* The lab handout's checkpoint (Leib, 0 -> 50, v0 1, vmax 20, a 10, F 1000 ticks/s): the first
+ * intervals 218.218, 188.528 and 157.245 ticks, i.e. 218, 189 and 157 whole ticks in the queue. */
+static void leib_lab_checkpoint_through_the_queue(void **state)
+{
+    ramp_params_t lab = {1.0, 20.0, 10.0, 1000};
+    step_planner_t pl;
+    trace_t tr;
+    (void)state;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_LEIB, &lab, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 50), MS_OK);
+    trace_init(&tr, 50);
+    drain(&pl, &tr, UINT32_MAX);
+    assert_int_equal(tr.n, 50);
+    assert_int_equal(tr.t[1], 218);
+    assert_int_equal(tr.t[2] - tr.t[1], 189);
+    assert_int_equal(tr.t[3] - tr.t[2], 157);
+    trace_free(&tr);
+}
+
+/* ---- stop and new targets while moving ---------------------------------------------------- */
+
+/* steps -> positions; checks that the speed never jumps: between two steps in one direction the
+ * speed 1/interval changes by at most twice what the acceleration allows over them (the first
+ * steps of a run from rest are left out: there v0 and the ramp's first step set the speed; the
+ * simplistic ramp changes its interval by a constant dp ticks instead: extra_ticks, and since its dp
+ * depends on each move's length it is checked only around the replanning: check_from..check_to) */
+static int32_t replay_positions(const trace_t *tr, int32_t from, double accel_sps2, double tick_hz,
+                                double extra_ticks, uint32_t check_from, uint32_t check_to, uint32_t *reversals)
+{
+    int32_t pos = from;
+    uint32_t n, run = 0;
+    double a = accel_sps2 / (tick_hz * tick_hz); /* steps/tick^2 */
+    *reversals = 0;
+    for (n = 1; n <= tr->n; n++) {
+        pos += tr->dir[n];
+        run = (n >= 2U && tr->dir[n] != tr->dir[n - 1]) ? 1U : run + 1U;
+        if (run == 1U && n >= 2U)
+            (*reversals)++;
+        if (run > 10U && n >= check_from && n <= check_to) {
+            double i1 = (double)(tr->t[n - 1] - tr->t[n - 2]), i2 = (double)(tr->t[n] - tr->t[n - 1]);
+            double dv = fabs(1.0 / i2 - 1.0 / i1), allowed = 2.0 * a * (i1 + i2) / 2.0 + (2.0 + extra_ticks) / (i1 * i2);
+            if (dv > allowed)
+                fail_msg("speed jump at step %u: intervals %.0f then %.0f ticks", n, i1, i2);
+        }
+    }
+    return pos;
+}
+
+/* the simplistic ramp's interval step dp = (F/v0 - F/vmax)/S, S = (vmax^2 - v0^2)/(2a) (the lab's eq. 1) */
+static double simplistic_dp(ramp_algo_t algo, const ramp_params_t *p)
+{
+    double s = (p->vmax_sps * p->vmax_sps - p->v0_sps * p->v0_sps) / (2.0 * p->accel_sps2);
+    if (algo != RAMP_ALGO_SIMPLISTIC)
+        return 0.0;
+    return (p->tick_hz / p->v0_sps - p->tick_hz / p->vmax_sps) / floor(s);
+}
+
+static void retarget_case(ramp_algo_t algo, uint32_t tick_hz, int32_t first, uint32_t after_steps, int32_t second,
+                          uint32_t want_reversals)
+{
+    ramp_params_t p = {algo == RAMP_ALGO_EXACT ? 0.0f : 200.0f, 20000.0f, 50000.0f, tick_hz};
+    step_planner_t pl;
+    trace_t tr;
+    uint32_t rev;
+    assert_int_equal(step_planner_init_trapezoid(&pl, algo, &p, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, first), MS_OK);
+    trace_init(&tr, 400000);
+    drain_steps(&pl, &tr, after_steps);
+    assert_int_equal(step_planner_move(&pl, second), MS_OK);
+    assert_int_equal(step_planner_target(&pl), second);
+    drain(&pl, &tr, UINT32_MAX);
+    assert_false(step_planner_busy(&pl));
+    assert_int_equal(replay_positions(&tr, 0, p.accel_sps2, tick_hz, simplistic_dp(algo, &p),
+                                     algo == RAMP_ALGO_SIMPLISTIC ? after_steps - 3U : 0U,
+                                     algo == RAMP_ALGO_SIMPLISTIC ? after_steps + 5U : UINT32_MAX, &rev),
+                    second);
+    assert_int_equal(step_planner_position(&pl), second);
+    assert_int_equal(rev, want_reversals);
+    trace_free(&tr);
+}
+
+static void new_target_while_moving(void **state)
+{
+    const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_LEIB, RAMP_ALGO_SIMPLISTIC};
+    uint32_t i;
+    (void)state;
+    for (i = 0; i < 3U; i++) {
+        uint32_t f = algos[i] == RAMP_ALGO_EXACT ? 16000000U : 2000000U;
+        /* at full speed after 6,000 steps (4,000 of acceleration); stopping distance 4,000 steps */
+        retarget_case(algos[i], f, 100000, 6000, 60000, 0);  /* ahead, beyond the stopping distance */
+        retarget_case(algos[i], f, 100000, 6000, 120000, 0); /* further */
+        retarget_case(algos[i], f, 100000, 6000, 8000, 1);   /* ahead but too close: overshoot, return */
+        retarget_case(algos[i], f, 100000, 6000, 1000, 1);   /* behind: stop, reverse, approach */
+        retarget_case(algos[i], f, 100000, 6000, -5000, 1);
+        retarget_case(algos[i], f, 100000, 6000, 0, 1);      /* back to where it started */
+        retarget_case(algos[i], f, 100000, 2000, 50000, 0);  /* while still accelerating */
+        retarget_case(algos[i], f, 100000, 2000, 2500, 1);
+    }
+}
+
+static void stop_decelerates_to_rest(void **state)
+{
+    const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_LEIB, RAMP_ALGO_SIMPLISTIC};
+    uint32_t i;
+    (void)state;
+    for (i = 0; i < 3U; i++) {
+        ramp_params_t p = {algos[i] == RAMP_ALGO_EXACT ? 0.0f : 200.0f, 20000.0f, 50000.0f,
+                           algos[i] == RAMP_ALGO_EXACT ? 16000000U : 2000000U};
+        step_planner_t pl;
+        trace_t tr;
+        uint32_t rev, before;
+        int32_t end;
+        assert_int_equal(step_planner_init_trapezoid(&pl, algos[i], &p, 0), MS_OK);
+        assert_int_equal(step_planner_move(&pl, 1000000), MS_OK);
+        trace_init(&tr, 1000000);
+        drain_steps(&pl, &tr, 6000); /* at full speed by now (4,000 steps of acceleration) */
+        before = tr.n;
+        step_planner_stop(&pl);
+        drain(&pl, &tr, UINT32_MAX);
+        end = replay_positions(&tr, 0, p.accel_sps2, p.tick_hz, simplistic_dp(algos[i], &p), 0, UINT32_MAX, &rev);
+        assert_int_equal(rev, 0);
+        assert_int_equal(end, step_planner_position(&pl));
+        /* stopping distance from 20,000 steps/s at 50,000 steps/s^2: v^2/2a = 4,000 steps */
+        if (abs((int)(tr.n - before) - 4000) > 2)
+            fail_msg("%s: stopped in %u steps, want 4000 +- 2", ramp_algo_name(algos[i]), tr.n - before);
+        trace_free(&tr);
+    }
+}
+
+static void stop_at_rest_does_nothing(void **state)
+{
+    ramp_params_t p = {0.0f, 20000.0f, 50000.0f, 16000000U};
+    step_planner_t pl;
+    step_cmd_t c;
+    (void)state;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 7), MS_OK);
+    step_planner_stop(&pl);
+    assert_int_equal(step_planner_next(&pl, &c), 0);
+    assert_int_equal(step_planner_position(&pl), 7);
+    assert_false(step_planner_busy(&pl));
+}
+
+static void bad_parameters_refused(void **state)
+{
+    step_planner_t pl;
+    ramp_params_t bad = {0.0f, 20000.0f, 0.0f, 16000000U};
+    ramp_params_t slow = {0.0f, 100000.0f, 1.0f, 16000000U}; /* vmax/accel beyond 2^34 ticks */
+    ramp_params_t ok = {0.0f, 20000.0f, 50000.0f, 16000000U};
+    (void)state;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &bad, 0), MS_ERR_ACCEL_NOT_POSITIVE);
+    assert_int_not_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &slow, 0), MS_OK);
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &ok, 0), MS_OK);
+    assert_int_not_equal(step_planner_set_params(&pl, &bad), MS_OK);
+    assert_true(pl.params.accel_sps2 == 50000.0); /* unchanged */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(queue_fifo_full_empty),
+        cmocka_unit_test(executor_follows_its_formula),
+        cmocka_unit_test(exact_reference_moves_every_step),
+        cmocka_unit_test(exact_random_moves_every_step),
+        cmocka_unit_test(exact_longest_move_no_drift),
+        cmocka_unit_test(stepwise_random_moves_exact_ticks),
+        cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
+        cmocka_unit_test(new_target_while_moving),
+        cmocka_unit_test(stop_decelerates_to_rest),
+        cmocka_unit_test(stop_at_rest_does_nothing),
+        cmocka_unit_test(bad_parameters_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
