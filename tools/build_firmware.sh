@@ -39,6 +39,7 @@ props=(
     --build-property "tools.ctags.cmd.path=/usr/bin/arduino-ctags"
     --build-property "compiler.cpp.extra_flags=-DDECIMAL_DIG=__DECIMAL_DIG__ ${FIRMWARE_DEFINES:-}"
     --build-property "compiler.c.extra_flags=${FIRMWARE_DEFINES:-}"
+    --build-property "compiler.S.extra_flags=${FIRMWARE_DEFINES:-}"
 )
 
 mkdir -p "$OUT"

@@ -12,9 +12,15 @@
  */
 #include <StepperConsole.h>
 
-static TrapezoidRamp ramp(RAMP_ALGO_LEIB, 1.0, 20.0, 10.0, STEPPER_MAX_SPS_LEIB);
+static TrapezoidRamp ramp(RAMP_ALGO_LEIB, 1.0, 20.0, 10.0, STEPPER_MAX_SPS_LEIB, STEPPER_TICK_HZ_LAB);
 static StepperConsole console(ramp);
-STEPPER_DRIVER_ISR() /* Timer1 compare A steps the motor (StepperDriver) */
+/* Timer1's compare interrupt makes the steps the planner queued (StepEngine.h) */
+#if !STEPPER_TIMED_LOOP
+ISR(TIMER1_COMPA_vect, ISR_NAKED)
+{
+    StepEngine::on_step_timer(); /* jumps to the step routine, which returns from the interrupt */
+}
+#endif
 
 void setup()
 {

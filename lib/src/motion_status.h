@@ -35,6 +35,8 @@ extern "C" {
     X(MS_ERR_VMAX_ABOVE_TICK_HZ, "maximum speed vmax must not exceed the tick rate F (1 step per tick)") \
     X(MS_ERR_V0_ZERO_SIMPLISTIC, "the simplistic ramp needs v0 > 0: its first interval is F/v0")  \
     X(MS_ERR_TABLE_MISSING, "the S-curve period table is missing or shorter than len")          \
+    X(MS_ERR_ACCEL_PHASE_TOO_LONG, "reaching vmax from rest would take more than 2^34 timer ticks: raise accel or lower vmax") \
+    X(MS_ERR_ACCEL_TOO_LOW, "acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz (scales with F^2)") \
     X(MS_ERR_DERIVED_PARAM, "derived here from fmin, fmax, len, hold and flex: set those instead") \
     /* acceleration/deceleration filters */                                                    \
     X(MS_ERR_TS_NOT_POSITIVE, "sample time Ts must be greater than 0 s")                       \

@@ -242,6 +242,7 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
         s->interval_ticks = period;
         s->whole_ticks = period;
         r->whole_ticks = period;
+        r->level = r->u.sigmoid.k; /* for ramp_stop_steps and ramp_plan_continue */
         s->phase = r->start_level == 0 ? ramp_phase_label(r->steps_total, r->accel_steps, n)
                                        : (k > kold ? RAMP_ACCEL : (k < kold ? RAMP_DECEL : RAMP_CRUISE));
         break;

@@ -5,7 +5,7 @@
 
 #define SEG_MAX 128U       /* steps one quadratic command may span */
 #define CRUISE_MAX 4096U   /* steps one cruise command may span (rate rounding <= 2^-17 tick per step) */
-#define FIT_GAIN 1000.0f   /* (L s)^3 <= FIT_GAIN y^2 keeps the quadratic within about 0.1 tick (test_step_exact) */
+#define FIT_GAIN 2000.0f   /* (L s)^3 <= FIT_GAIN y^2 keeps the quadratic within about 0.1 tick (test_step_exact) */
 #define RATE_LIMIT 0xFFFF0000ULL /* largest normal rate (16.16): 65535 ticks */
 
 /* ---- exact fixed-point helpers ------------------------------------------------------------ */
@@ -48,31 +48,76 @@ static uint64_t ratio64(uint64_t num, float den, int shift)
     }
 }
 
+/* 64-bit arithmetic by 32-bit halves (the AVR has no 64-bit multiply; this keeps it to 32 x 32). */
+typedef union {
+    uint64_t u;
+    uint32_t w[2]; /* little-endian on the AVR and the host: w[0] is the low half */
+} u64w_t;
+
+static uint64_t mul32x32(uint32_t a, uint32_t b)
+{
+    return (uint64_t)a * b;
+}
+
+/* a * b modulo 2^64 */
+static uint64_t mul64x32(uint64_t a, uint32_t b)
+{
+    u64w_t x, r;
+    x.u = a;
+    r.u = mul32x32(x.w[0], b);
+    r.w[1] += x.w[1] * b;
+    return r.u;
+}
+
+/* y^2 modulo 2^64 */
+static uint64_t square64(uint64_t y)
+{
+    u64w_t x, r;
+    x.u = y;
+    r.u = mul32x32(x.w[0], x.w[0]);
+    r.w[1] += (x.w[1] * x.w[0]) << 1;
+    return r.u;
+}
+
 /* (m * p) >> 16 for a 32-bit m and a 64-bit p (the product below 2^80). */
 static uint64_t mulshr16(uint32_t m, uint64_t p)
 {
-    uint64_t hi = (uint64_t)m * (uint32_t)(p >> 32);
-    uint64_t lo = (uint64_t)m * (uint32_t)p;
+    u64w_t x;
+    uint64_t hi, lo;
+    x.u = p;
+    hi = mul32x32(m, x.w[1]);
+    lo = mul32x32(m, x.w[0]);
     return (hi << 16) + (lo >> 16);
 }
 
 /* y = sqrt(q / m) (m = 1 or 2), q known exactly modulo 2^64 and approximately as qf: a float
- * estimate corrected once by the exact residual q - m y^2. */
+ * estimate corrected once by the exact residual q - m y^2. *inv gets about 1/y (for slopes). */
+static float s_inv; /* 1/y of the last root() (one division serves the correction and the slope) */
 static uint64_t root(uint64_t q, float qf, uint8_t m)
 {
-    float yf = sqrtf(qf / (float)m);
+    float yf = sqrtf(m == 2 ? qf * 0.5f : qf), inv;
     uint64_t y0, sq;
     int64_t r;
     float corr;
-    if (!(yf >= 1.0f))
+    if (!(yf >= 1.0f)) {
+        s_inv = 0.0f;
         return q != 0 ? 1U : 0U;
+    }
     y0 = (uint64_t)yf;
-    sq = y0 * y0;
+    sq = square64(y0);
     if (m == 2)
         sq <<= 1;
     r = (int64_t)(q - sq);
-    corr = (float)r / ((float)y0 * (float)(2 * m));
+    inv = 1.0f / yf;
+    s_inv = inv;
+    corr = (float)r * inv * (m == 2 ? 0.25f : 0.5f);
     return y0 + (int64_t)(corr >= 0.0f ? corr + 0.5f : corr - 0.5f);
+}
+
+/* a * b exactly, for a signed 32-bit a and an unsigned 32-bit b */
+static int64_t mul_s32_u32(int32_t a, uint32_t b)
+{
+    return a >= 0 ? (int64_t)mul32x32((uint32_t)a, b) : -(int64_t)mul32x32((uint32_t)-a, b);
 }
 
 /* x = (ua^2 - ub^2)/C for ua >= ub, as n + r/C with 0 <= r < C; n saturates at 2^32 - 1. */
@@ -85,7 +130,7 @@ static uint32_t steps_between(const step_exact_consts_t *k, uint64_t ua, uint64_
         return UINT32_MAX;
     }
     n = (int64_t)xf;
-    rr = (int64_t)(ua * ua - ub * ub - k->cu * (uint64_t)n);
+    rr = (int64_t)(square64(ua) - square64(ub) - mul64x32(k->cu, (uint32_t)n));
     adj = (int64_t)((float)rr / k->cu_f);
     n += adj;
     rr -= adj * (int64_t)k->cu;
@@ -126,11 +171,17 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     a = (float)p->accel_sps2;
     vmax = (float)p->vmax_sps;
     v0 = (float)p->v0_sps;
-    if (f > (1UL << 25) || !(a >= 8.0f * ((float)f / 16.0e6f) * ((float)f / 16.0e6f)) || !(a >= 0.5f))
+    /* finite as doubles (checked above) but maybe not as the floats the board holds */
+    if (!isfinite(a) || !isfinite(vmax) || !isfinite(v0) || !(vmax > 0.0f))
+        return MS_ERR_NOT_FINITE;
+    if (f > (1UL << 25))
         return MS_ERR_OUT_OF_RANGE;
+    /* C = 2F^2/a below 2^46 ticks^2 */
+    if (!(a >= 8.0f * ((float)f / 16.0e6f) * ((float)f / 16.0e6f)) || !(a >= 0.5f))
+        return MS_ERR_ACCEL_TOO_LOW;
     /* time to reach vmax from rest, at most 2^34 ticks */
     if (!(vmax / a * (float)f <= 17179869184.0f))
-        return MS_ERR_INTERVAL_TOO_LONG;
+        return MS_ERR_ACCEL_PHASE_TOO_LONG;
     mv = float_mant(vmax, &ev);
     (void)ea;
     ma = float_mant(a, &ea);
@@ -185,8 +236,13 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
     e->acc16 = 0;
     e->us = us;
     e->ue = ue;
+    e->us2 = square64(us);
+    e->ue2 = square64(ue);
     e->y = us;
     e->a_down = us > vu;
+    e->span = e->a_down ? SEG_MAX : 1U;
+    e->slope_ok = 0;
+    e->in_d = 0;
     if (e->a_down) {
         n1 = steps_between(k, us, vu, &r1);
         n3 = steps_between(k, vu, ue, &r3);
@@ -214,7 +270,7 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
                      (int64_t)(f * p16_f(e)) + (int64_t)((up - ue) << 8);
     } else {
         float qf = (float)k->cu * (float)d + (float)us * (float)us + (float)ue * (float)ue;
-        up = root(k->cu * d + us * us + ue * ue, qf, 2);
+        up = root(mul64x32(k->cu, d) + square64(us) + square64(ue), qf, 2);
         if (up < us)
             up = us;
         n1 = steps_between(k, up, us, &r1);
@@ -284,10 +340,10 @@ static uint64_t y_a(const step_exact_t *e, uint32_t n)
     float qf = (float)e->us * (float)e->us;
     float cn = e->k.cu_f * (float)n;
     if (e->a_down) {
-        q = e->us * e->us - e->k.cu * n;
+        q = e->us2 - mul64x32(e->k.cu, n);
         qf -= cn;
     } else {
-        q = e->us * e->us + e->k.cu * n;
+        q = e->us2 + mul64x32(e->k.cu, n);
         qf += cn;
     }
     return root(q, qf, 1);
@@ -297,7 +353,7 @@ static uint64_t y_a(const step_exact_t *e, uint32_t n)
 static uint64_t y_d(const step_exact_t *e, uint32_t m)
 {
     float qf = (float)e->ue * (float)e->ue + e->k.cu_f * (float)m;
-    return root(e->ue * e->ue + e->k.cu * m, qf, 1);
+    return root(e->ue2 + mul64x32(e->k.cu, m), qf, 1);
 }
 
 static int64_t t16_a(const step_exact_t *e, uint64_t y)
@@ -317,20 +373,46 @@ static int64_t t16_d(const step_exact_t *e, uint64_t y)
     return e->t_end16 - (int64_t)((y - e->ue) << 8);
 }
 
-/* largest power of two <= lim whose quadratic stays within tolerance, for slope s (u/step) and
- * y (u) at the tighter end of the span */
-static uint32_t fit_span(float s, float y, uint32_t lim)
+/* whether the quadratic over l steps stays within about 0.1 tick: (l s)^3 <= gain y^2
+ * (s: interval in u per step, y in u, at the tighter end of the span) */
+static uint8_t span_fits(uint32_t l, float s, float y, float gain)
+{
+    float ls = (float)l * s;
+    return ls * ls * ls <= gain * y * y;
+}
+
+static uint32_t pow2_at_most(uint32_t lim)
 {
     uint32_t l = SEG_MAX;
-    float g = FIT_GAIN * y * y;
     while (l > lim)
         l >>= 1;
-    while (l > 1U) {
-        float ls = (float)l * s;
-        if (ls * ls * ls <= g)
-            break;
+    return l;
+}
+
+/* accelerating: the allowed span only grows, so try twice the last one */
+static uint32_t span_growing(step_exact_t *e, float s, float y, uint32_t lim)
+{
+    uint32_t l = e->span, cap = pow2_at_most(lim);
+    if (l > cap)
+        l = cap;
+    if (l < cap && span_fits(l * 2U, s, y, FIT_GAIN))
+        l *= 2U;
+    if (l < 1U)
+        l = 1U;
+    e->span = l;
+    return l;
+}
+
+/* slowing down: the allowed span only shrinks; bounded at the span's start with a quarter of the
+ * gain over at most half the steps that remain (so y at its end is at least y / sqrt(2)) */
+static uint32_t span_shrinking(step_exact_t *e, float s, float y, uint32_t remain)
+{
+    uint32_t l = e->span, cap = pow2_at_most(remain > 1U ? remain >> 1 : 1U);
+    if (l > cap)
+        l = cap;
+    while (l > 1U && !span_fits(l, s, y, FIT_GAIN / 4.0f))
         l >>= 1;
-    }
+    e->span = l;
     return l;
 }
 
@@ -354,15 +436,15 @@ static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, flo
     c->count = (uint16_t)l;
     if (l > 1U) {
         uint8_t b = log2u(l);
-        float addf = (s1 - s0) / (float)l;
+        float addf = ldexpf(s1 - s0, -(int)b);
         int32_t add;
         int64_t tri, rate, last;
         if (!(addf < 2.0e9f && addf > -2.0e9f))
             return 0;
         add = (int32_t)(addf >= 0.0f ? addf + 0.5f : addf - 0.5f);
-        tri = (int64_t)add * (int64_t)(l * (l - 1U) / 2U);
+        tri = mul_s32_u32(add, l * (l - 1U) / 2U);
         rate = (dt - tri + (int64_t)(l >> 1)) >> b;
-        last = rate + (int64_t)add * (int64_t)(l - 1U);
+        last = rate + mul_s32_u32(add, l - 1U);
         if (!(rate > 0 && last > 0 && rate <= (int64_t)RATE_LIMIT && last <= (int64_t)RATE_LIMIT))
             return 0;
         c->rate = (uint32_t)rate;
@@ -396,30 +478,27 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
     }
     if (n < e->n1) {
         /* region A */
-        float yf = (float)e->y, s = yf > 0.0f ? e->k.cu_f / (2.0f * yf) : 0.0f;
+        float yf = (float)e->y, s;
         uint64_t y1;
         uint32_t lim = e->n1 - n;
-        if (yf <= 0.0f) {
+        if (!e->slope_ok)
+            e->slope = yf > 0.0f ? e->k.cu_f * 0.5f / yf : 0.0f;
+        s = e->slope;
+        if (yf <= 0.0f)
             l = 1;
-        } else if (e->a_down) {
-            l = SEG_MAX;
-            while (l > lim)
-                l >>= 1;
-            while (l > 1U) {
-                float ye = sqrtf(yf * yf - e->k.cu_f * (float)l);
-                if (fit_span(e->k.cu_f / (2.0f * ye), ye, l) >= l)
-                    break;
-                l >>= 1;
-            }
-        } else {
-            l = fit_span(s, yf, lim);
-        }
+        else if (e->a_down)
+            l = span_shrinking(e, s, yf, lim);
+        else
+            l = span_growing(e, s, yf, lim);
         for (;;) {
             y1 = y_a(e, n + l);
-            if (emit(e, c, l, t16_a(e, y1), s * k16, y1 > 0 ? e->k.cu_f / (2.0f * (float)y1) * k16 : 0.0f))
+            e->slope = e->k.cu_f * 0.5f * s_inv;
+            if (emit(e, c, l, t16_a(e, y1), s * k16, e->slope * k16))
                 break;
             l = 1;
+            e->span = 1;
         }
+        e->slope_ok = 1;
         e->y = y1;
         e->u_now = y1;
     } else if (n < e->n2) {
@@ -446,33 +525,35 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
         }
         e->u_now = e->up;
         e->y = 0;
+        e->slope_ok = 0;
     } else {
         /* region D */
-        uint32_t m = e->d - n, lim = m;
-        float yf, ye;
+        uint32_t m = e->d - n;
+        float yf, s;
         uint64_t y1;
-        if (e->y == 0 || n == e->n2)
+        if (e->y == 0 || n == e->n2 || !e->in_d) {
             e->y = y_d(e, m);
-        yf = (float)e->y;
-        l = n == e->n2 ? 1U : SEG_MAX; /* the first step may straddle the start of the deceleration */
-        while (l > lim)
-            l >>= 1;
-        while (l > 1U) {
-            ye = sqrtf((float)e->ue * (float)e->ue + e->k.cu_f * (float)(m - l));
-            if (ye > 0.0f && fit_span(e->k.cu_f / (2.0f * ye), ye, l) >= l)
-                break;
-            l >>= 1;
+            e->slope = e->k.cu_f * 0.5f * s_inv;
+            e->span = SEG_MAX; /* the largest span is at the start of the deceleration */
+            e->in_d = 1;
         }
+        yf = (float)e->y;
+        s = e->slope;
+        l = n == e->n2 ? 1U : span_shrinking(e, s, yf, m);
         for (;;) {
             y1 = y_d(e, m - l);
-            if (emit(e, c, l, t16_d(e, y1), e->k.cu_f / (2.0f * yf) * k16,
-                     y1 > 0 ? e->k.cu_f / (2.0f * (float)y1) * k16 : e->k.cu_f / (2.0f * yf) * k16))
+            e->slope = y1 > 0 ? e->k.cu_f * 0.5f * s_inv : s;
+            if (emit(e, c, l, t16_d(e, y1), s * k16, e->slope * k16))
                 break;
             l = 1;
         }
         e->y = y1;
         e->u_now = y1;
     }
+    c->flags = (uint8_t)((c->flags & (uint8_t)~STEP_CMD_PHASE_MASK) |
+                         ((uint8_t)(n < e->n1 ? (e->a_down ? RAMP_DECEL : RAMP_ACCEL)
+                                              : (n < e->n2 ? RAMP_CRUISE : RAMP_DECEL))
+                          << STEP_CMD_PHASE_SHIFT));
     e->n = n + l;
     e->pos = ramp_position_after(e->pos, e->dir, l);
     e->moving = 1;

@@ -18,8 +18,10 @@
  * 1 to 128 steps chosen so that the interpolation stays within about 0.1 tick; the executor's
  * time is predicted exactly, so the next command absorbs every rounding. Every step edge
  * floor(acc) is within 1 tick of round(F t_n) (test_step_exact: thousands of random moves).
- * Limits (step_exact_set_params refuses others): tick_hz <= 2^25, accel >= 2 steps/s^2, and
- * vmax/accel (the time to reach vmax from rest) at most 2^34 ticks (1073 s at 16 MHz).
+ * Limits (step_exact_set_params refuses others, each with its own status): tick_hz <= 2^25;
+ * accel >= 8 steps/s^2 at 16 MHz (8 (F/16 MHz)^2 in general, and >= 0.5: C below 2^46 ticks^2);
+ * vmax/accel (the time to reach vmax from rest) at most 2^34 ticks (1073 s at 16 MHz); parameters
+ * that overflow a float are refused as not finite.
  * Cost on the AVR: one square root, about a dozen 64-bit operations and a few float divisions
  * per command (`make bench` measures it); the cruise needs no square root.
  */
@@ -58,11 +60,16 @@ typedef struct {
     uint32_t n2;
     uint8_t a_down;   /* region A decelerates (u_s above vmax) */
     uint64_t us, up, ue; /* speeds, u */
+    uint64_t us2, ue2;   /* their squares modulo 2^64 */
     uint64_t r1;      /* C x1 - C n1: residual of the end of region A */
     int64_t t_end16;  /* T_end, 2^-16 ticks */
     int64_t acc16;    /* predicted executor time of step n, 2^-16 ticks from the profile start */
     uint64_t y;       /* sqrt(...) at step n in regions A and D (0: not known) */
     uint64_t u_now;   /* speed at step n, u */
+    float slope;      /* interval at step n, u per step (valid when slope_ok) */
+    uint32_t span;    /* steps of the last quadratic command */
+    uint8_t slope_ok;
+    uint8_t in_d;     /* region D has started (its first y is known) */
     uint8_t moving;   /* u_now is a real speed (not at rest) */
 } step_exact_t;
 

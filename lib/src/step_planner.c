@@ -81,7 +81,14 @@ motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t 
 
 uint8_t step_planner_busy(const step_planner_t *pl)
 {
-    return pl->active || pl->has_ready || pl->has_then || pl->has_carry;
+    if (pl->has_ready || pl->has_then || pl->has_carry)
+        return 1;
+    if (!pl->active)
+        return 0;
+    /* active, but nothing left to hand out: done (so the engine can mark the end at once) */
+    if (pl->algo == RAMP_ALGO_EXACT)
+        return pl->exact.n < pl->exact.d;
+    return ramp_steps_left(&pl->ramp) > 0;
 }
 
 int32_t step_planner_position(const step_planner_t *pl)
@@ -114,7 +121,8 @@ static void flush_carry(step_planner_t *pl)
     w = nonzero(pl->carry.whole_ticks);
     pl->ready.count = 1;
     pl->ready.add = 0;
-    pl->ready.flags = (uint8_t)((pl->ramp.dir < 0 ? STEP_CMD_REVERSE : 0) | (w > WIDE_ABOVE ? STEP_CMD_WIDE : 0));
+    pl->ready.flags = (uint8_t)((pl->ramp.dir < 0 ? STEP_CMD_REVERSE : 0) | (w > WIDE_ABOVE ? STEP_CMD_WIDE : 0) |
+                                ((uint8_t)pl->carry.phase << STEP_CMD_PHASE_SHIFT));
     pl->ready.rate = w > WIDE_ABOVE ? w : w << 16;
     pl->has_ready = 1;
     pl->has_carry = 0;
@@ -239,6 +247,7 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
     uint32_t w1, last, count = 1, dur;
     int32_t add = 0;
     uint8_t wide;
+    ramp_phase_t phase;
     if (!pl->has_carry) {
         uint32_t skip = ramp_cruise_skippable(r);
         if (skip > 0) {
@@ -253,7 +262,8 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
             skip = ramp_skip_cruise_at_most(r, skip);
             c->count = (uint16_t)skip;
             c->add = 0;
-            c->flags = (uint8_t)((r->dir < 0 ? STEP_CMD_REVERSE : 0) | (w > WIDE_ABOVE ? STEP_CMD_WIDE : 0));
+            c->flags = (uint8_t)((r->dir < 0 ? STEP_CMD_REVERSE : 0) | (w > WIDE_ABOVE ? STEP_CMD_WIDE : 0) |
+                                 ((uint8_t)RAMP_CRUISE << STEP_CMD_PHASE_SHIFT));
             c->rate = w > WIDE_ABOVE ? w : w << 16;
             pl->pos = ramp_position_after(pl->pos, r->dir, skip);
             return 1;
@@ -266,6 +276,7 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
     }
     w1 = nonzero(s.whole_ticks);
     wide = w1 > WIDE_ABOVE;
+    phase = s.phase;
     last = w1;
     dur = w1;
     while (count < 65535U && dur < pl->max_cmd_ticks && ramp_cruise_skippable(r) == 0) {
@@ -276,7 +287,7 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
         w = nonzero(s.whole_ticks);
         d = (int32_t)(w - last);
         if ((w > WIDE_ABOVE) != wide || (wide && w != last) || d > 32767 || d < -32767 ||
-            (count >= 2U && d != add)) {
+            (count >= 2U && d != add) || s.phase != phase) {
             pl->carry = s;
             pl->has_carry = 1;
             break;
@@ -288,7 +299,8 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
         dur += w;
     }
     c->count = (uint16_t)count;
-    c->flags = (uint8_t)((r->dir < 0 ? STEP_CMD_REVERSE : 0) | (wide ? STEP_CMD_WIDE : 0));
+    c->flags = (uint8_t)((r->dir < 0 ? STEP_CMD_REVERSE : 0) | (wide ? STEP_CMD_WIDE : 0) |
+                         ((uint8_t)phase << STEP_CMD_PHASE_SHIFT));
     c->rate = wide ? w1 : w1 << 16;
     c->add = wide ? 0 : (int32_t)((uint32_t)add << 16);
     pl->pos = ramp_position_after(pl->pos, r->dir, count);

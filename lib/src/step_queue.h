@@ -11,7 +11,8 @@
  * 16-bit timer's own range), so a move never drifts from its plan however long it is.
  * A WIDE command is for slow steps (an interval of more than 65535 ticks): `rate` is then a whole
  * tick count (up to 2^32 - 1), add is 0, and the fraction of acc is left as it is.
- * Flags: STEP_CMD_REVERSE (the command's steps go in the negative direction).
+ * Flags: STEP_CMD_REVERSE (the command's steps go in the negative direction), STEP_CMD_WIDE, and
+ * the ramp phase (accel/cruise/decel) for status reports.
  * Cost on the AVR (gcc-avr 5.4 -Os, measured by `make bench`): step_exec_next is three 32-bit
  * additions, a 16-bit decrement and a few loads and stores; no multiply, no division, no float.
  * Ring: single producer (the planner in loop()) and single consumer (the interrupt), indices of
@@ -28,6 +29,11 @@ extern "C" {
 
 #define STEP_CMD_REVERSE 0x01U
 #define STEP_CMD_WIDE 0x02U
+/* Bits 2-3: the ramp phase of the command's steps (ramp_phase_t: 1 accel, 2 cruise, 3 decel),
+ * for `?` reports; the executor ignores them. */
+#define STEP_CMD_PHASE_SHIFT 2U
+#define STEP_CMD_PHASE_MASK 0x0CU
+#define STEP_CMD_PHASE(flags) ((uint8_t)(((flags) & STEP_CMD_PHASE_MASK) >> STEP_CMD_PHASE_SHIFT))
 
 /* The longest interval a normal (not WIDE) command can hold: 65535 ticks and a fraction. */
 #define STEP_RATE_MAX 0xFFFFFFFFUL

@@ -4,27 +4,45 @@
 #include <line_reader.h>
 #include <text_parse.h>
 
+static step_planner_t *s_fed; /* the planner stepper_print_hook keeps feeding */
+static void keep_fed()
+{
+    StepEngine::service(*s_fed);
+}
+
 void StepperConsole::begin(const __FlashStringHelper *sketch_name)
 {
+    s_fed = &planner_;
+    stepper_print_hook = keep_fed;
     Serial.begin(9600);
-    StepperDriver::begin();
-    target_ = StepperDriver::position();
-    Serial.print(F("READY "));
-    Serial.println(sketch_name);
+    StepEngine::begin(ramp_.tick_hz());
+    (void)ramp_.setup(planner_, StepEngine::position());
+    serial_.out().print(F("READY "));
+    serial_.out().println(sketch_name);
+}
+
+void StepperConsole::report_done(int32_t position)
+{
+    Print &out = serial_.out();
+    out.print(F("DONE "));
+    out.println(position);
+    ramp_.at_rest(planner_, position);
 }
 
 void StepperConsole::poll()
 {
     int32_t done_at;
     const char *line;
-    StepperDriver::poll();
-    if (StepperDriver::take_done(done_at)) {
-        Serial.print(F("DONE "));
-        Serial.println(done_at);
-    }
+    StepEngine::poll();
+    StepEngine::service(planner_);
+    if (StepEngine::take_done(done_at))
+        report_done(done_at);
+    queue_.pump();
     line = serial_.poll();
     if (line != NULL)
         handle(line);
+    StepEngine::service(planner_);
+    queue_.pump();
 }
 
 void StepperConsole::handle(const char *line)
@@ -41,51 +59,82 @@ void StepperConsole::handle(const char *line)
             reply_status();
     } else if (text_word_is(word, "set")) {
         handle_set(cursor);
+    } else if (text_word_is(word, "stop") || text_word_is(word, "!")) {
+        if (!text_at_end(cursor))
+            serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("stop and ! take no arguments"));
+        else
+            handle_stop(word[0] == '!');
     } else if ((word[0] >= '0' && word[0] <= '9') || word[0] == '-' || word[0] == '+') {
         if (!text_at_end(cursor))
             serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("one target per line"));
         else
             handle_target(word);
     } else {
-        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <target>, ?, set v0|vmax|accel <value>"));
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <target>, stop, !, ?, set v0|vmax|accel <value>"));
     }
 }
 
 void StepperConsole::handle_target(const char *word)
 {
-    int32_t to, from;
-    ramp_t plan;
+    int32_t to, from, ended;
     motion_status_t st = text_parse_int32(word, INT32_MIN, INT32_MAX, &to);
+    StepEngine::Continuation c;
     if (st != MS_OK) {
         serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
         return;
     }
-    if (StepperDriver::busy()) {
-        serial_.reply_error(MS_ERR_BUSY);
-        return;
+    c = StepEngine::extend(ended);
+    if (c == StepEngine::ENDED) {
+        report_done(ended); /* the move that just ended gets its DONE before the new OK */
+        c = StepEngine::AT_REST;
     }
-    from = StepperDriver::position();
-    st = ramp_.plan(plan, from, to);
+    if (c == StepEngine::AT_REST)
+        step_planner_halt(&planner_, StepEngine::position()); /* at rest where the axis is */
+    st = step_planner_move(&planner_, to);
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;
     }
-    target_ = to;
-    StepperDriver::start(plan);
-    Serial.print(F("OK "));
-    Serial.print(from);
-    Serial.print(' ');
-    Serial.println(to);
+    if (c == StepEngine::AT_REST)
+        StepEngine::open_move();
+    /* where the new plan starts: the position after the steps already handed to the queue */
+    from = step_planner_position(&planner_);
+    serial_.out().print(F("OK "));
+    serial_.out().print(from);
+    serial_.out().print(' ');
+    serial_.out().println(to);
+    StepEngine::service(planner_);
+}
+
+void StepperConsole::handle_stop(bool halt)
+{
+    int32_t ended;
+    Print &out = serial_.out();
+    StepEngine::Continuation c = StepEngine::extend(ended);
+    if (c == StepEngine::ENDED)
+        report_done(ended);
+    if (c != StepEngine::CONTINUES) {
+        out.println(halt ? F("OK halt (not moving)") : F("OK stop (not moving)"));
+        return;
+    }
+    if (halt) {
+        StepEngine::halt();
+        step_planner_halt(&planner_, StepEngine::position());
+        out.println(F("OK halt"));
+        if (StepEngine::take_done(ended))
+            report_done(ended);
+    } else {
+        step_planner_stop(&planner_);
+        out.println(F("OK stop"));
+    }
 }
 
 void StepperConsole::handle_set(const char *cursor)
 {
     char key[LINE_READER_MAX + 1], value[LINE_READER_MAX + 1];
     motion_status_t st;
-    if (StepperDriver::busy()) {
-        serial_.reply_error(MS_ERR_BUSY);
-        return;
-    }
+    bool moving = StepEngine::moving();
+    Print &out = serial_.out();
     if (text_next_word(&cursor, key, sizeof key) <= 0) {
         serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("set what? set <parameter> <value>"));
         return;
@@ -106,30 +155,40 @@ void StepperConsole::handle_set(const char *cursor)
     if (st == MS_ERR_OUT_OF_RANGE) {
         /* "ERR number out of range: vmax at most 5000 steps/s on this sketch" */
         ramp_.print_limit(serial_.begin_error(st), key);
-        serial_.out().println();
+        out.println();
         return;
     }
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;
     }
-    Serial.print(F("OK "));
-    ramp_.print_param(Serial, key);
-    Serial.println();
+    (void)ramp_.apply(planner_, moving);
+    out.print(F("OK "));
+    ramp_.print_param(out, key);
+    if (moving)
+        out.print(F(" (from the next plan)"));
+    out.println();
 }
 
 void StepperConsole::reply_status()
 {
-    Serial.print(F("pos="));
-    Serial.print(StepperDriver::position());
-    Serial.print(F(" target="));
-    Serial.print(target_);
-    Serial.print(F(" state="));
-    Serial.print(ramp_phase_name(StepperDriver::phase()));
-    ramp_.print_params(Serial);
+    Print &out = serial_.out();
+    bool moving = StepEngine::moving();
+    uint8_t phase = StepEngine::phase();
+    out.print(F("pos="));
+    out.print(StepEngine::position());
+    out.print(F(" target="));
+    out.print(step_planner_target(&planner_));
+    out.print(F(" state="));
+    out.print(ramp_phase_name(moving && phase != 0 ? (ramp_phase_t)phase : (moving ? RAMP_ACCEL : RAMP_IDLE)));
+    ramp_.print_params(out);
+    out.print(F(" underruns="));
+    out.print(StepEngine::underruns());
+    out.print(F(" late="));
+    out.print(StepEngine::late_edges());
 #if STEPPER_TIMED_LOOP
-    Serial.println(F(" mode=loop"));
+    out.println(F(" mode=loop"));
 #else
-    Serial.println(F(" mode=timer"));
+    out.println(F(" mode=timer"));
 #endif
 }

@@ -4,7 +4,8 @@
 #include <stdlib.h>
 #include <text_parse.h>
 
-#include "StepperDriver.h"
+
+void (*stepper_print_hook)() = 0;
 
 void stepper_print_real(Print &out, double v)
 {
@@ -17,11 +18,17 @@ void stepper_print_real(Print &out, double v)
         out.print('0');
         return;
     }
+    if (v > -1e9 && v < 1e9 && v == (double)(long)v) {
+        out.print((long)v); /* whole numbers (most parameters): no conversion loop */
+        return;
+    }
     if (!(v < 1e12 && v > -1e12)) { /* never for our bounded parameters; keeps buf safe */
         out.print(v, 0);
         return;
     }
     for (d = 0; d <= 6; d++) {
+        if (stepper_print_hook)
+            stepper_print_hook(); /* each try costs about 7,000 cycles: let the step planner run */
         dtostrf(v, 0, d, buf);
         if (strtod(buf, NULL) == v) {
             out.print(buf);
@@ -49,24 +56,33 @@ static void print_upper_limit(Print &out, const char *key, double limit, const _
 }
 
 /* ---- TrapezoidRamp ---- */
-TrapezoidRamp::TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps)
+TrapezoidRamp::TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps,
+                             uint32_t tick_hz)
     : algo_(algo), max_sps_(max_sps)
 {
     params_.v0_sps = v0_sps;
     params_.vmax_sps = vmax_sps;
     params_.accel_sps2 = accel_sps2;
-    params_.tick_hz = StepperDriver::tick_hz();
+    params_.tick_hz = tick_hz;
 }
 
-motion_status_t TrapezoidRamp::plan(ramp_t &r, int32_t from, int32_t to) const
+motion_status_t TrapezoidRamp::setup(step_planner_t &pl, int32_t pos)
 {
-    return ramp_plan(&r, algo_, &params_, from, to);
+    return step_planner_init_trapezoid(&pl, algo_, &params_, pos);
+}
+
+bool TrapezoidRamp::apply(step_planner_t &pl, bool moving)
+{
+    (void)moving;
+    (void)step_planner_set_params(&pl, &params_); /* checked by set() */
+    return true;
 }
 
 motion_status_t TrapezoidRamp::set(const char *key, const char *value)
 {
     ramp_params_t p = params_;
-    ramp_t probe;
+    ramp_t ramp_probe;
+    step_planner_t probe;
     double v = 0.0;
     double *field;
     double hi = max_sps_;
@@ -86,8 +102,9 @@ motion_status_t TrapezoidRamp::set(const char *key, const char *value)
     else if (st != MS_OK)
         return st;
     *field = v;
-    /* a one-step move has the longest first interval of all moves: if it plans, every move does */
-    st = ramp_plan(&probe, algo_, &p, 0, 1);
+    /* a one-step move has the longest first interval of all moves: if it plans, every move does;
+     * the exact planner also checks its own limits */
+    st = algo_ == RAMP_ALGO_EXACT ? step_planner_init_trapezoid(&probe, algo_, &p, 0) : ramp_plan(&ramp_probe, algo_, &p, 0, 1);
     if (st != MS_OK)
         return st;
     params_ = p;
@@ -131,25 +148,22 @@ void TrapezoidRamp::print_params(Print &out) const
 }
 
 /* ---- SCurveRamp ---- */
-SCurveRamp::SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps)
-    : accel_time_s_(0), max_sps_(max_sps)
+SCurveRamp::SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps,
+                       uint32_t timer_hz)
+    : has_pending_(false), accel_time_s_(0), max_sps_(max_sps)
 {
     params_.len = len;
     params_.hold = hold;
     params_.fmin_hz = fmin_hz;
     params_.fmax_hz = fmax_hz;
     params_.flex = flex;
-    params_.timer_hz = StepperDriver::tick_hz();
+    params_.timer_hz = timer_hz;
+    pending_ = params_;
 }
 
-motion_status_t SCurveRamp::apply(const ramp_sigmoid_params_t &p)
+motion_status_t SCurveRamp::fill(const ramp_sigmoid_params_t &p)
 {
-    motion_status_t st = ramp_sigmoid_check(&p);
-    if (st != MS_OK)
-        return st;
-    if (p.fmax_hz > max_sps_)
-        return MS_ERR_OUT_OF_RANGE;
-    st = ramp_sigmoid_fill(&p, table_, SCURVE_MAX_LEN);
+    motion_status_t st = ramp_sigmoid_fill(&p, table_, SCURVE_MAX_LEN);
     if (st != MS_OK)
         return st;
     params_ = p;
@@ -159,17 +173,36 @@ motion_status_t SCurveRamp::apply(const ramp_sigmoid_params_t &p)
 
 motion_status_t SCurveRamp::begin()
 {
-    return apply(params_);
+    motion_status_t st = ramp_sigmoid_check(&params_);
+    return st != MS_OK ? st : fill(params_);
 }
 
-motion_status_t SCurveRamp::plan(ramp_t &r, int32_t from, int32_t to) const
+motion_status_t SCurveRamp::setup(step_planner_t &pl, int32_t pos)
 {
-    return ramp_plan_sigmoid(&r, &params_, table_, SCURVE_MAX_LEN, from, to);
+    return step_planner_init_sigmoid(&pl, &params_, table_, SCURVE_MAX_LEN, pos);
+}
+
+bool SCurveRamp::apply(step_planner_t &pl, bool moving)
+{
+    if (moving)
+        return false; /* the table the move is walking must not change under it: at_rest() */
+    has_pending_ = true;
+    at_rest(pl, step_planner_position(&pl));
+    return true;
+}
+
+void SCurveRamp::at_rest(step_planner_t &pl, int32_t pos)
+{
+    if (!has_pending_)
+        return;
+    has_pending_ = false;
+    if (fill(pending_) == MS_OK)
+        (void)setup(pl, pos);
 }
 
 motion_status_t SCurveRamp::set(const char *key, const char *value)
 {
-    ramp_sigmoid_params_t p = params_;
+    ramp_sigmoid_params_t p = pending_;
     double v = 0.0;
     int32_t n = 0;
     motion_status_t st;
@@ -201,23 +234,33 @@ motion_status_t SCurveRamp::set(const char *key, const char *value)
     } else {
         return MS_ERR_UNKNOWN_COMMAND;
     }
-    return apply(p);
+    /* checked now (the periods follow from the parameters), filled into the table at rest */
+    st = ramp_sigmoid_check(&p);
+    if (st != MS_OK)
+        return st;
+    if (p.fmax_hz > max_sps_)
+        return MS_ERR_OUT_OF_RANGE;
+    pending_ = p;
+    has_pending_ = true;
+    return MS_OK;
 }
 
 void SCurveRamp::print_param(Print &out, const char *key) const
 {
+    /* the value set (in force now, or from the next move when set while moving) */
+    const ramp_sigmoid_params_t &p = has_pending_ ? pending_ : params_;
     out.print(key);
     out.print('=');
     if (text_word_is(key, "v0"))
-        stepper_print_real(out, params_.fmin_hz);
+        stepper_print_real(out, p.fmin_hz);
     else if (text_word_is(key, "vmax"))
-        stepper_print_real(out, params_.fmax_hz);
+        stepper_print_real(out, p.fmax_hz);
     else if (text_word_is(key, "flex"))
-        stepper_print_real(out, params_.flex);
+        stepper_print_real(out, p.flex);
     else if (text_word_is(key, "len"))
-        out.print(params_.len);
+        out.print(p.len);
     else
-        out.print(params_.hold);
+        out.print(p.hold);
 }
 
 void SCurveRamp::print_limit(Print &out, const char *key) const

@@ -1,7 +1,9 @@
 /* StepperRamps.h - what differs between the three stepper sketches: how a move is planned and which
- * parameters `set` changes. StepperConsole talks to either through StepperRamp.
+ * parameters `set` changes. StepperConsole talks to either through StepperRamp, and the step
+ * engine's planner (lib/src/step_planner.h) gets the parameters from it.
  *
- *   TrapezoidRamp (SimplisticRampStepper, LeibRampStepper): v0, vmax, accel -> lib/src/ramp.h
+ *   TrapezoidRamp (SimplisticRampStepper, LeibRampStepper, ExactRampStepper): v0, vmax, accel
+ *                 -> lib/src/step_planner.h (exact: step_exact.h; the others through ramp.h)
  *   SCurveRamp    (SCurveStepper): seed 001's sigmoid table; v0/vmax are its fmin/fmax, plus flex,
  *                 len and hold; its acceleration follows from those, so `set accel` is refused
  *                 (MS_ERR_DERIVED_PARAM) and `?` reports the table's mean acceleration.
@@ -19,13 +21,20 @@
 
 #include <motion_status.h>
 #include <ramp.h>
+#include <step_planner.h>
 
 class StepperRamp {
 public:
-    /* Plans a move; the console hands the result to StepperDriver::start(). */
-    virtual motion_status_t plan(ramp_t &r, int32_t from, int32_t to) const = 0;
-    /* `set <key> <value>`: MS_ERR_UNKNOWN_COMMAND when key is not a parameter here. */
+    /* Sets the step engine's planner up at rest at pos with this sketch's algorithm and parameters. */
+    virtual motion_status_t setup(step_planner_t &pl, int32_t pos) = 0;
+    /* `set <key> <value>`: checks and keeps the value (MS_ERR_UNKNOWN_COMMAND when key is not a
+     * parameter here); the planner gets it through apply(). */
     virtual motion_status_t set(const char *key, const char *value) = 0;
+    /* Hands the kept parameters to the planner: they take effect at its next plan (a new target or
+     * a stop; while moving, the move in progress keeps its own). Returns false when they can only
+     * apply once the axis is at rest (the S-curve table), which at_rest() then does. */
+    virtual bool apply(step_planner_t &pl, bool moving) = 0;
+    virtual void at_rest(step_planner_t &pl, int32_t pos) { (void)pl; (void)pos; }
     /* " algo=... v0=... vmax=... accel=... tick_hz=... max_sps=..." for `?` (leading blank). */
     virtual void print_params(Print &out) const = 0;
     /* "key=value" of one parameter, for the OK reply to `set`. */
@@ -33,6 +42,8 @@ public:
     /* The largest value `set <key>` accepts, after "ERR number out of range: ", e.g.
      * "vmax at most 5000 steps/s on this sketch" (key: one `set` accepted). */
     virtual void print_limit(Print &out, const char *key) const = 0;
+    /* The step timer's rate for this algorithm, ticks/s. */
+    virtual uint32_t tick_hz() const = 0;
 
 protected:
     ~StepperRamp() {}
@@ -41,6 +52,9 @@ protected:
 /* Prints a real number with the fewest decimals (up to 6) that read back as the same value ("20",
  * "0.5", "333.3"), else with 7 significant digits ("1.234567e-01"). */
 void stepper_print_real(Print &out, double v);
+/* Called between the slow steps of stepper_print_real (the console points it at the step engine's
+ * service, so that formatting a long reply never lets the step queue run dry). */
+extern void (*stepper_print_hook)();
 
 /* The largest acceleration `set accel` accepts on the trapezoid sketches, steps/s^2. */
 #define STEPPER_MAX_ACCEL 1e7
@@ -49,10 +63,14 @@ void stepper_print_real(Print &out, double v);
 
 class TrapezoidRamp : public StepperRamp {
 public:
-    /* algo: RAMP_ALGO_SIMPLISTIC or RAMP_ALGO_LEIB; max_sps: the fastest step rate `set` allows. */
-    TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps);
-    motion_status_t plan(ramp_t &r, int32_t from, int32_t to) const override;
+    /* algo: RAMP_ALGO_SIMPLISTIC, RAMP_ALGO_LEIB or RAMP_ALGO_EXACT; max_sps: the fastest step
+     * rate `set` allows; tick_hz: the step timer (2 MHz for the lab's ramps, 16 MHz for exact). */
+    TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps,
+                  uint32_t tick_hz);
+    motion_status_t setup(step_planner_t &pl, int32_t pos) override;
     motion_status_t set(const char *key, const char *value) override;
+    bool apply(step_planner_t &pl, bool moving) override;
+    uint32_t tick_hz() const override { return params_.tick_hz; }
     void print_params(Print &out) const override;
     void print_param(Print &out, const char *key) const override;
     void print_limit(Print &out, const char *key) const override;
@@ -69,18 +87,24 @@ private:
 
 class SCurveRamp : public StepperRamp {
 public:
-    SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps);
+    SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps,
+               uint32_t timer_hz);
     /* Fills the table (about 6,500 cycles per entry); call once in setup(). */
     motion_status_t begin();
-    motion_status_t plan(ramp_t &r, int32_t from, int32_t to) const override;
+    motion_status_t setup(step_planner_t &pl, int32_t pos) override;
     motion_status_t set(const char *key, const char *value) override;
+    bool apply(step_planner_t &pl, bool moving) override;
+    void at_rest(step_planner_t &pl, int32_t pos) override;
+    uint32_t tick_hz() const override { return params_.timer_hz; }
     void print_params(Print &out) const override;
     void print_param(Print &out, const char *key) const override;
     void print_limit(Print &out, const char *key) const override;
 
 private:
-    motion_status_t apply(const ramp_sigmoid_params_t &p);
+    motion_status_t fill(const ramp_sigmoid_params_t &p);
     ramp_sigmoid_params_t params_;
+    ramp_sigmoid_params_t pending_; /* checked by set(), filled into the table at rest */
+    bool has_pending_;
     uint16_t table_[SCURVE_MAX_LEN];
     double accel_time_s_;
     float max_sps_;

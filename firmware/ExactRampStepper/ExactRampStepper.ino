@@ -1,0 +1,40 @@
+/* ExactRampStepper - true constant acceleration at up to 100,000 steps/s on the RAMPS 1.4 X axis:
+ * every step at round(F t_n) of t_n = (sqrt(v0^2 + 2 a n) - v0)/a (then the cruise line and the
+ * mirrored deceleration), within one tick of F = 16 MHz, from the first step to the last.
+ *
+ * How: the planner (lib/src/step_planner.h, step_exact.h) runs here in loop() and keeps a queue of
+ * step commands about 20 ms ahead; Timer1's compare interrupt only takes the next command and
+ * makes the step (StepEngine.h). Defaults: v0 = 0, vmax = 20,000 steps/s, accel = 50,000
+ * steps/s^2. Serial Monitor at 9600 baud, "Both NL & CR":
+ *   20000         move to absolute position 20000: "OK 0 20000", then "DONE 20000"
+ *   5000          sent while moving: the move continues from its speed to 5000 (decelerating,
+ *                 reversing and approaching if 5000 is behind); "OK <from> 5000", one DONE
+ *   stop          decelerate to rest: "OK stop", then "DONE <position>"
+ *   !             halt at once: "OK halt", then "DONE <position>"
+ *   ?             position, state, parameters, underruns= late= (both 0 within the limits)
+ *   set vmax 50000   v0, vmax (up to max_sps) or accel; while moving, from the next plan
+ * Pins and compile-time options: MotionBoard's StepperPins.h. The same commands come out of
+ * `motionsim ramp --algo exact --tick-hz 16000000 --queue`.
+ */
+#include <StepperConsole.h>
+
+static TrapezoidRamp ramp(RAMP_ALGO_EXACT, 0.0, 20000.0, 50000.0, STEPPER_MAX_SPS_EXACT, STEPPER_TICK_HZ_EXACT);
+static StepperConsole console(ramp);
+
+/* Timer1's compare interrupt makes the steps the planner queued (StepEngine.h) */
+#if !STEPPER_TIMED_LOOP
+ISR(TIMER1_COMPA_vect, ISR_NAKED)
+{
+    StepEngine::on_step_timer(); /* jumps to the step routine, which returns from the interrupt */
+}
+#endif
+
+void setup()
+{
+    console.begin(F("ExactRampStepper"));
+}
+
+void loop()
+{
+    console.poll();
+}
