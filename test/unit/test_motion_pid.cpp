@@ -14,7 +14,6 @@ extern "C" {
 #include <stdlib.h>
 #include <string.h>
 
-#include "../../sim/json_flat.c"
 #include "../../sim/pid_vector.c"
 #include "MotionPID.h"
 
