@@ -12,6 +12,8 @@
 
 #include <cjson/cJSON.h>
 
+#include "text_parse.h"
+
 #define PV_MAX_FILE (64L * 1024L * 1024L)
 
 static int pv_err(char *err, size_t n, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -61,73 +63,32 @@ static char *read_file(const char *path, char *err, size_t err_n)
     return buf;
 }
 
-/* A decimal number: [sign] digits [. digits] [e [sign] digits], whole text, finite. */
+/* A decimal number: [sign] digits [. digits] [e [sign] digits], whole text, finite, not
+ * underflowing (lib's text_scan_real); the float from strtof of the same text, so each precision
+ * gets the correctly rounded value of the decimal. */
 static int parse_real(const char *s, pv_real_t *out)
 {
-    const char *p = s;
     char *end;
-    int digits = 0;
-    if (*p == '+' || *p == '-')
-        p++;
-    while (*p >= '0' && *p <= '9') {
-        p++;
-        digits++;
-    }
-    if (*p == '.') {
-        p++;
-        while (*p >= '0' && *p <= '9') {
-            p++;
-            digits++;
-        }
-    }
-    if (digits == 0)
+    double d;
+    float f;
+    if (text_scan_real(s, &d) != MS_OK)
         return -1;
-    if (*p == 'e' || *p == 'E') {
-        p++;
-        if (*p == '+' || *p == '-')
-            p++;
-        if (!(*p >= '0' && *p <= '9'))
-            return -1;
-        while (*p >= '0' && *p <= '9')
-            p++;
-    }
-    if (*p != '\0')
+    f = strtof(s, &end);
+    if (*end != '\0' || !isfinite(f))
         return -1;
-    out->d = strtod(s, &end);
-    if (end != p || !isfinite(out->d))
-        return -1;
-    out->f = strtof(s, &end);
-    if (end != p || !isfinite(out->f))
-        return -1;
+    out->d = d;
+    out->f = f;
     return 0;
 }
 
 static int parse_int32(const char *s, int32_t *out)
 {
-    char *end;
-    long long v;
-    if (!((*s >= '0' && *s <= '9') || ((*s == '-' || *s == '+') && s[1] >= '0' && s[1] <= '9')))
-        return -1;
-    errno = 0;
-    v = strtoll(s, &end, 10);
-    if (*end != '\0' || errno == ERANGE || v < INT32_MIN || v > INT32_MAX)
-        return -1;
-    *out = (int32_t)v;
-    return 0;
+    return text_parse_int32(s, INT32_MIN, INT32_MAX, out) == MS_OK ? 0 : -1;
 }
 
 static int parse_uint32(const char *s, uint32_t *out)
 {
-    char *end;
-    unsigned long long v;
-    if (!(*s >= '0' && *s <= '9'))
-        return -1;
-    errno = 0;
-    v = strtoull(s, &end, 10);
-    if (*end != '\0' || errno == ERANGE || v > UINT32_MAX)
-        return -1;
-    *out = (uint32_t)v;
-    return 0;
+    return text_parse_uint32(s, 0, UINT32_MAX, out) == MS_OK ? 0 : -1;
 }
 
 /* A symbolic or numeric integer argument. */
