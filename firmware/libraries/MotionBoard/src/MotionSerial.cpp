@@ -1,16 +1,10 @@
 /* MotionSerial.cpp - see MotionSerial.h. */
 #include "MotionSerial.h"
 
-/* A full receive buffer: whatever arrives now is dropped by the core, so input may be lost right
+/* A full receive buffer (avail bytes): whatever arrives now is dropped by the core, so input may be lost right
  * after the bytes it holds. Remember that point (the first one still ahead, and the latest). */
-void MotionSerial::check_overrun()
+void MotionSerial::check_overrun(int avail)
 {
-    int avail;
-    if (rx_full_ == 0)
-        return;
-    avail = port_.available();
-    if (avail < (int)rx_full_)
-        return;
     if (!(pending_ & 1)) {
         pending_ |= 1;
         first_left_ = (uint8_t)avail;
@@ -42,7 +36,11 @@ bool MotionSerial::lost_before_next()
 
 const char *MotionSerial::poll(uint8_t max_bytes)
 {
-    check_overrun();
+    int avail = port_.available();
+    if (avail <= 0)
+        return NULL; /* the usual case: no more work than before the overrun check existed */
+    if (rx_full_ != 0 && avail >= (int)rx_full_)
+        check_overrun(avail);
     while (max_bytes-- > 0 && port_.available() > 0) {
         int c;
         if (queue_ != 0 && queue_->room() < reserve_)
@@ -51,7 +49,7 @@ const char *MotionSerial::poll(uint8_t max_bytes)
         motion_status_t err = MS_OK;
         if (c < 0)
             break;
-        if (lost_before_next() && line_reader_overrun(&reader_)) {
+        if (pending_ != 0 && lost_before_next() && line_reader_overrun(&reader_)) {
             reply_error(MS_ERR_INPUT_OVERRUN);
             (void)line_reader_feed(&reader_, (uint8_t)c, &err); /* discarded, or its terminator */
             if (queue_ != 0)

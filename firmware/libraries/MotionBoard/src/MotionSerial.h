@@ -75,7 +75,7 @@ private:
 #else
     static const uint8_t DEFAULT_RX_FULL = 63;
 #endif
-    void check_overrun();
+    void check_overrun(int avail);
     /* Counts one byte read; true when bytes may have been lost just before it. */
     bool lost_before_next();
 
