@@ -84,21 +84,21 @@ $(BUILD)/libmotion-san.a: $(LIB_OBJS_SAN) $(MODEL_OBJS_SAN)
 
 sim: $(BUILD)/motionsim
 $(BUILD)/motionsim: $(SIM_OBJS) $(BUILD)/libmotion.a
-	$(CXX) $(SIM_OBJS) $(BUILD)/libmotion.a -lm -o $@
+	$(CXX) $(SIM_OBJS) $(BUILD)/libmotion.a -lcjson -lm -o $@
 
 # Unit tests (cmocka), each linked against the same library archive.
 $(BUILD)/test/unit/%: test/unit/%.c $(BUILD)/libmotion.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -Itest/unit $< $(BUILD)/libmotion.a -lcmocka -lm -o $@
+	$(CC) $(HOST_CFLAGS) -Itest/unit $< $(BUILD)/libmotion.a -lcmocka -lcjson -lm -o $@
 $(BUILD)/test/unit/%: test/unit/%.cpp $(BUILD)/libmotion.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CXX) $(HOST_CXXFLAGS) -Itest/unit $< $(BUILD)/libmotion.a -lcmocka -lm -o $@
+	$(CXX) $(HOST_CXXFLAGS) -Itest/unit $< $(BUILD)/libmotion.a -lcmocka -lcjson -lm -o $@
 $(BUILD)/test/unit-san/%: test/unit/%.c $(BUILD)/libmotion-san.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lm -o $@
+	$(CC) $(HOST_CFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lcjson -lm -o $@
 $(BUILD)/test/unit-san/%: test/unit/%.cpp $(BUILD)/libmotion-san.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CXX) $(HOST_CXXFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lm -o $@
+	$(CXX) $(HOST_CXXFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lcjson -lm -o $@
 
 # A test program whose source is gone (renamed or deleted) must not keep running from build/.
 STALE_UNIT_BINS = $(filter-out $(UNIT_BINS) $(SAN_BINS),$(wildcard $(BUILD)/test/unit/* $(BUILD)/test/unit-san/*))

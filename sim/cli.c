@@ -1,6 +1,8 @@
 /* sim/cli.c - strict option parsing for motionsim subcommands (see cli.h). */
 #include "cli.h"
 
+#include "text_parse.h"
+
 #include <errno.h>
 #include <float.h>
 #include <limits.h>
@@ -20,25 +22,17 @@ int cli_error(const char *cmd, const char *fmt, ...)
     return CLI_EXIT_USAGE;
 }
 
+/* The numbers are lib's text_parse (the sketches' parser): one parser for the board and the host. */
 int cli_parse_double(const char *s, double *out)
 {
-    char *end = NULL;
-    double v;
-    if (s == NULL || *s == '\0' || strchr(" \t\n", s[0]) != NULL || strpbrk(s, "xX") != NULL)
-        return CLI_NUM_MALFORMED; /* no leading space, no hexadecimal (strtod would take 0x5) */
-    errno = 0;
-    v = strtod(s, &end);
-    if (end == s || *end != '\0' || isnan(v))
+    if (s == NULL)
         return CLI_NUM_MALFORMED;
-    if (errno == ERANGE || isinf(v)) {
-        /* "inf" is spelled out (malformed); a huge exponent overflows; a tiny one underflows to a
-         * subnormal or 0 */
-        if (isinf(v) && errno != ERANGE)
-            return CLI_NUM_MALFORMED;
-        return fabs(v) <= DBL_MIN ? CLI_NUM_UNDERFLOW : CLI_NUM_OVERFLOW;
+    switch (text_scan_real(s, out)) {
+    case MS_OK: return 0;
+    case MS_ERR_OUT_OF_RANGE: return CLI_NUM_OVERFLOW;
+    case MS_ERR_UNDERFLOW: return CLI_NUM_UNDERFLOW;
+    default: return CLI_NUM_MALFORMED;
     }
-    *out = v;
-    return 0;
 }
 
 int cli_float_range(double x)
@@ -51,38 +45,14 @@ int cli_float_range(double x)
     return 0;
 }
 
-static int parse_integer(const char *s, long long lo, long long hi, long long *out)
-{
-    char *end = NULL;
-    long long v;
-    if (s == NULL || *s == '\0' || strchr(" \t\n", s[0]) != NULL || strpbrk(s, "xX") != NULL)
-        return -1; /* base 10 only: strtoll would stop at the x of 0x5 anyway; said here too */
-    errno = 0;
-    v = strtoll(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
-}
-
 int cli_parse_int32(const char *s, int32_t *out)
 {
-    long long v;
-    if (parse_integer(s, INT32_MIN, INT32_MAX, &v) != 0)
-        return -1;
-    *out = (int32_t)v;
-    return 0;
+    return s != NULL && text_parse_int32(s, INT32_MIN, INT32_MAX, out) == MS_OK ? 0 : -1;
 }
 
 int cli_parse_uint32(const char *s, uint32_t *out)
 {
-    long long v;
-    if (s != NULL && s[0] == '-')
-        return -1;
-    if (parse_integer(s, 0, UINT32_MAX, &v) != 0)
-        return -1;
-    *out = (uint32_t)v;
-    return 0;
+    return s != NULL && text_parse_uint32(s, 0, UINT32_MAX, out) == MS_OK ? 0 : -1;
 }
 
 static const char *kind_metavar(const cli_opt_t *o)

@@ -127,6 +127,11 @@ static int load_csv(const char *cmd, const char *path, double ts, double quantum
     while ((len = getline(&line, &cap, f)) >= 0) {
         int nf;
         lineno++;
+        /* the string functions below would stop at a NUL byte: refuse it (as pid-replay does) */
+        if (memchr(line, '\0', (size_t)len) != NULL) {
+            rc = cli_error(cmd, "csv:%s line %llu: contains a NUL byte (not a text file)", path, (unsigned long long)lineno);
+            goto out;
+        }
         if (trim(line)[0] == '\0')
             continue;
         nf = split_commas(line, fields, CSV_MAX_COLS);

@@ -10,7 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_flat.h"
+#include <cjson/cJSON.h>
+
+#include "text_parse.h"
 
 #define PV_MAX_FILE (64L * 1024L * 1024L)
 
@@ -61,73 +63,32 @@ static char *read_file(const char *path, char *err, size_t err_n)
     return buf;
 }
 
-/* A decimal number: [sign] digits [. digits] [e [sign] digits], whole text, finite. */
+/* A decimal number: [sign] digits [. digits] [e [sign] digits], whole text, finite, not
+ * underflowing (lib's text_scan_real); the float from strtof of the same text, so each precision
+ * gets the correctly rounded value of the decimal. */
 static int parse_real(const char *s, pv_real_t *out)
 {
-    const char *p = s;
     char *end;
-    int digits = 0;
-    if (*p == '+' || *p == '-')
-        p++;
-    while (*p >= '0' && *p <= '9') {
-        p++;
-        digits++;
-    }
-    if (*p == '.') {
-        p++;
-        while (*p >= '0' && *p <= '9') {
-            p++;
-            digits++;
-        }
-    }
-    if (digits == 0)
+    double d;
+    float f;
+    if (text_scan_real(s, &d) != MS_OK)
         return -1;
-    if (*p == 'e' || *p == 'E') {
-        p++;
-        if (*p == '+' || *p == '-')
-            p++;
-        if (!(*p >= '0' && *p <= '9'))
-            return -1;
-        while (*p >= '0' && *p <= '9')
-            p++;
-    }
-    if (*p != '\0')
+    f = strtof(s, &end);
+    if (*end != '\0' || !isfinite(f))
         return -1;
-    out->d = strtod(s, &end);
-    if (end != p || !isfinite(out->d))
-        return -1;
-    out->f = strtof(s, &end);
-    if (end != p || !isfinite(out->f))
-        return -1;
+    out->d = d;
+    out->f = f;
     return 0;
 }
 
 static int parse_int32(const char *s, int32_t *out)
 {
-    char *end;
-    long long v;
-    if (!((*s >= '0' && *s <= '9') || ((*s == '-' || *s == '+') && s[1] >= '0' && s[1] <= '9')))
-        return -1;
-    errno = 0;
-    v = strtoll(s, &end, 10);
-    if (*end != '\0' || errno == ERANGE || v < INT32_MIN || v > INT32_MAX)
-        return -1;
-    *out = (int32_t)v;
-    return 0;
+    return text_parse_int32(s, INT32_MIN, INT32_MAX, out) == MS_OK ? 0 : -1;
 }
 
 static int parse_uint32(const char *s, uint32_t *out)
 {
-    char *end;
-    unsigned long long v;
-    if (!(*s >= '0' && *s <= '9'))
-        return -1;
-    errno = 0;
-    v = strtoull(s, &end, 10);
-    if (*end != '\0' || errno == ERANGE || v > UINT32_MAX)
-        return -1;
-    *out = (uint32_t)v;
-    return 0;
+    return text_parse_uint32(s, 0, UINT32_MAX, out) == MS_OK ? 0 : -1;
 }
 
 /* A symbolic or numeric integer argument. */
@@ -249,14 +210,57 @@ static int parse_commands(char *text, pv_cmd_t *cmds, size_t *n, char *err, size
     }
 }
 
-static int json_real(const json_flat_t *j, const char *key, pv_real_t *out, char *err, size_t err_n)
+/* A JSON number as the decimal text it stands for: cJSON keeps only the double, so its shortest
+ * form of at most 15 significant digits is taken (the decimal as written for any number with up to
+ * 15 digits, which every set-up has); a double that needs more is refused, since its float could
+ * then differ from the one of the text in the file. */
+static int json_number_text(const cJSON *item, char *buf, size_t n)
 {
-    const json_flat_member_t *m = json_flat_get(j, key);
+    int prec;
+    for (prec = 1; prec <= 15; prec++) {
+        snprintf(buf, n, "%.*g", prec, item->valuedouble);
+        if (strtod(buf, NULL) == item->valuedouble)
+            return 0;
+    }
+    return -1;
+}
+
+static int json_real(const cJSON *j, const char *key, pv_real_t *out, char *err, size_t err_n)
+{
+    char text[40];
+    const cJSON *m = cJSON_GetObjectItemCaseSensitive(j, key);
     if (m == NULL)
         return pv_err(err, err_n, "key \"%s\" is missing", key);
-    if (m->kind != JSON_FLAT_NUMBER || parse_real(m->text, out) != 0)
-        return pv_err(err, err_n, "\"%s\" must be a finite number", key);
+    if (!cJSON_IsNumber(m))
+        return pv_err(err, err_n, "\"%s\": expected a number", key);
+    if (json_number_text(m, text, sizeof text) != 0 || parse_real(text, out) != 0)
+        return pv_err(err, err_n, "\"%s\" must be a finite number of at most 15 significant digits", key);
     return 0;
+}
+
+/* A whole JSON number in [lo, hi]. */
+static int json_whole(const cJSON *m, double lo, double hi, double *out)
+{
+    if (!cJSON_IsNumber(m) || m->valuedouble != floor(m->valuedouble) || m->valuedouble < lo || m->valuedouble > hi)
+        return -1;
+    *out = m->valuedouble;
+    return 0;
+}
+
+/* Line and column of a position in text, for a syntax error. */
+static void text_position(const char *text, const char *at, int *line, int *col)
+{
+    const char *p;
+    *line = 1;
+    *col = 1;
+    for (p = text; p < at && *p != '\0'; p++) {
+        if (*p == '\n') {
+            (*line)++;
+            *col = 1;
+        } else {
+            (*col)++;
+        }
+    }
 }
 
 static int load_json(pv_vector_t *v, const char *path, char *err, size_t err_n)
@@ -265,28 +269,41 @@ static int load_json(pv_vector_t *v, const char *path, char *err, size_t err_n)
                                         "output0", "setpoint0", "setup", "clock_bits"};
     char msg[256];
     char *text = read_file(path, err, err_n);
-    json_flat_t *j;
-    const json_flat_member_t *m;
+    const char *end = NULL;
+    cJSON *j;
+    const cJSON *m, *a, *b;
     size_t i, k;
+    double whole;
     int rc = -1;
     if (text == NULL)
         return -1;
-    j = (json_flat_t *)malloc(sizeof *j);
+    j = cJSON_ParseWithOpts(text, &end, 1);
     if (j == NULL) {
+        int line, col;
+        const char *at = end != NULL ? end : cJSON_GetErrorPtr();
+        text_position(text, at != NULL ? at : text, &line, &col);
+        pv_err(err, err_n, "%s line %d column %d: not valid JSON (near '%.12s')", path, line, col,
+               at != NULL && *at != '\0' ? at : "the end");
         free(text);
-        return pv_err(err, err_n, "out of memory");
+        return -1;
     }
-    if (json_flat_parse(text, j, msg, sizeof msg) != 0) {
-        pv_err(err, err_n, "%s: %s", path, msg);
+    if (!cJSON_IsObject(j)) {
+        pv_err(err, err_n, "%s: the set-up must be one JSON object {...}", path);
         goto done;
     }
-    for (i = 0; i < j->n; i++) {
+    for (a = j->child; a != NULL; a = a->next) {
         int ok = 0;
         for (k = 0; k < sizeof known / sizeof known[0]; k++)
-            ok |= strcmp(j->m[i].key, known[k]) == 0;
+            ok |= strcmp(a->string, known[k]) == 0;
         if (!ok) {
-            pv_err(err, err_n, "%s: unknown key \"%s\"", path, j->m[i].key);
+            pv_err(err, err_n, "%s: unknown key \"%s\"", path, a->string);
             goto done;
+        }
+        for (b = j->child; b != a; b = b->next) {
+            if (strcmp(a->string, b->string) == 0) {
+                pv_err(err, err_n, "%s: duplicate key \"%s\"", path, a->string);
+                goto done;
+            }
         }
     }
     if (json_real(j, "kp", &v->kp, msg, sizeof msg) != 0 || json_real(j, "ki", &v->ki, msg, sizeof msg) != 0 ||
@@ -306,51 +323,64 @@ static int load_json(pv_vector_t *v, const char *path, char *err, size_t err_n)
                path, v->kp.d < 0 ? "kp" : v->ki.d < 0 ? "ki" : "kd");
         goto done;
     }
-    m = json_flat_get(j, "pon");
-    if (m == NULL || m->kind != JSON_FLAT_STRING || parse_symbol(m->text, "P_ON_M", "P_ON_E", &v->pon) != 0) {
+    m = cJSON_GetObjectItemCaseSensitive(j, "pon");
+    if (!cJSON_IsString(m) || parse_symbol(m->valuestring, "P_ON_M", "P_ON_E", &v->pon) != 0) {
         pv_err(err, err_n, "%s: \"pon\" must be \"P_ON_E\" or \"P_ON_M\"", path);
         goto done;
     }
-    m = json_flat_get(j, "direction");
-    if (m == NULL || m->kind != JSON_FLAT_STRING || parse_symbol(m->text, "DIRECT", "REVERSE", &v->direction) != 0) {
+    m = cJSON_GetObjectItemCaseSensitive(j, "direction");
+    if (!cJSON_IsString(m) || parse_symbol(m->valuestring, "DIRECT", "REVERSE", &v->direction) != 0) {
         pv_err(err, err_n, "%s: \"direction\" must be \"DIRECT\" or \"REVERSE\"", path);
         goto done;
     }
-    m = json_flat_get(j, "t0_ms");
-    if (m == NULL || m->kind != JSON_FLAT_NUMBER || parse_uint32(m->text, &v->t0_ms) != 0) {
+    if (json_whole(cJSON_GetObjectItemCaseSensitive(j, "t0_ms"), 0, 4294967295.0, &whole) != 0) {
         pv_err(err, err_n, "%s: \"t0_ms\" must be a whole number 0..4294967295", path);
         goto done;
     }
+    v->t0_ms = (uint32_t)whole;
     v->clock_bits = 32;
-    m = json_flat_get(j, "clock_bits");
-    if (m != NULL && (m->kind != JSON_FLAT_NUMBER || parse_int32(m->text, &v->clock_bits) != 0 ||
-                      (v->clock_bits != 32 && v->clock_bits != 64))) {
-        pv_err(err, err_n, "%s: \"clock_bits\" must be 32 or 64", path);
-        goto done;
+    m = cJSON_GetObjectItemCaseSensitive(j, "clock_bits");
+    if (m != NULL) {
+        if (json_whole(m, 32, 64, &whole) != 0 || (whole != 32 && whole != 64)) {
+            pv_err(err, err_n, "%s: \"clock_bits\" must be 32 or 64", path);
+            goto done;
+        }
+        v->clock_bits = (int32_t)whole;
     }
-    m = json_flat_get(j, "setup");
-    if (m == NULL || m->kind != JSON_FLAT_ARRAY) {
+    m = cJSON_GetObjectItemCaseSensitive(j, "setup");
+    if (!cJSON_IsArray(m)) {
         pv_err(err, err_n, "%s: \"setup\" must be an array of calls", path);
         goto done;
     }
-    if (m->n_items > PV_MAX_CMDS) {
+    if (cJSON_GetArraySize(m) > PV_MAX_CMDS) {
         pv_err(err, err_n, "%s: more than %d set-up calls", path, PV_MAX_CMDS);
         goto done;
     }
     v->n_setup = 0;
-    for (i = 0; i < m->n_items; i++) {
-        char call[JSON_FLAT_MAX_TEXT + 1];
+    i = 0;
+    for (a = m->child; a != NULL; a = a->next) {
+        char call[256];
         size_t n1 = 0;
-        strcpy(call, m->items[i]);
+        i++;
+        if (!cJSON_IsString(a)) {
+            pv_err(err, err_n, "%s: \"setup\" holds only strings (calls); item %zu is not one", path, i);
+            goto done;
+        }
+        if (strlen(a->valuestring) >= sizeof call) {
+            pv_err(err, err_n, "%s: setup item %zu is longer than %zu characters", path, i, sizeof call - 1);
+            goto done;
+        }
+        strcpy(call, a->valuestring);
+        msg[0] = '\0';
         if (parse_commands(call, &v->setup[v->n_setup], &n1, msg, sizeof msg) != 0 || n1 != 1) {
-            pv_err(err, err_n, "%s: setup item %zu: %s", path, i + 1, n1 != 1 && msg[0] == '\0' ? "one call expected" : msg);
+            pv_err(err, err_n, "%s: setup item %zu: %s", path, i, n1 != 1 && msg[0] == '\0' ? "one call expected" : msg);
             goto done;
         }
         v->n_setup++;
     }
     rc = 0;
 done:
-    free(j);
+    cJSON_Delete(j);
     free(text);
     return rc;
 }
@@ -477,6 +507,12 @@ int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n)
             }
         }
         v->n_cols = n;
+        /* a column named twice: which one holds the data would be a guess (as `motionsim filter`) */
+        for (size_t i = 0; i < n; i++)
+            for (size_t k = 0; k < i; k++)
+                if (strcmp(v->header[i], v->header[k]) == 0)
+                    return pv_fail(v, err, err_n, "%s:1: the header names column '%s' twice", csv_path,
+                                   v->header[i]);
     }
     c_t = col_index(v, "t_ms");
     c_in = col_index(v, "input");

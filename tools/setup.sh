@@ -55,6 +55,7 @@ DEB_PACKAGES=(
     avrdude                                 # flashing a real Mega (make upload)
     simavr libsimavr-dev libelf-dev         # ATmega2560 emulator library (emulator tests)
     libcmocka-dev                           # unit-test framework
+    libcjson-dev                            # JSON reader (the PID_v1 vectors' set-ups, sim/pid_vector.c)
     python3 python3-venv                    # plots, spreadsheet, CLI tests
 )
 step "Debian packages: ${DEB_PACKAGES[*]}"

@@ -300,15 +300,23 @@ static void handle(const char *line)
         uint8_t second = text_word_is(cmd, "tau2");
         uint16_t taps = 0;
         st = parse_tau(arg, &taps);
+        /* One rule under every kind, so that any kind can follow: tau and tau2 each fit the
+         * moving-average buffer (exp needs no buffer, but `kind ma` must work after it). */
+        if (st == MS_OK && taps > MAF_MAX_TAPS)
+            st = MS_ERR_TOO_MANY_TAPS;
         if (st == MS_OK) {
             if (!second)
                 st = apply_config(kind, taps, tau2_taps);
             else if (kind == ACCDEC_MA2)
                 st = apply_config(kind, tau_taps, taps);
-            else if (taps > MAF_MAX_TAPS)
-                st = MS_ERR_TOO_MANY_TAPS; /* can never fit, whatever tau is */
             else
                 tau2_taps = taps; /* kept for ma2: tau + tau2 is checked when kind becomes ma2 */
+        }
+        if (st == MS_ERR_TOO_MANY_TAPS) {
+            serial.begin_error(st).print(F("tau and tau2 at most "));
+            print_fixed(MAF_MAX_TAPS, 2);
+            Serial.println(F(" s each under every kind (ma2: tau + tau2)"));
+            return;
         }
         if (st != MS_OK) {
             serial.reply_error(st);

@@ -1,6 +1,16 @@
 /* MotionPID.cpp - PID_v1's interface over pidv1_ctrl.c (see MotionPID.h). */
 #include "MotionPID.h"
 
+#ifdef ARDUINO
+/* The board's default clock: Arduino's millis() (declared here, not through Arduino.h, which lib/
+ * does not include). Weak, so a program may define its own motion_clock_ms(). */
+extern "C" unsigned long millis(void);
+extern "C" __attribute__((weak)) uint32_t motion_clock_ms(void)
+{
+    return (uint32_t)millis();
+}
+#endif
+
 MotionPID::MotionPID(double *Input, double *Output, double *Setpoint, double Kp, double Ki, double Kd, int POn,
                      int ControllerDirection)
     : clock_(0)
@@ -63,27 +73,27 @@ void MotionPID::SetSampleTime(int NewSampleTime)
     (void)pid_set_sample_time(&c_, NewSampleTime);
 }
 
-double MotionPID::GetKp() const
+double MotionPID::GetKp()
 {
     return pid_get_kp(&c_);
 }
 
-double MotionPID::GetKi() const
+double MotionPID::GetKi()
 {
     return pid_get_ki(&c_);
 }
 
-double MotionPID::GetKd() const
+double MotionPID::GetKd()
 {
     return pid_get_kd(&c_);
 }
 
-int MotionPID::GetMode() const
+int MotionPID::GetMode()
 {
     return (int)pid_get_mode(&c_);
 }
 
-int MotionPID::GetDirection() const
+int MotionPID::GetDirection()
 {
     return (int)pid_get_direction(&c_);
 }

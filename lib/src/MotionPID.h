@@ -13,10 +13,19 @@
  * the same macros with the same values as PID_v1.h (identical redefinitions are legal, so both
  * headers may even be included together).
  *
+ * Switching existing PID_v1 code over takes one line after the include:
+ *
+ *   #include <MotionPID.h>
+ *   typedef MotionPID PID;        // PID myPID(&Input, &Output, &Setpoint, 2, 5, 1, DIRECT); as before
+ *
+ * The declarations match PID_v1.h too: the getters are not const (so member pointers of PID_v1's
+ * types bind) and LIBRARY_VERSION is 1.2.1 (docs/pid_v1.md lists what is and is not the same).
+ *
  * Time: where PID_v1 calls millis(), MotionPID calls its clock. The default clock is the
- * function motion_clock_ms(), which the program provides (the board library MotionBoard defines
- * it as millis(); a host test defines its own). SetClock() (an extension) gives one controller
- * another clock, e.g. the scheduled start of the current control period. No Arduino.h here.
+ * function motion_clock_ms(); on the board MotionPID.cpp defines it (weak) as Arduino's millis(),
+ * so a sketch that includes only this header builds and runs; a host program defines its own.
+ * SetClock() (an extension) gives one controller another clock, e.g. the scheduled start of the
+ * current control period. No Arduino.h here.
  */
 #ifndef MOTION_PID_H
 #define MOTION_PID_H
@@ -43,8 +52,13 @@
 #ifndef P_ON_E
 #define P_ON_E 1
 #endif
+#ifndef LIBRARY_VERSION
+#define LIBRARY_VERSION 1.2.1
+#endif
 
-/* Milliseconds, wrapping at 2^32: the default clock of every MotionPID. Provided by the program. */
+/* Milliseconds, wrapping at 2^32: the default clock of every MotionPID. On the board (ARDUINO
+ * defined) MotionPID.cpp provides millis() as a weak definition a program may replace; elsewhere
+ * the program provides it. */
 extern "C" uint32_t motion_clock_ms(void);
 
 class MotionPID {
@@ -65,11 +79,12 @@ public:
     void SetControllerDirection(int Direction);
     void SetSampleTime(int NewSampleTime);
 
-    double GetKp() const;
-    double GetKi() const;
-    double GetKd() const;
-    int GetMode() const;
-    int GetDirection() const;
+    /* Not const, exactly as PID_v1 declares them. */
+    double GetKp();
+    double GetKi();
+    double GetKd();
+    int GetMode();
+    int GetDirection();
 
     /* Extensions (not in PID_v1). */
     void SetClock(ClockFn now_ms);          /* NULL restores motion_clock_ms */

@@ -27,6 +27,8 @@ line_event_t line_reader_feed(line_reader_t *r, uint8_t byte, motion_status_t *e
     }
     if (r->discarding)
         return LINE_PENDING;
+    if (r->len == 0 && (byte == ' ' || byte == '\t'))
+        return LINE_PENDING; /* leading blank: a blank line stays empty and is ignored */
     if (!((byte >= 0x20 && byte <= 0x7E) || byte == '\t')) {
         r->discarding = 1;
         r->len = 0;
@@ -43,4 +45,13 @@ line_event_t line_reader_feed(line_reader_t *r, uint8_t byte, motion_status_t *e
     }
     r->line[r->len++] = (char)byte;
     return LINE_PENDING;
+}
+
+uint8_t line_reader_overrun(line_reader_t *r)
+{
+    uint8_t already = r->discarding;
+    r->discarding = 1;
+    r->len = 0;
+    r->after_cr = 0; /* the LF of a CRLF may have been lost with the rest */
+    return (uint8_t)!already;
 }

@@ -2,11 +2,15 @@
  * them with any line ending: CR, LF or CRLF ("Both NL & CR"). Pure logic: the sketch feeds it
  * each byte it reads from Serial.
  *
- * A line ends at CR or LF; the LF of a CRLF pair is swallowed, and empty lines are ignored.
- * A line longer than LINE_READER_MAX characters, or one holding a byte outside printable ASCII
- * (space..'~' and TAB), is reported as an error as soon as the offending byte arrives, once, and
- * the rest of that line is discarded up to its terminator, so a 1 KB line without a newline
- * gives one error and never a partial command. Cost: a few comparisons per byte; 44 bytes SRAM.
+ * A line ends at CR or LF; the LF of a CRLF pair is swallowed. Leading blanks (space, TAB) are
+ * dropped, so a blank line (empty, or only spaces and tabs, of any length) is no line at all: it
+ * is ignored and gets no reply, on every sketch (docs/serial.md). A line longer than
+ * LINE_READER_MAX characters from its first non-blank one, or one holding a byte outside
+ * printable ASCII (space..'~' and TAB), is reported as an error as soon as the offending byte
+ * arrives, once, and the rest of that line is discarded up to its terminator, so a 1 KB line
+ * without a newline gives one error and never a partial command. line_reader_overrun() does the
+ * same for a line some of whose bytes may have been lost. Cost: a few comparisons per byte;
+ * 44 bytes SRAM.
  */
 #ifndef LINE_READER_H
 #define LINE_READER_H
@@ -38,6 +42,12 @@ void line_reader_init(line_reader_t *r);
 
 /* Feeds one byte. On LINE_READY the line stays valid until the next call. */
 line_event_t line_reader_feed(line_reader_t *r, uint8_t byte, motion_status_t *err);
+
+/* Input bytes may have been lost just before the next byte fed (a receive buffer overflowed): the
+ * line in progress, or the next one if none is, is discarded up to its terminator. Returns 1 when
+ * the caller should report it (MS_ERR_INPUT_OVERRUN), 0 when that line was already reported as
+ * bad (one reply per line). */
+uint8_t line_reader_overrun(line_reader_t *r);
 
 #ifdef __cplusplus
 }

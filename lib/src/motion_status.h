@@ -57,7 +57,9 @@ extern "C" {
     X(MS_ERR_NOT_A_NUMBER, "not a number")                                                     \
     X(MS_ERR_OUT_OF_RANGE, "number out of range")                                              \
     X(MS_ERR_UNKNOWN_COMMAND, "unknown command")                                               \
-    X(MS_ERR_BUSY, "busy: a move is in progress")
+    X(MS_ERR_BUSY, "busy: a move is in progress")                                              \
+    X(MS_ERR_UNDERFLOW, "number too close to 0 (underflow)")                                    \
+    X(MS_ERR_INPUT_OVERRUN, "input overrun")
 
 #define MOTION_STATUS_ENUM_ITEM(id, text) id,
 typedef enum { MOTION_STATUS_LIST(MOTION_STATUS_ENUM_ITEM) MS__COUNT } motion_status_t;

@@ -75,8 +75,9 @@ typedef PID_V1_STATE(float) pidf_ctrl_t;
  *   now_ms: MANUAL, limits 0..255, sample time 100 ms, direction stored, tunings applied,
  *   last_time = now_ms - 100. The linked variables are not touched. MS_ERR_NULL if a pointer
  *   is NULL (nothing is written). With a negative gain the tunings are rejected as in PID_v1
- *   (MS_ERR_GAIN_NEGATIVE); where PID_v1 leaves the working gains indeterminate this module
- *   sets them, and the user gains, to 0, and POn to P_ON_E.
+ *   (MS_ERR_GAIN_NEGATIVE); where PID_v1 leaves its members unset this module gives them the
+ *   values they have in a zero-initialised (global) PID_v1 object: gains 0 and POn 0 = P_ON_M,
+ *   so a later 3-argument set_tunings computes proportional-on-measurement, as PID_v1 does.
  * compute: PID_v1's Compute() at time now_ms; returns 1 when it computed, else 0.
  * set_mode: only PID_AUTOMATIC (1) selects AUTOMATIC; MANUAL->AUTOMATIC runs Initialize
  *   (output_sum := *output clamped to the limits, last_input := *input).

@@ -103,14 +103,16 @@ motion_status_t PID_FN(init)(PID_T *c, PID_REAL *input, PID_REAL *output, PID_RE
     motion_status_t st;
     if (c == 0 || input == 0 || output == 0 || setpoint == 0)
         return MS_ERR_NULL;
-    /* Defined values where PID_v1 leaves members uninitialised (they are only read after
-     * Initialize() or a successful SetTunings, so the behaviour is the same). */
+    /* The values PID_v1's members have where its constructor leaves them unset, for an object
+     * with static storage (zero-initialised, the usual global `PID myPID(...)`): all 0. They
+     * matter when the constructor's gains are negative (its SetTunings then returns at once):
+     * pOn stays 0 = P_ON_M, so a later 3-argument SetTunings computes on measurement. */
     c->disp_kp = c->disp_ki = c->disp_kd = 0;
     c->kp = c->ki = c->kd = 0;
     c->output_sum = 0;
     c->last_input = 0;
-    c->p_on = PID_P_ON_E;
-    c->p_on_e = 1;
+    c->p_on = PID_P_ON_M;
+    c->p_on_e = 0;
     c->direction = PID_DIRECT;
 
     c->output = output;

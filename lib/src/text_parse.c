@@ -1,6 +1,7 @@
 /* text_parse.c - strict word and number parsing (see text_parse.h). */
 #include "text_parse.h"
 
+#include <float.h>
 #include <stdlib.h>
 
 static int is_blank(char c)
@@ -81,6 +82,31 @@ motion_status_t text_parse_int32(const char *word, int32_t lo, int32_t hi, int32
     return MS_OK;
 }
 
+motion_status_t text_parse_uint32(const char *word, uint32_t lo, uint32_t hi, uint32_t *out)
+{
+    const char *p = word;
+    uint32_t mag = 0;
+    int too_big = 0;
+    if (*p == '+')
+        p++;
+    if (!is_digit(*p))
+        return MS_ERR_NOT_A_NUMBER;
+    for (; *p != '\0'; p++) {
+        uint32_t d;
+        if (!is_digit(*p))
+            return MS_ERR_NOT_A_NUMBER;
+        d = (uint32_t)(*p - '0');
+        if (too_big || mag > (4294967295UL - d) / 10U)
+            too_big = 1;
+        else
+            mag = mag * 10U + d;
+    }
+    if (too_big || mag < lo || mag > hi)
+        return MS_ERR_OUT_OF_RANGE;
+    *out = mag;
+    return MS_OK;
+}
+
 /* Powers of ten that are exact in a float (5^10 < 2^24) and so in any double. */
 static const double exact_pow10[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10};
 #define EXACT_POW10_MAX 10
@@ -151,46 +177,149 @@ static int parse_short_decimal(const char *word, double *out)
     return 1;
 }
 
-motion_status_t text_parse_real(const char *word, double lo, double hi, double *out)
+/* Validates the shape of a decimal word: returns a pointer to its end (the NUL) or NULL. Sets
+ * *nonzero when a mantissa digit is not 0. */
+static const char *real_shape(const char *word, int *nonzero)
 {
     const char *p = word;
-    char *end = 0;
     int digits = 0;
-    double v;
-    /* validate the shape first, so strtod's extras (hex, inf, nan, blanks) never get in */
+    *nonzero = 0;
     if (*p == '+' || *p == '-')
         p++;
-    while (is_digit(*p)) {
-        p++;
-        digits++;
-    }
-    if (*p == '.') {
-        p++;
-        while (is_digit(*p)) {
-            p++;
-            digits++;
+    for (; is_digit(*p) || (*p == '.'); p++) {
+        if (*p == '.') {
+            /* only one point: the rest of the mantissa must be digits */
+            for (p++; is_digit(*p); p++) {
+                digits++;
+                *nonzero |= (*p != '0');
+            }
+            break;
         }
+        digits++;
+        *nonzero |= (*p != '0');
     }
     if (digits == 0)
-        return MS_ERR_NOT_A_NUMBER;
+        return NULL;
     if (*p == 'e' || *p == 'E') {
         p++;
         if (*p == '+' || *p == '-')
             p++;
         if (!is_digit(*p))
-            return MS_ERR_NOT_A_NUMBER;
+            return NULL;
         while (is_digit(*p))
             p++;
     }
-    if (*p != '\0')
+    return *p == '\0' ? p : NULL;
+}
+
+motion_status_t text_scan_real(const char *word, double *out)
+{
+    char *end = 0;
+    int nonzero;
+    double v;
+    const char *p = real_shape(word, &nonzero);
+    /* the shape first, so strtod's extras (hex, inf, nan, blanks) never get in */
+    if (p == NULL)
         return MS_ERR_NOT_A_NUMBER;
     if (!parse_short_decimal(word, &v)) {
         v = strtod(word, &end);
         if (end != p)
             return MS_ERR_NOT_A_NUMBER;
     }
-    /* overflow gives +-HUGE_VAL; NaN fails both comparisons */
+    if (!(v >= -DBL_MAX && v <= DBL_MAX))
+        return MS_ERR_OUT_OF_RANGE; /* overflow: +-HUGE_VAL */
+    if (nonzero && v < DBL_MIN && v > -DBL_MIN)
+        return MS_ERR_UNDERFLOW; /* 0 or a subnormal for a word that is not 0 */
+    *out = v;
+    return MS_OK;
+}
+
+/* Sign of |word| - mag for a validated decimal word and a whole number mag > 0, exactly (the
+ * word's digits are compared, not its rounded value). */
+static int compare_magnitude(const char *word, uint32_t mag)
+{
+    char mdigits[10];
+    int mlen = 0, point = 0, seen_point = 0, i = 0, started = 0;
+    long exp_value = 0;
+    int exp_negative = 0;
+    const char *p = word, *first;
+    uint32_t m;
+    for (m = mag; m > 0; m /= 10U)
+        mdigits[mlen++] = (char)('0' + m % 10U);
+    /* mdigits is reversed: mdigits[mlen-1] is the first digit; mag = 0.d1..dL x 10^mlen */
+    if (*p == '+' || *p == '-')
+        p++;
+    first = p;
+    /* point: the decimal exponent P of the word written as 0.d1d2... x 10^P (d1 != 0) */
+    for (; is_digit(*p) || *p == '.'; p++) {
+        if (*p == '.') {
+            seen_point = 1;
+            continue;
+        }
+        if (!started && *p == '0') {
+            if (seen_point)
+                point--;
+            continue;
+        }
+        started = 1;
+        if (!seen_point)
+            point++;
+    }
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-')
+            exp_negative = (*p++ == '-');
+        for (; is_digit(*p); p++)
+            if (exp_value < 100000L)
+                exp_value = exp_value * 10 + (*p - '0');
+    }
+    point += exp_negative ? -(int)exp_value : (int)exp_value;
+    if (!started)
+        return -1; /* the word is 0 */
+    if (point != mlen)
+        return point > mlen ? 1 : -1;
+    /* same exponent: digit by digit, the shorter padded with zeros */
+    for (p = first; is_digit(*p) || *p == '.'; p++) {
+        int wd, md;
+        if (*p == '.' || (i == 0 && *p == '0'))
+            continue; /* the point and leading zeros */
+        wd = *p - '0';
+        md = i < mlen ? mdigits[mlen - 1 - i] - '0' : 0;
+        if (wd != md)
+            return wd > md ? 1 : -1;
+        i++;
+    }
+    for (; i < mlen; i++) /* the word's digits ran out: mag is larger unless the rest is zeros */
+        if (mdigits[mlen - 1 - i] != '0')
+            return -1;
+    return 0;
+}
+
+/* 1 when limit is a whole number below 2^31 in magnitude, with its magnitude in *mag. */
+static int whole_limit(double limit, uint32_t *mag)
+{
+    if (!(limit > -2147483648.0 && limit < 2147483648.0))
+        return 0;
+    if ((double)(int32_t)limit != limit || limit == 0)
+        return 0;
+    *mag = limit < 0 ? (uint32_t)(-(int32_t)limit) : (uint32_t)limit;
+    return 1;
+}
+
+motion_status_t text_parse_real(const char *word, double lo, double hi, double *out)
+{
+    double v;
+    uint32_t mag;
+    motion_status_t st = text_scan_real(word, &v);
+    if (st != MS_OK)
+        return st;
+    /* NaN limits fail both comparisons */
     if (!(v >= lo && v <= hi))
+        return MS_ERR_OUT_OF_RANGE;
+    /* rounded onto a limit: the decimal itself may lie beyond it */
+    if (v == hi && whole_limit(hi, &mag) && (hi > 0 ? compare_magnitude(word, mag) > 0 : compare_magnitude(word, mag) < 0))
+        return MS_ERR_OUT_OF_RANGE;
+    if (v == lo && whole_limit(lo, &mag) && (lo < 0 ? compare_magnitude(word, mag) > 0 : compare_magnitude(word, mag) < 0))
         return MS_ERR_OUT_OF_RANGE;
     *out = v;
     return MS_OK;

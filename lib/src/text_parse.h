@@ -29,13 +29,26 @@ int text_at_end(const char *cursor);
  * MS_ERR_NOT_A_NUMBER, MS_ERR_OUT_OF_RANGE, or MS_OK. */
 motion_status_t text_parse_int32(const char *word, int32_t lo, int32_t hi, int32_t *out);
 
+/* Whole-word unsigned integer in [lo, hi]: optional '+', decimal digits only. */
+motion_status_t text_parse_uint32(const char *word, uint32_t lo, uint32_t hi, uint32_t *out);
+
 /* Whole-word decimal number in [lo, hi]: [sign] digits [. digits] [e [sign] digits], at least
- * one digit in the mantissa; finite. MS_ERR_NOT_A_NUMBER, MS_ERR_OUT_OF_RANGE, or MS_OK.
+ * one digit in the mantissa; finite. MS_ERR_NOT_A_NUMBER, MS_ERR_OUT_OF_RANGE, MS_ERR_UNDERFLOW
+ * (a nonzero word whose magnitude is below the smallest normal double: DBL_MIN, 2.2e-308, on
+ * the host; on the AVR, where double is float, FLT_MIN, 1.2e-38), or MS_OK.
+ * Limits that are whole numbers (|limit| < 2^31) are compared with the decimal word itself, before
+ * rounding: with hi = 5000, "5000.0001" is refused even where it rounds to 5000 (a float), and
+ * "4999.99999" is accepted (as the float it rounds to). Other limits are compared with the
+ * rounded value.
  * Correctly rounded for up to 8 significant digits (< 2^24) and decimal exponents within +-10
  * (one exact multiply or divide), beyond that as the C library's strtod; avr-libc's strtod alone
  * is one unit off for words such as "0.05", so the board would otherwise run other numbers than
  * motionsim. */
 motion_status_t text_parse_real(const char *word, double lo, double hi, double *out);
+
+/* The scan under text_parse_real without limits: MS_OK with *out set, MS_ERR_NOT_A_NUMBER,
+ * MS_ERR_OUT_OF_RANGE (overflow: beyond the largest finite double) or MS_ERR_UNDERFLOW. */
+motion_status_t text_scan_real(const char *word, double *out);
 
 /* Case-sensitive word equality, for command names. */
 int text_word_is(const char *word, const char *name);

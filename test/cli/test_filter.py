@@ -220,6 +220,10 @@ CSV_BAD = [
     ("t_ms,u,y\n0,1,0\n10,1,0\n30,1,0\n", "consecutive samples"),
     ("k,t_s,u,y\n0,0,1,0\n2,0.02,1,0\n", "consecutive samples"),
     ("u\n99\n", "outside the filter's range"),
+    # issue 12 item 8: a NUL byte is refused, not read as a blank row or as the end of a number
+    ("u\n1\n\x009\n2\n", "line 3: contains a NUL byte (not a text file)"),
+    ("u\n1\n2\x009\n", "line 3: contains a NUL byte (not a text file)"),
+    ("u\x00\n1\n", "line 1: contains a NUL byte (not a text file)"),
 ]
 
 

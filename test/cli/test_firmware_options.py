@@ -8,6 +8,8 @@
   the ISR trace pin.
 - MovingAverageFilter's tap buffer: SRAM grows by exactly 2 bytes per tap (issue: filters).
 - No header of ours can be opened by `#include <PID_v1.h>` on a case-insensitive file system.
+- A sketch that includes only MotionPID.h (no board library) builds and runs on the default clock,
+  millis() (issue 12, item 2: "undefined reference to motion_clock_ms" before).
 """
 import os
 import re
@@ -80,3 +82,36 @@ def test_filter_tap_buffer_costs_two_bytes_per_tap(tmp_path):
     large, _ = build(tmp_path / "b", "MovingAverageFilter", "-DMAF_MAX_TAPS=3000")
     assert small.returncode == 0 and large.returncode == 0, small.stdout + large.stdout
     assert sram_bytes(large.stdout, "MovingAverageFilter") - sram_bytes(small.stdout, "MovingAverageFilter") == 2000
+
+
+PID_ONLY = os.path.join(ROOT, "test", "firmware", "pid_only", "PidOnly")
+
+
+def test_sketch_with_only_the_pid_header_builds_and_runs(tmp_path):
+    """The library lib/ alone (as `arduino-cli lib install` would give a user): link and run."""
+    out = tmp_path / "out"
+    cmd = [os.path.join(ROOT, ".tools", "arduino-cli"), "--config-file", "arduino-cli.yaml", "compile",
+           "--fqbn", "arduino:avr:mega:cpu=atmega2560", "--warnings", "all", "--library", "lib",
+           "--build-property", "tools.ctags.path=/usr/bin",
+           "--build-property", "tools.ctags.cmd.path=/usr/bin/arduino-ctags",
+           "--build-property", "compiler.cpp.extra_flags=-DDECIMAL_DIG=__DECIMAL_DIG__",
+           "--build-path", str(tmp_path / "build"), "--output-dir", str(out), PID_ONLY]
+    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, (p.stdout + p.stderr)[-3000:]
+    assert "MotionBoard" not in p.stdout + p.stderr
+    ours = [l for l in (p.stdout + p.stderr).splitlines() if "warning:" in l and ("lib/" in l or "pid_only" in l)]
+    assert not ours, ours
+    emu = os.path.join(ROOT, "build", "motionemu")
+    if not os.path.exists(emu):
+        subprocess.run(["make", "build/motionemu"], cwd=ROOT, check=True, capture_output=True)
+    r = subprocess.run([emu, str(out / "PidOnly.ino.elf"), "--duration", "400"], cwd=ROOT,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr
+    lines = [l.split(" ", 2)[2] for l in r.stdout.splitlines() if l.startswith("rx ")]
+    assert lines[0] == "READY PidOnly", lines
+    rows = [dict(kv.split("=") for kv in l.split()) for l in lines[1:]]
+    assert len(rows) == 10, lines
+    # the clock is millis(): computations 20 ms apart (millis() steps by 1 or 2 ms), output moving
+    times = [int(r["t"]) for r in rows]
+    assert all(19 <= b - a <= 21 for a, b in zip(times, times[1:])), times
+    assert len({r["out"] for r in rows}) > 1, rows

@@ -317,7 +317,7 @@ def test_pid_replay_bad_command_names_file_and_line(motionsim, tmp_path, cmd, wo
      '"output0": 0, "setup": []}', '"setpoint0" is missing'),
     ('{"kp": {"a": 1}}', "expected a number"),
     ('{"kp": true}', "expected a number"),
-    ('{"kp": 01}', "expected ','"),
+    ('{"kp": 1 2}', "line 1 column 10: not valid JSON (near '2}')"),
     ('{"kp": 1, "kp": 2}', "duplicate key"),
     ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_X", "direction": "DIRECT", "t0_ms": 0, "input0": 0, '
      '"output0": 0, "setpoint0": 0, "setup": []}', '"pon"'),
@@ -327,8 +327,10 @@ def test_pid_replay_bad_command_names_file_and_line(motionsim, tmp_path, cmd, wo
      '"output0": 0, "setpoint0": 0, "setup": [1, 2]}', "only strings"),
     ('{"kp": 1, "ki": 0, "kd": 0, "pon": "P_ON_E", "direction": "DIRECT", "t0_ms": 0, "input0": 0, '
      '"output0": 0, "setpoint0": 0, "setup": ["SetFoo(1)"]}', "unknown call"),
-    ('{"kp": 1} trailing', "unexpected text"),
-    ('', "expected '{'"),
+    ('{"kp": 1} trailing', "line 1 column 11: not valid JSON (near 'trailing')"),
+    ('', "line 1 column 1: not valid JSON"),
+    ('[1, 2]', "must be one JSON object"),
+    ('{"kp": 1,\n "ki": }', "line 2 column 8: not valid JSON"),
 ])
 def test_pid_replay_bad_json_is_refused(motionsim, tmp_path, json_text, words):
     path = write_vector(tmp_path, ["SetMode(AUTOMATIC)"], json_text=json_text)
@@ -362,6 +364,19 @@ def test_pid_replay_negative_gains_later_are_ignored_as_pid_v1_does(motionsim, t
                                                     json_text=SETUP.format(kp=1, ki=0, kd=0), name="w"))
     assert plain.rc == 0 and with_bad.rc == 0, with_bad.err
     assert plain.out == with_bad.out
+
+
+def test_pid_replay_refuses_a_header_naming_a_column_twice(motionsim, tmp_path):
+    # issue 12 item 8: the first `input` was used; now refused, as `motionsim filter` does
+    path = write_vector(tmp_path, ["SetMode(AUTOMATIC)", ""])
+    text = open(path).read().splitlines()
+    text[0] = text[0] + ",input"
+    text[1:] = [t + ",5" for t in text[1:]]
+    open(path, "w").write("\n".join(text) + "\n")
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err), r.err
+    assert ":1: the header names column 'input' twice" in r.err, r.err
+    assert r.out == ""
 
 
 def test_pid_replay_file_problems(motionsim, tmp_path):

@@ -454,6 +454,8 @@ def check_filter_bad_input(env):
             ("every 0", "send every 0"), ("every above 1000", "send every 1001"), ("extra word", "send reset now"),
             # kind ma: tau2 is kept for ma2 and checked as ma2 would use it (9 s + 25 s > 2000 taps)
             ("tau2 too long for ma2's buffer, kind ma", "send tau2 25"),
+            # issue 12 item 6: above the limit as a decimal although it rounds to it in float; underflow
+            ("u just above 5 V", "send u 5.0000001"), ("u underflows", "send u 1e-400"),
         ], pins=sketches.filter_pins(env))
 
 
@@ -581,14 +583,16 @@ def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts
 def check_servo_bad_input(env, sketch, pid):
     extra = [("setpoint above 1000000", "send 1000001"), ("setpoint not whole", "send 12.5"),
              ("negative kp", "send kp -1"), ("kp above 1000", "send kp 1001"), ("kp without value", "send kp"),
-             ("extra word", "send kp 1 2")]
+             ("extra word", "send kp 1 2"),
+             # issue 12 item 6: above 1000 as a decimal although it rounds to 1000 in float; underflow
+             ("kp just above 1000", "send kp 1000.00001"), ("kp underflows", "send kp 1e-46")]
     if not pid:
         extra.append(("ki on the P sketch", "send ki 1"))
     busy = [("junk while moving", "send go faster"), ("setpoint out of range while moving", "send -2000000"),
             ("negative gain while moving", "send kd -0.5" if pid else "send kp -0.5")]
     return check_bad_input(
         env, sketch, "setpoint", "", COMMON_BAD + extra,
-        while_busy=("send 1000", r"^OK setpoint=1000$", busy, r"^t_ms=2000 ", 5000),
+        while_busy=("send 1000", r"^OK setpoint=1000$", busy, r"^t_ms=3000 ", 5000),
         dynamic=("position", "error", "duty"), motor=sketches.servo_motor_spec(env))
 
 

@@ -14,7 +14,6 @@ extern "C" {
 #include <stdlib.h>
 #include <string.h>
 
-#include "../../sim/json_flat.c"
 #include "../../sim/pid_vector.c"
 #include "MotionPID.h"
 
@@ -109,6 +108,48 @@ static void constants_and_constructors(void **state)
     MotionPID b(&in, &out, &sp, 1, 2, 3, P_ON_M, REVERSE);
     assert_int_equal(b.State().p_on_e, 0);
     assert_true(b.State().kp == -1.0 && b.GetKp() == 1.0);
+}
+
+/* PID_v1 parity of the declarations: its getters are not const, so member pointers of PID_v1's
+ * types must bind; LIBRARY_VERSION as PID_v1.h defines it; `typedef MotionPID PID;` is the one
+ * line that lets PID_v1 code compile unchanged. */
+typedef MotionPID PID;
+static void pid_v1_declarations(void **state)
+{
+    (void)state;
+    double (PID::*kp)() = &PID::GetKp;
+    double (PID::*ki)() = &PID::GetKi;
+    double (PID::*kd)() = &PID::GetKd;
+    int (PID::*mode)() = &PID::GetMode;
+    int (PID::*dir)() = &PID::GetDirection;
+    double in = 0, out = 0, sp = 0;
+    PID pid(&in, &out, &sp, 1, 2, 3, P_ON_E, REVERSE);
+    assert_true((pid.*kp)() == 1 && (pid.*ki)() == 2 && (pid.*kd)() == 3);
+    assert_int_equal((pid.*mode)(), MANUAL);
+    assert_int_equal((pid.*dir)(), REVERSE);
+#define STR2(x) #x
+#define STR(x) STR2(x)
+    assert_string_equal(STR(LIBRARY_VERSION), "1.2.1");
+}
+
+/* Constructor with a negative gain, then SetTunings(Kp, Ki, Kd): computes as P_ON_M (PID_v1 leaves
+ * pOn at the 0 of a global object; see test_pidv1_ctrl.c). */
+static void negative_constructor_gain_then_set_tunings(void **state)
+{
+    (void)state;
+    double in_a = 30, out_a = 0, sp_a = 60, in_b = 30, out_b = 0, sp_b = 60;
+    g_now_ms = 0;
+    MotionPID a(&in_a, &out_a, &sp_a, 0.5, -1, 0.05, DIRECT);
+    MotionPID b(&in_b, &out_b, &sp_b, 0.5, 1, 0.05, P_ON_M, DIRECT);
+    a.SetTunings(0.5, 1, 0.05);
+    a.SetMode(AUTOMATIC);
+    b.SetMode(AUTOMATIC);
+    for (int k = 1; k <= 10; k++) {
+        g_now_ms = 100u * (uint32_t)k;
+        in_a = in_b = 30 + 3 * k;
+        assert_int_equal(a.Compute(), b.Compute());
+        assert_memory_equal(&out_a, &out_b, sizeof out_a);
+    }
 }
 
 static uint32_t g_other_ms;
@@ -248,6 +289,8 @@ int main(void)
     }
     const struct CMUnitTest fixed[] = {
         cmocka_unit_test(constants_and_constructors),
+        cmocka_unit_test(pid_v1_declarations),
+        cmocka_unit_test(negative_constructor_gain_then_set_tunings),
         cmocka_unit_test(set_clock_replaces_the_default),
         cmocka_unit_test(direction_in_manual_waits_for_set_tunings),
         cmocka_unit_test(reverse_and_direction_changes_in_automatic),

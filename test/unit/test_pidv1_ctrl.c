@@ -5,7 +5,7 @@
  * and user gains, sample time, limits, mode, direction, POn). Then every argument PID_v1
  * rejects, one by one: the call returns its status and changes nothing.
  *
- * The vector reader (sim/pid_vector.c, sim/json_flat.c) is compiled in from sim/, since the test
+ * The vector reader (sim/pid_vector.c, with Debian's cJSON) is compiled in from sim/, since the test
  * programs link only libmotion.a. Data folder: $PID_V1_DATA, else test/data/pid_v1 (the tests
  * run from the repository root).
  */
@@ -17,7 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../../sim/json_flat.c"
 #include "../../sim/pid_vector.c"
 #include "pidv1_ctrl.h"
 
@@ -286,6 +285,36 @@ static void init_rejects_null_and_negative_gains(void **state)
     assert_int_equal(pid_get_mode(&c), PID_MANUAL);
 }
 
+/* A negative gain in the constructor: PID_v1's SetTunings returns before it stores POn, so pOn
+ * keeps the value of a zero-initialised (global) object, 0 = P_ON_M, and a later 3-argument
+ * SetTunings (which reuses the stored pOn) computes proportional-on-measurement (reference
+ * README: "SetTunings ... If any gain is negative, the whole call is ignored, including the POn
+ * argument"; "The 3-argument form reuses the stored POn"). Such a controller must compute exactly
+ * like one constructed with P_ON_M. */
+static void negative_constructor_gain_leaves_pon_as_p_on_m(void **state)
+{
+    double in_a = 30, out_a = 0, sp_a = 60, in_b = 30, out_b = 0, sp_b = 60;
+    pid_ctrl_t a, b;
+    int k;
+    (void)state;
+    assert_int_equal(pid_init(&a, &in_a, &out_a, &sp_a, -1, 1, 0.05, PID_P_ON_E, PID_DIRECT, 0), MS_ERR_GAIN_NEGATIVE);
+    assert_int_equal(pid_init(&b, &in_b, &out_b, &sp_b, 0.5, 1, 0.05, PID_P_ON_M, PID_DIRECT, 0), MS_OK);
+    assert_int_equal(a.p_on, PID_P_ON_M);
+    assert_int_equal(a.p_on_e, 0);
+    assert_int_equal(pid_set_tunings(&a, 0.5, 1, 0.05), MS_OK);
+    pid_set_output_limits(&a, -100, 100);
+    pid_set_output_limits(&b, -100, 100);
+    pid_set_mode(&a, PID_AUTOMATIC);
+    pid_set_mode(&b, PID_AUTOMATIC);
+    for (k = 1; k <= 20; k++) {
+        in_a = in_b = 30 + 2 * k;
+        assert_int_equal(pid_compute(&a, (uint32_t)(100 * k)), pid_compute(&b, (uint32_t)(100 * k)));
+        assert_memory_equal(&out_a, &out_b, sizeof out_a);
+    }
+    /* on error it would differ from the first computation: kp * error = 0.5 * 28 alone is 14 */
+    assert_true(out_a < 14);
+}
+
 /* Not rejected by PID_v1, so not by us: mode 2 means MANUAL, direction 2 and POn 7 are stored
  * (reference README, h at 900, 1600, 2000). */
 static void unvalidated_values_behave_as_pid_v1(void **state)
@@ -530,6 +559,7 @@ int main(void)
         cmocka_unit_test(rejects_sample_time_not_positive),
         cmocka_unit_test(float_build_rejects_the_same),
         cmocka_unit_test(init_rejects_null_and_negative_gains),
+        cmocka_unit_test(negative_constructor_gain_leaves_pon_as_p_on_m),
         cmocka_unit_test(unvalidated_values_behave_as_pid_v1),
         cmocka_unit_test(clock_wraps_without_a_gap),
         cmocka_unit_test(direction_in_manual_waits_for_set_tunings_double),

@@ -122,6 +122,55 @@ static void binary_bytes_give_one_error_per_line(void **state)
     assert_string_equal(lines[0], "?");
 }
 
+/* Blank lines (only spaces and tabs, any length) are ignored like empty ones: no line, no error
+ * (issue 12 item 5: one rule for every sketch, docs/serial.md). */
+static void blank_lines_are_ignored_like_empty_ones(void **state)
+{
+    line_reader_t r;
+    char lines[4][48];
+    char in[160];
+    int errors = 0;
+    motion_status_t err = MS_OK;
+    (void)state;
+    memset(in, ' ', 100); /* longer than a line may be: still blank */
+    strcpy(in + 100, "\r\n \t \n\t\r  kp 5\n");
+    line_reader_init(&r);
+    assert_int_equal(feed(&r, in, strlen(in), lines, &errors, &err), 1);
+    assert_int_equal(errors, 0);
+    assert_string_equal(lines[0], "kp 5"); /* leading blanks dropped */
+}
+
+/* Bytes lost before the next byte: the line in progress is discarded and reported once; the next
+ * line is clean. A line already reported bad is not reported again. */
+static void overrun_discards_the_line_it_hits(void **state)
+{
+    line_reader_t r;
+    char lines[4][48];
+    int errors = 0;
+    motion_status_t err = MS_OK;
+    (void)state;
+    line_reader_init(&r);
+    assert_int_equal(feed(&r, "kp 1", 4, lines, &errors, &err), 0);
+    assert_int_equal(line_reader_overrun(&r), 1);
+    assert_int_equal(feed(&r, "00\r\n?\n", 6, lines, &errors, &err), 1);
+    assert_string_equal(lines[0], "?");
+    /* at a line boundary: the next line is the one hit */
+    assert_int_equal(line_reader_overrun(&r), 1);
+    assert_int_equal(feed(&r, "5\n6\n", 4, lines, &errors, &err), 1);
+    assert_string_equal(lines[0], "6");
+    /* after a CR, the LF may be lost with the rest: the next line is still discarded, once */
+    assert_int_equal(feed(&r, "7\r", 2, lines, &errors, &err), 1);
+    assert_int_equal(line_reader_overrun(&r), 1);
+    assert_int_equal(feed(&r, "8\n9\n", 4, lines, &errors, &err), 1);
+    assert_string_equal(lines[0], "9");
+    /* already bad: one reply per line */
+    assert_int_equal(feed(&r, "1\x01", 2, lines, &errors, &err), 0);
+    assert_int_equal(errors, 1);
+    assert_int_equal(line_reader_overrun(&r), 0);
+    assert_int_equal(feed(&r, "2\n3\n", 4, lines, &errors, &err), 1);
+    assert_string_equal(lines[0], "3");
+}
+
 /* ---- text_parse ---- */
 static void int32_accepts_whole_words_and_full_range(void **state)
 {
@@ -178,6 +227,80 @@ static void real_rejects_junk_nan_inf_hex_and_range(void **state)
     assert_int_equal(text_parse_real("1e999", -1e9, 1e9, &v), MS_ERR_OUT_OF_RANGE);
     assert_int_equal(text_parse_real("5.01", 0, 5, &v), MS_ERR_OUT_OF_RANGE);
     assert_true(v == 42);
+}
+
+/* Limits that are whole numbers are compared with the decimal before rounding (issue 12 item 6):
+ * these words round to the limit in double, yet lie beyond it; words just inside are accepted. */
+static void real_limits_compare_the_decimal_before_rounding(void **state)
+{
+    static const struct {
+        const char *word;
+        double lo, hi;
+        motion_status_t want;
+    } cases[] = {
+        {"5000.0000000000000001", 0, 5000, MS_ERR_OUT_OF_RANGE},
+        {"10000000.000000000001", 0, 1e7, MS_ERR_OUT_OF_RANGE},
+        {"1000.0000000000000001", 0, 1000, MS_ERR_OUT_OF_RANGE},
+        {"5.00000000000000001e3", 0, 5000, MS_ERR_OUT_OF_RANGE},
+        {"0.50000000000000000001e4", 0, 5000, MS_ERR_OUT_OF_RANGE},
+        {"-100.00000000000000001", -100, 100, MS_ERR_OUT_OF_RANGE},
+        {"4999.9999999999999999", 0, 5000, MS_OK},
+        {"5000", 0, 5000, MS_OK},
+        {"5000.000", 0, 5000, MS_OK},
+        {"5e3", 0, 5000, MS_OK},
+        {"500000e-2", 0, 5000, MS_OK},
+        {"0005000.0", 0, 5000, MS_OK},
+        {"-99.999999999999999999", -100, 100, MS_OK},
+        {"-100.0", -100, 100, MS_OK},
+        {"1.00000000000000000001", 0, 1, MS_ERR_OUT_OF_RANGE},
+        {"0.99999999999999999999", 0, 1, MS_OK},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        double v = -7;
+        motion_status_t st = text_parse_real(cases[i].word, cases[i].lo, cases[i].hi, &v);
+        if (st != cases[i].want)
+            fail_msg("%s in [%g, %g]: status %d, want %d", cases[i].word, cases[i].lo, cases[i].hi, st, cases[i].want);
+        if (st != MS_OK)
+            assert_true(v == -7);
+    }
+}
+
+/* A nonzero word below the smallest normal double is refused (underflow), not taken as 0 or a
+ * subnormal; zero itself in any spelling is fine. */
+static void real_refuses_underflow(void **state)
+{
+    static const char *const tiny[] = {"1e-400", "1e-320", "-2e-310", "0.0000001e-305", "1e-99999"};
+    static const char *const zero[] = {"0", "-0.0", "0e-400", "0.000e99999"};
+    double v = 3;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof tiny / sizeof tiny[0]; i++)
+        assert_int_equal(text_parse_real(tiny[i], -1, 1, &v), MS_ERR_UNDERFLOW);
+    assert_true(v == 3);
+    assert_int_equal(text_parse_real("2.3e-308", -1, 1, &v), MS_OK); /* just above DBL_MIN */
+    for (i = 0; i < sizeof zero / sizeof zero[0]; i++) {
+        assert_int_equal(text_parse_real(zero[i], -1, 1, &v), MS_OK);
+        assert_true(v == 0);
+    }
+}
+
+static void uint32_full_range(void **state)
+{
+    uint32_t v = 9;
+    (void)state;
+    assert_int_equal(text_parse_uint32("4294967295", 0, UINT32_MAX, &v), MS_OK);
+    assert_true(v == UINT32_MAX);
+    assert_int_equal(text_parse_uint32("+0", 0, UINT32_MAX, &v), MS_OK);
+    assert_true(v == 0);
+    v = 9;
+    assert_int_equal(text_parse_uint32("4294967296", 0, UINT32_MAX, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(text_parse_uint32("-1", 0, UINT32_MAX, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_uint32("0x5", 0, UINT32_MAX, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_uint32("", 0, UINT32_MAX, &v), MS_ERR_NOT_A_NUMBER);
+    assert_int_equal(text_parse_uint32("11", 1, 10, &v), MS_ERR_OUT_OF_RANGE);
+    assert_true(v == 9);
 }
 
 /* text_parse_real must return the correctly rounded value (avr-libc's strtod is not; see
@@ -249,11 +372,16 @@ int main(void)
         cmocka_unit_test(long_line_without_newline_gives_one_error_and_no_command),
         cmocka_unit_test(line_of_exactly_max_length_is_accepted),
         cmocka_unit_test(binary_bytes_give_one_error_per_line),
+        cmocka_unit_test(blank_lines_are_ignored_like_empty_ones),
+        cmocka_unit_test(overrun_discards_the_line_it_hits),
         cmocka_unit_test(int32_accepts_whole_words_and_full_range),
         cmocka_unit_test(int32_rejects_junk_and_overflow_without_touching_output),
         cmocka_unit_test(real_accepts_decimal_forms),
         cmocka_unit_test(real_rejects_junk_nan_inf_hex_and_range),
         cmocka_unit_test(real_is_correctly_rounded_like_the_host_strtod),
+        cmocka_unit_test(real_limits_compare_the_decimal_before_rounding),
+        cmocka_unit_test(real_refuses_underflow),
+        cmocka_unit_test(uint32_full_range),
         cmocka_unit_test(words_split_on_blanks),
     };
     return cmocka_run_group_tests_name("serial_text", tests, NULL, NULL);

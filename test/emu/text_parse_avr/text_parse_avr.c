@@ -45,6 +45,45 @@ static uint16_t timed_parse(const char *word, double *v, motion_status_t *st)
 
 static char line[128];
 
+/* Limits and underflow on the float target (issue 12 item 6): each word with its limits and the
+ * status the decimal itself calls for. Every "beyond" word here rounds to the limit in float. */
+typedef struct {
+    const char *word;
+    float lo, hi;
+    motion_status_t want;
+} limit_case_t;
+static const limit_case_t limit_cases[] = {
+    {"5000.0001", 0, 5000, MS_ERR_OUT_OF_RANGE},   /* stepper vmax */
+    {"10000000.1", 0, 1e7f, MS_ERR_OUT_OF_RANGE},  /* stepper accel */
+    {"1000.00001", 0, 1000, MS_ERR_OUT_OF_RANGE},  /* servo gains */
+    {"5.0000001", 0, 5, MS_ERR_OUT_OF_RANGE},      /* filter u */
+    {"-100.000001", -100, 100, MS_ERR_OUT_OF_RANGE},
+    {"4999.9999", 0, 5000, MS_OK},
+    {"5000", 0, 5000, MS_OK},
+    {"1e-46", -1, 1, MS_ERR_UNDERFLOW},
+    {"1e-400", -1, 1, MS_ERR_UNDERFLOW},
+    {"-1e-39", -1, 1, MS_ERR_UNDERFLOW},           /* a float subnormal */
+    {"2e-38", -1, 1, MS_OK},                       /* above FLT_MIN */
+    {"0e-400", -1, 1, MS_OK},
+};
+
+static void check_limits(void)
+{
+    uint16_t i, bad = 0;
+    for (i = 0; i < sizeof limit_cases / sizeof limit_cases[0]; i++) {
+        double v = 0.0;
+        motion_status_t st = text_parse_real(limit_cases[i].word, limit_cases[i].lo, limit_cases[i].hi, &v);
+        if (st != limit_cases[i].want) {
+            bad++;
+            snprintf(line, sizeof line, "LIMIT %s status %d want %d", limit_cases[i].word, (int)st,
+                     (int)limit_cases[i].want);
+            println(line);
+        }
+    }
+    snprintf(line, sizeof line, "LIMITS cases=%u mismatches=%u", i, bad);
+    println(line);
+}
+
 int main(void)
 {
     uint16_t i, n_exact = 0, n_fallback = 0, exact_bad = 0, fallback_bad = 0, rejected = 0;
@@ -102,6 +141,7 @@ int main(void)
              (unsigned long)(n_exact ? exact_sum / n_exact : 0), exact_max,
              (unsigned long)(n_fallback ? fallback_sum / n_fallback : 0), fallback_max);
     println(line);
+    check_limits();
     snprintf(line, sizeof line,
              "DONE words=%u exact=%u exact_mismatches=%u fallback=%u fallback_mismatches=%u fallback_max_ulps=%lu "
              "rejected=%u",

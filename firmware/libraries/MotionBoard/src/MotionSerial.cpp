@@ -1,8 +1,46 @@
 /* MotionSerial.cpp - see MotionSerial.h. */
 #include "MotionSerial.h"
 
+/* A full receive buffer (avail bytes): whatever arrives now is dropped by the core, so input may be lost right
+ * after the bytes it holds. Remember that point (the first one still ahead, and the latest). */
+void MotionSerial::check_overrun(int avail)
+{
+    if (!(pending_ & 1)) {
+        pending_ |= 1;
+        first_left_ = (uint8_t)avail;
+    } else if (avail != first_left_) {
+        pending_ |= 2;
+        last_left_ = (uint8_t)avail;
+    }
+}
+
+bool MotionSerial::lost_before_next()
+{
+    bool lost = false;
+    if (pending_ & 1) {
+        if (first_left_ == 0) {
+            lost = true;
+            pending_ &= (uint8_t)~1;
+            if (pending_ & 2) { /* the later point becomes the next one */
+                pending_ = 1;
+                first_left_ = last_left_;
+            }
+        }
+        if (pending_ & 1)
+            first_left_--;
+    }
+    if (pending_ & 2)
+        last_left_--;
+    return lost;
+}
+
 const char *MotionSerial::poll(uint8_t max_bytes)
 {
+    int avail = port_.available();
+    if (avail <= 0)
+        return NULL; /* the usual case: no more work than before the overrun check existed */
+    if (rx_full_ != 0 && avail >= (int)rx_full_)
+        check_overrun(avail);
     while (max_bytes-- > 0 && port_.available() > 0) {
         int c;
         if (queue_ != 0 && queue_->room() < reserve_)
@@ -11,6 +49,13 @@ const char *MotionSerial::poll(uint8_t max_bytes)
         motion_status_t err = MS_OK;
         if (c < 0)
             break;
+        if (pending_ != 0 && lost_before_next() && line_reader_overrun(&reader_)) {
+            reply_error(MS_ERR_INPUT_OVERRUN);
+            (void)line_reader_feed(&reader_, (uint8_t)c, &err); /* discarded, or its terminator */
+            if (queue_ != 0)
+                return NULL;
+            continue;
+        }
         switch (line_reader_feed(&reader_, (uint8_t)c, &err)) {
         case LINE_READY:
             return reader_.line;

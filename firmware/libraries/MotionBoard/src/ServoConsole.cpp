@@ -107,7 +107,8 @@ ServoConsole::Event ServoConsole::handleGain(const char *name, const char *value
         serial_.reply_error(st);
         return NOTHING;
     }
-    if (v > SERVO_GAIN_MAX) {
+    /* the limit is compared with the decimal (text_parse.h): 1000.00001 is above it */
+    if (text_parse_real(value, 0, SERVO_GAIN_MAX, &v) != MS_OK) {
         serial_.reply_error(MS_ERR_OUT_OF_RANGE, F("gains 0..1000"));
         return NOTHING;
     }

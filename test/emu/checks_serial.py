@@ -1,0 +1,154 @@
+"""The serial line rules every sketch follows (docs/serial.md), checked on the emulated ATmega2560.
+The expectations are the documented rules, not recordings of the firmware:
+
+- a blank line (empty, or only spaces and tabs, any length) is no line: no reply at all, on every
+  sketch (the rule lives in lib/src/line_reader.c, which every console reads through
+  MotionSerial, so the stepper sketches follow it without code of their own);
+- receive overrun: a host that sends faster than the sketch reads fills the 63-byte receive
+  buffer and the core drops bytes; the line hit is answered `ERR input overrun` and never
+  executed, no half line is ever taken for a command, and afterwards the sketch answers again.
+"""
+import re
+
+import emulog
+import sketches
+from checks_selftest import CheckResult
+from emulog import F_CPU
+
+# the `?` reply's first key per family
+QUERY_KEY = {"stepper": "pos", "servo": "setpoint", "filter": "kind"}
+
+
+def fails_of(log, problems):
+    for c, k, t in log.fails:
+        problems.append(f"harness: {k} at {c / F_CPU:.4f} s: {t}")
+
+
+def run_kwargs(env, sketch):
+    fam = sketches.family_of(sketch)
+    if fam == "servo":
+        return {"motor": sketches.servo_motor_spec(env)}
+    if fam == "filter":
+        return {"pins": sketches.filter_pins(env)}
+    return {}
+
+
+BLANK_LINES = ["send", "send    ", "send \\t \\t", "raw \\r\\r\\n", "repeat 100 \\x20", "raw \\r\\n"]
+
+
+def check_blank_lines(env, sketch):
+    key = QUERY_KEY[sketches.family_of(sketch)]
+    script = "\n".join([f"wait ^READY {sketch}$", "timeout 3000", "send ?", f"wait ^{key}=", "mark blank"]
+                       + BLANK_LINES + ["mark blank-end", "send ?", f"wait ^{key}="]) + "\n"
+    log = emulog.run(env.elf(sketch), script, **run_kwargs(env, sketch))
+    problems = []
+    fails_of(log, problems)
+    start, end = log.mark("blank"), log.mark("blank-end")
+    if start is None or end is None:
+        problems.append("the script did not run")
+        return CheckResult(False, "did not run", problems)
+    after = log.first(r"^" + key + "=", end)
+    replies = [l for l in log.lines_matching(r"^(OK|ERR|DONE|WARN|" + key + "=)", start, after.cycle if after else None)]
+    if replies:
+        problems.append(f"blank lines drew replies: {[r.text for r in replies]}")
+    if after is None:
+        problems.append("no `?` reply after the blank lines")
+    return CheckResult(not problems, f"{len(BLANK_LINES)} blank lines (empty, spaces, tabs, 100 spaces) -> "
+                       f"{len(replies)} replies; `?` after them answered", problems)
+
+
+# A burst far faster than a servo sketch reads: every `?` draws a 100-byte reply at 9600 baud, so
+# the output queue fills, the sketch stops reading (back-pressure) and the receive buffer overflows.
+# Between the `?` lines a setpoint whose every tail is a different command ("2345" etc.).
+FLOOD_LINES = 24
+FLOOD = "repeat {n} ?\\r\\n12345\\r\\n"
+
+
+def check_servo_overrun(env, sketch):
+    script = "\n".join([
+        f"wait ^READY {sketch}$", "timeout 3000", "send ?", "wait ^setpoint=", "mark flood",
+        FLOOD.format(n=FLOOD_LINES // 2), "drain", "run 8000", "mark flood-end",
+        # the line after a burst whose tail was lost is the one the overrun hit (docs/serial.md)
+        "send ?", "run 1000", "mark sync", "send ?", "run 1000",
+    ]) + "\n"
+    log = emulog.run(env.elf(sketch), script, motor=sketches.servo_motor_spec(env))
+    problems = []
+    fails_of(log, problems)
+    start, end, sync = log.mark("flood"), log.mark("flood-end"), log.mark("sync")
+    if start is None or end is None or sync is None:
+        return CheckResult(False, "did not run", problems + ["the script did not run"])
+    lines = [l.text for l in log.lines_matching(r".", start, sync) if not l.text.startswith("t_ms=")]
+    overruns = [t for t in lines if t == "ERR input overrun"]
+    states = [t for t in lines if t.startswith("setpoint=")]
+    oks = [t for t in lines if t.startswith("OK")]
+    other = [t for t in lines if t not in overruns and t not in states and t not in oks]
+    if not overruns:
+        problems.append("no `ERR input overrun` although the receive buffer overflowed")
+    bad_ok = [t for t in oks if t != "OK setpoint=12345"]
+    if bad_ok:
+        problems.append(f"half lines were executed: {bad_ok}")
+    if other:
+        problems.append(f"replies other than the state line, OK setpoint=12345 and ERR input overrun: {other}")
+    if len(lines) > FLOOD_LINES + 1:
+        problems.append(f"{len(lines)} replies to {FLOOD_LINES + 1} lines")
+    after = [l.text for l in log.lines_matching(r".", sync) if not l.text.startswith("t_ms=")]
+    if len(after) != 1 or not after[0].startswith("setpoint="):
+        problems.append(f"the `?` after the burst drew {after}, want one state line")
+    elif oks and "setpoint=12345 " not in after[0]:
+        problems.append(f"after OK setpoint=12345 the state says {after[0]}")
+    summary = (f"{FLOOD_LINES} lines in one burst and one `?` after it: {len(states)} `?` replies, {len(oks)} "
+               f"setpoints, {len(overruns)} ERR input overrun, {FLOOD_LINES + 1 - len(lines)} lines lost whole, "
+               f"{len(other) + len(bad_ok)} wrong; the next `?` answered")
+    return CheckResult(not problems, summary, problems)
+
+
+# issue 12 item 7: one rule for tau under every kind (at most the moving-average buffer), so that
+# any kind can follow; before, `tau 100` was taken under exp and `kind ma` refused after it.
+FILTER_TAU_SCRIPT = """\
+wait ^READY MovingAverageFilter$
+timeout 3000
+send kind exp
+wait ^OK kind=exp$
+mark tau
+send tau 100
+wait ^(OK|ERR)
+send tau 20.01
+wait ^(OK|ERR)
+send tau 20
+wait ^(OK|ERR)
+send kind ma
+wait ^(OK|ERR)
+send ?
+wait ^kind=
+"""
+
+
+def check_filter_tau_rule(env):
+    log = emulog.run(env.elf("MovingAverageFilter"), FILTER_TAU_SCRIPT, pins=sketches.filter_pins(env))
+    problems = []
+    fails_of(log, problems)
+    start = log.mark("tau")
+    got = [l.text for l in log.lines_matching(r"^(OK|ERR|kind=)", start or 0)]
+    want = [r"^ERR tau/Ts needs more taps than the buffer holds: tau and tau2 at most 20\.00 s each under every "
+            r"kind \(ma2: tau \+ tau2\)$"] * 2 + [r"^OK tau=20\.00$", r"^OK kind=ma$", r"^kind=ma tau=20\.00 "]
+    if len(got) != len(want) or not all(re.match(w, g) for w, g in zip(want, got)):
+        problems.append(f"replies {got}, want {want}")
+    return CheckResult(not problems, f"under exp: tau 100 and 20.01 refused, tau 20 then kind ma accepted: {got}",
+                       problems)
+
+
+def checks_for(env):
+    checks = []
+    names = env.sketch_names()
+    for s in names:
+        if s in sketches.FAMILY:
+            checks.append((f"{s}: blank lines (spaces, tabs, empty) get no reply (docs/serial.md)",
+                           lambda s=s: check_blank_lines(env, s)))
+    if "MovingAverageFilter" in names:
+        checks.append(("MovingAverageFilter: tau is limited by the buffer under every kind, so kind ma works after exp",
+                       lambda: check_filter_tau_rule(env)))
+    for s in ("ProportionalClosedLoop", "PIDClosedLoop"):
+        if s in names:
+            checks.append((f"{s}: a burst that overflows the receive buffer gets ERR input overrun, no half line "
+                           "is executed", lambda s=s: check_servo_overrun(env, s)))
+    return checks
