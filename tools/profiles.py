@@ -55,6 +55,36 @@ def load_scenarios():
     return scenarios
 
 
+ALGO_LABELS = {"exact": "exact", "leib": "Leib", "simplistic": "simplistic", "sigmoid": "S-curve"}
+KIND_LABELS = {"ma": "moving average", "ma2": "two-stage S-curve", "exp": "exponential"}
+
+
+def arg_value(args, name, default=None):
+    return args[args.index(name) + 1] if name in args and args.index(name) + 1 < len(args) else default
+
+
+def scenario_label(s):
+    """What a scenario's data is, for legends: its "label", else from its motionsim arguments: the
+    ramp's algorithm ("exact", "Leib"), the filter ("moving average, tau = 9 s") or the controller
+    and its gains ("P, Kp = 0.02")."""
+    if "label" in s:
+        return s["label"]
+    args = s["args"]
+    cmd = args[0] if args else ""
+    if cmd == "ramp":
+        return ALGO_LABELS.get(arg_value(args, "--algo"), arg_value(args, "--algo", "ramp"))
+    if cmd == "filter":
+        kind = arg_value(args, "--kind", "ma")
+        text = f"{KIND_LABELS.get(kind, kind)}, tau = {arg_value(args, '--tau', '?')} s"
+        return text + (f", tau2 = {arg_value(args, '--tau2', '?')} s" if kind == "ma2" else "")
+    if cmd == "servo":
+        if arg_value(args, "--ctrl") == "pid":
+            return (f"PID, Kp = {arg_value(args, '--kp', '?')}, Ki = {arg_value(args, '--ki', '0')}, "
+                    f"Kd = {arg_value(args, '--kd', '0')}")
+        return f"P, Kp = {arg_value(args, '--kp', '?')}"
+    return s["name"]
+
+
 def layout_of(s, data):
     x, panels = motionplot.default_layout(data.header)
     if "x" in s:
@@ -340,13 +370,23 @@ def main(argv):
     ap = argparse.ArgumentParser(prog="tools/profiles.py", description=__doc__.splitlines()[0])
     ap.add_argument("--motionsim", default=os.path.join(ROOT, "build", "motionsim"))
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "profiles"))
-    ap.add_argument("--only", help="run only scenarios whose name starts with this")
+    ap.add_argument("--only", help="run only scenarios whose name starts with this (and the scenarios they overlay)")
     a = ap.parse_args(argv)
     if not os.access(a.motionsim, os.X_OK):
         print(f"profiles: {a.motionsim} not found: run 'make sim' first", file=sys.stderr)
         return 1
     os.makedirs(a.out, exist_ok=True)
-    scenarios = [s for s in load_scenarios() if not a.only or s["name"].startswith(a.only)]
+    every = load_scenarios()
+    scenarios = [s for s in every if not a.only or s["name"].startswith(a.only)]
+    # --only keeps each chosen scenario's overlays (and theirs): they are run too
+    names = {s["name"] for s in scenarios}
+    grew = True
+    while grew:
+        extra = [s for s in every if s["name"] not in names and
+                 any(s["name"] in c.get("overlay", []) for c in every if c["name"] in names)]
+        grew = bool(extra)
+        names |= {s["name"] for s in extra}
+    scenarios = [s for s in every if s["name"] in names]
     if not scenarios:
         print("profiles: no scenarios found in tools/scenarios/*.json", file=sys.stderr)
         return 1
@@ -360,12 +400,12 @@ def main(argv):
             print(f"FAIL {s['name']}: motionsim {' '.join(s['args'])}: {p.stderr.strip()}", file=sys.stderr)
             continue
         done.append((s, motionplot.CsvData(csv_path)))
-    by_name = {s["name"]: d for s, d in done}
+    by_name = {s["name"]: (s, d) for s, d in done}
     for s, data in done:
         x, panels = layout_of(s, data) if data.labels is None else (None, None)
-        overlays = [(o, by_name[o]) for o in s.get("overlay", []) if o in by_name]
+        overlays = [(scenario_label(by_name[o][0]), by_name[o][1]) for o in s.get("overlay", []) if o in by_name]
         motionplot.plot(data, os.path.join(a.out, s["name"] + ".png"), title=s["title"], x=x, panels=panels,
-                        overlays=overlays)
+                        overlays=overlays, label=scenario_label(s))
         print(f"  {s['name']:34s} {len(data):6d} rows  {s['title']}")
     if done:
         write_workbook(os.path.join(a.out, "profiles.xlsx"), done)
