@@ -828,6 +828,50 @@ def check_stepper_bad_input(env, sketch):
 
 # ----------------------------------------------------------------------------------------------
 
+# ----------------------------------------------------------------------------------------------
+# lib's Arduino example (lib/examples/RampIntervals): a user's own sketch on MotionCore's ramp
+
+EXAMPLE_ROW_RE = re.compile(r"^(\d+),(-?\d+),(-?\d+\.\d{3}),(\d+),(accel|cruise|decel)$")
+
+
+def check_ramp_example(env):
+    """The example prints the lab's Leib move 0 -> 50 at boot and a move to a target sent over
+    serial; every step's interval (3 decimals) and whole ticks must equal motionsim ramp's, the
+    handout's checkpoint (218.218, 188.528, 157.245 ticks) included."""
+    elf = os.path.join(env.firmware_dir, "RampIntervals", "RampIntervals.ino.elf")
+    if not os.path.isfile(elf):
+        return CheckResult(False, "not built", [f"{elf} is missing: make test builds it (tools/build_firmware.sh)"])
+    log = emulog.run(elf, "timeout 20000\nwait ^DONE$\nsend -20\nwait ^DONE$\n")
+    problems = []
+    fails_of(log, problems)
+    moves, cur = [], None
+    for l in log.rx:
+        if l.text.startswith("move "):
+            cur = []
+            moves.append(cur)
+        m = EXAMPLE_ROW_RE.match(l.text)
+        if m and cur is not None:
+            cur.append(m.groups())
+    notes = []
+    for (a, b), rows in zip(((0, 50), (50, -20)), moves + [[]] * 2):
+        base = ["ramp", "--algo", "leib", "--from", str(a), "--to", str(b), "--v0", "1", "--vmax", "20", "--accel",
+                "10", "--tick-hz", "1000"]
+        exact = [r.split(",") for r in motionsim(env, *base)[0].splitlines()[1:] if r]
+        whole = [r.split(",") for r in motionsim(env, *base, "--integer-ticks")[0].splitlines()[1:] if r]
+        if len(rows) != abs(b - a) or len(exact) != len(rows):
+            problems.append(f"move {a} -> {b}: {len(rows)} step lines printed, motionsim plans {len(exact)}")
+            continue
+        bad = [(r, e[3], w[3]) for r, e, w in zip(rows, exact, whole)
+               if r[1] != e[1] or abs(float(r[2]) - float(e[3])) > 0.0005 + 1e-9 or int(r[3]) != int(float(w[3]))]
+        if bad:
+            problems.append(f"move {a} -> {b}: {len(bad)} of {len(rows)} steps differ from motionsim ramp, first: "
+                            f"printed {','.join(bad[0][0])}, motionsim interval {bad[0][1]} whole {bad[0][2]}")
+        notes.append(f"{a} -> {b}: {len(rows)} steps, first intervals {', '.join(r[2] for r in rows[:3])} ticks")
+    if len(moves) < 2:
+        problems.append(f"{len(moves)} of 2 moves printed")
+    return CheckResult(not problems, "; ".join(notes) + " == motionsim ramp --algo leib", problems)
+
+
 def checks_for(env):
     """The checks of every sketch under firmware/, chosen by its family (the marker line of its
     .ino, tools/emu/sketches.py); the expectations that differ within a family come from the
@@ -867,4 +911,7 @@ def checks_for(env):
         checks.append((f"{sv}: gains set over serial (Kp for P; Kp, Ki, Kd for PID, as `?` shows) reach the "
                        "setpoint, trace == motionsim servo", lambda sv=sv: check_servo_tuned(env, sv)))
         checks.append((f"{sv}: bad input gets ERR, state unchanged", lambda sv=sv: check_servo_bad_input(env, sv)))
+    if os.path.isfile(os.path.join(env.source_dir, "lib", "examples", "RampIntervals", "RampIntervals.ino")):
+        checks.append(("lib/examples/RampIntervals (MotionCore in a user's sketch): printed step intervals == "
+                       "motionsim ramp", lambda: check_ramp_example(env)))
     return checks
