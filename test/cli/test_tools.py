@@ -433,3 +433,17 @@ def test_targets_that_need_the_toolchain_say_run_make_setup_in_one_line(tmp_path
     (tmp_path / "firmware" / "Blink" / "Blink.ino").write_text("void setup() {}\nvoid loop() {}\n")
     for target in ("test", "firmware", "profiles"):
         one_line_refusal(make(target, cwd=tmp_path), "run 'make setup' first")
+
+
+def test_make_upload_failure_ends_with_a_one_line_hint():
+    """avrdude cannot flash /dev/null (it exists, but is no Mega): after avrdude's own errors the
+    last line of ours is the hint (make's "*** ... Error 1" trailer may follow it)."""
+    if not os.access(os.path.join(ROOT, ".tools", "arduino-cli"), os.X_OK):
+        pytest.fail("arduino-cli is not installed (make setup)")
+    r = make("upload", f"SKETCH={sketch_names()[0]}", "PORT=/dev/null")
+    assert r.returncode != 0
+    ours = [l for l in r.stderr.strip().splitlines() if not l.startswith("make: ***")]
+    hint = ours[-1]
+    assert hint.startswith("make upload: avrdude could not flash"), r.stderr[-2000:]
+    for fragment in ("/dev/null", "port", "Serial Monitor", "Mega 2560"):
+        assert fragment in hint, hint
