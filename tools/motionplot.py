@@ -156,20 +156,27 @@ def series_label(column, label, n_columns):
 
 
 def same_series(xa, ya, xb, yb):
-    return len(xa) == len(xb) and len(ya) == len(yb) and all(
-        (a == b or (math.isnan(a) and math.isnan(b))) for a, b in zip(list(xa) + list(ya), list(xb) + list(yb)))
+    """True if two series agree wherever both have points (the shorter is a prefix of the longer):
+    e.g. the same setpoint over 3 s and over 5 s."""
+    m = min(len(xa), len(xb))
+    if m == 0:
+        return False
+
+    def eq(a, b):
+        return a == b or (math.isnan(a) and math.isnan(b))
+    return all(eq(a, b) for a, b in zip(xa[:m], xb[:m])) and all(eq(a, b) for a, b in zip(ya[:m], yb[:m]))
 
 
 def is_jumpy(ys):
-    """True for a long series that reverses direction at most of its points (e.g. an S-curve's
-    acceleration per step, which is 0 within a table entry and a spike at the next): as a line it
-    fills a solid block, so its moving mean is drawn over it."""
+    """True for a long series that jumps back and forth (e.g. an S-curve's acceleration per step,
+    near 0 within a table entry and a spike at the next): as a line it fills a solid block, so its
+    moving mean is drawn over it. Measure: the path up and down is over 40 times its range."""
     v = [y for y in ys if not math.isnan(y)]
     if len(v) < MOVING_MEAN_MIN_ROWS:
         return False
-    d = [b - a for a, b in zip(v, v[1:]) if b != a]
-    flips = sum(1 for a, b in zip(d, d[1:]) if (a > 0) != (b > 0))
-    return flips > 0.3 * len(v)
+    span = max(v) - min(v)
+    travel = sum(abs(b - a) for a, b in zip(v, v[1:]))
+    return span > 0 and travel > 40 * span
 
 
 def moving_mean(ys, window):
@@ -196,15 +203,17 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
     moving mean over it.
     panels: [(y columns, y label[, x column[, x label]])] (see panel_spec); x: the default x column.
     A file with a label column is drawn as bars (plot_bars); a file with a header and no rows
-    gets its usual (empty) axes with the note "0 rows"."""
+    gets its usual (empty) axes with the note "0 rows". Returns the legend texts, one list per panel."""
     if data.labels is not None:
         cols = [(y, p[1]) for p in panels for y in p[0]] if panels else None
-        return plot_bars(data, out_png, title=title, columns=cols)
+        plot_bars(data, out_png, title=title, columns=cols)
+        return []
     dx, dpanels = default_layout(data.header)
     x = x or dx
     specs = [panel_spec(p, x) for p in (panels or dpanels)]
     shared = len({px for _, _, px, _ in specs}) == 1
     fig, axes = plt.subplots(len(specs), 1, figsize=(9, 2.9 * len(specs) + 0.6), sharex=shared, squeeze=False)
+    legends = []
     for i, (ax, (ycols, ylabel, px, xlabel)) in enumerate(zip(axes[:, 0], specs)):
         if px not in data.columns:
             raise ValueError(f"{data.path}: no column {px!r} (columns: {', '.join(data.header)})")
@@ -240,9 +249,11 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
         ax.grid(True, alpha=0.35)
         if n_lines > 1 or label or overlays:
             ax.legend(loc="best", fontsize="small")
+        legends.append([ln.get_label() for ln in ax.get_lines() if not ln.get_label().startswith("_")])
         if not shared or i == len(specs) - 1:
             ax.set_xlabel(xlabel)
     fig.suptitle(textwrap.fill(title or os.path.basename(data.path), 100))
     fig.tight_layout()
     fig.savefig(out_png, dpi=110)
     plt.close(fig)
+    return legends
