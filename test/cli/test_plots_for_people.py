@@ -139,7 +139,7 @@ def test_no_seed_wording_in_titles_help_or_output(tmp_path):
     for path in sorted(os.listdir(os.path.join(ROOT, "tools", "scenarios"))):
         with open(os.path.join(ROOT, "tools", "scenarios", path)) as f:
             for s in json.load(f):
-                texts += [s["name"], s["title"]]
+                texts += [s["name"], s["title"], json.dumps(s.get("panels", []))]
     for tool in (["tools/plot"], ["tools/workbook"], [PY, "tools/profiles.py"], [PY, "tools/emu/emulate.py"]):
         r = subprocess.run([*tool, "--help"], cwd=ROOT, capture_output=True, text=True, timeout=60)
         assert r.returncode == 0, (tool, r.stderr)
