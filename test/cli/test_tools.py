@@ -462,7 +462,7 @@ def test_make_upload_failure_ends_with_a_one_line_hint():
         pytest.fail("arduino-cli is not installed (make setup)")
     r = make("upload", f"SKETCH={sketch_names()[0]}", "PORT=/dev/null")
     assert r.returncode != 0
-    ours = [l for l in r.stderr.strip().splitlines() if not l.startswith("make: ***")]
+    ours = [l for l in r.stderr.strip().splitlines() if not re.match(r"^make(\[\d+\])?: \*\*\*", l)]
     hint = ours[-1]
     assert hint.startswith("make upload: avrdude could not flash"), r.stderr[-2000:]
     for fragment in ("/dev/null", "port", "Serial Monitor", "Mega 2560"):
