@@ -180,12 +180,15 @@ def suite_tap(target, res):
 def suite_pytest(target, res):
     with tempfile.TemporaryDirectory() as tmp:
         xml_path = os.path.join(tmp, "junit.xml")
+        last = [0.0]
+
         def on_line(line):
-            m = re.search(r'\[\s*(\d+)%\]\s*$', line)
-            if m:
-                bad = line.count("F") + line.count("E")
-                say(f"{m.group(1)} % of the tests done" + (f" ({bad} failed in this stretch)" if bad else ""))
-        rc, out = run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+            # pytest -v: "test/cli/test_x.py::test_y PASSED   [ 37%]": say it every 5 s, and every failure
+            m = re.match(r'^(.+?::.+?) (PASSED|FAILED|ERROR|SKIPPED)\s+\[\s*(\d+)%\]\s*$', line)
+            if m and (m.group(2) != "PASSED" or time.monotonic() - last[0] >= 5):
+                last[0] = time.monotonic()
+                say(f"{m.group(3)} % done, {m.group(2).lower()}: {m.group(1)}")
+        rc, out = run([sys.executable, "-m", "pytest", "-v", "-p", "no:cacheprovider",
                        f"--junitxml={xml_path}", target], on_line=on_line)
         if not os.path.exists(xml_path):
             res.fail(f"{target} (pytest produced no report)", out[-3000:])

@@ -467,3 +467,20 @@ def test_make_upload_failure_ends_with_a_one_line_hint():
     assert hint.startswith("make upload: avrdude could not flash"), r.stderr[-2000:]
     for fragment in ("/dev/null", "port", "Serial Monitor", "Mega 2560"):
         assert fragment in hint, hint
+
+
+def test_run_tests_shows_each_suites_progress_while_it_runs(tmp_path):
+    """make test's runner: a suite says what it has done as it goes (here a TAP command whose two
+    checks come 1 s apart, and a pytest directory), before its summary line."""
+    (tmp_path / "test_two.py").write_text("def test_a():\n    pass\n\n\ndef test_b():\n    assert 1 == 2\n")
+    tap = "echo 1..2; echo ok 1 - first check; sleep 1; echo 'not ok 2 - second check'"
+    r = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "run_tests.py"), f"slow|tap|{tap}",
+                        f"py|pytest|{tmp_path}"], capture_output=True, text=True, timeout=120, cwd=ROOT)
+    out = r.stdout.splitlines()
+    assert r.returncode == 1
+    first = next(i for i, l in enumerate(out) if l.startswith("  [slow] 1/2 ok - first check"))
+    second = next(i for i, l in enumerate(out) if l.startswith("  [slow] 2/2 not ok - second check"))
+    summary = out.index(next(l for l in out if l.startswith("slow: 1 passed, 1 failed")))
+    assert first < second < summary
+    assert any(l.startswith("  [py] ") and "failed" in l and "test_b" in l for l in out), out
+    assert out[-1] == "2 passed, 2 failed"
