@@ -64,6 +64,8 @@ def parse_tap(text, prefix, res, rc):
                 res.ok()
                 last_fail = None
             continue
+        if line.startswith('# progress:'):
+            continue
         if line.startswith('# ') and last_fail is not None:
             n, d = res.failures[last_fail]
             res.failures[last_fail] = (n, d + "\n" + line[2:])
@@ -173,6 +175,9 @@ def suite_tap(target, res):
         m = re.match(r'^(not ok|ok) (\d+) - (.*)$', line)
         if m:
             say(f"{m.group(2)}/{plan[0] or '?'} {m.group(1)} - {m.group(3)[:90]}")
+        m = re.match(r'^# progress: (.*)$', line)   # a check finished (printed as it ends)
+        if m:
+            say(f"finished {m.group(1)[:110]}")
     rc, out = run(target, on_line=on_line)
     parse_tap(out, "", res, rc)
 

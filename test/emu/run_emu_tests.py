@@ -21,6 +21,7 @@ import argparse
 import concurrent.futures
 import os
 import sys
+import threading
 import time
 import traceback
 
@@ -68,12 +69,23 @@ def main(argv):
         res.seconds = time.monotonic() - t
         return res
 
+    finished = [0]
+    lock = threading.Lock()
+
+    def run_and_report(name, fn):
+        res = run_one(fn)
+        with lock:   # results print in list order; this line says at once that a check is done
+            finished[0] += 1
+            print(f"# progress: {finished[0]}/{len(checks)} {'ok' if res.ok else 'FAILED'} - {name} "
+                  f"[{res.seconds:.1f} s]", flush=True)
+        return res
+
     # Long checks first so that two CPUs stay busy to the end (results are printed in list order).
     def weight(name):
         return 0 if "60 s" in name else 1 if "moves" in name else 2
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
         order = sorted(range(len(checks)), key=lambda i: weight(checks[i][0]))
-        by_index = {i: pool.submit(run_one, checks[i][1]) for i in order}
+        by_index = {i: pool.submit(run_and_report, checks[i][0], checks[i][1]) for i in order}
         futures = [by_index[i] for i in range(len(checks))]
         failed = 0
         for i, ((name, _), fut) in enumerate(zip(checks, futures), 1):
