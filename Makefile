@@ -39,6 +39,8 @@ UNIT_NAMES := $(basename $(notdir $(UNIT_SRCS)))
 UNIT_BINS  := $(addprefix $(BUILD)/test/unit/,$(UNIT_NAMES))
 SAN_BINS   := $(addprefix $(BUILD)/test/unit-san/,$(UNIT_NAMES))
 
+# every folder of firmware/ but libraries/; tools/build_firmware.sh refuses one whose .ino lacks the
+# marker line "// motion-sketch: <family>" (what the sketch is, for the build, the emulator and the tests)
 SKETCHES := $(sort $(patsubst firmware/%/,%,$(filter-out firmware/libraries/,$(wildcard firmware/*/))))
 
 .PHONY: help setup sim firmware profiles test unit upload monitor emulate clean check-setup
@@ -136,6 +138,7 @@ VALID_SKETCH = $(and $(call one-word,$(SKETCH)),$(filter $(SKETCHES),$(SKETCH)))
 PORT_CHECK = $(if $(PORT),,$(call board-error,PORT=<device> is missing (e.g. PORT=/dev/ttyACM0); sketches: $(SKETCHES)))
 PORT_EXISTS = $(if $(and $(call one-word,$(PORT)),$(wildcard $(PORT))),,$(call board-error,PORT '$(PORT)' does not exist (is the Mega plugged in? try ls /dev/ttyACM* /dev/ttyUSB*)))
 MONITOR_BAUDS := 9600 19200 38400 57600 115200
+UPLOAD_HINT = make upload: avrdude could not flash $(SKETCH) through $(PORT): is it the Mega's port (ls /dev/ttyACM* /dev/ttyUSB*)? is a Serial Monitor (make monitor, the IDE) holding it? is the board an Arduino Mega 2560 (this needs -p m2560)?
 
 upload:
 	$(if $(VALID_SKETCH),,$(call board-error,SKETCH=<name> is $(if $(SKETCH),unknown ('$(SKETCH)'),missing); sketches: $(SKETCHES)))
@@ -143,7 +146,9 @@ upload:
 	$(if $(and $(wildcard $(PY)),$(wildcard .tools/arduino-cli)),,$(call board-error,the toolchain is not installed: run 'make setup' first))
 	$(PORT_EXISTS)
 	@bash tools/build_firmware.sh $(SKETCH)
-	avrdude -c wiring -p m2560 -P $(PORT) -b 115200 -D -U flash:w:$(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.hex:i
+	@echo "avrdude -c wiring -p m2560 -P $(PORT) -b 115200 -D -U flash:w:$(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.hex:i"
+	@avrdude -c wiring -p m2560 -P $(PORT) -b 115200 -D -U flash:w:$(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.hex:i \
+	  || { echo "$(UPLOAD_HINT)" >&2; exit 1; }
 
 monitor:
 	$(if $(PORT),,$(call board-error,PORT=<device> is missing (e.g. PORT=/dev/ttyACM0)))

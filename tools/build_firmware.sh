@@ -2,12 +2,18 @@
 # tools/build_firmware.sh [SKETCH...] - build sketches for the Arduino Mega 2560 (what `make firmware` runs).
 #
 # Every folder firmware/<Name>/ holding <Name>.ino is a sketch (firmware/libraries/ is the board
-# support library shared by the sketches, not a sketch). Each is compiled by arduino-cli for
+# support library shared by the sketches, not a sketch); its .ino says what it is in a marker line,
+#     // motion-sketch: <family>        (stepper, filter, servo, ...)
+# so any copy under another name is built like its original; an .ino without the marker is
+# refused in one line. The examples of lib/ (lib/examples/<Name>/<Name>.ino, the Arduino
+# library's examples) are built too (they need no marker). Each is compiled by arduino-cli for
 # FQBN arduino:avr:mega:cpu=atmega2560 with lib/ and firmware/libraries/* as libraries, into
 # build/firmware/<Name>/<Name>.ino.{elf,hex}. A compiler warning located in our own code
 # (firmware/ or lib/) fails the build; warnings inside Debian's Arduino core are not ours and
 # are ignored. At the end a table of flash and SRAM use is printed.
 #
+# A SKETCH argument is a sketch name (firmware/<Name>) or lib/examples/<Name>. FIRMWARE_SRC names
+# another folder of sketches (default firmware/; the libraries are always this tree's).
 # Extra compile-time options for every sketch can be given in FIRMWARE_DEFINES, e.g.
 #   FIRMWARE_DEFINES="-DSTEPPER_LED_MIRROR=0" tools/build_firmware.sh LeibRampStepper
 set -uo pipefail
@@ -19,11 +25,21 @@ FQBN="arduino:avr:mega:cpu=atmega2560"
 OUT="${FIRMWARE_OUT:-build/firmware}"
 [ -x "$CLI" ] || { echo "build_firmware: arduino-cli not found at .tools/arduino-cli: run 'make setup' first" >&2; exit 1; }
 
+SRC="${FIRMWARE_SRC:-firmware}"
+MARKER_RE='^[[:space:]]*//[[:space:]]*motion-sketch:[[:space:]]*[A-Za-z0-9_-]+[[:space:]]*$'
 all_sketches() {
-    for d in firmware/*/; do
+    for d in "$SRC"/*/; do
         n=$(basename "$d")
         [ -f "$d$n.ino" ] && echo "$n"
     done
+    for d in lib/examples/*/; do
+        n=$(basename "$d")
+        [ -f "$d$n.ino" ] && echo "lib/examples/$n"
+    done
+}
+# the folder of a SKETCH argument
+sketch_dir() {
+    case "$1" in lib/examples/*) echo "$1" ;; *) echo "$SRC/$1" ;; esac
 }
 if [ $# -gt 0 ]; then sketches=("$@"); else mapfile -t sketches < <(all_sketches); fi
 [ ${#sketches[@]} -gt 0 ] || { echo "build_firmware: no sketches under firmware/" >&2; exit 1; }
@@ -45,19 +61,28 @@ props=(
 mkdir -p "$OUT"
 failed=0
 table=()
-for s in "${sketches[@]}"; do
-    if [ ! -f "firmware/$s/$s.ino" ]; then
-        echo "build_firmware: no sketch firmware/$s/$s.ino; sketches: $(all_sketches | tr '\n' ' ')" >&2
+for arg in "${sketches[@]}"; do
+    dir=$(sketch_dir "$arg")
+    s=$(basename "$arg")
+    if [ ! -f "$dir/$s.ino" ]; then
+        echo "build_firmware: no sketch $dir/$s.ino; sketches: $(all_sketches | tr '\n' ' ')" >&2
         failed=1; continue
     fi
+    case "$dir" in
+        lib/examples/*) ;;
+        *) if ! grep -Eq "$MARKER_RE" "$dir/$s.ino"; then
+               echo "build_firmware: $dir/$s.ino has no marker line '// motion-sketch: <family>' (stepper, filter, servo): add it at the top so the tools know what the sketch is" >&2
+               failed=1; continue
+           fi ;;
+    esac
     log="$OUT/$s.log"
     mkdir -p "$OUT/$s"
     "$CLI" --config-file arduino-cli.yaml compile --fqbn "$FQBN" --warnings all "${libs[@]}" "${props[@]}" \
-        --build-path "$OUT/.arduino-build/$s" --output-dir "$OUT/$s" "firmware/$s" >"$log" 2>&1
+        --build-path "$OUT/.arduino-build/$s" --output-dir "$OUT/$s" "$dir" >"$log" 2>&1
     rc=$?
     # arduino-cli's own noise on a machine without Arduino's servers (discoveries, indexes).
     grep -v -E '^Error initializing instance: (Error loading hardware platform: discovery|Loading index file)' "$log" > "$log.clean"
-    ours=$(grep -E '(warning|error):' "$log.clean" | grep -E "($ROOT/)?(firmware|lib)/" || true)
+    ours=$(grep -E '(warning|error):' "$log.clean" | grep -E "($ROOT/)?(firmware|lib)/|$SRC/" || true)
     if [ $rc -ne 0 ]; then
         echo "FAIL $s: compile failed" >&2
         grep -E '(error|Error)' "$log.clean" | head -20 >&2

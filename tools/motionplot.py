@@ -4,7 +4,7 @@ Every CSV that motionsim (or the emulator harness) writes has one header line an
 The kind of file is recognised from its header and gets the plot a user expects:
 
   ramp        step,position,t_s,interval_ticks,speed_sps,accel_sps2  -> step rate and acceleration vs time
-  filter      k,t_s,u,y                                              -> input and output voltage vs time
+  filter      k,t_s,u,y                                              -> input and output voltage vs time (one panel)
   filter --stream  t_ms,u,y (the MovingAverageFilter sketch's lines) -> the same, vs time in ms
   servo       t_s,setpoint,position_counts,error_counts,duty_pct     -> position/setpoint and duty vs time
   pid-replay  t_ms,computed,output                                   -> controller output vs time
@@ -31,11 +31,11 @@ KNOWN = [
     (("step", "position", "t_s", "interval_ticks", "speed_sps", "accel_sps2"),
      ("t_s", [(["speed_sps"], "step rate (steps/s)"), (["accel_sps2"], "acceleration (steps/s²)")])),
     (("k", "t_s", "u", "y"),
-     ("t_s", [(["u"], "input voltage (V)"), (["y"], "output voltage (V)")])),
+     ("t_s", [(["u", "y"], "voltage (V)")])),
     (("t_s", "setpoint", "position_counts", "error_counts", "duty_pct"),
      ("t_s", [(["setpoint", "position_counts"], "position (encoder counts)"), (["duty_pct"], "PWM duty (%)")])),
     (("t_ms", "u", "y"),
-     ("t_ms", [(["u"], "input voltage (V)"), (["y"], "output voltage (V)")])),
+     ("t_ms", [(["u", "y"], "voltage (V)")])),
     (("t_ms", "computed", "output"),
      ("t_ms", [(["output"], "controller output")])),
 ]
@@ -45,6 +45,15 @@ COMPARE_COLUMNS = [("move_time_dev_pct", "move time vs exact (%)"),
                    ("interval_max_dev_pct", "largest interval error (%)"),
                    ("interval_rms_dev_pct", "RMS interval error (%)"),
                    ("accel_max_dev_pct", "largest acceleration error (% of a)")]
+
+# what a column is, for legends (a legend names the series, never the CSV column)
+SERIES_NAMES = {"speed_sps": "step rate", "accel_sps2": "acceleration", "interval_ticks": "timer period",
+                "u": "input u", "y": "output y", "setpoint": "setpoint", "position_counts": "position",
+                "error_counts": "error", "duty_pct": "duty", "output": "output", "computed": "computed"}
+# columns that are inputs rather than results: drawn once, not again for each overlay that has the same
+REFERENCE_COLUMNS = ("setpoint", "u")
+# a panel with more rows than this, whose values jump back and forth, also gets its moving mean
+MOVING_MEAN_MIN_ROWS = 200
 
 AXIS_LABELS = {"t_s": "time (s)", "t_ms": "time (ms)", "step": "step number", "k": "sample k"}
 
@@ -137,40 +146,114 @@ def plot_bars(data, out_png, title=None, columns=None):
     plt.close(fig)
 
 
-def plot(data, out_png, title=None, x=None, panels=None, overlays=()):
+def series_label(column, label, n_columns):
+    """The legend text of one line: the data set's label (e.g. "Leib", "P, Kp = 0.02", "motionsim"),
+    with what the column is when the panel has several columns ("setpoint", "position, motionsim")."""
+    name = SERIES_NAMES.get(column, column)
+    if n_columns == 1:
+        return label or name
+    return f"{name}, {label}" if label else name
+
+
+def same_series(xa, ya, xb, yb):
+    """True if two series agree wherever both have points (the shorter is a prefix of the longer):
+    e.g. the same setpoint over 3 s and over 5 s."""
+    m = min(len(xa), len(xb))
+    if m == 0:
+        return False
+
+    def eq(a, b):
+        return a == b or (math.isnan(a) and math.isnan(b))
+    return all(eq(a, b) for a, b in zip(xa[:m], xb[:m])) and all(eq(a, b) for a, b in zip(ya[:m], yb[:m]))
+
+
+def is_jumpy(ys):
+    """True for a long series that jumps back and forth (e.g. an S-curve's acceleration per step,
+    near 0 within a table entry and a spike at the next): as a line it fills a solid block, so its
+    moving mean is drawn over it. Measure: the path up and down is over 40 times its range."""
+    v = [y for y in ys if not math.isnan(y)]
+    if len(v) < MOVING_MEAN_MIN_ROWS:
+        return False
+    span = max(v) - min(v)
+    travel = sum(abs(b - a) for a, b in zip(v, v[1:]))
+    return span > 0 and travel > 40 * span
+
+
+def moving_mean(ys, window):
+    out, acc, q = [], 0.0, []
+    for y in ys:
+        y = 0.0 if math.isnan(y) else y
+        q.append(y)
+        acc += y
+        if len(q) > window:
+            acc -= q.pop(0)
+        out.append(acc / len(q))
+    # centred: shift back by half the window
+    h = window // 2
+    return out[h:] + [out[-1]] * h if len(out) > h else out
+
+
+def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None):
     """Plots `data` into out_png. overlays: [(label, CsvData)] drawn dashed on the same panels
     (e.g. the exact ramp under the Leib ramp, or the simulator under the firmware).
+    label: what `data` is, for the legends (e.g. "Leib", "firmware (emulated)"); legends name the
+    series (series_label), never the CSV columns. A reference column (the setpoint, the filter's
+    input) that an overlay has identical to an earlier line is not drawn twice. A long series that
+    jumps back and forth at every point (an S-curve's acceleration) is drawn thin and pale with its
+    moving mean over it.
     panels: [(y columns, y label[, x column[, x label]])] (see panel_spec); x: the default x column.
     A file with a label column is drawn as bars (plot_bars); a file with a header and no rows
-    gets its usual (empty) axes with the note "0 rows"."""
+    gets its usual (empty) axes with the note "0 rows". Returns the legend texts, one list per panel."""
     if data.labels is not None:
         cols = [(y, p[1]) for p in panels for y in p[0]] if panels else None
-        return plot_bars(data, out_png, title=title, columns=cols)
+        plot_bars(data, out_png, title=title, columns=cols)
+        return []
     dx, dpanels = default_layout(data.header)
     x = x or dx
     specs = [panel_spec(p, x) for p in (panels or dpanels)]
     shared = len({px for _, _, px, _ in specs}) == 1
     fig, axes = plt.subplots(len(specs), 1, figsize=(9, 2.9 * len(specs) + 0.6), sharex=shared, squeeze=False)
+    legends = []
     for i, (ax, (ycols, ylabel, px, xlabel)) in enumerate(zip(axes[:, 0], specs)):
         if px not in data.columns:
             raise ValueError(f"{data.path}: no column {px!r} (columns: {', '.join(data.header)})")
+        drawn = []   # (x values, y values) already on this panel
+        n_lines = 0
         for y in ycols:
             if y not in data.columns:
                 raise ValueError(f"{data.path}: no column {y!r} (columns: {', '.join(data.header)})")
-            ax.plot(data.columns[px], data.columns[y], label=y, linewidth=1.4)
-        for label, other in overlays:
+        for j, (dlabel, d, style) in enumerate([(label, data, "-")] + [(ol, od, "--") for ol, od in overlays]):
+            if px not in d.columns:
+                continue
             for y in ycols:
-                if y in other.columns and px in other.columns:
-                    ax.plot(other.columns[px], other.columns[y], "--", linewidth=1.1, label=f"{y} ({label})")
+                if y not in d.columns:
+                    continue
+                xs, ys = d.columns[px], d.columns[y]
+                if j > 0 and y in REFERENCE_COLUMNS and any(same_series(xs, ys, a, b) for a, b in drawn):
+                    continue
+                text = series_label(y, dlabel if (j > 0 or overlays or label) else None, len(ycols))
+                if y in REFERENCE_COLUMNS and len(ycols) > 1 and j == 0:
+                    text = SERIES_NAMES.get(y, y)   # the input is the same for every data set
+                if is_jumpy(ys):
+                    w = max(5, len(ys) // 50)
+                    line, = ax.plot(xs, ys, style, linewidth=0.5, alpha=0.3)
+                    ax.plot(xs, moving_mean(ys, w), style, linewidth=1.4, color=line.get_color(),
+                            label=f"{text} (moving mean of {w} steps; raw pale)")
+                else:
+                    ax.plot(xs, ys, style, linewidth=1.4 if j == 0 else 1.1, label=text)
+                drawn.append((xs, ys))
+                n_lines += 1
         if len(data) == 0:
             ax.text(0.5, 0.5, "0 rows", transform=ax.transAxes, ha="center", va="center", color="grey")
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.35)
-        if len(ycols) > 1 or overlays:
+        if n_lines > 1 or label or overlays:
             ax.legend(loc="best", fontsize="small")
+        legends.append([ln.get_label() for ln in ax.get_lines() if not ln.get_label().startswith("_")])
         if not shared or i == len(specs) - 1:
             ax.set_xlabel(xlabel)
     fig.suptitle(textwrap.fill(title or os.path.basename(data.path), 100))
     fig.tight_layout()
     fig.savefig(out_png, dpi=110)
     plt.close(fig)
+    return legends

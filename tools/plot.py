@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """tools/plot.py - plot a motionsim CSV to PNG (normally run as tools/plot).
 
-  tools/plot FILE.csv [-o OUT.png] [--title TEXT] [--x COL] [--y COL[,COL...]] [--overlay LABEL=OTHER.csv ...]
+  tools/plot FILE.csv [-o OUT.png] [--title TEXT] [--x COL] [--y COL[,COL...]] [--label NAME] [--overlay LABEL=OTHER.csv ...]
 
 Without -o the PNG goes beside the CSV (FILE.png). The columns to plot are chosen from the
 CSV's header (ramp, filter, servo and pid-replay files each get their usual plot); --x/--y
 override that. --overlay draws another CSV's same columns dashed on the same axes, e.g. the
-exact ramp under the Leib ramp, or motionsim under the firmware's emulated output.
+exact ramp under the Leib ramp, or motionsim under the firmware's emulated output. Legends name
+what each line is: --label names FILE.csv's data (e.g. "Leib"), LABEL each overlay's (e.g.
+"exact"); the setpoint or filter input that an overlay repeats is drawn once.
 A CSV with a header and no rows (e.g. a zero-step move) is plotted as empty axes marked "0 rows"
 (exit 0); a file that is not CSV text, a malformed row or a missing file is one line on stderr,
 exit 2.
@@ -26,6 +28,7 @@ def main(argv):
     ap.add_argument("--title", help="plot title (default: the file name)")
     ap.add_argument("--x", help="column for the x axis")
     ap.add_argument("--y", help="comma-separated columns for a single panel")
+    ap.add_argument("--label", help="what FILE.csv is, for the legends (e.g. Leib, 'P, Kp = 0.02')")
     ap.add_argument("--overlay", action="append", default=[], metavar="LABEL=CSV",
                     help="draw another CSV's columns dashed on the same axes (repeatable)")
     a = ap.parse_args(argv)
@@ -39,7 +42,7 @@ def main(argv):
             overlays.append((label, motionplot.CsvData(path)))
         panels = [(a.y.split(","), a.y)] if a.y else None
         out = a.output or os.path.splitext(a.csv)[0] + ".png"
-        motionplot.plot(data, out, title=a.title, x=a.x, panels=panels, overlays=overlays)
+        motionplot.plot(data, out, title=a.title, x=a.x, panels=panels, overlays=overlays, label=a.label)
     except (OSError, ValueError) as e:
         print(f"plot: {e}", file=sys.stderr)
         return 2

@@ -55,6 +55,36 @@ def load_scenarios():
     return scenarios
 
 
+ALGO_LABELS = {"exact": "exact", "leib": "Leib", "simplistic": "simplistic", "sigmoid": "S-curve"}
+KIND_LABELS = {"ma": "moving average", "ma2": "two-stage S-curve", "exp": "exponential"}
+
+
+def arg_value(args, name, default=None):
+    return args[args.index(name) + 1] if name in args and args.index(name) + 1 < len(args) else default
+
+
+def scenario_label(s):
+    """What a scenario's data is, for legends: its "label", else from its motionsim arguments: the
+    ramp's algorithm ("exact", "Leib"), the filter ("moving average, tau = 9 s") or the controller
+    and its gains ("P, Kp = 0.02")."""
+    if "label" in s:
+        return s["label"]
+    args = s["args"]
+    cmd = args[0] if args else ""
+    if cmd == "ramp":
+        return ALGO_LABELS.get(arg_value(args, "--algo"), arg_value(args, "--algo", "ramp"))
+    if cmd == "filter":
+        kind = arg_value(args, "--kind", "ma")
+        text = f"{KIND_LABELS.get(kind, kind)}, tau = {arg_value(args, '--tau', '?')} s"
+        return text + (f", tau2 = {arg_value(args, '--tau2', '?')} s" if kind == "ma2" else "")
+    if cmd == "servo":
+        if arg_value(args, "--ctrl") == "pid":
+            return (f"PID, Kp = {arg_value(args, '--kp', '?')}, Ki = {arg_value(args, '--ki', '0')}, "
+                    f"Kd = {arg_value(args, '--kd', '0')}")
+        return f"P, Kp = {arg_value(args, '--kp', '?')}"
+    return s["name"]
+
+
 def layout_of(s, data):
     x, panels = motionplot.default_layout(data.header)
     if "x" in s:
@@ -65,7 +95,7 @@ def layout_of(s, data):
 
 
 def sheet_name(name, used):
-    base = name[:31]
+    base = "".join("_" if c in "[]:*?/\\" else c for c in name)[:31].strip("'") or "sheet"
     n, cand = 1, base
     while cand in used:
         n += 1
@@ -82,7 +112,7 @@ def sheet_name(name, used):
 # own t_s column. A ramp has one row per step and its steps are unevenly spaced, so its step rate
 # is first resampled on a uniform time grid (GRID_MAX points at most) and that is the line chart;
 # an XY scatter at the exact step times follows it.
-GRID_MAX = 1000          # grid points at most (the step is the smallest 1, 2 or 5 x 10^k that fits)
+GRID_MAX = 500           # grid points at most (the step is the smallest 1, 2 or 5 x 10^k that fits)
 MAX_LABELS = 12          # category-axis labels at most
 
 
@@ -147,7 +177,26 @@ def category_axis(name, n, dt):
             "major_gridlines": {"visible": True, "line": {"color": "#D9D9D9"}}}
 
 
-def write_workbook(path, done):
+SHEET_ROWS = 250        # a sheet holds at most this many rows of a CSV (the full table stays in the CSV file)
+
+
+class Thinned:
+    """Rows 0, k, 2k, ... of a CsvData (k = ceil(rows / SHEET_ROWS), so at most SHEET_ROWS rows;
+    evenly spaced rows stay evenly spaced): what a workbook sheet holds and its charts draw. The
+    full table is the CSV file itself; k is shown on the index sheet."""
+
+    def __init__(self, data, max_rows=None):
+        max_rows = max_rows or SHEET_ROWS
+        n = len(data)
+        self.every = max(1, math.ceil(n / max_rows)) if data.labels is None else 1
+        self.path, self.header, self.labels, self.full_rows = data.path, data.header, data.labels, n
+        self.columns = {h: v[::self.every] for h, v in data.columns.items()}
+
+    def __len__(self):
+        return len(self.columns[self.header[0]]) if self.header else 0
+
+
+def write_workbook(path, done, source_note=None):
     """Writes the workbook: an index sheet, then per scenario a sheet with its CSV columns (A...),
     the extra columns its line chart needs (after one blank column) and its charts to the right:
       evenly spaced rows (filter, servo): a line chart per panel over the t_s column; overlays on
@@ -161,13 +210,22 @@ def write_workbook(path, done):
     wb = xlsxwriter.Workbook(path, {"strings_to_numbers": False, "nan_inf_to_errors": True})
     bold = wb.add_format({"bold": True})
     index = wb.add_worksheet("index")
-    index.write_row(0, 0, ["scenario", "title", "rows", "charts", "motionsim command"], bold)
+    full = {s["name"]: data for s, data in done}
+    done = [(s, Thinned(data)) for s, data in done]
+    index.write_row(0, 0, ["scenario", "title", "rows", "charts", source_note or "motionsim command",
+                           "rows in the sheet"], bold)
+    index.set_column(5, 5, 40)
     index.set_column(0, 0, 30)
     index.set_column(1, 1, 60)
     index.set_column(3, 3, 50)
     index.set_column(4, 4, 90)
     used = {"index"}
     sheets = {}
+    for sc, _ in done:
+        sc.setdefault("_label", scenario_label(sc))
+    labels = {sc["name"]: sc["_label"] for sc, _ in done}
+    for sc, _ in done:
+        sc["_overlay_labels"] = {o: labels.get(o, o) for o in sc.get("overlay", [])}
     for s, data in done:
         sheets[s["name"]] = sheet_name(s["name"], used)
     by_name = {s["name"]: (s, data) for s, data in done}
@@ -194,7 +252,9 @@ def write_workbook(path, done):
                 charts, what, end_col = uniform_line_charts(wb, ws, sh, s, data, specs, overlays, col_of,
                                                             free_col, dt, bold)
             elif is_ramp(data) and n > 0:
-                charts, what, end_col = ramp_grid_chart(wb, ws, sh, s, data, overlays, free_col, bold)
+                # the grid is resampled from the full CSV, not from the sheet's rows
+                charts, what, end_col = ramp_grid_chart(wb, ws, sh, s, full[s["name"]],
+                                                        [(o, full[o]) for o, _ in overlays], free_col, bold)
             if dt is None:
                 charts += scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first=not charts)
                 what += ("; " if what else "") + "XY scatter per panel at the exact " + \
@@ -203,9 +263,11 @@ def write_workbook(path, done):
                 ws.insert_chart(1 + i * 17, end_col + 1, chart)
         index.write_url(row, 0, f"internal:'{sh}'!A1", string=s["name"])
         index.write(row, 1, s["title"])
-        index.write_number(row, 2, len(data))
+        index.write_number(row, 2, data.full_rows)
         index.write(row, 3, what)
-        index.write(row, 4, "motionsim " + " ".join(s["args"]))
+        index.write(row, 4, s.get("source") or "motionsim " + " ".join(s["args"]))
+        index.write(row, 5, "all" if data.every == 1 else
+                    f"every {data.every}th row ({len(data)}); the full table: {s['name']}.csv")
     wb.close()
 
 
@@ -240,7 +302,8 @@ def uniform_line_charts(wb, ws, sh, s, data, specs, overlays, col_of, free_col, 
     for p_i, (ycols, ylabel, px, xlabel) in enumerate(specs):
         chart = wb.add_chart({"type": "line"})
         for y in ycols:
-            chart.add_series({"name": y, "categories": [sh, 1, col_of[px], n, col_of[px]],
+            chart.add_series({"name": motionplot.series_label(y, s["_label"], len(ycols)),
+                              "categories": [sh, 1, col_of[px], n, col_of[px]],
                               "values": [sh, 1, col_of[y], n, col_of[y]], "line": {"width": 1.5}})
         for oname, od in overlays:
             ox = od.columns.get(px)
@@ -252,9 +315,12 @@ def uniform_line_charts(wb, ws, sh, s, data, specs, overlays, col_of, free_col, 
             for y in ycols:
                 if y not in od.columns:
                     continue
+                if y in motionplot.REFERENCE_COLUMNS and od.columns[y][:m] == data.columns[y][:m]:
+                    continue   # the same setpoint / input: drawn once
                 ws.write(0, free_col, f"{y} ({oname})", bold)
                 ws.write_column(1, free_col, od.columns[y][:m])
-                chart.add_series({"name": f"{y} ({oname})", "categories": [sh, 1, col_of[px], n, col_of[px]],
+                chart.add_series({"name": motionplot.series_label(y, s["_overlay_labels"].get(oname, oname), len(ycols)),
+                                  "categories": [sh, 1, col_of[px], n, col_of[px]],
                                   "values": [sh, 1, free_col, m, free_col],
                                   "line": {"width": 1.0, "dash_type": "dash"}})
                 free_col += 1
@@ -276,6 +342,7 @@ def ramp_grid_chart(wb, ws, sh, s, data, overlays, free_col, bold):
               if all(a <= b for a, b in zip(d.columns["t_s"], d.columns["t_s"][1:]))]
     if not series or series[0][1] is not data:
         return [], "", free_col
+    series_names = [None] + [next((o for o, od in overlays if od is d), None) for _, d in series[1:]]
     t_end = max(d.columns["t_s"][-1] for _, d in series)
     if not t_end > 0:
         return [], "", free_col
@@ -296,7 +363,8 @@ def ramp_grid_chart(wb, ws, sh, s, data, overlays, free_col, bold):
             v = held_step_rate(ts, vs, t)
             if v is not None:
                 ws.write_number(1 + j, c, v)
-        chart.add_series({"name": name, "categories": [sh, 1, g0, len(grid), g0],
+        chart.add_series({"name": (s["_label"] if k == 0 else s["_overlay_labels"].get(series_names[k], name)),
+                          "categories": [sh, 1, g0, len(grid), g0],
                           "values": [sh, 1, c, len(grid), c],
                           "line": {"width": 1.5} if k == 0 else {"width": 1.0, "dash_type": "dash"}})
     ws.set_column(g0, g0 + len(series), 14)
@@ -316,13 +384,16 @@ def scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first):
     for p_i, (ycols, ylabel, px, xlabel) in enumerate(specs):
         chart = wb.add_chart({"type": "scatter", "subtype": "straight"})
         for y in ycols:
-            chart.add_series({"name": y, "categories": [sh, 1, col_of[px], n, col_of[px]],
+            chart.add_series({"name": motionplot.series_label(y, s["_label"], len(ycols)), "categories": [sh, 1, col_of[px], n, col_of[px]],
                               "values": [sh, 1, col_of[y], n, col_of[y]], "line": {"width": 1.5}})
         for oname, od in overlays:
             ocol = {h: i for i, h in enumerate(od.header)}
             for y in ycols:
                 if y in ocol and px in ocol:
-                    chart.add_series({"name": f"{y} ({oname})",
+                    if y in motionplot.REFERENCE_COLUMNS and od.columns[y] == data.columns[y]:
+                        continue
+                    chart.add_series({"name": motionplot.series_label(y, s["_overlay_labels"].get(oname, oname),
+                                                                      len(ycols)),
                                       "categories": [sheets[oname], 1, ocol[px], len(od), ocol[px]],
                                       "values": [sheets[oname], 1, ocol[y], len(od), ocol[y]],
                                       "line": {"width": 1.0, "dash_type": "dash"}})
@@ -340,13 +411,23 @@ def main(argv):
     ap = argparse.ArgumentParser(prog="tools/profiles.py", description=__doc__.splitlines()[0])
     ap.add_argument("--motionsim", default=os.path.join(ROOT, "build", "motionsim"))
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "profiles"))
-    ap.add_argument("--only", help="run only scenarios whose name starts with this")
+    ap.add_argument("--only", help="run only scenarios whose name starts with this (and the scenarios they overlay)")
     a = ap.parse_args(argv)
     if not os.access(a.motionsim, os.X_OK):
         print(f"profiles: {a.motionsim} not found: run 'make sim' first", file=sys.stderr)
         return 1
     os.makedirs(a.out, exist_ok=True)
-    scenarios = [s for s in load_scenarios() if not a.only or s["name"].startswith(a.only)]
+    every = load_scenarios()
+    scenarios = [s for s in every if not a.only or s["name"].startswith(a.only)]
+    # --only keeps each chosen scenario's overlays (and theirs): they are run too
+    names = {s["name"] for s in scenarios}
+    grew = True
+    while grew:
+        extra = [s for s in every if s["name"] not in names and
+                 any(s["name"] in c.get("overlay", []) for c in every if c["name"] in names)]
+        grew = bool(extra)
+        names |= {s["name"] for s in extra}
+    scenarios = [s for s in every if s["name"] in names]
     if not scenarios:
         print("profiles: no scenarios found in tools/scenarios/*.json", file=sys.stderr)
         return 1
@@ -360,12 +441,12 @@ def main(argv):
             print(f"FAIL {s['name']}: motionsim {' '.join(s['args'])}: {p.stderr.strip()}", file=sys.stderr)
             continue
         done.append((s, motionplot.CsvData(csv_path)))
-    by_name = {s["name"]: d for s, d in done}
+    by_name = {s["name"]: (s, d) for s, d in done}
     for s, data in done:
         x, panels = layout_of(s, data) if data.labels is None else (None, None)
-        overlays = [(o, by_name[o]) for o in s.get("overlay", []) if o in by_name]
+        overlays = [(scenario_label(by_name[o][0]), by_name[o][1]) for o in s.get("overlay", []) if o in by_name]
         motionplot.plot(data, os.path.join(a.out, s["name"] + ".png"), title=s["title"], x=x, panels=panels,
-                        overlays=overlays)
+                        overlays=overlays, label=scenario_label(s))
         print(f"  {s['name']:34s} {len(data):6d} rows  {s['title']}")
     if done:
         write_workbook(os.path.join(a.out, "profiles.xlsx"), done)

@@ -7,10 +7,11 @@ KIND is one of
   tap-dir   every executable file in directory TARGET is a cmocka test program printing TAP
   tap       TARGET is a shell command printing TAP (the emulator harness does this)
   pytest    TARGET is a directory of pytest files (results read from a JUnit XML report)
-  firmware  TARGET is tools/build_firmware.sh; each sketch build is one test
+  firmware  TARGET is tools/build_firmware.sh; each sketch build (firmware/*, lib/examples/*) is one test
 
 A suite line "NAME: P passed, F failed" is printed per suite, failing tests are listed with
-their messages, and the last line is "N passed, N failed". The exit status is 1 on any failure
+their messages, and the last line is "N passed, N failed". While a suite runs, its progress is
+shown (see Progress): each suite says what it has done at least every 15 s. The exit status is 1 on any failure
 (a crash, a missing TAP plan or a missing test counts as a failure).
 """
 import os
@@ -18,6 +19,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import xml.etree.ElementTree as ET
 
@@ -62,6 +64,8 @@ def parse_tap(text, prefix, res, rc):
                 res.ok()
                 last_fail = None
             continue
+        if line.startswith('# progress:'):
+            continue
         if line.startswith('# ') and last_fail is not None:
             n, d = res.failures[last_fail]
             res.failures[last_fail] = (n, d + "\n" + line[2:])
@@ -75,14 +79,72 @@ def parse_tap(text, prefix, res, rc):
         res.fail(f"{prefix}(exit status {rc} with all tests passing)", text[-2000:])
 
 
-def run(cmd, timeout=900, env=None, cwd=ROOT):
+class Progress:
+    """Progress lines of the running suite, so that a long suite is never silent: what each step
+    finished ("[NAME] 3/6 build LeibRampStepper ok (12 s)"), a program's own progress lines
+    (pytest's percentages, the emulator's ok/not ok lines), and a line every HEARTBEAT_S seconds
+    while nothing else was printed."""
+    HEARTBEAT_S = 15.0
+
+    def __init__(self, name):
+        self.name = name
+        self.t0 = time.monotonic()
+        self.last = self.t0
+        self.lock = threading.Lock()
+        self.done = threading.Event()
+        self.thread = threading.Thread(target=self._beat, daemon=True)
+        self.thread.start()
+
+    def say(self, text):
+        with self.lock:
+            self.last = time.monotonic()
+            print(f"  [{self.name}] {text} ({self.last - self.t0:.0f} s)", flush=True)
+
+    def _beat(self):
+        while not self.done.wait(1.0):
+            if time.monotonic() - self.last >= self.HEARTBEAT_S:
+                self.say("still running")
+
+    def stop(self):
+        self.done.set()
+        self.thread.join()
+
+
+PROGRESS = None   # the running suite's Progress
+
+
+def say(text):
+    if PROGRESS is not None:
+        PROGRESS.say(text)
+
+
+def run(cmd, timeout=900, env=None, cwd=ROOT, on_line=None):
+    """(exit status, output) of cmd; on_line(line) is called for each output line as it comes."""
     try:
-        p = subprocess.run(cmd, shell=isinstance(cmd, str), cwd=cwd, env=env, timeout=timeout,
-                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors='replace')
-        return p.returncode, p.stdout
-    except subprocess.TimeoutExpired as e:
-        out = e.stdout if isinstance(e.stdout, str) else (e.stdout or b'').decode(errors='replace')
-        return 124, out + f"\n(timed out after {timeout} s)"
+        p = subprocess.Popen(cmd, shell=isinstance(cmd, str), cwd=cwd, env=env, stdout=subprocess.PIPE,
+                             stderr=subprocess.STDOUT, text=True, errors='replace')
+    except OSError as e:
+        return 127, f"cannot run {cmd}: {e}"
+    out = []
+    killed = []
+
+    def kill():
+        killed.append(True)
+        p.kill()
+    timer = threading.Timer(timeout, kill)
+    timer.start()
+    try:
+        for line in p.stdout:
+            out.append(line)
+            if on_line:
+                on_line(line.rstrip("\n"))
+        rc = p.wait()
+    finally:
+        timer.cancel()
+    text = "".join(out)
+    if killed:
+        return 124, text + f"\n(timed out after {timeout} s)"
+    return rc, text
 
 
 def suite_tap_dir(target, res):
@@ -94,21 +156,45 @@ def suite_tap_dir(target, res):
     if not progs:
         res.fail(f"{target} (no test programs)")
     env = dict(os.environ, CMOCKA_MESSAGE_OUTPUT="TAP")
-    for p in progs:
+    t_last = time.monotonic()
+    for i, p in enumerate(progs, 1):
         rc, out = run([os.path.join(target, p)], env=env)
         parse_tap(out, f"{p}: ", res, rc)
+        if time.monotonic() - t_last > 3 or i == len(progs):
+            say(f"{i}/{len(progs)} programs ({p})")
+            t_last = time.monotonic()
 
 
 def suite_tap(target, res):
-    rc, out = run(target)
+    plan = [None]
+
+    def on_line(line):
+        m = re.match(r'^1\.\.(\d+)', line)
+        if m:
+            plan[0] = int(m.group(1))
+        m = re.match(r'^(not ok|ok) (\d+) - (.*)$', line)
+        if m:
+            say(f"{m.group(2)}/{plan[0] or '?'} {m.group(1)} - {m.group(3)[:90]}")
+        m = re.match(r'^# progress: (.*)$', line)   # a check finished (printed as it ends)
+        if m:
+            say(f"finished {m.group(1)[:110]}")
+    rc, out = run(target, on_line=on_line)
     parse_tap(out, "", res, rc)
 
 
 def suite_pytest(target, res):
     with tempfile.TemporaryDirectory() as tmp:
         xml_path = os.path.join(tmp, "junit.xml")
-        rc, out = run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-                       f"--junitxml={xml_path}", target])
+        last = [0.0]
+
+        def on_line(line):
+            # pytest -v: "test/cli/test_x.py::test_y PASSED   [ 37%]": say it every 5 s, and every failure
+            m = re.match(r'^(.+?::.+?) (PASSED|FAILED|ERROR|SKIPPED)\s+\[\s*(\d+)%\]\s*$', line)
+            if m and (m.group(2) != "PASSED" or time.monotonic() - last[0] >= 5):
+                last[0] = time.monotonic()
+                say(f"{m.group(3)} % done, {m.group(2).lower()}: {m.group(1)}")
+        rc, out = run([sys.executable, "-m", "pytest", "-v", "-p", "no:cacheprovider",
+                       f"--junitxml={xml_path}", target], on_line=on_line)
         if not os.path.exists(xml_path):
             res.fail(f"{target} (pytest produced no report)", out[-3000:])
             return
@@ -134,13 +220,18 @@ def suite_pytest(target, res):
 def suite_firmware(target, res):
     sketches = sorted(d for d in os.listdir(os.path.join(ROOT, "firmware"))
                       if os.path.isfile(os.path.join(ROOT, "firmware", d, d + ".ino")))
+    examples = os.path.join(ROOT, "lib", "examples")
+    if os.path.isdir(examples):   # lib's Arduino examples: a user's own sketch using lib
+        sketches += sorted("lib/examples/" + d for d in os.listdir(examples)
+                           if os.path.isfile(os.path.join(examples, d, d + ".ino")))
     if not sketches:
         res.fail("firmware (no sketches)")
-    for s in sketches:
+    for i, s in enumerate(sketches, 1):
         rc, out = run(["bash", target, s])
+        say(f"{i}/{len(sketches)} build {s} {'ok' if rc == 0 else 'FAILED'}")
         if rc == 0:
             res.ok()
-            row = [l for l in out.splitlines() if l.startswith(s + " ")]
+            row = [l for l in out.splitlines() if l.startswith(os.path.basename(s) + " ")]
             if row:
                 res.notes.append("size: " + " ".join(row[0].split()))
         else:
@@ -165,9 +256,16 @@ def main(argv):
         if kind not in KINDS:
             print(f"run_tests: unknown suite kind {kind!r} in {spec!r}", file=sys.stderr)
             return 2
+        global PROGRESS
         res = Result()
         t0 = time.monotonic()
-        KINDS[kind](target, res)
+        print(f"{name}: running ...", flush=True)
+        PROGRESS = Progress(name)
+        try:
+            KINDS[kind](target, res)
+        finally:
+            PROGRESS.stop()
+            PROGRESS = None
         dt = time.monotonic() - t0
         for n, d in res.failures:
             print(f"FAIL [{name}] {n}")

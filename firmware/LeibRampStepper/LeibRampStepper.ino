@@ -1,3 +1,4 @@
+// motion-sketch: stepper
 /* LeibRampStepper - the lab's Leib ramp (seed 003 §4.3.3: constant acceleration by one multiply-add
  * chain per step, no division) driving the X axis of a RAMPS 1.4 from Timer1's compare interrupt.
  *

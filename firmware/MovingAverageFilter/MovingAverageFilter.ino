@@ -1,3 +1,4 @@
+// motion-sketch: filter
 /* MovingAverageFilter - the acceleration/deceleration filter of seed 000 running at exactly 100 Hz
  * on an Arduino Mega 2560: moving average (default, tau = 9 s), two-stage S-curve or exponential,
  * the very same lib/ code (accdec_filter.h) that `motionsim filter` runs.

@@ -1,3 +1,4 @@
+// motion-sketch: servo
 /* PIDClosedLoop - closed-loop position control of a DC gearmotor with a PID controller that
  * behaves exactly like the Arduino PID library PID_v1 1.2.1 (seed 003 section 4.2): Input is the
  * measured position (LS7366R counts), Output the PWM duty in %, Setpoint the position setpoint;

@@ -1,3 +1,4 @@
+// motion-sketch: servo
 /* ProportionalClosedLoop - closed-loop position control of a DC gearmotor with a proportional
  * controller (seed 003 section 4.1): every 20 ms the encoder position is read from the LS7366R
  * and the PWM duty is set to

@@ -4,7 +4,8 @@ Each run must exit 0 and write the firmware's CSV with exactly the header motion
 family (asked of motionsim itself), the motionsim overlay and the PNG. The overlay must use the
 parameters in force for each move or setpoint: the stepper's second move runs with parameters set
 over serial, and its overlay must equal `motionsim ramp` run here with the values this script sent;
-the servo's second setpoint starts from rest and gets its own overlay. Bad SKETCH, a missing, empty
+the servo's second setpoint starts from rest and gets its own overlay. The scripts send no `?`:
+the overlays come from the sketch's defaults and its OK replies. Bad SKETCH, a missing, empty
 or binary INPUT are refused with one line on stderr and exit status 2.
 """
 import os
@@ -19,11 +20,9 @@ EMULATE = os.path.join(ROOT, "tools", "emu", "emulate.py")
 MOTIONSIM = os.environ.get("MOTIONSIM", os.path.join(ROOT, "build", "motionsim"))
 
 STEPPER_INPUT = """\
-# the lab's defaults for 20 steps, then parameters set over serial (no `?` in between: the
-# overlay must follow the OK replies) for a move back to -30
+# the lab's defaults for 20 steps (no `?`: the overlay must use the sketch's defaults), then
+# parameters set over serial (the overlay must follow the OK replies) for a move back to -30
 wait ^READY LeibRampStepper$
-send ?
-wait ^pos=
 send 20
 wait ^DONE 20$
 send set vmax 400
@@ -49,8 +48,6 @@ until 1200
 
 SERVO_INPUT = """\
 wait ^READY ProportionalClosedLoop$
-send ?
-wait ^setpoint=
 send kp 0.3
 wait ^OK kp=
 send 1000
@@ -105,7 +102,7 @@ def test_stepper_run_one_csv_per_move_with_the_parameters_in_force(built, tmp_pa
     assert len(lines(out / "LeibRampStepper-2.csv")) == 1 + 50
     assert not (out / "LeibRampStepper-7.csv").exists()
     assert (out / "LeibRampStepperX.csv").exists()
-    # the overlays: the defaults for move 1 (seed 003: v0 1, vmax 20, accel 10), the values sent
+    # the overlays: the defaults for move 1 (the lab handout's: v0 1, vmax 20, accel 10), the values sent
     # for move 2, at the sketch's 2 MHz timer
     for stem, a, b, v0, vmax, accel in (("LeibRampStepper", 0, 20, 1, 20, 10),
                                         ("LeibRampStepper-2", 20, -30, 50, 400, 800)):
@@ -142,6 +139,11 @@ def test_servo_run_one_csv_per_setpoint(built, tmp_path):
         assert (tmp_path / f"{stem}.png").stat().st_size > 0
         # Kp 0.3 settles within 0.4 s (motionsim): both end within 2 % of the step of each other
         assert abs(float(fw[-1][2]) - float(sim[-1][2])) <= 20, (stem, fw[-1], sim[-1])
+    # the first overlay is motionsim with the Kp the script sent (no `?` was sent: kp came from OK kp=)
+    want = subprocess.run([MOTIONSIM, "servo", "--ctrl", "p", "--kp", "0.3", "--setpoint", "1000", "--duration", "0.3"],
+                          capture_output=True, text=True).stdout.splitlines()[1:]
+    got = lines(tmp_path / "ProportionalClosedLoop.motionsim.csv")[1:]
+    assert [r.split(",")[2] for r in got[:len(want)]] == [r.split(",")[2] for r in want]
 
 
 def one_line_refusal(p):

@@ -1,4 +1,4 @@
-"""`motionsim filter` (issue 4): the seed 000 checkpoint for every kind from the command line, the
+"""`motionsim filter` (issue 4): the moving-average-filter note's checkpoint for every kind from the command line, the
 input syntax, the sketch's stream format, CSV round trips, and every kind of bad input (exit 2,
 one line, no output). Expected values come from the continuous-time formulas, not from the code."""
 import math
@@ -10,7 +10,7 @@ TS = 0.01
 
 
 def ideal_ma(t, amp=5.0, tau=9.0, t0=0.0):
-    """Seed 000: the moving average's step response is a straight ramp reaching amp at t0 + tau."""
+    """The moving-average-filter note: the moving average's step response is a straight ramp reaching amp at t0 + tau."""
     return amp * min(max(t - t0, 0.0), tau) / tau
 
 
@@ -27,10 +27,10 @@ def one_line(text):
     return len(text.strip().splitlines()) == 1
 
 
-# ---- the seed 000 checkpoint ------------------------------------------------------------------
+# ---- the moving-average-filter note's checkpoint ------------------------------------------------------------------
 
-def test_seed_000_moving_average_reaches_5v_exactly_9s_after_the_step(motionsim):
-    """Seed 000 ("It is successfully accelerated in 9 seconds"): tau = 9 s, Ts = 10 ms, 5 V step
+def test_note_moving_average_reaches_5v_exactly_9s_after_the_step(motionsim):
+    """The moving-average-filter note ("It is successfully accelerated in 9 seconds"): tau = 9 s, Ts = 10 ms, 5 V step
     held 20 s. y rises linearly, is 2.5 V half-way, 5 V at exactly t = 9 s (the step is sample 0
     at t = 0; the one-sample ZOH delay shows as y = 0 at k = 0), within 1e-6 V of the ramp."""
     r = motionsim("filter", "--kind", "ma", "--tau", 9, "--ts", TS, "--input", "step:5", "--duration", 20)
@@ -48,7 +48,7 @@ def test_seed_000_moving_average_reaches_5v_exactly_9s_after_the_step(motionsim)
     assert rows[899]["y"] < 5.0 and rows[900]["y"] == 5.0 and rows[900]["t_s"] == 9.0
 
 
-def test_seed_000_two_stage_is_the_s_curve_and_ends_at_tau1_plus_tau2(motionsim):
+def test_note_two_stage_is_the_s_curve_and_ends_at_tau1_plus_tau2(motionsim):
     r = motionsim("filter", "--kind", "ma2", "--tau", 9, "--tau2", 3, "--input", "step:5", "--duration", 20)
     assert r.rc == 0, r.err
     _, rows = r.rows()
@@ -58,7 +58,7 @@ def test_seed_000_two_stage_is_the_s_curve_and_ends_at_tau1_plus_tau2(motionsim)
     assert rows[1199]["y"] < 5.0 and rows[1200]["y"] == 5.0
 
 
-def test_seed_000_exponential_matches_its_closed_form(motionsim):
+def test_note_exponential_matches_its_closed_form(motionsim):
     r = motionsim("filter", "--kind", "exp", "--tau", 9, "--input", "step:5", "--duration", 20)
     assert r.rc == 0, r.err
     _, rows = r.rows()

@@ -1,7 +1,7 @@
 """`motionsim ramp`: the step table, its column definitions, --integer-ticks, --compare, the sigmoid
 table, -o, and every kind of bad input (exit 2, one line, nothing on stdout).
 
-Expected values are recomputed here from the seeds' formulas (seed 003 §4.3, seed 001), never
+Expected values are recomputed here from the sources' formulas (the lab handout §4.3, the S-curve article), never
 recorded from motionsim itself."""
 import csv
 import io
@@ -39,7 +39,7 @@ def exact_t(n, v0, vmax, a, d):
 
 
 def test_lab_checkpoint_through_the_cli(motionsim):
-    # seed 003 §4.3.3 step 8: "218.218, 188.528 and 157.245 ticks (here representing milliseconds)"
+    # the lab handout §4.3.3 step 8: "218.218, 188.528 and 157.245 ticks (here representing milliseconds)"
     rows = table(motionsim("ramp", "--algo", "leib", *LAB))
     assert len(rows) == 50
     assert [round(r["interval_ticks"], 3) for r in rows[:3]] == [218.218, 188.528, 157.245]
@@ -86,7 +86,7 @@ def test_exact_ramp_times_and_constant_acceleration(motionsim):
 
 
 def test_simplistic_steps_by_fixed_amount(motionsim):
-    # seed 003 §4.3.2 eqs. 1-2 with the lab's defaults: dp = (1000 - 50)/19 = 50 ms per step
+    # the lab handout §4.3.2 eqs. 1-2 with the lab's defaults: dp = (1000 - 50)/19 = 50 ms per step
     rows = table(motionsim("ramp", "--algo", "simplistic", *LAB))
     assert [r["interval_ticks"] for r in rows[:5]] == [1000, 950, 900, 850, 800]
     assert rows[19]["interval_ticks"] == 50 and rows[30]["interval_ticks"] == 50
@@ -267,7 +267,7 @@ def sigmoid_period(i, length, fmin, fmax, flex, timer_hz):
 
 
 def test_sigmoid_table_holds_and_mirrors(motionsim):
-    # seed 001's orange curve (1000, 64000, 500, 8) at its 10 MHz timer, each entry held 4 times
+    # the S-curve article's orange curve (1000, 64000, 500, 8) at its 10 MHz timer, each entry held 4 times
     rows = table(motionsim("ramp", "--algo", "sigmoid", "--to", "10000", "--len", "1000", "--fmin", "500",
                            "--fmax", "64000", "--flex", "8", "--timer-hz", "10000000", "--hold", "4"))
     assert len(rows) == 10000
@@ -276,10 +276,10 @@ def test_sigmoid_table_holds_and_mirrors(motionsim):
         i = min((k - 1) // 4, 999)
         want = sigmoid_period(i, 1000, 500, 64000, 8, 1e7)
         assert abs(r["interval_ticks"] - math.floor(want)) <= (1 if abs(want - round(want)) < 1e-6 * want else 0)
-    assert rows[3999]["interval_ticks"] == 156  # the seed: "10000000/64000 = 156"
+    assert rows[3999]["interval_ticks"] == 156  # the S-curve article: "10000000/64000 = 156"
 
 
-def test_sigmoid_seed_parameter_sets_run(motionsim):
+def test_sigmoid_article_parameter_sets_run(motionsim):
     for fmax, fmin, flex in [(56000, 16000, 4), (64000, 500, 8), (64000, 500, 15), (40000, 500, 5)]:
         rows = table(motionsim("ramp", "--algo", "sigmoid", "--to", "8000", "--len", "1000", "--fmin", fmin,
                                "--fmax", fmax, "--flex", flex, "--timer-hz", "10000000", "--hold", "4"))

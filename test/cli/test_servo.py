@@ -1,6 +1,6 @@
 """motionsim servo and pid-replay from the command line (issue: closed-loop servo control).
 
-Expectations come from the seed (003 section 4.1: duty = Kp x (setpoint - measured), Kp = 0.02,
+Expectations come from the lab handout (section 4.1: duty = Kp x (setpoint - measured), Kp = 0.02,
 clamped to +-100 %), from the plant's documented friction figures (breakaway at 5.8 % duty), from
 step-response definitions (README "motionsim servo") re-implemented here, and from the PID_v1 reference vectors in
 test/data/pid_v1/ (recorded from the real library).

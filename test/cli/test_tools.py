@@ -199,6 +199,11 @@ def profiles(tmp_path_factory):
     return out, openpyxl.load_workbook(out / "profiles.xlsx")
 
 
+def test_standard_workbook_is_well_under_1_mb(profiles):
+    out, _ = profiles
+    assert (out / "profiles.xlsx").stat().st_size < 700_000
+
+
 def test_profiles_writes_csv_and_png_per_scenario(profiles):
     out, _ = profiles
     items = scenarios()
@@ -249,6 +254,7 @@ def test_workbook_chart_series_point_at_the_sheets_columns(profiles):
     for s in scenarios():
         name = s["name"]
         header, rows = read_csv(out / f"{name}.csv")
+        rows = kept(rows)
         for chart in wb[name]._charts:
             for cat, val in series_refs(chart):
                 csheet, ccol, cr1, cr2 = parse_ref(cat)
@@ -259,6 +265,7 @@ def test_workbook_chart_series_point_at_the_sheets_columns(profiles):
                 if csheet != name:
                     assert isinstance(chart, ScatterChart) and csheet in s.get("overlay", []), (name, cat)
                     oheader, orows = read_csv(out / f"{csheet}.csv")
+                    orows = kept(orows)
                     assert chead in oheader and vhead in oheader and cr2 == vr2 == len(orows) + 1, (name, cat)
                     continue
                 if chead == "t_s (grid)":
@@ -276,6 +283,7 @@ def test_workbook_chart_series_point_at_the_sheets_columns(profiles):
                 other = rest[:-1]
                 assert isinstance(chart, LineChart) and base in header and other in s.get("overlay", []), vhead
                 oheader, orows = read_csv(out / f"{other}.csv")
+                orows = kept(orows)
                 assert vr2 == min(len(rows), len(orows)) + 1, (name, val)
                 want = [float(r[oheader.index(base)]) for r in orows[:vr2 - 1]]
                 assert col_values(ws, vcol, 2, vr2) == pytest.approx(want, rel=2e-15), (name, vhead)
@@ -302,10 +310,13 @@ def test_line_charts_over_the_rows_own_times_only_when_they_are_evenly_spaced(pr
 
 
 def test_workbook_cells_equal_the_csv(profiles):
+    """A sheet's cells are the CSV's kept rows (at most 250); the CSV keeps the full table."""
     out, wb = profiles
     for s in scenarios():
         ws = wb[s["name"]]
         header, rows = read_csv(out / f"{s['name']}.csv")
+        rows = kept(rows)
+        assert len(rows) <= SHEET_ROWS
         assert [c.value for c in ws[1]][:len(header)] == header
         for j, h in enumerate(header):
             got = [ws.cell(row=2 + i, column=1 + j).value for i in range(len(rows))]
@@ -317,6 +328,15 @@ def test_workbook_cells_equal_the_csv(profiles):
             # the cell keeps 16 significant digits (XlsxWriter writes %.16G)
             assert got == pytest.approx(want, rel=2e-15), (s["name"], h)
         assert ws.cell(row=2 + len(rows), column=1).value is None
+
+
+SHEET_ROWS = 250   # README / docs/plots.md: a sheet holds at most 250 rows of a CSV
+
+
+def kept(rows):
+    """The rows a sheet holds (docs/plots.md): rows 0, k, 2k, ... with k = ceil(n / 250)."""
+    k = max(1, math.ceil(len(rows) / SHEET_ROWS))
+    return rows[::k]
 
 
 def held(step_times, speeds, t):
@@ -433,3 +453,34 @@ def test_targets_that_need_the_toolchain_say_run_make_setup_in_one_line(tmp_path
     (tmp_path / "firmware" / "Blink" / "Blink.ino").write_text("void setup() {}\nvoid loop() {}\n")
     for target in ("test", "firmware", "profiles"):
         one_line_refusal(make(target, cwd=tmp_path), "run 'make setup' first")
+
+
+def test_make_upload_failure_ends_with_a_one_line_hint():
+    """avrdude cannot flash /dev/null (it exists, but is no Mega): after avrdude's own errors the
+    last line of ours is the hint (make's "*** ... Error 1" trailer may follow it)."""
+    if not os.access(os.path.join(ROOT, ".tools", "arduino-cli"), os.X_OK):
+        pytest.fail("arduino-cli is not installed (make setup)")
+    r = make("upload", f"SKETCH={sketch_names()[0]}", "PORT=/dev/null")
+    assert r.returncode != 0
+    ours = [l for l in r.stderr.strip().splitlines() if not re.match(r"^make(\[\d+\])?: \*\*\*", l)]
+    hint = ours[-1]
+    assert hint.startswith("make upload: avrdude could not flash"), r.stderr[-2000:]
+    for fragment in ("/dev/null", "port", "Serial Monitor", "Mega 2560"):
+        assert fragment in hint, hint
+
+
+def test_run_tests_shows_each_suites_progress_while_it_runs(tmp_path):
+    """make test's runner: a suite says what it has done as it goes (here a TAP command whose two
+    checks come 1 s apart, and a pytest directory), before its summary line."""
+    (tmp_path / "test_two.py").write_text("def test_a():\n    pass\n\n\ndef test_b():\n    assert 1 == 2\n")
+    tap = "echo 1..2; echo ok 1 - first check; sleep 1; echo 'not ok 2 - second check'"
+    r = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "run_tests.py"), f"slow|tap|{tap}",
+                        f"py|pytest|{tmp_path}"], capture_output=True, text=True, timeout=120, cwd=ROOT)
+    out = r.stdout.splitlines()
+    assert r.returncode == 1
+    first = next(i for i, l in enumerate(out) if l.startswith("  [slow] 1/2 ok - first check"))
+    second = next(i for i, l in enumerate(out) if l.startswith("  [slow] 2/2 not ok - second check"))
+    summary = out.index(next(l for l in out if l.startswith("slow: 1 passed, 1 failed")))
+    assert first < second < summary
+    assert any(l.startswith("  [py] ") and "failed" in l and "test_b" in l for l in out), out
+    assert out[-1] == "2 passed, 2 failed"

@@ -49,7 +49,7 @@ def bad_input_script(sketch, key, ready_extra, bad_lines, while_busy=None):
     """A script that sends each bad input and waits for its ERR, with `?` before and after.
     bad_lines: (label, script command) pairs; each must draw exactly one ERR line.
     while_busy: (start command, its OK regex, busy bad commands, end regex) for 'while moving'."""
-    s = [f"wait ^READY {sketch}$", ready_extra, "timeout 3000", "send ?", f"wait ^{key}=", "mark bad-start"]
+    s = ["wait ^READY [^ ]+$", ready_extra, "timeout 3000", "send ?", f"wait ^{key}=", "mark bad-start"]
     for label, cmd, *after in bad_lines:
         s += [f"mark bad {label}", cmd, "wait ^ERR "] + list(after)
     s += ["mark bad-end", "send ?", f"wait ^{key}="]
@@ -146,7 +146,7 @@ def check_bad_input(env, sketch, key, ready_extra, bad_lines, while_busy=None, d
 FILTER_SCRIPT = """\
 # 60 emulated seconds: A0 input at 1.234 V, a 5 V constant step, back to 0 V, then A0 at 3.3 V
 adc {ch} 1.234
-wait ^READY MovingAverageFilter$
+wait ^READY [^ ]+$
 send ?
 wait ^kind=
 @10000 u 5
@@ -169,8 +169,7 @@ def strobe_edges(log):
     return [c for c, _ in log.pins.get("STROBE", [])]
 
 
-def check_filter(env):
-    sketch = "MovingAverageFilter"
+def check_filter(env, sketch):
     ch = sketches.filter_adc_channel(env)
     log = emulog.run(env.elf(sketch), FILTER_SCRIPT.format(ch=ch), pins=sketches.filter_pins(env))
     problems = []
@@ -216,7 +215,7 @@ def check_filter(env):
         if not us or bad:
             problems.append(f"{label}: input u off by more than {tol * 1000:.1f} mV in {len(bad)} samples "
                             f"(e.g. {bad[:3]})")
-    # the step reaches 5 V exactly tau = 9 s (900 samples) after its first sample (seed 000)
+    # the step reaches 5 V exactly tau = 9 s (900 samples) after its first sample (the moving-average-filter note)
     first5 = next((t for t, u, y, _ in rows if u == "5.000"), None)
     if first5 is not None:
         y_end = by_t.get(first5 + 9000, (None, None))[1]
@@ -283,7 +282,7 @@ def check_filter(env):
 # (kind, tau, tau2, reset) starts a segment that motionsim replays from rest with the segment's
 # parameters and the input the stream shows, line for line.
 FILTER_KINDS_SCRIPT = """\
-wait ^READY MovingAverageFilter$
+wait ^READY [^ ]+$
 send ?
 wait ^kind=
 {restart}kind ma2
@@ -347,11 +346,10 @@ def filter_replay(env, prm, inputs):
     return out.splitlines()[1:]
 
 
-def check_filter_kinds(env):
+def check_filter_kinds(env, sketch):
     """Each command that restarts the filter (kind, tau, tau2, reset) starts a segment; motionsim
     replays each segment from rest with the parameters sent so far and the input the stream shows,
     and every streamed line must be identical (its t_ms counted from the segment's first sample)."""
-    sketch = "MovingAverageFilter"
     log = emulog.run(env.elf(sketch), FILTER_KINDS_SCRIPT, pins=sketches.filter_pins(env))
     problems = []
     fails_of(log, problems)
@@ -445,9 +443,9 @@ def check_filter_kinds(env):
     return CheckResult(not problems, summary, problems)
 
 
-def check_filter_bad_input(env):
+def check_filter_bad_input(env, sketch):
     return check_bad_input(
-        env, "MovingAverageFilter", "kind", "", COMMON_BAD + [
+        env, sketch, "kind", "", COMMON_BAD + [
             ("u above 5 V", "send u 5.5"), ("negative u", "send u -1"), ("u not a number", "send u five"),
             ("tau below Ts", "send tau 0.005"), ("tau not whole samples", "send tau 9.005"),
             ("tau too long for the buffer", "send tau 60"), ("unknown kind", "send kind median"),
@@ -463,7 +461,7 @@ def check_filter_bad_input(env):
 # servo sketches (check 3)
 
 SERVO_SCRIPT = """\
-wait ^READY {sketch}$
+wait ^READY [^ ]+$
 {gains}
 send ?
 wait ^setpoint=
@@ -580,7 +578,32 @@ def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts
     return CheckResult(not problems, summary, problems)
 
 
-def check_servo_bad_input(env, sketch, pid):
+def servo_ctrl(env, sketch):
+    """'pid' or 'p', from the sketch's own `?` reply at boot (a short emulation): a PID sketch
+    reports ki= and kd=, the P sketch only kp="""
+    log = emulog.run(env.elf(sketch), "wait ^READY [^ ]+$\nsend ?\nwait ^setpoint=\n",
+                     motor=sketches.servo_motor_spec(env))
+    q, _ = query_reply(log, "setpoint")
+    if not q or "kp" not in q:
+        raise RuntimeError(f"no `?` reply with kp= from {sketch}: {[l.text for l in log.rx]}")
+    return "pid" if "ki" in q else "p"
+
+
+def check_servo_defaults(env, sketch):
+    return check_servo(env, sketch, servo_ctrl(env, sketch), [])
+
+
+def check_servo_tuned(env, sketch):
+    """P: Kp retuned; PID: all three gains set; either must reach the setpoint"""
+    if servo_ctrl(env, sketch) == "p":
+        return check_servo(env, sketch, "p", [("kp", P_TUNED_KP)], run_ms=2000, must_reach=True)
+    return check_servo(env, sketch, "pid", [("kp", 0.05), ("ki", 0.05), ("kd", 0.001)], run_ms=4000,
+                       must_reach=True)
+
+
+def check_servo_bad_input(env, sketch, pid=None):
+    if pid is None:
+        pid = servo_ctrl(env, sketch) == "pid"
     extra = [("setpoint above 1000000", "send 1000001"), ("setpoint not whole", "send 12.5"),
              ("negative kp", "send kp -1"), ("kp above 1000", "send kp 1001"), ("kp without value", "send kp"),
              ("extra word", "send kp 1 2"),
@@ -604,24 +627,31 @@ def check_servo_bad_input(env, sketch, pid):
 # acceleration; the simplistic ramp's linear interval change from v0 = 1 step/s would take
 # minutes), the S-curve gets a 100-entry table held 2 steps per entry (200 steps of acceleration).
 STEPPER_FAST = {"sigmoid": [("len", "100"), ("hold", "2")],
-                "leib": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")],        # vmax > v0 at every step
-                "simplistic": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")]}
+                "trapezoid": [("vmax", "2000"), ("accel", "4000"), ("v0", "100")]}   # vmax > v0 at every step
 # the move during which commands are sent must outlast them (about 0.5 s of serial traffic)
-# The parameters `?` must report at boot: seed 003 section 4.3.2's defaults for the lab's two
-# sketches (minimum speed 1 step/s, maximum 20 steps/s, acceleration 10 steps/s^2); SCurveStepper's
-# documented table (README, Sketches: len 250, 200 -> 4000 steps/s, flex 5, each entry held 4 steps).
-STEPPER_DEFAULTS = {"leib": {"v0": 1, "vmax": 20, "accel": 10}, "simplistic": {"v0": 1, "vmax": 20, "accel": 10},
+# The parameters `?` must report at boot: the lab handout's defaults for its ramps (minimum speed
+# 1 step/s, maximum 20 steps/s, acceleration 10 steps/s^2); the S-curve's documented table (len 250,
+# 200 -> 4000 steps/s, flex 5, each entry held 4 steps).
+STEPPER_DEFAULTS = {"trapezoid": {"v0": 1, "vmax": 20, "accel": 10},
                     "sigmoid": {"v0": 200, "vmax": 4000, "flex": 5, "len": 250, "hold": 4}}
-STEPPER_BUSY_TARGET = {"sigmoid": 1000, "leib": 50, "simplistic": 50}
+STEPPER_BUSY_TARGET = {"sigmoid": 1000, "trapezoid": 50}
+
+
+def ramp_shape(algo):
+    """What the expectations depend on: the S-curve's table (algo=sigmoid) or a trapezoid ramp
+    (v0, vmax, accel: leib, simplistic, exact and any other), from the sketch's own `?` reply."""
+    return "sigmoid" if algo == "sigmoid" else "trapezoid"
+
+
 STEPPER_MOVES = [(0, 50, "the lab's 0 -> 50, default parameters"), (50, 3050, "long move with cruise"),
                  (3050, -200, "negative move with cruise")]
 
 
 def stepper_script(sketch, algo):
-    s = [f"wait ^READY {sketch}$", "timeout 5000", "send ?", "wait ^pos="]
+    s = ["wait ^READY [^ ]+$", "timeout 5000", "send ?", "wait ^pos="]
     for i, (a, b, _) in enumerate(STEPPER_MOVES):
         if i == 1:
-            for k, v in STEPPER_FAST[algo]:
+            for k, v in STEPPER_FAST[ramp_shape(algo)]:
                 s += [f"send set {k} {v}", f"wait ^OK {k}="]
             s += ["send ?", "wait ^pos="]
         s += [f"mark move {a} {b}", f"send {b}", f"wait ^OK {a} {b}$", "timeout 60000", f"wait ^DONE {b}$",
@@ -631,7 +661,7 @@ def stepper_script(sketch, algo):
 
 def stepper_algo(env, sketch, elf=None):
     """the algorithm, from the sketch's `?` at boot (a short emulation)"""
-    log = emulog.run(elf or env.elf(sketch), f"wait ^READY {sketch}$\nsend ?\nwait ^pos=\n")
+    log = emulog.run(elf or env.elf(sketch), "wait ^READY [^ ]+$\nsend ?\nwait ^pos=\n")
     q, _ = query_reply(log, "pos")
     if not q or "algo" not in q:
         raise RuntimeError(f"no `?` reply with algo= from {sketch}: {[l.text for l in log.rx]}")
@@ -669,9 +699,9 @@ def check_stepper(env, sketch, elf=None, bound_ticks=1.0, mode="timer"):
             break
         q = emulog.query_fields(log.lines_matching("^pos=", 0, m)[-1].text)
         # the parameters in force: the documented defaults, then the values `set` sent
-        want_q = dict(STEPPER_DEFAULTS[algo])
+        want_q = dict(STEPPER_DEFAULTS[ramp_shape(algo)])
         if a != 0:
-            want_q.update(STEPPER_FAST[algo])
+            want_q.update(STEPPER_FAST[ramp_shape(algo)])
         wrong = {k: q.get(k) for k, v in want_q.items() if q.get(k) is None or float(q[k]) != float(v)}
         if wrong:
             problems.append(f"{label}: `?` before the move reports {wrong}, want {want_q}")
@@ -785,16 +815,16 @@ def check_stepper_timed_loop(env):
 
 def check_stepper_bad_input(env, sketch):
     algo = stepper_algo(env, sketch)
-    fast = STEPPER_FAST[algo]
+    fast = STEPPER_FAST[ramp_shape(algo)]
     extra = [("target beyond int32", "send 99999999999"), ("target not whole", "send 12.5"),
              ("two targets", "send 10 20"), ("unknown parameter", "send set speed 5"),
              ("negative parameter", f"send set {fast[0][0]} -1"), ("parameter not a number", "send set v0 fast"),
              ("set without value", f"send set {fast[0][0]}"), ("? with an argument", "send ? now")]
-    if algo != "sigmoid":
+    if ramp_shape(algo) == "trapezoid":
         extra += [("accel 0", "send set accel 0"), ("vmax above max_sps", "send set vmax 1000000")]
     busy = [("new target while moving", "send 100"), ("set while moving", f"send set {fast[0][0]} {fast[0][1]}"),
             ("junk while moving", "send ???")]
-    tgt = STEPPER_BUSY_TARGET[algo]
+    tgt = STEPPER_BUSY_TARGET[ramp_shape(algo)]
     return check_bad_input(env, sketch, "pos", "", COMMON_BAD + extra,
                            while_busy=(f"send {tgt}", rf"^OK 0 {tgt}$", busy, rf"^DONE {tgt}$", 60000),
                            dynamic=("pos", "state"), pins=sketches.stepper_pins(env), step_total=tgt)
@@ -802,46 +832,90 @@ def check_stepper_bad_input(env, sketch):
 
 # ----------------------------------------------------------------------------------------------
 
+# ----------------------------------------------------------------------------------------------
+# lib's Arduino example (lib/examples/RampIntervals): a user's own sketch on MotionCore's ramp
+
+EXAMPLE_ROW_RE = re.compile(r"^(\d+),(-?\d+),(-?\d+\.\d{3}),(\d+),(accel|cruise|decel)$")
+
+
+def check_ramp_example(env):
+    """The example prints the lab's Leib move 0 -> 50 at boot and a move to a target sent over
+    serial; every step's interval (3 decimals) and whole ticks must equal motionsim ramp's, the
+    handout's checkpoint (218.218, 188.528, 157.245 ticks) included."""
+    elf = os.path.join(env.firmware_dir, "RampIntervals", "RampIntervals.ino.elf")
+    if not os.path.isfile(elf):
+        return CheckResult(False, "not built", [f"{elf} is missing: make test builds it (tools/build_firmware.sh)"])
+    log = emulog.run(elf, "timeout 20000\nwait ^DONE$\nsend -20\nwait ^DONE$\n")
+    problems = []
+    fails_of(log, problems)
+    moves, cur = [], None
+    for l in log.rx:
+        if l.text.startswith("move "):
+            cur = []
+            moves.append(cur)
+        m = EXAMPLE_ROW_RE.match(l.text)
+        if m and cur is not None:
+            cur.append(m.groups())
+    notes = []
+    for (a, b), rows in zip(((0, 50), (50, -20)), moves + [[]] * 2):
+        base = ["ramp", "--algo", "leib", "--from", str(a), "--to", str(b), "--v0", "1", "--vmax", "20", "--accel",
+                "10", "--tick-hz", "1000"]
+        exact = [r.split(",") for r in motionsim(env, *base)[0].splitlines()[1:] if r]
+        whole = [r.split(",") for r in motionsim(env, *base, "--integer-ticks")[0].splitlines()[1:] if r]
+        if len(rows) != abs(b - a) or len(exact) != len(rows):
+            problems.append(f"move {a} -> {b}: {len(rows)} step lines printed, motionsim plans {len(exact)}")
+            continue
+        bad = [(r, e[3], w[3]) for r, e, w in zip(rows, exact, whole)
+               if r[1] != e[1] or abs(float(r[2]) - float(e[3])) > 0.0005 + 1e-9 or int(r[3]) != int(float(w[3]))]
+        if bad:
+            problems.append(f"move {a} -> {b}: {len(bad)} of {len(rows)} steps differ from motionsim ramp, first: "
+                            f"printed {','.join(bad[0][0])}, motionsim interval {bad[0][1]} whole {bad[0][2]}")
+        notes.append(f"{a} -> {b}: {len(rows)} steps, first intervals {', '.join(r[2] for r in rows[:3])} ticks")
+    if len(moves) < 2:
+        problems.append(f"{len(moves)} of 2 moves printed")
+    return CheckResult(not problems, "; ".join(notes) + " == motionsim ramp --algo leib", problems)
+
+
 def checks_for(env):
+    """The checks of every sketch under firmware/, chosen by its family (the marker line of its
+    .ino, tools/emu/sketches.py); the expectations that differ within a family come from the
+    sketch's own `?` reply (the stepper's algo, the servo's gains), not from its name."""
     checks = []
     names = env.sketch_names()
-    unknown = [n for n in names if n not in sketches.FAMILY]
+    family, problems = {}, []
+    for n in names:
+        try:
+            family[n] = env.family(n)
+        except sketches.SketchError as e:
+            problems.append(str(e))
 
     def every_sketch_known():
-        ok = not unknown
-        return CheckResult(ok, f"sketches: {', '.join(names) or 'none'}",
-                           [f"no emulator checks for {u}: add it to tools/emu/sketches.py" for u in unknown])
-    checks.append(("emulator: every sketch under firmware/ has emulator checks", every_sketch_known))
-    for st in ("SimplisticRampStepper", "LeibRampStepper", "SCurveStepper"):
-        if st in names:
-            checks.append((f"{st}: 0->50, long and negative moves: steps, DIR, intervals == motionsim ramp",
-                           lambda st=st: check_stepper(env, st)))
-            checks.append((f"{st}: bad input and a target while moving get ERR, state unchanged",
-                           lambda st=st: check_stepper_bad_input(env, st)))
-    if "LeibRampStepper" in names:
+        return CheckResult(not problems, "sketches: " + (", ".join(f"{n} ({family[n]})" for n in family) or "none"),
+                           problems)
+    checks.append(("emulator: every sketch under firmware/ names its family (// motion-sketch: ...)",
+                   every_sketch_known))
+    for st in (n for n in names if family.get(n) == "stepper"):
+        checks.append((f"{st}: 0->50, long and negative moves: steps, DIR, intervals == motionsim ramp",
+                       lambda st=st: check_stepper(env, st)))
+        checks.append((f"{st}: bad input and a target while moving get ERR, state unchanged",
+                       lambda st=st: check_stepper_bad_input(env, st)))
+    # the timed-loop build (tools/emu/emu.mk) is of the lab's Leib sketch only: one build of the mode
+    if family.get("LeibRampStepper") == "stepper":
         checks.append(("LeibRampStepper built with STEPPER_TIMED_LOOP=1: moves, intervals == motionsim ramp within "
                        f"{STEPPER_LOOP_BOUND_US} us", lambda: check_stepper_timed_loop(env)))
-    if "MovingAverageFilter" in names:
-        checks.append(("MovingAverageFilter: 60 s at 100 Hz, strobe timing, stream == motionsim filter, PWM == y",
-                       lambda: check_filter(env)))
-        checks.append(("MovingAverageFilter: ma2, exp, tau/tau2 changes, reset and every 10 == motionsim filter",
-                       lambda: check_filter_kinds(env)))
-        checks.append(("MovingAverageFilter: bad input gets ERR, state unchanged",
-                       lambda: check_filter_bad_input(env)))
-    if "ProportionalClosedLoop" in names:
-        checks.append(("ProportionalClosedLoop: closes the loop on LS7366R + motor, trace == motionsim servo",
-                       lambda: check_servo(env, "ProportionalClosedLoop", "p", [])))
-        checks.append(("ProportionalClosedLoop: Kp retuned over serial reaches the setpoint, trace == motionsim servo",
-                       lambda: check_servo(env, "ProportionalClosedLoop", "p", [("kp", P_TUNED_KP)], run_ms=2000,
-                                           must_reach=True)))
-        checks.append(("ProportionalClosedLoop: bad input gets ERR, state unchanged",
-                       lambda: check_servo_bad_input(env, "ProportionalClosedLoop", False)))
-    if "PIDClosedLoop" in names:
-        checks.append(("PIDClosedLoop: lab defaults (Ki = Kd = 0), trace == motionsim servo",
-                       lambda: check_servo(env, "PIDClosedLoop", "pid", [])))
-        checks.append(("PIDClosedLoop: gains set over serial reach the setpoint, trace == motionsim servo",
-                       lambda: check_servo(env, "PIDClosedLoop", "pid", [("kp", 0.05), ("ki", 0.05), ("kd", 0.001)],
-                                           run_ms=4000, must_reach=True)))
-        checks.append(("PIDClosedLoop: bad input gets ERR, state unchanged",
-                       lambda: check_servo_bad_input(env, "PIDClosedLoop", True)))
+    for f in (n for n in names if family.get(n) == "filter"):
+        checks.append((f"{f}: 60 s at 100 Hz, strobe timing, stream == motionsim filter, PWM == y",
+                       lambda f=f: check_filter(env, f)))
+        checks.append((f"{f}: ma2, exp, tau/tau2 changes, reset and every 10 == motionsim filter",
+                       lambda f=f: check_filter_kinds(env, f)))
+        checks.append((f"{f}: bad input gets ERR, state unchanged", lambda f=f: check_filter_bad_input(env, f)))
+    for sv in (n for n in names if family.get(n) == "servo"):
+        checks.append((f"{sv}: closes the loop on LS7366R + motor with its default gains, trace == motionsim servo",
+                       lambda sv=sv: check_servo_defaults(env, sv)))
+        checks.append((f"{sv}: gains set over serial (Kp for P; Kp, Ki, Kd for PID, as `?` shows) reach the "
+                       "setpoint, trace == motionsim servo", lambda sv=sv: check_servo_tuned(env, sv)))
+        checks.append((f"{sv}: bad input gets ERR, state unchanged", lambda sv=sv: check_servo_bad_input(env, sv)))
+    if os.path.isfile(os.path.join(env.source_dir, "lib", "examples", "RampIntervals", "RampIntervals.ino")):
+        checks.append(("lib/examples/RampIntervals (MotionCore in a user's sketch): printed step intervals == "
+                       "motionsim ramp", lambda: check_ramp_example(env)))
     return checks

@@ -21,6 +21,7 @@ import argparse
 import concurrent.futures
 import os
 import sys
+import threading
 import time
 import traceback
 
@@ -69,25 +70,40 @@ def main(argv):
         res.seconds = time.monotonic() - t
         return res
 
+    finished = [0]
+    lock = threading.Lock()
+
+    def emit(lines):
+        """whole lines, one block at a time: the workers' progress lines never split a result's"""
+        with lock:
+            sys.stdout.write("".join(line + "\n" for line in lines))
+            sys.stdout.flush()
+
+    def run_and_report(name, fn):
+        res = run_one(fn)
+        with lock:
+            finished[0] += 1
+            n = finished[0]
+        # results print in list order; this line says at once that a check is done
+        emit([f"# progress: {n}/{len(checks)} {'ok' if res.ok else 'FAILED'} - {name} [{res.seconds:.1f} s]"])
+        return res
+
     # Long checks first so that two CPUs stay busy to the end (results are printed in list order).
     def weight(name):
         return 0 if "60 s" in name else 1 if "moves" in name else 2
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
         order = sorted(range(len(checks)), key=lambda i: weight(checks[i][0]))
-        by_index = {i: pool.submit(run_one, checks[i][1]) for i in order}
+        by_index = {i: pool.submit(run_and_report, checks[i][0], checks[i][1]) for i in order}
         futures = [by_index[i] for i in range(len(checks))]
         failed = 0
         for i, ((name, _), fut) in enumerate(zip(checks, futures), 1):
             res = fut.result()
-            if res.ok:
-                print(f"ok {i} - {name}")
-            else:
+            block = [f"ok {i} - {name}" if res.ok else f"not ok {i} - {name}"]
+            if not res.ok:
                 failed += 1
-                print(f"not ok {i} - {name}")
-                for d in res.details[:25]:
-                    for line in str(d).splitlines():
-                        print(f"# {line}")
-            print(f"# summary: {name}: {res.summary} [{res.seconds:.1f} s]", flush=True)
+                block += [f"# {line}" for d in res.details[:25] for line in str(d).splitlines()]
+            block.append(f"# summary: {name}: {res.summary} [{res.seconds:.1f} s]")
+            emit(block)
     print(f"# summary: emulator suite: {len(checks)} checks, {failed} failed, {time.monotonic() - t0:.1f} s wall "
           f"on {a.jobs} workers; sketches checked: {', '.join(env.sketch_names()) or 'none'}")
     return 1 if failed else 0

@@ -12,9 +12,12 @@ script (default: the sketch family's standard scenario), then writes into the ou
                     servo    t_s,setpoint,position_counts,error_counts,duty_pct (encoder count of the
                              emulated motor and the duty measured on the PWM/DIR pins, every 1 ms)
                     one file per setpoint: <S>.csv, <S>-2.csv, ... (t = 0 when the command arrived)
-  <S>.motionsim.csv motionsim for the parameters in force (the sketch's last `?` reply and `OK key=`
-                    replies before the move or setpoint), and <S>.png: the firmware's CSV with
-                    motionsim's overlaid. Servo segments after the first get an overlay only when
+  <S>.motionsim.csv motionsim for the parameters in force (the sketch's defaults - its own `?` reply
+                    at boot, asked in a short run of its own, so the script needs no `?` - replaced
+                    by the script's last `?` reply and updated by the `OK key=value` replies before
+                    the move or setpoint), and <S>.png: the firmware's CSV with
+                    motionsim's overlaid, titled with the move, filter or setpoint and gains it
+                    shows (one PNG per move or setpoint). Servo segments after the first get an overlay only when
                     motionsim can start where the firmware was: motor at rest, controller without
                     memory (P, or PID with Ki = Kd = 0); motionsim then runs the step from 0 and is
                     shifted by the position at the start. motionsim's t = 0 (its first sample) is
@@ -49,10 +52,14 @@ def fmt(v):
     return str(v)
 
 
-def params_before(log, key, cycle):
-    """The parameters in force before `cycle`: the fields of the last `?` reply (a line starting
-    with `key=`), updated by every later `OK name=value` reply to a `set`/gain command."""
-    q = {}
+QUERY_KEY = {"stepper": "pos", "filter": "kind", "servo": "setpoint"}   # the first field of each `?` reply
+
+
+def params_before(log, key, cycle, defaults=None):
+    """The parameters in force before `cycle`: the sketch's defaults (its `?` reply at boot, see
+    sketch_defaults), replaced by the fields of the last `?` reply of the run (a line starting with
+    `key=`) if there is one, and updated by every later `OK name=value` reply to a `set`/gain command."""
+    q = dict(defaults or {})
     for l in log.rx:
         if l.cycle >= cycle:
             break
@@ -60,9 +67,18 @@ def params_before(log, key, cycle):
             q = emulog.query_fields(l.text)
         else:
             m = re.match(r"^OK (\w+)=(\S+)$", l.text)
-            if m and q:
+            if m and (q or defaults is not None):
                 q[m.group(1)] = m.group(2)
     return q
+
+
+def sketch_defaults(elf, fam, hargs):
+    """The sketch's parameters at boot: its own `?` reply, from a short emulation of its own (so the
+    user's script needs no `?` for the motionsim overlay). {} if the sketch does not answer."""
+    key = QUERY_KEY[fam]
+    log = emulog.run(elf, f"wait ^READY [^ ]+$\ntimeout 3000\nsend ?\nwait ^{key}=\n", **hargs)
+    line = log.first(r"^" + key + "=")
+    return emulog.query_fields(line.text) if line else {}
 
 
 def frame_cycles(log):
@@ -118,6 +134,34 @@ def stepper_sim_args(q, a, b):
                 "--integer-ticks"]
     return ["ramp", "--algo", algo, "--from", str(a), "--to", str(b), "--v0", q["v0"], "--vmax", q["vmax"],
             "--accel", q["accel"], "--tick-hz", q["tick_hz"], "--integer-ticks"]
+
+
+def stepper_params_text(q):
+    if q.get("algo") == "sigmoid":
+        return (f"S-curve, {q.get('v0')} -> {q.get('vmax')} steps/s, table of {q.get('len')} held "
+                f"{q.get('hold')} steps, flex {q.get('flex')}")
+    return (f"{ALGO_NAMES.get(q.get('algo'), q.get('algo', '?'))}, v0 {q.get('v0')}, vmax {q.get('vmax')} steps/s, "
+            f"a {q.get('accel')} steps/s²")
+
+
+ALGO_NAMES = {"leib": "Leib", "exact": "exact", "simplistic": "simplistic", "sigmoid": "S-curve"}
+FILTER_NAMES = {"ma": "moving average", "ma2": "two-stage S-curve", "exp": "exponential"}
+
+
+def filter_params_text(q, rows):
+    kind = q.get("kind", "ma")
+    text = f"{FILTER_NAMES.get(kind, kind)}, tau = {q.get('tau', '?')} s"
+    if kind == "ma2":
+        text += f", tau2 = {q.get('tau2', '?')} s"
+    if rows:
+        text += f", {rows[-1][1] - rows[0][1]:.2f} s of input"
+    return text
+
+
+def servo_gains_text(q):
+    if "ki" in q:
+        return f"PID, Kp = {q.get('kp')}, Ki = {q.get('ki')}, Kd = {q.get('kd')}"
+    return f"P, Kp = {q.get('kp')}"
 
 
 # ---- servo -----------------------------------------------------------------------------------
@@ -214,7 +258,7 @@ def main(argv):
         return 2
     s = a.sketch
     try:
-        fam = sketches.family_of(s)
+        fam = sketches.family_of(env, s)
         elf = env.elf(s)
         hargs = sketches.harness_args(env, s)
     except sketches.SketchError as e:
@@ -239,7 +283,7 @@ def main(argv):
                   file=sys.stderr)
             return 2
     else:
-        script = sketches.default_input(s)
+        script = sketches.default_input(env, s)
     os.makedirs(a.out, exist_ok=True)
     remove_old_outputs(a.out, s)
     base = os.path.join(a.out, s)
@@ -257,22 +301,27 @@ def main(argv):
         return 2
     for c, k, t in log.fails:
         print(f"FAIL {k} at {c / F_CPU:.4f} s: {t}")
+    defaults = sketch_defaults(elf, fam, hargs)
+    if not defaults:
+        print(f"  {s} did not answer `?` at boot: its defaults are unknown, overlays need a `?` in the script")
     print(f"  {len(log.rx)} serial lines, {sum(len(v) for v in log.pins.values())} pin edges, "
           f"{log.end.get('t_s', '?')} s emulated in {log.end.get('wall_s', '?')} s")
     outputs = []   # (firmware csv, motionsim csv or None)
     if fam == "stepper":
         for i, (fr, to, t0, edges, okc) in enumerate(stepper_moves(log)):
-            q = params_before(log, "pos", okc)  # the parameters in force for this move
+            q = params_before(log, "pos", okc, defaults)  # the parameters in force for this move
             path = base + (".csv" if i == 0 else f"-{i + 1}.csv")
             tick = float(q.get("tick_hz", "2000000"))
             write_csv(path, "step,position,t_s,interval_ticks,speed_sps,accel_sps2",
                       stepper_rows(fr, to, t0, edges, tick, float(q.get("v0", "0"))))
             sim = path[:-4] + ".motionsim.csv"
+            what = f"move {fr} -> {to} steps"
             if not q:
                 print(f"  no `?` reply before move {fr} -> {to}: no motionsim overlay (send ? first)")
-                outputs.append((path, None))
+                outputs.append((path, None, what))
                 continue
-            outputs.append((path, sim if run_motionsim(env, stepper_sim_args(q, fr, to), sim) else None))
+            what += " (" + stepper_params_text(q) + ")"
+            outputs.append((path, sim if run_motionsim(env, stepper_sim_args(q, fr, to), sim) else None, what))
     elif fam == "filter":
         rows = []
         for l in log.rx:
@@ -281,7 +330,7 @@ def main(argv):
                 t_ms = int(m.group(1))
                 rows.append((t_ms // 10, t_ms / 1000.0, float(m.group(2)), float(m.group(3))))
         write_csv(base + ".csv", "k,t_s,u,y", rows)
-        q = params_before(log, "kind", float("inf"))  # the last `?`, updated by later `OK tau=` etc.
+        q = params_before(log, "kind", float("inf"), defaults)  # updated by later `OK tau=` etc.
         stream = base + ".stream.csv"
         with open(stream, "w") as f:
             f.write("t_ms,u,y\n")
@@ -293,33 +342,37 @@ def main(argv):
                 "--input", f"csv:{stream}"]
         if kind == "ma2":
             args += ["--tau2", q.get("tau2", "3")]
-        outputs.append((base + ".csv", sim if rows and run_motionsim(env, args, sim) else None))
+        what = filter_params_text(q, rows)
+        outputs.append((base + ".csv", sim if rows and run_motionsim(env, args, sim) else None, what))
     else:
         segs = servo_segments(log)
         if not segs:
             write_csv(base + ".csv", "t_s,setpoint,position_counts,error_counts,duty_pct", [])
-            outputs.append((base + ".csv", None))
+            outputs.append((base + ".csv", None, "no setpoint sent"))
         for i, (sp, t0, okc, rows) in enumerate(segs):
             path = base + (".csv" if i == 0 else f"-{i + 1}.csv")
             write_csv(path, "t_s,setpoint,position_counts,error_counts,duty_pct", rows)
-            q = params_before(log, "setpoint", okc)
+            q = params_before(log, "setpoint", okc, defaults)
+            what = f"setpoint {sp} counts" + (f" from {rows[0][2]}" if i and rows else "") + \
+                (f" ({servo_gains_text(q)})" if q else "")
             why = servo_overlay_start(log, q, t0, i == 0) if q else "no `?` reply before this setpoint"
             if why or not rows:
                 print(f"  {os.path.basename(path)}: no motionsim overlay ({why or 'no samples'})")
-                outputs.append((path, None))
+                outputs.append((path, None, what))
                 continue
             p0 = rows[0][2] if i else 0
             sim = path[:-4] + ".motionsim.csv"
             dt = first_sample_s(log, t0, segs[i + 1][1] if i + 1 < len(segs) else None)
             if run_motionsim(env, servo_sim_args(q, sp - p0, rows[-1][0] - dt), sim):
                 shift_csv(sim, p0, dt)
-                outputs.append((path, sim))
+                outputs.append((path, sim, what))
             else:
-                outputs.append((path, None))
-    for csv, sim in outputs:
+                outputs.append((path, None, what))
+    for csv, sim, what in outputs:
         print(f"  {csv}" + (f"  (motionsim: {sim})" if sim else ""))
         if not a.no_plot:
-            cmd = [os.path.join(emulog.ROOT, "tools", "plot"), csv, "--title", f"{s}: firmware in the emulator"]
+            cmd = [os.path.join(emulog.ROOT, "tools", "plot"), csv, "--title", f"{s} in the emulator: {what}",
+                   "--label", "firmware (emulated)"]
             if sim:
                 cmd += ["--overlay", f"motionsim={sim}"]
             p = subprocess.run(cmd, capture_output=True, text=True)

@@ -1,5 +1,10 @@
 """tools/emu/sketches.py - what the emulator harness needs to know about each sketch.
 
+A sketch is recognised by what it is, not by its name: the marker line `// motion-sketch: <family>`
+in its .ino (stepper, filter or servo), so a renamed copy (firmware/LeibRampStepperABC/...) is
+emulated and checked like its original. The default scripts wait for any `READY <name>` banner
+(a copy may keep its original's banner).
+
 The pins are read from the sketch family's header in firmware/libraries/MotionBoard/src (the one
 place the sketches define them), so a changed pin is followed, and a missing one is an error
 rather than a silently unwatched pin. Each family also has a default INPUT script (what
@@ -13,14 +18,14 @@ import emulog
 
 ROOT = emulog.ROOT
 
-FAMILY = {
-    "SimplisticRampStepper": "stepper",
-    "LeibRampStepper": "stepper",
-    "SCurveStepper": "stepper",
-    "MovingAverageFilter": "filter",
-    "ProportionalClosedLoop": "servo",
-    "PIDClosedLoop": "servo",
-}
+# A sketch says what it is in a marker line of its .ino (any line, normally the first):
+#     // motion-sketch: stepper
+# The family decides which pins the harness watches, the default INPUT script and the checks; a
+# copy of a sketch under another name is the same family. A new sketch of a known family needs
+# only the marker; a new family needs its entry here (pins, script) and its checks.
+MARKER = "// motion-sketch: <family>"
+MARKER_RE = re.compile(r"^[ \t]*//[ \t]*motion-sketch:[ \t]*([A-Za-z0-9_-]*)[ \t]*$", re.M)
+FAMILIES = ("stepper", "filter", "servo")
 
 PIN_HEADERS = {"stepper": "StepperPins.h", "filter": "FilterPins.h", "servo": "ServoPins.h"}
 
@@ -42,6 +47,32 @@ class Env:
         if not os.path.isdir(fw):
             return []
         return sorted(d for d in os.listdir(fw) if os.path.isfile(os.path.join(fw, d, d + ".ino")))
+
+    def ino(self, sketch):
+        return os.path.join(self.source_dir, "firmware", sketch, sketch + ".ino")
+
+    def family(self, sketch):
+        """The family named by the sketch's marker line; SketchError (one line) if it has none,
+        several, or one the emulator does not know."""
+        path = self.ino(sketch)
+        rel = os.path.relpath(path, self.source_dir)
+        try:
+            with open(path, encoding="utf-8", errors="replace") as f:
+                text = f.read()
+        except OSError as e:
+            raise SketchError(f"cannot read the sketch {rel}: {e.strerror}")
+        found = MARKER_RE.findall(text)
+        if not found:
+            raise SketchError(f"{rel} has no marker line '{MARKER}' (one of: {', '.join(FAMILIES)}): "
+                              f"add it at the top so the tools know what the sketch is")
+        if len(set(found)) > 1:
+            raise SketchError(f"{rel} has {len(found)} marker lines naming different families "
+                              f"({', '.join(found)}): keep one '{MARKER}'")
+        fam = found[0]
+        if fam not in FAMILIES:
+            raise SketchError(f"{rel}: the marker '// motion-sketch: {fam}' names a family the emulator does not "
+                              f"know (known: {', '.join(FAMILIES)})")
+        return fam
 
     def elf(self, sketch):
         path = os.path.join(self.firmware_dir, sketch, sketch + ".ino.elf")
@@ -67,10 +98,8 @@ class Env:
         return int(m.group(1))
 
 
-def family_of(sketch):
-    if sketch not in FAMILY:
-        raise SketchError(f"the emulator does not know the sketch '{sketch}' (known: {', '.join(sorted(FAMILY))})")
-    return FAMILY[sketch]
+def family_of(env, sketch):
+    return env.family(sketch)
 
 
 # ---- pins per family -------------------------------------------------------------------------
@@ -104,8 +133,8 @@ def servo_pins(env):
 # ---- default INPUT scripts -------------------------------------------------------------------
 
 FILTER_DEFAULT_INPUT = """\
-# MovingAverageFilter, the seed's scenario: a 5 V step held 20 s, then back to 0 V (tau = 9 s)
-wait ^READY MovingAverageFilter$
+# {sketch}: the moving-average-filter note's scenario: a 5 V step held 20 s, then back to 0 V (tau = 9 s)
+wait ^READY [^ ]+$
 send ?
 wait ^kind=
 @100 u 5
@@ -119,7 +148,7 @@ wait ^kind=
 
 SERVO_DEFAULT_INPUT = """\
 # {sketch}: the lab's step, setpoint 1000 counts with the default gains, for 3 s
-wait ^READY {sketch}$
+wait ^READY [^ ]+$
 send ?
 wait ^setpoint=
 mark setpoint
@@ -132,7 +161,7 @@ wait ^setpoint=
 
 STEPPER_DEFAULT_INPUT = """\
 # {sketch}: the lab's move 0 -> 50 steps with the default parameters
-wait ^READY {sketch}$
+wait ^READY [^ ]+$
 send ?
 wait ^pos
 mark move
@@ -145,10 +174,10 @@ wait ^pos
 """
 
 
-def default_input(sketch):
-    fam = family_of(sketch)
+def default_input(env, sketch):
+    fam = family_of(env, sketch)
     if fam == "filter":
-        return FILTER_DEFAULT_INPUT
+        return FILTER_DEFAULT_INPUT.format(sketch=sketch)
     if fam == "servo":
         return SERVO_DEFAULT_INPUT.format(sketch=sketch)
     return STEPPER_DEFAULT_INPUT.format(sketch=sketch)
@@ -156,7 +185,7 @@ def default_input(sketch):
 
 def harness_args(env, sketch):
     """pins / motor for emulog.run()"""
-    fam = family_of(sketch)
+    fam = family_of(env, sketch)
     if fam == "filter":
         return {"pins": filter_pins(env)}
     if fam == "servo":

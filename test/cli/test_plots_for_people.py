@@ -1,0 +1,150 @@
+"""Plots for people (docs/plots.md): legends name the algorithm, the filter or the gains, never a
+CSV column; an input or setpoint is drawn once; a panel that would be a solid block gets its moving
+mean; `tools/workbook` makes a workbook from one's own CSV files; `profiles.py --only` keeps a
+scenario's overlays; no "seed 00x" wording in plot titles, --help texts or tool output.
+
+The expected legend texts are written here from the scenarios' motionsim arguments (the algorithm
+and gains a person asked for), not read back from the plotting code.
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import motionplot  # noqa: E402
+import profiles  # noqa: E402
+
+PY = sys.executable
+COLUMNS = {"speed_sps", "accel_sps2", "interval_ticks", "position_counts", "error_counts", "duty_pct",
+           "t_s", "t_ms"}
+
+
+def sim(motionsim, path, *args):
+    r = motionsim(*args)
+    assert r.rc == 0, r.err
+    path.write_text(r.out)
+    return motionplot.CsvData(str(path))
+
+
+def no_column_names(legends):
+    for panel in legends:
+        for text in panel:
+            words = set(re.split(r"[ ,()]+", text))
+            assert not (words & COLUMNS), text
+
+
+def test_ramp_legends_name_the_algorithms(tmp_path, motionsim):
+    base = ["--from", "0", "--to", "50", "--v0", "1", "--vmax", "20", "--accel", "10", "--tick-hz", "1000"]
+    leib = sim(motionsim, tmp_path / "leib.csv", "ramp", "--algo", "leib", *base)
+    exact = sim(motionsim, tmp_path / "exact.csv", "ramp", "--algo", "exact", *base)
+    legends = motionplot.plot(leib, str(tmp_path / "p.png"), label="Leib", overlays=[("exact", exact)])
+    assert legends == [["Leib", "exact"], ["Leib", "exact"]]
+
+
+def test_servo_setpoint_is_drawn_once_and_gains_name_the_lines(tmp_path, motionsim):
+    pid = sim(motionsim, tmp_path / "pid.csv", "servo", "--ctrl", "pid", "--kp", "0.1", "--ki", "0.1", "--kd",
+              "0.002", "--setpoint", "1000", "--duration", "5")
+    p = sim(motionsim, tmp_path / "p.csv", "servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "1000",
+            "--duration", "3")
+    legends = motionplot.plot(pid, str(tmp_path / "s.png"), label="PID, Kp = 0.1, Ki = 0.1, Kd = 0.002",
+                              overlays=[("P, Kp = 0.02", p)])
+    pos = legends[0]
+    assert sum("setpoint" in t for t in pos) == 1, pos
+    assert "position, PID, Kp = 0.1, Ki = 0.1, Kd = 0.002" in pos and "position, P, Kp = 0.02" in pos
+    no_column_names(legends)
+
+
+def test_filter_plot_is_one_useful_panel(tmp_path, motionsim):
+    ma = sim(motionsim, tmp_path / "ma.csv", "filter", "--kind", "ma", "--tau", "9", "--ts", "0.01", "--input",
+             "step:5", "--duration", "20")
+    legends = motionplot.plot(ma, str(tmp_path / "f.png"), label="moving average, tau = 9 s")
+    assert len(legends) == 1                    # input and output on one panel, not a flat 5 V panel
+    assert legends[0] == ["input u", "output y, moving average, tau = 9 s"]
+
+
+def test_s_curve_acceleration_is_a_moving_mean_not_a_block(tmp_path, motionsim):
+    d = sim(motionsim, tmp_path / "sig.csv", "ramp", "--algo", "sigmoid", "--from", "0", "--to", "3000", "--len", "250",
+            "--fmin", "200", "--fmax", "4000", "--flex", "5", "--hold", "4", "--timer-hz", "2000000")
+    legends = motionplot.plot(d, str(tmp_path / "sig.png"), label="S-curve")
+    assert legends[0] == ["S-curve"]
+    assert len(legends[1]) == 1 and "moving mean" in legends[1][0]
+    # a smooth ramp's acceleration is drawn as it is
+    e = sim(motionsim, tmp_path / "e.csv", "ramp", "--algo", "exact", "--from", "0", "--to", "2000", "--v0", "100",
+            "--vmax", "1000", "--accel", "1000", "--tick-hz", "2000000")
+    assert motionplot.plot(e, str(tmp_path / "e.png"), label="exact")[1] == ["exact"]
+
+
+def test_scenario_labels_come_from_what_was_asked():
+    assert profiles.scenario_label({"name": "x", "args": ["ramp", "--algo", "leib"]}) == "Leib"
+    assert profiles.scenario_label({"name": "x", "args": ["ramp", "--algo", "exact"]}) == "exact"
+    assert profiles.scenario_label({"name": "x", "args": ["servo", "--ctrl", "p", "--kp", "0.02"]}) == "P, Kp = 0.02"
+    assert profiles.scenario_label({"name": "x", "args": ["filter", "--kind", "ma2", "--tau", "9", "--tau2", "3"]}) \
+        == "two-stage S-curve, tau = 9 s, tau2 = 3 s"
+
+
+def test_profiles_only_keeps_the_scenarios_overlays(tmp_path):
+    motionsim = os.environ.get("MOTIONSIM", os.path.join(ROOT, "build", "motionsim"))
+    r = subprocess.run([PY, "tools/profiles.py", "--motionsim", motionsim, "--out", str(tmp_path), "--only",
+                        "ramp_leib_0_50"], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "ramp_leib_0_50.png").exists() and (tmp_path / "ramp_exact_0_50.csv").exists()
+    import openpyxl
+    wb = openpyxl.load_workbook(tmp_path / "profiles.xlsx")
+    assert set(wb.sheetnames) == {"index", "ramp_leib_0_50", "ramp_exact_0_50"}
+
+
+def test_workbook_from_ones_own_csv_files(tmp_path, motionsim):
+    from openpyxl import load_workbook
+    from openpyxl.chart import LineChart
+    # what make emulate writes for a move: X.csv and X.motionsim.csv; and a long filter run
+    sim(motionsim, tmp_path / "Move.csv", "ramp", "--algo", "leib", "--to", "200", "--v0", "10", "--vmax", "100",
+        "--accel", "100", "--tick-hz", "2000000", "--integer-ticks")
+    sim(motionsim, tmp_path / "Move.motionsim.csv", "ramp", "--algo", "exact", "--to", "200", "--v0", "10", "--vmax",
+        "100", "--accel", "100", "--tick-hz", "2000000", "--integer-ticks")
+    sim(motionsim, tmp_path / "long.csv", "filter", "--kind", "ma", "--tau", "9", "--ts", "0.01", "--input",
+        "square:5:30", "--duration", "120")
+    book = tmp_path / "book.xlsx"
+    r = subprocess.run([os.path.join(ROOT, "tools", "workbook"), str(tmp_path / "Move.csv"),
+                        str(tmp_path / "Move.motionsim.csv"), str(tmp_path / "long.csv"), "-o", str(book)],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    wb = load_workbook(book)
+    assert wb.sheetnames == ["index", "Move", "Move.motionsim", "long"]
+    assert isinstance(wb["Move"]._charts[0], LineChart) and isinstance(wb["long"]._charts[0], LineChart)
+    # the motionsim file is drawn over the firmware's: a scatter series reads its sheet
+    refs = [s.xVal.numRef.f for c in wb["Move"]._charts[1:] for s in c.series if s.xVal is not None]
+    assert any(f.startswith("'Move.motionsim'!") for f in refs), refs
+    # 12001 rows: the sheet holds at most 250, the index says so
+    assert wb["long"].max_row <= 251
+    assert any("every 49th row" in str(c.value) for row in wb["index"].iter_rows() for c in row)
+    assert book.stat().st_size < 200_000
+
+
+@pytest.mark.parametrize("args, why", [(["nope.csv", "-o", "b.xlsx"], "nope.csv"),
+                                       (["x.csv", "-o", "b.txt"], ".xlsx")])
+def test_workbook_refuses_bad_input_in_one_line(tmp_path, args, why):
+    (tmp_path / "x.csv").write_text("a,b\n1,2\n")
+    r = subprocess.run([os.path.join(ROOT, "tools", "workbook"), *args], cwd=tmp_path, capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and why in r.stderr, r.stderr
+
+
+def test_no_seed_wording_in_titles_help_or_output(tmp_path):
+    texts = []
+    for path in sorted(os.listdir(os.path.join(ROOT, "tools", "scenarios"))):
+        with open(os.path.join(ROOT, "tools", "scenarios", path)) as f:
+            for s in json.load(f):
+                texts += [s["name"], s["title"], json.dumps(s.get("panels", []))]
+    for tool in (["tools/plot"], ["tools/workbook"], [PY, "tools/profiles.py"], [PY, "tools/emu/emulate.py"]):
+        r = subprocess.run([*tool, "--help"], cwd=ROOT, capture_output=True, text=True, timeout=60)
+        assert r.returncode == 0, (tool, r.stderr)
+        texts.append(r.stdout)
+    with open(os.path.join(ROOT, "tools", "emu", "sketches.py")) as f:
+        texts.append(f.read())          # the default emulator scripts are copied into build/emulate
+    for t in texts:
+        assert not re.search(r"\bseed\b", t, re.I), t[:200]

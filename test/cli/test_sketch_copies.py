@@ -1,0 +1,119 @@
+"""Any copy of a sketch works with every tool: a sketch is recognised by its marker line
+`// motion-sketch: <family>`, not by its name (tools/emu/sketches.py, tools/build_firmware.sh,
+test/emu/checks_sketches.py, tools/emu/emulate.py).
+
+A copy of LeibRampStepper under the lab's XXX naming (LeibRampStepperABC) in a temporary tree is
+recognised as a stepper, gets the stepper checks, is built, emulated with a motionsim overlay and
+passes the stepper check its original passes; a sketch without the marker is refused in one line
+that names the marker, by each tool.
+"""
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tools", "emu"))
+sys.path.insert(0, os.path.join(ROOT, "test", "emu"))
+import sketches  # noqa: E402
+import checks_sketches  # noqa: E402
+
+MOTIONSIM = os.environ.get("MOTIONSIM", os.path.join(ROOT, "build", "motionsim"))
+MARKER = "// motion-sketch: <family>"
+
+
+def copy_tree(tmp_path, copies, bare=()):
+    """tmp_path/firmware with copies {new name: original} (each .ino renamed, text unchanged),
+    marker-less sketches `bare`, and this tree's board library (the pin headers)."""
+    fw = tmp_path / "firmware"
+    fw.mkdir()
+    os.symlink(os.path.join(ROOT, "firmware", "libraries"), fw / "libraries")
+    for new, orig in copies.items():
+        (fw / new).mkdir()
+        shutil.copy(os.path.join(ROOT, "firmware", orig, orig + ".ino"), fw / new / f"{new}.ino")
+    for name in bare:
+        (fw / name).mkdir()
+        (fw / name / f"{name}.ino").write_text("void setup() {}\nvoid loop() {}\n")
+    (tmp_path / "build").mkdir()
+    os.symlink(MOTIONSIM, tmp_path / "build" / "motionsim")
+    return sketches.Env(source_dir=str(tmp_path))
+
+
+def test_every_sketch_here_has_a_marker_naming_a_known_family():
+    env = sketches.Env()
+    names = env.sketch_names()
+    assert names
+    for n in names:
+        assert env.family(n) in sketches.FAMILIES
+
+
+def test_a_renamed_copy_is_recognised_and_gets_its_originals_checks(tmp_path):
+    env = copy_tree(tmp_path, {"LeibRampStepperABC": "LeibRampStepper", "MyFilter": "MovingAverageFilter",
+                               "MyServo": "PIDClosedLoop"})
+    assert env.family("LeibRampStepperABC") == "stepper"
+    assert env.family("MyFilter") == "filter"
+    assert env.family("MyServo") == "servo"
+    checks = checks_sketches.checks_for(env)
+    names = [n for n, _ in checks]
+    assert any(n.startswith("LeibRampStepperABC: 0->50") for n in names), names
+    assert any(n.startswith("LeibRampStepperABC: bad input") for n in names), names
+    assert any(n.startswith("MyFilter: 60 s") for n in names), names
+    assert any(n.startswith("MyServo: closes the loop") for n in names), names
+    known = dict(checks)["emulator: every sketch under firmware/ names its family (// motion-sketch: ...)"]()
+    assert known.ok, known.details
+    # the default emulator script does not insist on the original's READY banner
+    script = sketches.default_input(env, "LeibRampStepperABC")
+    assert "wait ^READY [^ ]+$" in script and "READY LeibRampStepper" not in script
+
+
+def test_a_sketch_without_the_marker_is_refused_in_one_line_naming_the_marker(tmp_path):
+    env = copy_tree(tmp_path, {"LeibRampStepperABC": "LeibRampStepper"}, bare=["Blink"])
+    with pytest.raises(sketches.SketchError) as e:
+        env.family("Blink")
+    msg = str(e.value)
+    assert "\n" not in msg and MARKER in msg and "Blink.ino" in msg
+    checks = dict(checks_sketches.checks_for(env))
+    res = checks["emulator: every sketch under firmware/ names its family (// motion-sketch: ...)"]()
+    assert not res.ok and any(MARKER in d for d in res.details)
+    # a marker naming no known family
+    (tmp_path / "firmware" / "Blink" / "Blink.ino").write_text("// motion-sketch: blinker\nvoid setup() {}\n")
+    with pytest.raises(sketches.SketchError, match="blinker"):
+        env.family("Blink")
+
+
+def test_build_firmware_refuses_a_sketch_without_the_marker(tmp_path):
+    copy_tree(tmp_path, {}, bare=["Blink"])
+    if not os.access(os.path.join(ROOT, ".tools", "arduino-cli"), os.X_OK):
+        pytest.fail("arduino-cli is not installed (make setup)")
+    p = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh"), "Blink"], capture_output=True,
+                       text=True, env=dict(os.environ, FIRMWARE_SRC=str(tmp_path / "firmware"),
+                                           FIRMWARE_OUT=str(tmp_path / "out")), timeout=300)
+    assert p.returncode != 0
+    err = p.stderr.strip().splitlines()
+    assert len(err) == 1 and MARKER in err[0] and "Blink.ino" in err[0], p.stderr
+
+
+def test_a_renamed_copy_is_built_emulated_and_checked_like_its_original(tmp_path):
+    env = copy_tree(tmp_path, {"LeibRampStepperABC": "LeibRampStepper"})
+    out = tmp_path / "build" / "firmware"
+    p = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh", ), "LeibRampStepperABC"],
+                       capture_output=True, text=True, timeout=600,
+                       env=dict(os.environ, FIRMWARE_SRC=str(tmp_path / "firmware"), FIRMWARE_OUT=str(out)))
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert (out / "LeibRampStepperABC" / "LeibRampStepperABC.ino.elf").exists()
+    # make emulate's script, its default input (the lab's 0 -> 50) and the motionsim overlay
+    emu_out = tmp_path / "emulate"
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "emu", "emulate.py"), "--sketch",
+                        "LeibRampStepperABC", "--source-dir", str(tmp_path), "--out", str(emu_out)],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert len((emu_out / "LeibRampStepperABC.csv").read_text().splitlines()) == 1 + 50
+    want = subprocess.run([MOTIONSIM, "ramp", "--algo", "leib", "--from", "0", "--to", "50", "--v0", "1", "--vmax",
+                           "20", "--accel", "10", "--tick-hz", "2000000", "--integer-ticks"],
+                          capture_output=True, text=True).stdout.splitlines()
+    assert (emu_out / "LeibRampStepperABC.motionsim.csv").read_text().splitlines() == want
+    # the emulator suite's stepper check, as for the original
+    res = checks_sketches.check_stepper(env, "LeibRampStepperABC")
+    assert res.ok, res.details
