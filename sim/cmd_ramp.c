@@ -471,9 +471,21 @@ static int queue_main(const queue_opts_t *q, int algo, const ramp_params_t *para
     FILE *tf, *cf = NULL;
     int rc, rc2;
     if (st != MS_OK) {
-        if (algo == RAMP_ALGO_EXACT)
-            return cli_error(RAMP_CMD, "%s (--queue --algo exact: the step engine's exact planner, step_exact.h)",
-                             motion_status_text(st));
+        if (algo == RAMP_ALGO_EXACT && ramp_params_check(params) == MS_OK) {
+            /* the ramp's own checks passed: one of step_exact.h's limits; say which */
+            double reach_s = params->vmax_sps / params->accel_sps2, limit_s = 17179869184.0 / params->tick_hz;
+            if (params->tick_hz > (1UL << 25))
+                return cli_error(RAMP_CMD, "%s: --tick-hz %lu is above 33554432 (2^25), the limit of --queue "
+                                           "--algo exact (step_exact.h)",
+                                 motion_status_text(st), (unsigned long)params->tick_hz);
+            if (reach_s > limit_s)
+                return cli_error(RAMP_CMD, "%s: vmax/accel = %g s to reach vmax is above 2^34 ticks (%g s at %lu Hz), "
+                                           "the limit of --queue --algo exact (step_exact.h)",
+                                 motion_status_text(st), reach_s, limit_s, (unsigned long)params->tick_hz);
+            return cli_error(RAMP_CMD, "%s: --accel %g is below what --queue --algo exact (step_exact.h) takes at "
+                                       "--tick-hz %lu",
+                             motion_status_text(st), params->accel_sps2, (unsigned long)params->tick_hz);
+        }
         return cli_error(RAMP_CMD, "%s", motion_status_text(st));
     }
     if (q->n_ev > 0) {
