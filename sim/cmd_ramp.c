@@ -22,6 +22,8 @@
 #include "csv.h"
 #include "csv_float.h"
 #include "ramp.h"
+#include "step_planner.h"
+#include "step_queue.h"
 
 #define RAMP_CMD "ramp"
 
@@ -253,27 +255,279 @@ static const char *float_problem(double x)
     }
 }
 
-/* Simplistic and Leib compute in float: why their parameters do not fit one (a sentence naming
- * the option), or NULL. The exact ramp computes in double: always NULL. */
-static const char *float_params_problem(ramp_algo_t algo, const ramp_params_t *p, char *msg, size_t n)
+/* Why parameters computed in float by `who` do not fit one (a sentence naming the option), or NULL. */
+static const char *float_params_problem_of(const char *who, const ramp_params_t *p, char *msg, size_t n)
 {
     const char *names[3] = {"--v0", "--vmax", "--accel"};
     double values[3];
     int i;
-    if (algo != RAMP_ALGO_SIMPLISTIC && algo != RAMP_ALGO_LEIB)
-        return NULL;
     values[0] = p->v0_sps;
     values[1] = p->vmax_sps;
     values[2] = p->accel_sps2;
     for (i = 0; i < 3; i++) {
         const char *why = float_problem(values[i]);
         if (why != NULL) {
-            snprintf(msg, n, "%s: %g %s; %s computes in float, as on the Mega", names[i], values[i], why,
-                     ramp_algo_name(algo));
+            snprintf(msg, n, "%s: %g %s; %s computes in float, as on the Mega", names[i], values[i], why, who);
             return msg;
         }
     }
     return NULL;
+}
+
+/* Simplistic and Leib compute in float: why their parameters do not fit one, or NULL. The exact
+ * ramp computes in double: always NULL. */
+static const char *float_params_problem(ramp_algo_t algo, const ramp_params_t *p, char *msg, size_t n)
+{
+    if (algo != RAMP_ALGO_SIMPLISTIC && algo != RAMP_ALGO_LEIB)
+        return NULL;
+    return float_params_problem_of(ramp_algo_name(algo), p, msg, n);
+}
+
+/* ---- --queue: the move through the step engine (step_planner.h -> step_queue.h's executor) ---- */
+
+/* A stop or a new target, applied after the command that contains step `at` has been handed out. */
+typedef struct {
+    uint32_t at;
+    int stop;       /* 1: step_planner_stop; 0: step_planner_move(target) */
+    int32_t target;
+} queue_event_t;
+
+#define QUEUE_MAX_EVENTS 64
+
+typedef struct {
+    uint64_t steps;      /* steps made (every command's count) */
+    uint64_t commands;
+    size_t events_done;  /* events applied, in order */
+    motion_status_t st;  /* MS_OK, or what a new target returned (events[events_done - 1]) */
+    int internal_error;  /* the executor's 16-bit edge disagreed with the absolute timeline */
+} queue_result_t;
+
+static void queue_cmd_row(FILE *f, uint64_t index, uint64_t first_step, const step_cmd_t *c)
+{
+    int wide = (c->flags & STEP_CMD_WIDE) != 0, rev = (c->flags & STEP_CMD_REVERSE) != 0;
+    /* 6 decimals recover the 16.16 value exactly: round(ticks * 65536), the error is below 0.04 */
+    double rate = wide ? (double)c->rate : (double)c->rate / 65536.0;
+    fprintf(f, "%llu,%llu,%u,%.6f,%.6f,%s\n", (unsigned long long)index, (unsigned long long)first_step,
+            (unsigned)c->count, rate, (double)c->add / 65536.0,
+            wide && rev ? "wide reverse" : wide ? "wide" : rev ? "reverse" : "");
+}
+
+/* Hands every command out of the planner, applying the events, and (with `table`) executes each
+ * step by step_exec_load/step_exec_next as the step interrupt does: one table row per step, its
+ * time the whole tick of its edge. table and cmds may be NULL (the dry run that checks every event
+ * falls inside the move before anything is written). Stops at the first write error. */
+static queue_result_t queue_run(step_planner_t *pl, int32_t from, const queue_event_t *ev, size_t n_ev, FILE *table,
+                                FILE *cmds, double tick_hz, double v_start)
+{
+    queue_result_t res;
+    step_exec_t x;
+    step_cmd_t c;
+    kin_t k;
+    uint64_t abs16 = 0x8000U, prev_edge = 0;
+    int64_t pos = from;
+    memset(&res, 0, sizeof res);
+    res.st = MS_OK;
+    step_exec_init(&x, 0x8000U);
+    kin_init(&k, tick_hz, v_start);
+    while (step_planner_next(pl, &c)) {
+        if ((table != NULL && ferror(table)) || (cmds != NULL && ferror(cmds)))
+            break;
+        res.commands++;
+        if (cmds != NULL)
+            queue_cmd_row(cmds, res.commands, res.steps + 1U, &c);
+        if (table == NULL) {
+            res.steps += c.count;
+        } else {
+            step_exec_load(&x, &c);
+            while (x.left > 0U && !ferror(table)) {
+                uint32_t before = x.acc, wide_ticks = step_exec_wide_ticks(&x);
+                int wide = (x.flags & STEP_CMD_WIDE) != 0;
+                uint16_t edge16 = step_exec_next(&x);
+                uint64_t edge;
+                uint32_t interval;
+                kin_row_t row;
+                /* the absolute time: the executor's own advance of acc; a WIDE step's whole interval is
+                 * counted out as the interrupt counts the timer's wraps */
+                abs16 += wide ? (uint64_t)wide_ticks << 16 : (uint64_t)(uint32_t)(x.acc - before);
+                edge = abs16 >> 16;
+                if (edge16 != (uint16_t)edge || (uint32_t)abs16 != x.acc) {
+                    res.internal_error = 1;
+                    return res;
+                }
+                pos += (x.flags & STEP_CMD_REVERSE) ? -1 : 1;
+                res.steps++;
+                interval = (uint32_t)(edge - prev_edge); /* at most 2^32 - 1: one WIDE interval */
+                prev_edge = edge;
+                row = kin_row(&k, 0.0, interval, 1, -1.0);
+                fprintf(table, "%llu,%lld,", (unsigned long long)res.steps, (long long)pos);
+                csv_num(table, row.t_s);
+                fprintf(table, ",%lu,", (unsigned long)interval);
+                csv_num(table, row.speed_sps);
+                fputc(',', table);
+                csv_num(table, row.accel_sps2);
+                fputc('\n', table);
+            }
+        }
+        while (res.events_done < n_ev && res.steps >= ev[res.events_done].at) {
+            const queue_event_t *e = &ev[res.events_done++];
+            if (e->stop) {
+                step_planner_stop(pl);
+            } else {
+                res.st = step_planner_move(pl, e->target);
+                if (res.st != MS_OK)
+                    return res;
+            }
+        }
+    }
+    return res;
+}
+
+/* --retarget-at N:TARGET[,N:TARGET...] into ev[*n..]: -1, or the exit code after one line. */
+static int parse_retargets(const char *arg, queue_event_t *ev, size_t *n)
+{
+    const char *p = arg;
+    for (;;) {
+        char piece[64], *colon;
+        const char *comma = strchr(p, ',');
+        size_t len = comma != NULL ? (size_t)(comma - p) : strlen(p);
+        queue_event_t e;
+        if (len == 0 || len >= sizeof piece || (colon = memchr(p, ':', len)) == NULL)
+            return cli_error(RAMP_CMD, "--retarget-at: '%.*s' is not N:TARGET (step number, colon, target position; "
+                                       "e.g. 6000:1000, several separated by commas)",
+                             (int)(len < 40 ? len : 40), p);
+        memcpy(piece, p, len);
+        piece[len] = '\0';
+        colon = piece + (colon - p);
+        *colon = '\0';
+        if (cli_parse_uint32(piece, &e.at) != 0 || e.at == 0)
+            return cli_error(RAMP_CMD, "--retarget-at: the step number '%s' in '%s:%s' is not a whole number in "
+                                       "1..4294967295", piece, piece, colon + 1);
+        if (cli_parse_int32(colon + 1, &e.target) != 0)
+            return cli_error(RAMP_CMD, "--retarget-at: the target '%s' in '%s:%s' is not a whole number in "
+                                       "-2147483648..2147483647", colon + 1, piece, colon + 1);
+        e.stop = 0;
+        if (*n > 0 && e.at <= ev[*n - 1].at)
+            return cli_error(RAMP_CMD, "--retarget-at: the step numbers must increase: %lu:%ld comes after %lu:%ld",
+                             (unsigned long)e.at, (long)e.target, (unsigned long)ev[*n - 1].at,
+                             (long)ev[*n - 1].target);
+        if (*n >= QUEUE_MAX_EVENTS)
+            return cli_error(RAMP_CMD, "--retarget-at: more than %d N:TARGET pairs", QUEUE_MAX_EVENTS);
+        ev[(*n)++] = e;
+        if (comma == NULL)
+            return -1;
+        p = comma + 1;
+    }
+}
+
+/* --stop-at joins the new targets in step order (a stop and a new target on one step: refused). */
+static int add_stop(queue_event_t *ev, size_t *n, uint32_t at)
+{
+    size_t i = 0, j;
+    if (at == 0)
+        return cli_error(RAMP_CMD, "--stop-at: 0 is not a step number (the steps of a move count from 1)");
+    while (i < *n && ev[i].at < at)
+        i++;
+    if (i < *n && ev[i].at == at)
+        return cli_error(RAMP_CMD, "--stop-at %lu and --retarget-at %lu:%ld fall on the same step: give them "
+                                   "different steps", (unsigned long)at, (unsigned long)ev[i].at, (long)ev[i].target);
+    if (*n >= QUEUE_MAX_EVENTS + 1)
+        return cli_error(RAMP_CMD, "--stop-at: too many events");
+    for (j = *n; j > i; j--)
+        ev[j] = ev[j - 1];
+    ev[i].at = at;
+    ev[i].stop = 1;
+    ev[i].target = 0;
+    (*n)++;
+    return -1;
+}
+
+typedef struct {
+    const char *out_path;  /* the step table: -o (NULL: stdout) */
+    const char *cmds_path; /* --commands, or NULL */
+    queue_event_t ev[QUEUE_MAX_EVENTS + 1];
+    size_t n_ev;
+} queue_opts_t;
+
+/* The planner at `from` for the algorithm (sigmoid: over `table`): MS_OK or its status. */
+static motion_status_t queue_planner(step_planner_t *pl, int algo, const ramp_params_t *params,
+                                     const ramp_sigmoid_params_t *sp, const uint16_t *table, int32_t from, int32_t to)
+{
+    motion_status_t st;
+    if (algo == RAMP_ALGO_SIGMOID)
+        st = step_planner_init_sigmoid(pl, sp, table, sp->len, from);
+    else
+        st = step_planner_init_trapezoid(pl, (ramp_algo_t)algo, params, from);
+    if (st != MS_OK)
+        return st;
+    return step_planner_move(pl, to);
+}
+
+static int queue_main(const queue_opts_t *q, int algo, const ramp_params_t *params, const ramp_sigmoid_params_t *sp,
+                      const uint16_t *table, int32_t from, int32_t to, double tick_hz, double v_start)
+{
+    step_planner_t pl;
+    queue_result_t res;
+    motion_status_t st = queue_planner(&pl, algo, params, sp, table, from, to);
+    FILE *tf, *cf = NULL;
+    int rc, rc2;
+    if (st != MS_OK) {
+        if (algo == RAMP_ALGO_EXACT && ramp_params_check(params) == MS_OK) {
+            /* the ramp's own checks passed: one of step_exact.h's limits; say which */
+            double reach_s = params->vmax_sps / params->accel_sps2, limit_s = 17179869184.0 / params->tick_hz;
+            if (params->tick_hz > (1UL << 25))
+                return cli_error(RAMP_CMD, "%s: --tick-hz %lu is above 33554432 (2^25), the limit of --queue "
+                                           "--algo exact (step_exact.h)",
+                                 motion_status_text(st), (unsigned long)params->tick_hz);
+            if (reach_s > limit_s)
+                return cli_error(RAMP_CMD, "%s: vmax/accel = %g s to reach vmax is above 2^34 ticks (%g s at %lu Hz), "
+                                           "the limit of --queue --algo exact (step_exact.h)",
+                                 motion_status_text(st), reach_s, limit_s, (unsigned long)params->tick_hz);
+            return cli_error(RAMP_CMD, "%s: --accel %g is below what --queue --algo exact (step_exact.h) takes at "
+                                       "--tick-hz %lu",
+                             motion_status_text(st), params->accel_sps2, (unsigned long)params->tick_hz);
+        }
+        return cli_error(RAMP_CMD, "%s", motion_status_text(st));
+    }
+    if (q->n_ev > 0) {
+        /* a dry run (commands only, nothing written): every event inside the move, every new target
+         * accepted, before any output exists */
+        step_planner_t dry = pl;
+        res = queue_run(&dry, from, q->ev, q->n_ev, NULL, NULL, tick_hz, v_start);
+        if (res.st != MS_OK) {
+            const queue_event_t *e = &q->ev[res.events_done - 1];
+            return cli_error(RAMP_CMD, "--retarget-at %lu:%ld: %s", (unsigned long)e->at, (long)e->target,
+                             motion_status_text(res.st));
+        }
+        if (res.events_done < q->n_ev) {
+            const queue_event_t *e = &q->ev[res.events_done];
+            if (e->stop)
+                return cli_error(RAMP_CMD, "--stop-at %lu: the move has only %llu steps", (unsigned long)e->at,
+                                 (unsigned long long)res.steps);
+            return cli_error(RAMP_CMD, "--retarget-at %lu:%ld: the move has only %llu steps by then",
+                             (unsigned long)e->at, (long)e->target, (unsigned long long)res.steps);
+        }
+    }
+    tf = cli_open_output(RAMP_CMD, q->out_path);
+    if (tf == NULL)
+        return CLI_EXIT_RUNTIME;
+    if (q->cmds_path != NULL) {
+        cf = cli_open_output(RAMP_CMD, q->cmds_path);
+        if (cf == NULL) {
+            (void)cli_close_output(RAMP_CMD, tf, q->out_path);
+            return CLI_EXIT_RUNTIME;
+        }
+        fputs("cmd,first_step,count,rate_ticks,add_ticks,flags\n", cf);
+    }
+    table_header(tf);
+    res = queue_run(&pl, from, q->ev, q->n_ev, tf, cf, tick_hz, v_start);
+    if (res.internal_error)
+        fprintf(stderr, "motionsim ramp: internal error: the executor's edge disagrees with its timeline at step "
+                        "%llu\n", (unsigned long long)res.steps + 1U);
+    rc = cli_close_output(RAMP_CMD, tf, q->out_path);
+    rc2 = cf != NULL ? cli_close_output(RAMP_CMD, cf, q->cmds_path) : CLI_EXIT_OK;
+    if (res.internal_error)
+        return CLI_EXIT_RUNTIME;
+    return rc != CLI_EXIT_OK ? rc : rc2;
 }
 
 static const char ramp_description[] =
@@ -296,7 +550,18 @@ static const char ramp_description[] =
     "RMS acceleration error (with the step where the largest occurs); cruise steps are summed in\n"
     "one go, so any move takes milliseconds. An algorithm that refuses the parameters is left out\n"
     "with its reason on stderr; if the exact ramp refuses them, nothing is printed (exit 2).\n"
-    "The firmware's intervals: LeibRampStepper = --algo leib --tick-hz 2000000 --integer-ticks.";
+    "The firmware's intervals: LeibRampStepper = --algo leib --tick-hz 2000000 --integer-ticks.\n"
+    "--queue plans the move with the step engine (lib/src/step_planner.h, as the sketches' step\n"
+    "interrupt is fed: exact by step_exact.h, the others' whole ticks packed into commands) and\n"
+    "rebuilds the table by running every command through the interrupt's executor (step_exec_load,\n"
+    "step_exec_next; acc starts at half a tick): the same columns, t_s = whole tick of the edge / F,\n"
+    "interval_ticks in whole ticks, position signed (reversals show). --commands FILE also writes\n"
+    "the commands, one row each: cmd,first_step,count,rate_ticks,add_ticks,flags (rate and add in\n"
+    "ticks with 6 decimals: the 16.16 value is round(x * 65536); WIDE: rate in whole ticks; flags\n"
+    "'wide', 'reverse', 'wide reverse' or empty). --commands - puts them on stdout (then give the\n"
+    "table -o FILE). --stop-at N calls step_planner_stop, --retarget-at N:TARGET step_planner_move\n"
+    "(TARGET), right after the command that contains step N is handed out; N counts every step\n"
+    "made so far, and must be reached (exit 2 otherwise).";
 
 /* Refuses a value that does not survive conversion to float (what the module computes in, as on
  * the Mega): one line naming the option. Returns -1 when it fits. */
@@ -310,7 +575,10 @@ static int check_float_option(const char *name, double x, const char *who)
 
 int cmd_ramp(int argc, char **argv)
 {
-    int algo = RAMP_ALGO_LEIB, compare = 0, whole = 0, algo_given = 0;
+    int algo = RAMP_ALGO_LEIB, compare = 0, whole = 0, algo_given = 0, queue = 0, stop_seen = 0;
+    uint32_t stop_at = 0;
+    const char *retarget_arg = NULL;
+    static queue_opts_t q;
     int32_t from = 0, to = 50;
     double v0 = 1.0, vmax = 20.0, accel = 10.0;
     uint32_t tick_hz = 1000;
@@ -343,8 +611,19 @@ int cmd_ramp(int argc, char **argv)
         {"--compare", CLI_FLAG, &compare, NULL,
          "per algorithm, its deviation from the exact ramp (a table; not with --algo)", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
+        {"--queue", CLI_FLAG, &queue, NULL,
+         "plan with the step engine (step_planner) and rebuild the table from its commands", NULL, NULL},
+        {"--commands", CLI_STRING, &q.cmds_path, "FILE", "--queue: also write the step commands to FILE ('-': stdout)",
+         NULL, NULL},
+        {"--stop-at", CLI_UINT32, &stop_at, "N", "--queue: stop after the command containing step N is handed out",
+         NULL, &stop_seen},
+        {"--retarget-at", CLI_STRING, &retarget_arg, "N:TARGET[,N:TARGET...]",
+         "--queue: new target TARGET after the command containing step N", NULL, NULL},
     };
-    const cli_spec_t spec = {RAMP_CMD, "[--algo A | --compare] [--from N --to N] [options] [-o FILE]",
+    const cli_spec_t spec = {RAMP_CMD,
+                             "[--algo A | --compare] [--from N --to N] [options] [-o FILE]\n"
+                             "       motionsim ramp --queue [--algo A] [--from N --to N] [options] [-o FILE] "
+                             "[--commands FILE] [--stop-at N] [--retarget-at N:TARGET,...]",
                              ramp_description, opts, sizeof opts / sizeof opts[0], 0};
     ramp_t r, exact;
     cmp_plan_t plans[3];
@@ -362,6 +641,24 @@ int cmd_ramp(int argc, char **argv)
         return rc;
     if (compare && algo_given)
         return cli_error(RAMP_CMD, "--algo and --compare cannot be combined: --compare runs every algorithm");
+    if (compare && queue)
+        return cli_error(RAMP_CMD, "--queue and --compare cannot be combined: --queue runs one algorithm through "
+                                   "the step engine");
+    if (!queue && (stop_seen || retarget_arg != NULL || q.cmds_path != NULL))
+        return cli_error(RAMP_CMD, "%s needs --queue (it works on the step engine's commands)",
+                         stop_seen ? "--stop-at" : retarget_arg != NULL ? "--retarget-at" : "--commands");
+    if (queue) {
+        q.out_path = out_path;
+        q.n_ev = 0;
+        if (retarget_arg != NULL && (rc = parse_retargets(retarget_arg, q.ev, &q.n_ev)) >= 0)
+            return rc;
+        if (stop_seen && (rc = add_stop(q.ev, &q.n_ev, stop_at)) >= 0)
+            return rc;
+        if (q.cmds_path != NULL && strcmp(q.cmds_path, "-") == 0 && (out_path == NULL || strcmp(out_path, "-") == 0))
+            return cli_error(RAMP_CMD, "--commands -: the step table goes to stdout already: give it -o FILE");
+        if (q.cmds_path != NULL && out_path != NULL && strcmp(q.cmds_path, out_path) == 0)
+            return cli_error(RAMP_CMD, "--commands and -o name the same file '%s'", out_path);
+    }
     for (i = 0; i < 6; i++)
         if (seen_sig[i] && algo != RAMP_ALGO_SIGMOID)
             return cli_error(RAMP_CMD, "%s applies to --algo sigmoid only", sig_names[i]);
@@ -426,14 +723,23 @@ int cmd_ramp(int argc, char **argv)
         st = MS_OK;
     } else {
         char msg[200];
-        const char *why = float_params_problem((ramp_algo_t)algo, &params, msg, sizeof msg);
+        /* the step engine's exact planner takes its parameters as floats too (step_exact.h) */
+        const char *why = queue && algo == RAMP_ALGO_EXACT
+                              ? float_params_problem_of("the step engine's exact planner", &params, msg, sizeof msg)
+                              : float_params_problem((ramp_algo_t)algo, &params, msg, sizeof msg);
         if (why != NULL)
             return cli_error(RAMP_CMD, "%s", why);
-        st = ramp_plan(&r, (ramp_algo_t)algo, &params, from, to);
+        /* --queue: the planner checks the parameters itself (step_exact's limits for exact) */
+        st = queue ? MS_OK : ramp_plan(&r, (ramp_algo_t)algo, &params, from, to);
     }
     if (st != MS_OK) {
         free(table);
         return cli_error(RAMP_CMD, "%s", motion_status_text(st));
+    }
+    if (queue) {
+        rc = queue_main(&q, algo, &params, &sp, table, from, to, rate, v_start);
+        free(table);
+        return rc;
     }
     f = cli_open_output(RAMP_CMD, out_path);
     if (f == NULL) {
