@@ -1,3 +1,4 @@
+// motion-sketch: stepper
 /* ExactRampStepper - true constant acceleration at up to 100,000 steps/s on the RAMPS 1.4 X axis:
  * every step at round(F t_n) of t_n = (sqrt(v0^2 + 2 a n) - v0)/a (then the cruise line and the
  * mirrored deceleration), within one tick of F = 16 MHz, from the first step to the last.

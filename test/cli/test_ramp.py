@@ -674,9 +674,6 @@ def max_speed_ratio(rows):
                for a, b in zip(rows, rows[1:]))
 
 
-@pytest.mark.xfail(strict=True, reason="lib/src/ramp.c: ramp_next never sets ramp_t.level for the sigmoid, so "
-                   "ramp_stop_steps gives 0 and ramp_plan_continue restarts at the table's first entry: a stop "
-                   "or a new target while cruising jumps from fmax to fmin in one step (reported)")
 def test_queue_sigmoid_stop_and_retarget(motionsim, tmp_path):
     args = queue_args_stepwise("sigmoid")
     # a new target ahead: the speed changes between steps no more than along the table itself

@@ -132,8 +132,9 @@ def stepper_sim_args(q, a, b):
         return ["ramp", "--algo", "sigmoid", "--from", str(a), "--to", str(b), "--len", q["len"], "--fmin", q["v0"],
                 "--fmax", q["vmax"], "--flex", q["flex"], "--timer-hz", q["tick_hz"], "--hold", q["hold"],
                 "--integer-ticks"]
+    # the exact ramp runs on the step engine's commands: --queue rebuilds its step table from them
     return ["ramp", "--algo", algo, "--from", str(a), "--to", str(b), "--v0", q["v0"], "--vmax", q["vmax"],
-            "--accel", q["accel"], "--tick-hz", q["tick_hz"], "--integer-ticks"]
+            "--accel", q["accel"], "--tick-hz", q["tick_hz"], "--queue" if algo == "exact" else "--integer-ticks"]
 
 
 def stepper_params_text(q):

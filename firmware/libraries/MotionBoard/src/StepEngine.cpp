@@ -315,6 +315,8 @@ void StepEngine::service(step_planner_t &planner)
         s_ready++;
         t.ready = 1; /* one byte, written last: the interrupt sees a complete slot */
         s_head = next_slot(s_head);
+        if (s_open && !s.running && !s.done)
+            start_stepping(); /* the first command is enough to start; the rest are laid out meanwhile */
     }
     if (s_open && !s.running && !s.done && s.cur->other->ready)
         start_stepping();
