@@ -9,6 +9,7 @@
 #   make upload SKETCH=<name> PORT=<device>    flash a real Mega over USB
 #   make monitor PORT=<device> [BAUD=115200]   serial monitor (default 9600 baud), CR+LF line ends
 #   make emulate SKETCH=<name> [INPUT=<file>]  run a sketch's ELF in the ATmega2560 emulator
+#   make bench      step-engine benchmark in the emulator -> build/bench/bench.md
 #   make clean
 
 SHELL := /bin/bash
@@ -43,7 +44,7 @@ SAN_BINS   := $(addprefix $(BUILD)/test/unit-san/,$(UNIT_NAMES))
 # marker line "// motion-sketch: <family>" (what the sketch is, for the build, the emulator and the tests)
 SKETCHES := $(sort $(patsubst firmware/%/,%,$(filter-out firmware/libraries/,$(wildcard firmware/*/))))
 
-.PHONY: help setup sim firmware profiles test unit upload monitor emulate clean check-setup
+.PHONY: help setup sim firmware profiles test unit upload monitor emulate clean check-setup bench
 
 help:
 	@sed -n '1,/^$$/p' Makefile | sed -n 's/^# \{0,1\}//p'
@@ -116,6 +117,10 @@ profiles: check-setup $(BUILD)/motionsim
 
 # The emulator harness (tools/emu) contributes EMU_SUITES, EMU_DEPS and `make emulate`.
 -include tools/emu/emu.mk
+
+# The step engine measured in the emulator (tools/bench/bench.py): one table, build/bench/bench.md.
+bench: check-setup $(BUILD)/motionsim $(BUILD)/motionemu $(EMU_STEP_ELF)
+	@$(PY) tools/bench/bench.py --motionsim $(BUILD)/motionsim --out $(BUILD)/bench --planner-elf $(EMU_STEP_ELF)
 
 # Everything is built first; then every suite runs and one summary line closes the output.
 # A suite is "name|kind|command": kind tap (cmocka and the harness print TAP) or pytest.

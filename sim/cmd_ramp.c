@@ -478,13 +478,9 @@ static int queue_main(const queue_opts_t *q, int algo, const ramp_params_t *para
                 return cli_error(RAMP_CMD, "%s: --tick-hz %lu is above 33554432 (2^25), the limit of --queue "
                                            "--algo exact (step_exact.h)",
                                  motion_status_text(st), (unsigned long)params->tick_hz);
-            if (reach_s > limit_s)
-                return cli_error(RAMP_CMD, "%s: vmax/accel = %g s to reach vmax is above 2^34 ticks (%g s at %lu Hz), "
-                                           "the limit of --queue --algo exact (step_exact.h)",
-                                 motion_status_text(st), reach_s, limit_s, (unsigned long)params->tick_hz);
-            return cli_error(RAMP_CMD, "%s: --accel %g is below what --queue --algo exact (step_exact.h) takes at "
-                                       "--tick-hz %lu",
-                             motion_status_text(st), params->accel_sps2, (unsigned long)params->tick_hz);
+            if (st == MS_ERR_ACCEL_PHASE_TOO_LONG)
+                return cli_error(RAMP_CMD, "%s (vmax/accel = %g s, above %g s at %lu Hz)", motion_status_text(st), reach_s,
+                                 limit_s, (unsigned long)params->tick_hz);
         }
         return cli_error(RAMP_CMD, "%s", motion_status_text(st));
     }

@@ -5,7 +5,7 @@
 
 #define SEG_MAX 128U       /* steps one quadratic command may span */
 #define CRUISE_MAX 4096U   /* steps one cruise command may span (rate rounding <= 2^-17 tick per step) */
-#define FIT_GAIN 2000.0f   /* (L s)^3 <= FIT_GAIN y^2 keeps the quadratic within about 0.1 tick (test_step_exact) */
+#define FIT_GAIN 4000.0f   /* (L s)^3 <= FIT_GAIN y^2 keeps the quadratic within about 0.4 tick (test_step_planner) */
 #define RATE_LIMIT 0xFFFF0000ULL /* largest normal rate (16.16): 65535 ticks */
 
 /* ---- exact fixed-point helpers ------------------------------------------------------------ */
@@ -373,7 +373,7 @@ static int64_t t16_d(const step_exact_t *e, uint64_t y)
     return e->t_end16 - (int64_t)((y - e->ue) << 8);
 }
 
-/* whether the quadratic over l steps stays within about 0.1 tick: (l s)^3 <= gain y^2
+/* whether the quadratic over l steps stays within about 0.4 tick: (l s)^3 <= gain y^2
  * (s: interval in u per step, y in u, at the tighter end of the span) */
 static uint8_t span_fits(uint32_t l, float s, float y, float gain)
 {
@@ -403,15 +403,20 @@ static uint32_t span_growing(step_exact_t *e, float s, float y, uint32_t lim)
     return l;
 }
 
-/* slowing down: the allowed span only shrinks; bounded at the span's start with a quarter of the
- * gain over at most half the steps that remain (so y at its end is at least y / sqrt(2)) */
-static uint32_t span_shrinking(step_exact_t *e, float s, float y, uint32_t remain)
+/* slowing down: the allowed span only shrinks; the bound is taken at the span's end, where y is
+ * smallest (y^2 there is y^2 - C l, in region D and in a deceleration to vmax alike) */
+static uint32_t span_shrinking(step_exact_t *e, float y, uint32_t remain)
 {
-    uint32_t l = e->span, cap = pow2_at_most(remain > 1U ? remain >> 1 : 1U);
+    uint32_t l = e->span, cap = pow2_at_most(remain);
     if (l > cap)
         l = cap;
-    while (l > 1U && !span_fits(l, s, y, FIT_GAIN / 4.0f))
+    while (l > 1U) {
+        float q_end = y * y - e->k.cu_f * (float)l;
+        float ye = q_end > 0.0f ? sqrtf(q_end) : 0.0f;
+        if (ye > 0.0f && span_fits(l, e->k.cu_f * 0.5f / ye, ye, FIT_GAIN))
+            break;
         l >>= 1;
+    }
     e->span = l;
     return l;
 }
@@ -487,7 +492,7 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
         if (yf <= 0.0f)
             l = 1;
         else if (e->a_down)
-            l = span_shrinking(e, s, yf, lim);
+            l = span_shrinking(e, yf, lim);
         else
             l = span_growing(e, s, yf, lim);
         for (;;) {
@@ -539,7 +544,7 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
         }
         yf = (float)e->y;
         s = e->slope;
-        l = n == e->n2 ? 1U : span_shrinking(e, s, yf, m);
+        l = n == e->n2 ? 1U : span_shrinking(e, yf, m);
         for (;;) {
             y1 = y_d(e, m - l);
             e->slope = y1 > 0 ? e->k.cu_f * 0.5f * s_inv : s;

@@ -15,7 +15,7 @@
  * mantissas; each square root is a float estimate corrected once by its exact 64-bit residual
  * (Q - y^2 modulo 2^64), so no error accumulates, however long the move. Between exact points
  * the commands follow the time law as quadratics (rate + add per step, 16.16 ticks), over
- * 1 to 128 steps chosen so that the interpolation stays within about 0.1 tick; the executor's
+ * 1 to 128 steps chosen so that the interpolation stays within about 0.4 tick; the executor's
  * time is predicted exactly, so the next command absorbs every rounding. Every step edge
  * floor(acc) is within 1 tick of round(F t_n) (test_step_exact: thousands of random moves).
  * Limits (step_exact_set_params refuses others, each with its own status): tick_hz <= 2^25;

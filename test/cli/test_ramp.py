@@ -7,6 +7,7 @@ import csv
 import io
 import math
 import os
+import re
 import struct
 import subprocess
 
@@ -364,20 +365,39 @@ def test_bad_input_exits_2_with_one_line(motionsim, args, message):
     assert message in lines[0]
 
 
+def _pins_limit(name):
+    """A sketch's speed limit as StepperPins.h defines it (timer mode): the documented limit."""
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    text = open(os.path.join(root, "firmware", "libraries", "MotionBoard", "src", "StepperPins.h")).read()
+    timer = text[text.index("#else", text.index("#if STEPPER_TIMED_LOOP\n#ifndef STEPPER_MAX_SPS")):]
+    m = re.search(r"#define " + name + r" ([0-9.]+)", timer)
+    return int(float(m.group(1)))
+
+
+LEIB, SIMPLISTIC, SCURVE, EXACT = (_pins_limit(n) for n in ("STEPPER_MAX_SPS_LEIB", "STEPPER_MAX_SPS_SIMPLISTIC",
+                                                            "STEPPER_MAX_SPS_SCURVE", "STEPPER_MAX_SPS_EXACT"))
 SKETCH_LIMITS = {
     # sketch: [(line sent, the ERR line expected)], limits from StepperPins.h/StepperRamps.h (timer mode)
     "LeibRampStepper": [
-        ("set vmax 5001", "ERR number out of range: vmax at most 5000 steps/s on this sketch"),
-        ("set v0 1e39", "ERR number out of range: v0 at most 5000 steps/s on this sketch"),
+        (f"set vmax {LEIB + 1}", f"ERR number out of range: vmax at most {LEIB} steps/s on this sketch"),
+        (f"set vmax {LEIB}.0001", f"ERR number out of range: vmax at most {LEIB} steps/s on this sketch"),
+        ("set v0 1e39", f"ERR number out of range: v0 at most {LEIB} steps/s on this sketch"),
         ("set accel 2e7", "ERR number out of range: accel at most 10000000 steps/s^2 on this sketch"),
         ("set v0 -1e39", "ERR minimum speed v0 must not be negative"),
         ("set accel -2e7", "ERR acceleration must be greater than 0 steps/s^2"),
     ],
     "SimplisticRampStepper": [
-        ("set vmax 8001", "ERR number out of range: vmax at most 8000 steps/s on this sketch"),
+        (f"set vmax {SIMPLISTIC + 1}", f"ERR number out of range: vmax at most {SIMPLISTIC} steps/s on this sketch"),
+    ],
+    "ExactRampStepper": [
+        (f"set vmax {EXACT + 1}", f"ERR number out of range: vmax at most {EXACT} steps/s on this sketch"),
+        ("set accel 2e7", "ERR number out of range: accel at most 10000000 steps/s^2 on this sketch"),
+        ("set accel 1", "ERR acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz "
+                        "(scales with F^2)"),
+        ("set vmax 2e-50", "ERR number too close to 0 (underflow)"),
     ],
     "SCurveStepper": [
-        ("set vmax 10001", "ERR number out of range: vmax at most 10000 steps/s on this sketch"),
+        (f"set vmax {SCURVE + 1}", f"ERR number out of range: vmax at most {SCURVE} steps/s on this sketch"),
         ("set len 1001", "ERR number out of range: len at most 1000 entries on this sketch"),
         ("set hold 65536", "ERR number out of range: hold at most 65535 steps per entry on this sketch"),
         ("set flex 1001", "ERR number out of range: flex at most 1000 on this sketch"),
@@ -725,9 +745,9 @@ QUEUE_BAD = [
     (["--queue", "--algo", "exact", "--tick-hz", "40000000"],
      "number out of range: --tick-hz 40000000 is above 33554432 (2^25), the limit of --queue --algo exact"),
     (["--queue", "--algo", "exact", "--tick-hz", "16000000", "--vmax", "100000", "--accel", "10"],
-     "a step interval would exceed 2^32-1 timer ticks: vmax/accel = 10000 s to reach vmax is above 2^34 ticks"),
+     "reaching vmax from rest would take more than 2^34 timer ticks: raise accel or lower vmax (vmax/accel = 10000 s"),
     (["--queue", "--algo", "exact", "--tick-hz", "16000000", "--vmax", "20", "--accel", "5"],
-     "number out of range: --accel 5 is below what --queue --algo exact (step_exact.h) takes at --tick-hz 16000000"),
+     "acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz (scales with F^2)"),
     (["--queue", "--algo", "exact", "--accel", "0"], "acceleration must be greater than 0"),
     (["--queue", "--algo", "simplistic", "--v0", "0"], "simplistic ramp needs v0 > 0"),
     (["--queue", "--algo", "sigmoid", "--fmax", "400"], "fmax must be greater than fmin"),

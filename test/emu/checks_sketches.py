@@ -8,6 +8,7 @@ firmware itself.
 """
 import bisect
 import os
+import sys
 import re
 import subprocess
 import tempfile
@@ -798,7 +799,7 @@ def check_stepper(env, sketch, elf=None, bound_ticks=None, mode="timer"):
                 problems.append(f"{label}: {len(delayed)} of {n} edges more than one tick off the timeline "
                                 f"(at most 3 % may meet another interrupt)")
         lat_us = ((edges[0] - t0) / cpt - want[0]) / tick_hz * 1e6
-        if not (0 <= lat_us <= 5000):
+        if not (0 <= lat_us <= 40000):
             problems.append(f"{label}: first step {lat_us:.0f} us after its interval from the command's arrival")
         if done.cycle < edges[-1]:
             problems.append(f"{label}: DONE before the last step")
@@ -827,11 +828,12 @@ def check_stepper(env, sketch, elf=None, bound_ticks=None, mode="timer"):
     return CheckResult(not problems, summary, problems)
 
 
-# The timed-loop mode (StepperPins.h, README): loop() compares micros() with each deadline, so a
-# step is late by 0 to 4 us (micros() counts in 4 us) plus the longest pass of loop() in progress
-# (serial interrupts included); the deadlines themselves do not drift. Measured: edges within a 19 us
-# window of the ideal timeline; asserted: 20 us for the window, each interval and the drift.
-STEPPER_LOOP_BOUND_US = 20
+# The timed-loop mode (StepperPins.h, docs/stepper-engine.md): loop() compares micros() with each
+# deadline, so a step is late by 0 to 4 us (micros() counts in 4 us) plus the longest pass of loop()
+# in progress (serial interrupts and one call of the step planner, which plans only when the next
+# deadline is at least 400 us away); the deadlines themselves do not drift. Asserted: 80 us for the
+# window, each interval and the drift (the summary line shows the window measured).
+STEPPER_LOOP_BOUND_US = 80
 
 
 def check_stepper_timed_loop(env):
@@ -858,6 +860,31 @@ def check_stepper_bad_input(env, sketch):
     return check_bad_input(env, sketch, "pos", "", COMMON_BAD + extra,
                            while_busy=(f"send {tgt}", rf"^OK 0 {tgt}$", busy, rf"^DONE {tgt}$", 60000),
                            dynamic=("pos", "state"), pins=sketches.stepper_pins(env), step_total=tgt)
+
+
+# The step engine at speed (make bench measures the whole ladder; this is its short, deterministic
+# part): the benchmark's reference move at a rate within every sketch's limit, with a `?` during
+# the move; all steps, no underrun, no late edge, every edge on its plan within 8 cycles except
+# those meeting another interrupt (at most 3 %, each within STEPPER_OTHER_ISR_CYCLES).
+ENGINE_RATE = {"exact": 50000, "leib": 10000, "simplistic": 20000, "sigmoid": 20000}
+
+
+def check_engine_at_speed(env, sketch):
+    sys.path.insert(0, os.path.join(env.source_dir, "tools", "bench"))
+    import bench  # tools/bench/bench.py: the same measurement as `make bench`
+    algo = stepper_algo(env, sketch)
+    rate = ENGINE_RATE.get(algo, 10000)
+    res = bench.run_one(env.elf(sketch), env.motionsim, sketch, algo, rate, sketches.stepper_pins(env))
+    problems = list(res["problems"])
+    if "vs_plan" not in res:
+        return CheckResult(False, f"{algo} at {rate} steps/s", problems or ["no measurement"])
+    summary = (f"{algo} at {rate:,} steps/s, {res['steps']:,} steps: worst edge vs plan {res['vs_plan']:+.2f} ticks, "
+               f"{res['beyond8']} edges beyond 8 cycles (worst {res['worst_cycles']:.0f} cycles), "
+               f"underruns {res['underruns']}, late {res['late']}"
+               + (f", worst vs the closed form {res['vs_exact']:+.2f} ticks" if "vs_exact" in res else ""))
+    if "vs_exact" in res and abs(res["vs_exact"]) * (F_CPU / 16e6) > STEPPER_OTHER_ISR_CYCLES:
+        problems.append(f"an edge {res['vs_exact']:+.1f} ticks off the closed form")
+    return CheckResult(not problems, summary, problems)
 
 
 STOP_DONE_RE = "^DONE -?[0-9]+$"
@@ -1012,6 +1039,8 @@ def checks_for(env):
                        lambda st=st: check_stepper_bad_input(env, st)))
         checks.append((f"{st}: stop, ! and a new target while moving: one DONE per move, where the pulses end",
                        lambda st=st: check_stepper_motion(env, st)))
+        checks.append((f"{st}: the step engine at speed: the reference move, every edge on its plan",
+                       lambda st=st: check_engine_at_speed(env, st)))
     # the timed-loop build (tools/emu/emu.mk) is of the lab's Leib sketch only: one build of the mode
     if family.get("LeibRampStepper") == "stepper":
         checks.append(("LeibRampStepper built with STEPPER_TIMED_LOOP=1: moves, intervals == motionsim ramp within "

@@ -52,6 +52,16 @@ $(EMU_TEXT_ELF): test/emu/text_parse_avr/text_parse_avr.c test/emu/avr_uart.h $(
                  lib/src/text_parse.c lib/src/text_parse.h lib/src/motion_status.h
 	$(AVR_TEST_CC) $< lib/src/text_parse.c -o $@ -lm
 
+# lib's step planner on the real target: test/emu/step_avr/step_planner_avr.c plans the benchmark's
+# reference moves and prints the planner's cycles per command and per step (make bench reads them).
+EMU_STEP_ELF := $(BUILD)/emu/step_planner_avr.elf
+EMU_STEP_SRCS := lib/src/step_planner.c lib/src/step_exact.c lib/src/step_queue.c lib/src/ramp.c lib/src/ramp_common.c \
+                 lib/src/ramp_exact.c lib/src/ramp_leib.c lib/src/ramp_simplistic.c lib/src/ramp_sigmoid.c \
+                 lib/src/motion_status.c
+$(EMU_STEP_ELF): test/emu/step_avr/step_planner_avr.c test/emu/avr_uart.h $(EMU_STEP_SRCS) $(wildcard lib/src/*.h)
+	@mkdir -p $(dir $@)
+	$(AVR_TEST_CC) $< $(EMU_STEP_SRCS) -o $@ -lm
+
 # The sketches the emulator checks are built by the same script as `make firmware`; its stamp
 # makes `make test` rebuild them when firmware/ or lib/ changed.
 EMU_FW_SRCS := $(shell find firmware lib -type f 2>/dev/null)

@@ -300,6 +300,12 @@ void StepEngine::service(step_planner_t &planner)
     /* lay out commands while the slot at s_head is free (not ready, not the current one) */
     while (s_ready < 2U || s_queued_ticks < s_lead_ticks) {
         StepSlot &t = s.slot[s_head];
+#if STEPPER_TIMED_LOOP
+        /* loop() makes the steps here: plan only in the gaps, never across a deadline */
+        poll();
+        if (s.running && s_ready >= 2U && (int32_t)(s_deadline_us - micros()) < 400)
+            break;
+#endif
         if (t.ready || (s.running && s_head == cur_index()) || s_ready >= STEP_ENGINE_SLOTS - 1U)
             break;
         if (!step_planner_next(&planner, &c))
@@ -315,9 +321,10 @@ void StepEngine::service(step_planner_t &planner)
         s_ready++;
         t.ready = 1; /* one byte, written last: the interrupt sees a complete slot */
         s_head = next_slot(s_head);
-        if (s_open && !s.running && !s.done)
-            start_stepping(); /* the first command is enough to start; the rest are laid out meanwhile */
+        if (s_open && !s.running && !s.done && s_ready >= STEP_ENGINE_START_SLOTS)
+            start_stepping(); /* enough lead for the first steps, the costliest to plan */
     }
+    /* a short move (nothing more to plan), the lead reached, or every slot full: start */
     if (s_open && !s.running && !s.done && s.cur->other->ready)
         start_stepping();
     if (s_open && !step_planner_busy(&planner) && !s.finishing && !s.done && !s.cur->other->ready) {

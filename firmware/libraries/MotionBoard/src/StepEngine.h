@@ -35,7 +35,13 @@
 
 /* Commands the queue holds (one is the interrupt's current one); 21 bytes of SRAM each. */
 #ifndef STEP_ENGINE_SLOTS
-#define STEP_ENGINE_SLOTS 48U
+#define STEP_ENGINE_SLOTS 64U
+#endif
+
+/* A move starts stepping once this many commands are laid out (or the planner has no more, or
+ * the lead is reached): the first steps of an exact ramp cost the most planning per step. */
+#ifndef STEP_ENGINE_START_SLOTS
+#define STEP_ENGINE_START_SLOTS 24U
 #endif
 
 /* Steps kept queued ahead of the interrupt, in milliseconds (and at least two commands). */

@@ -17,6 +17,12 @@ void StepperConsole::begin(const __FlashStringHelper *sketch_name)
     Serial.begin(9600);
     StepEngine::begin(ramp_.tick_hz());
     (void)ramp_.setup(planner_, StepEngine::position());
+#if STEPPER_TIMED_LOOP
+    /* one step per command: each planner call is one ramp step (about 100 us), so the planner
+     * fits between two deadlines of loop()'s stepping */
+    planner_.max_cmd_ticks = 1;
+    planner_.exact.max_cmd_ticks = 1;
+#endif
     serial_.out().print(F("READY "));
     serial_.out().println(sketch_name);
 }
