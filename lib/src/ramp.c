@@ -12,6 +12,23 @@ const char *ramp_algo_name(ramp_algo_t algo)
     }
 }
 
+/* ramp_phase_label with its bound computed at plan time (a 32-bit division costs about 600
+ * cycles on the AVR: once per move, not once per step) */
+static void set_label_bound(ramp_t *r)
+{
+    uint32_t half = r->steps_total / 2U;
+    r->label_accel = r->accel_steps < half ? r->accel_steps : half;
+}
+
+static ramp_phase_t phase_label(const ramp_t *r, uint32_t n)
+{
+    if (n <= r->label_accel)
+        return RAMP_ACCEL;
+    if (n > r->steps_total - r->label_accel)
+        return RAMP_DECEL;
+    return RAMP_CRUISE;
+}
+
 static void plan_geometry(ramp_t *r, ramp_algo_t algo, int32_t from, int32_t to)
 {
     r->algo = algo;
@@ -53,6 +70,7 @@ motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *para
     }
     if (st != MS_OK)
         return st;
+    set_label_bound(&n);
     *r = n;
     return MS_OK;
 }
@@ -70,6 +88,7 @@ motion_status_t ramp_plan_sigmoid(ramp_t *r, const ramp_sigmoid_params_t *p, con
         return st;
     n.accel_steps = ramp_sigmoid_accel_steps(p);
     n.peak_level = 0;
+    set_label_bound(&n);
     *r = n;
     return MS_OK;
 }
@@ -165,6 +184,7 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params
     n.start_level = l0;
     n.level = l0;
     n.dir = m->dir;
+    set_label_bound(&n);
     *r = n;
     return MS_OK;
 }
@@ -218,7 +238,7 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
             r->whole_ticks = ramp_ticks_from_float(p);
         s->interval_ticks = p;
         s->whole_ticks = r->whole_ticks;
-        s->phase = r->start_level == 0 ? ramp_phase_label(r->steps_total, r->accel_steps, n) : change;
+        s->phase = r->start_level == 0 ? phase_label(r, n) : change;
         break;
     }
     case RAMP_ALGO_EXACT:
@@ -243,7 +263,7 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
         s->whole_ticks = period;
         r->whole_ticks = period;
         r->level = r->u.sigmoid.k; /* for ramp_stop_steps and ramp_plan_continue */
-        s->phase = r->start_level == 0 ? ramp_phase_label(r->steps_total, r->accel_steps, n)
+        s->phase = r->start_level == 0 ? phase_label(r, n)
                                        : (k > kold ? RAMP_ACCEL : (k < kold ? RAMP_DECEL : RAMP_CRUISE));
         break;
     }
@@ -285,7 +305,7 @@ static uint32_t cruise_skip_target(const ramp_t *r)
         uint32_t a = r->accel_steps;
         if (r->start_level != 0)
             return 0;
-        if (done == 0 || done < a || a > d / 2U || done + 1U >= d - a)
+        if (done == 0 || done < a || done + 1U >= d - a || a > d / 2U) /* the division last: rarely reached */
             return 0;
         target = d - a - 1U; /* the next step, D - A, is the last cruise step */
         break;

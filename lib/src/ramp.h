@@ -55,6 +55,7 @@ typedef struct {
     uint32_t accel_steps;  /* steps labelled "accel" (and as many "decel") */
     uint32_t whole_ticks;  /* whole_ticks of the last step (reused while cruising) */
     uint32_t start_level;  /* level before step 1: 0 from rest, else that of the move continued */
+    uint32_t label_accel;  /* min(accel_steps, D/2): ramp_phase_label's bound, divided once per plan */
     union {
         ramp_simplistic_t simplistic;
         ramp_leib_t leib;

@@ -36,10 +36,10 @@ F_CPU = 16_000_000
 MOVE = 20000
 ENTRY_CYCLES = 11          # interrupt entry (5 on the ATmega2560; simavr charges 0) + 2 jumps + reti not traced
 OTHER_ISR_CYCLES = 260     # the bound checks_sketches uses for edges that meet another interrupt
-LADDER = {"exact": [20000, 50000, 70000, 80000, 100000, 120000, 160000],
-          "leib": [5000, 8000, 10000, 12000, 14000, 16000],
-          "simplistic": [10000, 20000, 30000, 40000],
-          "sigmoid": [10000, 20000, 30000, 40000]}
+LADDER = {"exact": [20000, 50000, 60000, 70000, 80000, 100000],
+          "leib": [5000, 8000, 9000, 10000, 12000],
+          "simplistic": [10000, 20000, 25000, 30000],
+          "sigmoid": [10000, 15000, 20000, 30000]}
 LIFT = ("-DSTEPPER_MAX_SPS_EXACT=200000 -DSTEPPER_MAX_SPS_LEIB=100000 -DSTEPPER_MAX_SPS_SIMPLISTIC=100000 "
         "-DSTEPPER_MAX_SPS_SCURVE=100000 -DSTEPPER_TRACE=1")
 
