@@ -1,4 +1,4 @@
-/* sim/cmd_filter.c - `motionsim filter`: the acceleration/deceleration filters of seed 000 (moving
+/* sim/cmd_filter.c - `motionsim filter`: the acceleration/deceleration filters of the moving-average-filter note (moving
  * average, two-stage S-curve, exponential) run on a test input in virtual time, through the same
  * lib/ code as the MovingAverageFilter sketch (accdec_filter.h). Writes CSV k,t_s,u,y, or with
  * --stream the sketch's own serial lines t_ms,u,y, byte for byte. */
@@ -294,7 +294,7 @@ static int parse_input(const char *cmd, const char *spec, double ts, double quan
 /* ---- the command ------------------------------------------------------------------------------- */
 
 static const char description[] =
-    "Runs an acceleration/deceleration filter of seed 000 on a test input, one row per sample\n"
+    "Runs an acceleration/deceleration filter of the moving-average-filter note on a test input, one row per sample\n"
     "(virtual time), through the same lib/ code as the MovingAverageFilter sketch:\n"
     "  ma   moving average, N = tau/Ts taps: y[k] = y[k-1] + (u[k-1] - u[k-1-N])/N (linear ramp)\n"
     "  ma2  two moving averages in series, tau then tau2 (S-curve), exact at the samples\n"
@@ -306,7 +306,7 @@ static const char description[] =
     "Inputs are quantised to --quantum (1 mV, as the sketch) and filtered in exact integers.\n"
     "--input:\n"
     "  step:AMPLITUDE[:T_START]  0 V before T_START seconds (default 0), AMPLITUDE volts from the first\n"
-    "                            sample at or after it (seed 000: step:5, the constant V_FC = 5 V)\n"
+    "                            sample at or after it (the moving-average-filter note: step:5, the constant V_FC = 5 V)\n"
     "  square:AMPLITUDE:PERIOD   AMPLITUDE for the first half of each PERIOD (seconds), then 0 V;\n"
     "                            PERIOD/2 must be a whole number of samples\n"
     "  csv:FILE                  one sample per row after a header line: the column named u (volts),\n"

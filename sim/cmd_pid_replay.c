@@ -1,5 +1,5 @@
 /* sim/cmd_pid_replay.c - `motionsim pid-replay [--float] VECTOR.csv`: replays a PID_v1 reference
- * vector (reference/pid_v1/: NAME.csv with its set-up in NAME.json) through our pidv1_ctrl
+ * vector (test/data/pid_v1/: NAME.csv with its set-up in NAME.json) through our pidv1_ctrl
  * module and writes CSV `t_ms,computed,output`, one row per vector row. In double (default) the
  * output must equal the vector's `output` column bit for bit; with --float the module runs in
  * 32-bit float, as on the Mega, and must equal the float32/ vectors. Numbers are written in the

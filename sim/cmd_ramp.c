@@ -539,7 +539,7 @@ static const char ramp_description[] =
     "  accel_sps2     change of speed_sps between consecutive mid-times; row 1 from v0 at t = 0\n"
     "                 (the exact ramp gives +a, 0, -a)\n"
     "Algorithms: simplistic (lab eqs. 1-2), leib (lab §4.3.3 steps 1-6), exact (true constant\n"
-    "acceleration), sigmoid (seed 001 S-curve table; options --len --fmin --fmax --flex --timer-hz\n"
+    "acceleration), sigmoid (the S-curve article S-curve table; options --len --fmin --fmax --flex --timer-hz\n"
     "--hold instead of --v0 --vmax --accel --tick-hz).\n"
     "--compare (no --algo) prints, for exact, simplistic and leib, how far each deviates from the\n"
     "exact ramp: move time, largest step-time error, largest and RMS interval error, largest and\n"

@@ -1,5 +1,5 @@
 /* sim/cmd_servo.c - `motionsim servo`: the 20 ms position loop of the ProportionalClosedLoop and
- * PIDClosedLoop sketches (seed 003 sections 4.1-4.2) closed around the DC-motor plant
+ * PIDClosedLoop sketches (the lab handout sections 4.1-4.2) closed around the DC-motor plant
  * (sim/plant_dcmotor.h), with the same controller code and number format as the Mega:
  *
  *   at t_k = k x period:   position := encoder count (the LS7366R read that starts the period)

@@ -1,4 +1,4 @@
-/* sim/pid_vector.h - the PID_v1 reference vectors (reference/pid_v1/README.md, scenarios.md):
+/* sim/pid_vector.h - the PID_v1 reference vectors (test/data/pid_v1/README.md):
  * load NAME.csv and its set-up NAME.json, and replay them through pidv1_ctrl in double or in float,
  * following the vectors' procedure exactly:
  *   set-up: clock := t0_ms; Input/Output/Setpoint := input0/output0/setpoint0; construct with

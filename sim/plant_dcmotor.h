@@ -1,6 +1,6 @@
 /* sim/plant_dcmotor.h - a small 12 V DC gearmotor driven by PWM duty through an H-bridge, with a
  * quadrature encoder on the motor shaft counted x4 by an LS7366R: the plant the servo sketches
- * (seed 003 sections 4.1-4.2) control. Shared by `motionsim servo`, the unit tests and the
+ * (the lab handout sections 4.1-4.2) control. Shared by `motionsim servo`, the unit tests and the
  * ATmega2560 emulator harness (which drives it from the sketch's PWM/DIR pins).
  *
  * Model (everything referred to the motor shaft, SI units):

@@ -1,5 +1,5 @@
 // motion-sketch: stepper
-/* LeibRampStepper - the lab's Leib ramp (seed 003 §4.3.3: constant acceleration by one multiply-add
+/* LeibRampStepper - the lab's Leib ramp (the lab handout §4.3.3: constant acceleration by one multiply-add
  * chain per step, no division) driving the X axis of a RAMPS 1.4 from Timer1's compare interrupt.
  *
  * Defaults are the lab's: v0 = 1 step/s, vmax = 20 steps/s, accel = 10 steps/s^2; watch the LED

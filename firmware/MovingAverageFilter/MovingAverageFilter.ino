@@ -1,5 +1,5 @@
 // motion-sketch: filter
-/* MovingAverageFilter - the acceleration/deceleration filter of seed 000 running at exactly 100 Hz
+/* MovingAverageFilter - the acceleration/deceleration filter of the moving-average-filter note running at exactly 100 Hz
  * on an Arduino Mega 2560: moving average (default, tau = 9 s), two-stage S-curve or exponential,
  * the very same lib/ code (accdec_filter.h) that `motionsim filter` runs.
  *
@@ -391,7 +391,7 @@ void setup()
     accdec_config_t c;
     Serial.begin(MAF_BAUD);
 
-    /* the filter at rest: moving average, tau = 9 s (seed 000) */
+    /* the filter at rest: moving average, tau = 9 s (the moving-average-filter note) */
     (void)accdec_configure(&c, kind, tau_taps * TS_S, tau2_taps * TS_S, TS_S, MAF_MAX_TAPS);
     (void)accdec_start(&filt, &c, taps_buf, MAF_MAX_TAPS);
     pwm_mv_per_num = 1.0f / (float)accdec_den(&c);

@@ -1,5 +1,5 @@
 // motion-sketch: stepper
-/* SCurveStepper - seed 001's sigmoid S-curve: a table of timer periods from fmin to fmax along a
+/* SCurveStepper - the S-curve article's sigmoid S-curve: a table of timer periods from fmin to fmax along a
  * logistic curve, each entry held for `hold` steps, walked backwards to stop. As the seed stresses,
  * the period is changed inside the step timer's own interrupt (Timer1 here), never from another
  * timer. RAMPS 1.4 X axis.

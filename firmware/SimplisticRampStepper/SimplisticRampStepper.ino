@@ -1,5 +1,5 @@
 // motion-sketch: stepper
-/* SimplisticRampStepper - the lab's starting point (seed 003 §4.3.2): the step interval changes by a
+/* SimplisticRampStepper - the lab's starting point (the lab handout §4.3.2): the step interval changes by a
  * fixed amount per step, which "nearly works": the speed creeps up, then the acceleration near vmax
  * is far too large. Kept to compare with LeibRampStepper on the same RAMPS 1.4 X axis and timer.
  *

@@ -1,7 +1,7 @@
 /* MotionPID.h - the C++ face of pidv1_ctrl.h for sketches: the public interface and constants
  * of the Arduino PID library PID_v1 1.2.1 (class PID) under a name that cannot collide with it
  * (neither the class nor the header file, even on a case-insensitive file system), so the lab's
- * code (seed 003 section 4.2) reads the same with MotionPID in place of PID:
+ * code (the lab handout section 4.2) reads the same with MotionPID in place of PID:
  *
  *   double Input, Output, Setpoint;
  *   MotionPID myPID(&Input, &Output, &Setpoint, Kp, Ki, Kd, DIRECT);

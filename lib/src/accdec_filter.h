@@ -1,4 +1,4 @@
-/* accdec_filter.h - one interface over the three acceleration/deceleration filters of seed 000,
+/* accdec_filter.h - one interface over the three acceleration/deceleration filters of the moving-average-filter note,
  * so motionsim and the MovingAverageFilter sketch run the very same code for any kind:
  *   ma   moving average, N1 = tau/Ts taps            (ma_filter.h,  linear acceleration)
  *   ma2  two moving averages in series, N1 + N2 taps (ma2_filter.h, S-curve acceleration)

@@ -1,4 +1,4 @@
-/* exp_filter.h - exponential acceleration/deceleration filter (seed 000, kind 1: the RC circuit):
+/* exp_filter.h - exponential acceleration/deceleration filter (the moving-average-filter note, kind 1: the RC circuit):
  * the exact zero-order-hold discretisation of G(s) = 1/(tau s + 1),
  *
  *     y[k] = a y[k-1] + (1 - a) u[k-1],   a = e^(-Ts/tau) = e^(-1/N),  N = tau/Ts (whole, as for

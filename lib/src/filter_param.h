@@ -1,7 +1,7 @@
-/* filter_param.h - the two numbers every acceleration/deceleration filter starts from (seed 000):
+/* filter_param.h - the two numbers every acceleration/deceleration filter starts from (the moving-average-filter note):
  * the tap count N = tau/Ts, and the input quantum q that turns a voltage into an integer sample.
  *
- *   N = tau/Ts must be a whole number >= 1 (seed 000: tau = 9 s, Ts = 10 ms -> N = 900). Because
+ *   N = tau/Ts must be a whole number >= 1 (the moving-average-filter note: tau = 9 s, Ts = 10 ms -> N = 900). Because
  *   binary floating point rarely divides decimals exactly (2.3/0.01 = 229.99999999999997 in double,
  *   9/0.01 = 900.00002 in the Mega's float), the test is tolerant: tau/Ts is accepted when it lies within 1 ppm of a whole number, which is
  *   then used exactly. Nothing is silently rounded: tau = 9.005 s at Ts = 10 ms is rejected.

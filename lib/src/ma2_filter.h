@@ -1,7 +1,7 @@
-/* ma2_filter.h - two-stage moving-average filter ("S-curve acceleration", seed 000): two moving
+/* ma2_filter.h - two-stage moving-average filter ("S-curve acceleration", the moving-average-filter note): two moving
  * averages in series, G(s) = G1(s) G2(s) with Gi(s) = (1/tau_i)(1 - e^(-tau_i s))/s, discretised
  * exactly with a zero-order hold (N1 = tau1/Ts, N2 = tau2/Ts taps). y is a velocity command in
- * seed 000; a step of height A gives an S-shaped y: its slope (the acceleration) ramps linearly up
+ * the moving-average-filter note; a step of height A gives an S-shaped y: its slope (the acceleration) ramps linearly up
  * to A/max(tau1, tau2) and back, its second derivative (the jerk) is +-A/(tau1 tau2) or 0, and the
  * final value is reached tau1 + tau2 after the step.
  *

@@ -1,4 +1,4 @@
-/* ma_filter.h - moving-average acceleration/deceleration filter ("linear acceleration", seed 000):
+/* ma_filter.h - moving-average acceleration/deceleration filter ("linear acceleration", the moving-average-filter note):
  * the exact zero-order-hold discretisation of G(s) = (1/tau)(1 - e^(-tau s))/s with N = tau/Ts taps,
  *
  *     y[k] = y[k-1] + (u[k-1] - u[k-1-N]) / N  =  (1/N) * (u[k-1] + u[k-2] + ... + u[k-N])

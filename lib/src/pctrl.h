@@ -1,4 +1,4 @@
-/* pctrl.h - proportional position controller, as in the lab's first closed loop (seed 003
+/* pctrl.h - proportional position controller, as in the lab's first closed loop (the lab handout
  * section 4.1): duty % = Kp x (setpoint - measured), clamped to -100 ... +100 %.
  *
  * Positions are encoder counts (int32, the LS7366R's 32-bit count); the error is taken as a

@@ -2,7 +2,7 @@
  * (Brett Beauregard), as a C module: the same sample-time gating, gain scaling, integral clamp,
  * derivative on measurement, P_ON_E/P_ON_M, MANUAL/AUTOMATIC with its Initialize, direction
  * quirks and argument checks, in the same order of operations (P + (I - D)), so it reproduces
- * vectors recorded from the real library bit for bit (test/data/pid_v1/, seed 003 section 4.2).
+ * vectors recorded from the real library bit for bit (test/data/pid_v1/, the lab handout section 4.2).
  *
  * One computation (when AUTOMATIC and now - last_time >= sample_time, unsigned, wrap-safe):
  *   error = setpoint - input;  d_input = input - last_input

@@ -1,6 +1,6 @@
 /* ramp_common.h - what every stepper ramp shares: the move parameters and their checks, the
  * phases, where a move's acceleration, cruise and deceleration steps fall, the lab's choice of
- * the number of acceleration steps (seed 003 §4.3.3 steps 1-2), and real interval -> timer ticks.
+ * the number of acceleration steps (the lab handout §4.3.3 steps 1-2), and real interval -> timer ticks.
  *
  * Conventions of every ramp module (lib/src/ramp_*.h):
  *  - A move of D = |to - from| steps starts at t = 0; step n (1..D) happens at t_n; the interval
@@ -56,7 +56,7 @@ uint32_t ramp_level(uint32_t steps_total, uint32_t peak_level, uint32_t n);
  * decelerate (accel_steps is capped at D/2 here): n <= A accel, n > D - A decel, else cruise. */
 ramp_phase_t ramp_phase_label(uint32_t steps_total, uint32_t accel_steps, uint32_t n);
 
-/* Lab steps 1-2 (seed 003 §4.3.3, Eiderman eqs. 4-5), in float as on the Mega:
+/* Lab steps 1-2 (the lab handout §4.3.3, Eiderman eqs. 4-5), in float as on the Mega:
  * S = (v^2 - v0^2)/(2a) with v = vmax, truncated to a whole step count; if 2S exceeds the move's
  * D steps, v = sqrt(v0^2 + a*D) and S = floor(D/2). Gives the peak speed v (sps) and S. */
 void ramp_accel_steps(float v0_sps, float vmax_sps, float accel_sps2, uint32_t steps_total,

@@ -1,5 +1,5 @@
 /* ramp_exact.h - the ideal the other ramps approximate: step times of true constant acceleration
- * (seed 003 §4.3.1: "uniform acceleration, constant speed and uniform deceleration"), so the
+ * (the lab handout §4.3.1: "uniform acceleration, constant speed and uniform deceleration"), so the
  * velocity is exactly linear in time.
  *   position x(t) = v0 t + a t^2/2 until x_a = min((vmax^2 - v0^2)/(2a), D/2); then cruise at
  *   v_peak = sqrt(v0^2 + 2 a x_a) (= vmax unless the move is short); deceleration mirrors it.

@@ -1,6 +1,6 @@
 /* ramp_leib.h - the Leib ramp: constant acceleration by one multiply-add chain per step, no
  * division (A. Eiderman, "Real Time Stepper Motor Linear Ramping Just by Addition and
- * Multiplication", eqs. 17-22), exactly as the lab's steps 1-6 (seed 003 §4.3.3):
+ * Multiplication", eqs. 17-22), exactly as the lab's steps 1-6 (the lab handout §4.3.3):
  *   S = (v^2 - v0^2)/(2a), v = vmax; if 2S > D: v = sqrt(v0^2 + a*D), S = floor(D/2)  (ramp_common)
  *   p1 = F/sqrt(v0^2 + 2a)   ps = F/v   R = a/F^2                      (eqs. 6, 7, 8)
  *   per step: m = -R (accel) / 0 (cruise) / +R (decel); q = m*p*p; p = p*(1 + q + 1.5*q*q);
@@ -9,7 +9,7 @@
  * the AVR perform the same IEEE single-precision operations in the same order.
  * One addition to the lab: p1 is never shorter than ps (only when S = 0, e.g. a one-step move or
  * a = huge, would F/sqrt(v0^2 + 2a) exceed the peak speed).
- * Accuracy (anchors.md, checked in test_ramp_leib): step 1 is 50 % short (p1 is the speed after
+ * Accuracy (the published peer comparison, checked in test_ramp_leib): step 1 is 50 % short (p1 is the speed after
  * one step, not the mean over it); steps 11-100 within 5.8 %, 101-1000 within 0.59 %, beyond 0.06 %.
  * Cost on the AVR (16 MHz, float): about 1,080 cycles per accel/decel update, none in cruise.
  */

@@ -1,4 +1,4 @@
-/* ramp_sigmoid.c - seed 001's sigmoid S-curve period table and stepping through it (see ramp_sigmoid.h). */
+/* ramp_sigmoid.c - the S-curve article's sigmoid S-curve period table and stepping through it (see ramp_sigmoid.h). */
 #include "ramp_sigmoid.h"
 
 

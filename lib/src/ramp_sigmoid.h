@@ -1,4 +1,4 @@
-/* ramp_sigmoid.h - the sigmoid S-curve speed table of seed 001 (CalculateSModelLine): a logistic
+/* ramp_sigmoid.h - the sigmoid S-curve speed table of the S-curve article (CalculateSModelLine): a logistic
  * curve stretched from fmin to fmax over len entries,
  *   freq[i]   = fmin + (fmax - fmin) / (1 + exp(-flex * (i - len/2) / (len/2))),   i in [0, len)
  *   period[i] = (uint16_t)(timer_hz / freq[i])   (truncated, as the seed does; must fit 16 bits)

@@ -1,5 +1,5 @@
 /* ramp_simplistic.h - the lab's starting point, "a simplistic approach that nearly works"
- * (seed 003 §4.3.2, eqs. 1-2): the step interval changes by a fixed amount per step,
+ * (the lab handout §4.3.2, eqs. 1-2): the step interval changes by a fixed amount per step,
  *   dp = (p_max - p_min)/S,  p_max = F/v0 (first step, at the minimum speed),  p_min = F/v,
  *   p -= dp while accelerating, p += dp while decelerating, unchanged in cruise,
  * with S and v chosen as for the Leib ramp (lab steps 1-2, ramp_common), so both ramps accelerate

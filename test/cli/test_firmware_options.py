@@ -20,7 +20,7 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 STANDIN = os.path.join(ROOT, "test", "firmware", "pid_v1_standin", "PID")
 # The real library's source files (PID_v1 1.2.1: PID_v1.h and PID_v1.cpp in the library "PID",
-# reference/pid_v1/README.md "Provenance").
+# test/data/pid_v1/README.md "Provenance").
 REAL_PID_V1_FILES = ("PID_v1.h", "PID_v1.cpp")
 # Folders on the include path of every sketch build: lib/src (library MotionCore) and MotionBoard.
 OUR_INCLUDE_DIRS = (os.path.join(ROOT, "lib", "src"),

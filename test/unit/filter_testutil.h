@@ -20,7 +20,7 @@ static inline int16_t tu_sample(uint64_t seed, uint64_t k)
     return (int16_t)((int32_t)((tu_mix(k ^ (seed << 40)) >> 32) % 65535u) - 32767);
 }
 
-/* Seed 000's input: 0 before k0, amplitude from k0 on (counts of the quantum). */
+/* The moving-average-filter note's input: 0 before k0, amplitude from k0 on (counts of the quantum). */
 static inline int16_t tu_step(int16_t amplitude, uint32_t k0, uint32_t k)
 {
     return k >= k0 ? amplitude : 0;

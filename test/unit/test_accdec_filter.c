@@ -32,7 +32,7 @@ static void kinds_have_names_and_only_those(void **state)
     assert_int_equal(k, ACCDEC_EXP);
 }
 
-/* Seed 000's parameters for each kind: tau = 9 s (tau2 = 3 s for ma2), Ts = 10 ms. */
+/* The moving-average-filter note's parameters for each kind: tau = 9 s (tau2 = 3 s for ma2), Ts = 10 ms. */
 static void seed_000_configurations(void **state)
 {
     accdec_config_t c;
@@ -151,7 +151,7 @@ static void milli_quanta_rounding(void **state)
     assert_int_equal(accdec_milli_quanta(-32767LL * 2147418112LL, 2147418112u), -32767000);
 }
 
-/* Seed 000 checkpoint through the interface, in the stream's units (uV with q = 1 mV): the moving
+/* The moving-average-filter note checkpoint through the interface, in the stream's units (uV with q = 1 mV): the moving
  * average is 2.5 V half-way (4.5 s) and 5 V at 9 s; the two-stage filter 2.5 V at 6 s, 5 V at 12 s. */
 static void seed_000_in_microvolts(void **state)
 {

@@ -1,4 +1,4 @@
-/* Unit tests: exp_filter - the exponential acc/dec filter of seed 000 (kind 1, "equivalent to RC
+/* Unit tests: exp_filter - the exponential acc/dec filter of the moving-average-filter note (kind 1, "equivalent to RC
  * circuit"): exact ZOH discretisation of 1/(tau s + 1), in fixed point with error feedback.
  * Expectations: the closed-form step response A (1 - e^(-t/tau)) at the sample instants, the
  * recurrence y[k] = a y[k-1] + (1 - a) u[k-1] evaluated in long double, and expm1(). */
@@ -40,7 +40,7 @@ static void gain_is_the_rounded_exact_value(void **state)
     }
 }
 
-/* Seed 000's scenario with the exponential filter: tau = 9 s, Ts = 10 ms, 5 V step at t = 0 held
+/* the moving-average-filter note's scenario with the exponential filter: tau = 9 s, Ts = 10 ms, 5 V step at t = 0 held
  * 20 s. At every sample y[k] = 5 V (1 - e^(-k Ts / tau)) within 1e-6 V; y[0] = 0 and
  * y[1] = 5 V (1 - a) (the one-sample ZOH delay); after one tau (k = 900) 63.2 % of 5 V. */
 static void seed_000_step_matches_the_closed_form_at_the_samples(void **state)

@@ -6,7 +6,7 @@
 
 #include "filter_param.h"
 
-/* Seed 000: tau = 9 s, Ts = 10 ms gives N = 900 taps, also from the Mega's float (9.0f/0.01f is
+/* The moving-average-filter note: tau = 9 s, Ts = 10 ms gives N = 900 taps, also from the Mega's float (9.0f/0.01f is
  * about 900.00002). Quotients that binary floating point does not give as whole numbers
  * (2.3/0.01 = 229.99999999999997, 0.07/0.01 = 7.000000000000001) are still whole numbers of taps. */
 static void seed_000_tau_9s_ts_10ms_is_900_taps(void **state)

@@ -38,7 +38,7 @@ static void lines_have_fixed_decimals(void **state)
 {
     (void)state;
     check_line(0, 0, 0, "0,0.000,0.000000");
-    check_line(4500, 5000, 2500000, "4500,5.000,2.500000"); /* seed 000: half-way */
+    check_line(4500, 5000, 2500000, "4500,5.000,2.500000"); /* the moving-average-filter note: half-way */
     check_line(10, 5000, 5556, "10,5.000,0.005556");
     check_line(9000, 1234, 4999999, "9000,1.234,4.999999");
     check_line(20, -1, -500, "20,-0.001,-0.000500");

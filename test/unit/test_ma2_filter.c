@@ -1,4 +1,4 @@
-/* Unit tests: ma2_filter - two moving averages in series (the S-curve of seed 000, "Two-stage
+/* Unit tests: ma2_filter - two moving averages in series (the S-curve of the moving-average-filter note, "Two-stage
  * moving average acceleration"), exact at the sample instants. Expectations come from the
  * continuous-time step response of G1 G2 (piecewise quadratic), its superposition for arbitrary
  * held inputs, and direct sums of the definition. */
@@ -29,7 +29,7 @@ static double volts(int64_t num, const ma2_filter_t *f)
     return (double)num * 0.001 / ma2_filter_den(f);
 }
 
-/* Seed 000 scenario with the S-curve filter: tau1 = 9 s, tau2 = 3 s, Ts = 10 ms, a 5 V step held
+/* the moving-average-filter note scenario with the S-curve filter: tau1 = 9 s, tau2 = 3 s, Ts = 10 ms, a 5 V step held
  * 20 s. Every sample equals the continuous S-curve at t = k Ts within 1e-9 V; the output reaches
  * 5 V at exactly tau1 + tau2 = 12 s and not before; half-way (6 s) it is 2.5 V. */
 static void seed_000_step_gives_the_continuous_s_curve_at_every_sample(void **state)
@@ -126,7 +126,7 @@ static void check_s_curve(uint16_t n1, uint16_t n2, int16_t amp, uint32_t half)
 static void s_curve_has_continuous_velocity_and_bounded_jerk(void **state)
 {
     (void)state;
-    /* seed 000 scenario: 5 V square wave, 30 s period, tau1 = 9 s, tau2 = 3 s, Ts = 10 ms */
+    /* the moving-average-filter note scenario: 5 V square wave, 30 s period, tau1 = 9 s, tau2 = 3 s, Ts = 10 ms */
     check_s_curve(900, 300, 5000, 1500);
     check_s_curve(300, 900, 5000, 1500);
     check_s_curve(400, 400, -3210, 1000); /* equal stages: triangular acceleration */
@@ -173,7 +173,7 @@ static int64_t num_at(uint64_t seed, uint64_t k, uint16_t n1, uint16_t n2)
     return 2 * t + s1_at(seed, k, n1) - (k >= n2 ? s1_at(seed, k - n2, n1) : 0);
 }
 
-/* No drift: after 10^8 full-scale random samples (seed 000's tau1 = 9 s, tau2 = 3 s) the output
+/* No drift: after 10^8 full-scale random samples (the moving-average-filter note's tau1 = 9 s, tau2 = 3 s) the output
  * is still exactly the definition recomputed from the inputs; checked every 2.5 * 10^7 samples. */
 static void no_drift_after_1e8_samples(void **state)
 {

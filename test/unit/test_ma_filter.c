@@ -1,4 +1,4 @@
-/* Unit tests: ma_filter - the moving-average acc/dec filter of seed 000 (N = tau/Ts taps, exact
+/* Unit tests: ma_filter - the moving-average acc/dec filter of the moving-average-filter note (N = tau/Ts taps, exact
  * ZOH discretisation of G(s) = (1/tau)(1 - e^(-tau s))/s, integer accumulator).
  * Expectations come from the continuous-time formula (the ideal ramp), from the seed's own
  * delay state-space route re-derived below, and from the direct mean of the last N samples. */
@@ -19,9 +19,9 @@ static double volts(int32_t sum, uint16_t taps)
     return (double)sum * Q_V / taps;
 }
 
-/* ---- seed 000 checkpoint ------------------------------------------------------------------- */
+/* ---- the moving-average-filter note checkpoint ------------------------------------------------------------------- */
 
-/* Seed 000 ("Matlab simulation", "It is successfully accelerated in 9 seconds"): tau = 9 s,
+/* the moving-average-filter note ("Matlab simulation", "It is successfully accelerated in 9 seconds"): tau = 9 s,
  * Ts = 10 ms, a 5 V step held for 20 s. The continuous output is the ideal ramp
  * y(t) = 5 V * t / 9 s for 0 <= t <= 9 s, then 5 V. With the documented convention (the step is
  * sample k = 0 at t = 0; y[k] is the output at t = k Ts) every sample must lie within 1e-6 V of
@@ -80,7 +80,7 @@ static void step_later_reaches_final_value_exactly_tau_after_the_step(void **sta
 
 /* ---- the seed's own route: getDelayModel(c2d(G, Ts, 'zoh')) and its state-space loop -------- */
 
-/* Derivation of the matrices (seed 000, "Represent discrete transfer function H as a difference
+/* Derivation of the matrices (the moving-average-filter note, "Represent discrete transfer function H as a difference
  * equation", getDelayModel):
  *
  * MATLAB builds G = 1/tau1*(1-exp(-tau1*s))/s as a series connection: the integrator 1/s acts on
@@ -158,7 +158,7 @@ static int16_t square_input(uint32_t k)
     return tu_square(5000, 1500, k); /* 5 V for 15 s, 0 V for 15 s */
 }
 
-/* Seed 000 "Matlab simulation (1/2), (2/2)": tau1 = 9, sampling time 0.01, max simulation time
+/* the moving-average-filter note "Matlab simulation (1/2), (2/2)": tau1 = 9, sampling time 0.01, max simulation time
  * 20 s, Vmax = 5 V: the delay state-space loop and ma_filter give the same output at every
  * sample; also for a 30 s square wave over 60 s (deceleration too). */
 static void seed_000_delay_model_loop_gives_the_same_output(void **state)

@@ -1,4 +1,4 @@
-/* Unit tests: MotionPID, the PID_v1-compatible C++ class the sketches use (seed 003 section 4.2:
+/* Unit tests: MotionPID, the PID_v1-compatible C++ class the sketches use (the lab handout section 4.2:
  * "myPID.SetOutputLimits(...); myPID.SetSampleTime(...); myPID.SetMode(AUTOMATIC)"), replayed
  * through its PID_v1-style methods over the recorded PID_v1 1.2.1 vectors in test/data/pid_v1/
  * (host double): Output and Compute()'s return value for every row, plus the getters. The clock
@@ -183,7 +183,7 @@ static void set_clock_replaces_the_default(void **state)
     assert_true(pid.Compute());
 }
 
-/* ---- the held-back vectors' behaviours (reference/pid_v1/README.md, copy in test/data/pid_v1/),
+/* ---- the held-back vectors' behaviours (test/data/pid_v1/README.md),
  * through the class: the same situations as test_pidv1_ctrl.c, expectations worked out by hand
  * from the README (Kp 2, Ki 5, Kd 1 at 20 ms: |kp| 2, |ki| 0.1, |kd| 50). ---- */
 static void near(double got, double want)

@@ -1,4 +1,4 @@
-/* Unit tests: pidv1_ctrl against the PID_v1 1.2.1 reference vectors (seed 003 section 4.2 asks for
+/* Unit tests: pidv1_ctrl against the PID_v1 1.2.1 reference vectors (the lab handout section 4.2 asks for
  * "PID by Brett Beauregard"; the vectors in test/data/pid_v1/ were recorded from that library,
  * see the README there), in double (pid_*) and in float (pidf_*), every row bit for bit:
  * computed, output, and the internal state columns (output_sum, last_input, last_time_ms, working
@@ -352,7 +352,7 @@ static void clock_wraps_without_a_gap(void **state)
 }
 
 /* ---- behaviours of the held-back vectors d, f and i, from the reference README's facts ----
- * reference/pid_v1/README.md (copy: test/data/pid_v1/README.md) describes scenarios whose CSVs
+ * test/data/pid_v1/README.md describes scenarios whose CSVs
  * are held back. Each test below builds the situation and checks the README's statement, with
  * expectations worked out by hand from its "One computation, in order" and "Gain scaling"
  * sections (Kp 2, Ki 5, Kd 1, SetSampleTime(20): |kp| = 2, |ki| = 5 x 0.1 x 0.2 = 0.1,

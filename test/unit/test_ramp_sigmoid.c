@@ -1,4 +1,4 @@
-/* Unit tests: the sigmoid S-curve table of seed 001 (lib/src/ramp_sigmoid.h) and stepping through it.
+/* Unit tests: the sigmoid S-curve table of the S-curve article (lib/src/ramp_sigmoid.h) and stepping through it.
  * Reference: the seed's formula freq[i] = fmin + (fmax - fmin)/(1 + exp(-flex (i - len/2)/(len/2))),
  * period[i] = timer_hz/freq[i] truncated to 16 bits, evaluated here in double. */
 #include "cmocka_all.h"
@@ -9,7 +9,7 @@
 
 #include "ramp.h"
 
-/* Seed 001's four curves: CalculateSModelLine(Freq, Period, len, fre_max, fre_min, flexible) with
+/* the S-curve article's four curves: CalculateSModelLine(Freq, Period, len, fre_max, fre_min, flexible) with
  * (1000, 56000, 16000, 4), (1000, 64000, 500, 8), (1000, 64000, 500, 15), (1000, 40000, 500, 5) at
  * its 10 MHz timer; hold = 4 as its ISR loads a new period every 4th interrupt. */
 static const ramp_sigmoid_params_t SEED[4] = {
@@ -69,7 +69,7 @@ static void table_follows_the_seed_formula(void **state)
     }
 }
 
-/* Seed 001's worked example, (1000, 64000, 500, 8): "the last point is 10000000/64000 = 156"; the
+/* the S-curve article's worked example, (1000, 64000, 500, 8): "the last point is 10000000/64000 = 156"; the
  * first is below its "10000000/500 = 20000" because the curve starts at fmin + (fmax - fmin)/(1 + e^8). */
 static void seed_example_end_points(void **state)
 {
@@ -81,7 +81,7 @@ static void seed_example_end_points(void **state)
     assert_true(table[0] < 20000);
 }
 
-/* "mind: 10000000/65535 = 152, so fre_min can't be less than 152" (seed 001): the bound is
+/* "mind: 10000000/65535 = 152, so fre_min can't be less than 152" (the S-curve article): the bound is
  * timer_hz/65535 = 152.59 Hz, so 152 is refused and 153 accepted, with its period inside 16 bits. */
 static void fmin_bound_of_the_seed(void **state)
 {

@@ -1,4 +1,4 @@
-/* Unit tests: the simplistic ramp (lib/src/ramp_simplistic.h), seed 003 §4.3.2 eqs. 1-2:
+/* Unit tests: the simplistic ramp (lib/src/ramp_simplistic.h), the lab handout §4.3.2 eqs. 1-2:
  * dp = (p_max - p_min)/S, p -= dp accelerating, p += dp decelerating. */
 #include "cmocka_all.h"
 

@@ -1,6 +1,6 @@
-/* Unit tests: the proportional controller (seed 003 section 4.1: "percentDutyCycle = Kp x error",
+/* Unit tests: the proportional controller (the lab handout section 4.1: "percentDutyCycle = Kp x error",
  * Kp = 0.02, duty -100..+100 %), the duty -> 8-bit PWM helper, and closed loops of each
- * controller around the DC-motor plant that must settle (seed 003 sections 4.1-4.2).
+ * controller around the DC-motor plant that must settle (the lab handout sections 4.1-4.2).
  */
 #include "cmocka_all.h"
 
@@ -14,7 +14,7 @@
 
 /* ---- pctrl ---- */
 
-/* Seed 003 section 4.1: Kp = 0.02 and error = setpoint - measured; 1000 counts -> 20 %. */
+/* the lab handout section 4.1: Kp = 0.02 and error = setpoint - measured; 1000 counts -> 20 %. */
 static void p_duty_is_kp_times_error(void **state)
 {
     pctrl_t c;

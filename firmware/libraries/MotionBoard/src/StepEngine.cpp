@@ -58,14 +58,21 @@ inline uint8_t next_slot(uint8_t i)
     return (uint8_t)((i + 1U) % STEP_ENGINE_SLOTS);
 }
 
-inline uint8_t cur_index()
+/* the interrupt's current slot: a two-byte pointer it may change at any time, so read with
+ * interrupts off (a torn read would point anywhere) */
+inline StepSlot *cur_slot()
 {
     StepSlot *c;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         c = step_engine.cur;
     }
-    return (uint8_t)(c - step_engine.slot);
+    return c;
+}
+
+inline uint8_t cur_index()
+{
+    return (uint8_t)(cur_slot() - step_engine.slot);
 }
 
 /* the slots the interrupt has taken since the last look no longer count as queued (the one it
@@ -354,7 +361,7 @@ void StepEngine::service(step_planner_t &planner)
     /* a short move (nothing more to plan), the lead reached, or every slot full: start */
     if (s_open && !s.running && !s.done && s.cur->other->ready)
         start_stepping();
-    if (s_open && !step_planner_busy(&planner) && !s.finishing && !s.done && !s.cur->other->ready) {
+    if (s_open && !step_planner_busy(&planner) && !s.finishing && !s.done && !cur_slot()->other->ready) {
         ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
         {
             if (s.running)

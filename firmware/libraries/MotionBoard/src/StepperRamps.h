@@ -4,7 +4,7 @@
  *
  *   TrapezoidRamp (SimplisticRampStepper, LeibRampStepper, ExactRampStepper): v0, vmax, accel
  *                 -> lib/src/step_planner.h (exact: step_exact.h; the others through ramp.h)
- *   SCurveRamp    (SCurveStepper): seed 001's sigmoid table; v0/vmax are its fmin/fmax, plus flex,
+ *   SCurveRamp    (SCurveStepper): the S-curve article's sigmoid table; v0/vmax are its fmin/fmax, plus flex,
  *                 len and hold; its acceleration follows from those, so `set accel` is refused
  *                 (MS_ERR_DERIVED_PARAM) and `?` reports the table's mean acceleration.
  * Every `set` checks the new parameter set with the lib module before keeping it (the longest
