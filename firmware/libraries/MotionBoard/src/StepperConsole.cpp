@@ -41,8 +41,16 @@ void StepperConsole::poll()
     const char *line;
     StepEngine::poll();
     StepEngine::service(planner_);
-    if (StepEngine::take_done(done_at))
+    if (StepEngine::take_done(done_at)) {
         report_done(done_at);
+        if (has_next_) {
+            /* the target accepted while the last steps ran: its move starts now, from rest */
+            has_next_ = false;
+            step_planner_halt(&planner_, done_at);
+            if (step_planner_move(&planner_, next_target_) == MS_OK)
+                StepEngine::open_move();
+        }
+    }
     queue_.pump();
     line = serial_.poll();
     if (line != NULL)
@@ -89,6 +97,18 @@ void StepperConsole::handle_target(const char *word)
         serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
         return;
     }
+    if (StepEngine::moving() && !step_planner_busy(&planner_)) {
+        /* every step of the move is queued: it ends at rest at its target, with its DONE; the new
+         * move follows from there (a target sent meanwhile replaces this one, with no DONE) */
+        from = step_planner_target(&planner_);
+        has_next_ = true;
+        next_target_ = to;
+        serial_.out().print(F("OK "));
+        serial_.out().print(from);
+        serial_.out().print(' ');
+        serial_.out().println(to);
+        return;
+    }
     c = StepEngine::extend(ended);
     if (c == StepEngine::ENDED) {
         report_done(ended); /* the move that just ended gets its DONE before the new OK */
@@ -116,7 +136,9 @@ void StepperConsole::handle_stop(bool halt)
 {
     int32_t ended;
     Print &out = serial_.out();
-    StepEngine::Continuation c = StepEngine::extend(ended);
+    StepEngine::Continuation c;
+    has_next_ = false; /* a target waiting for the move's end is dropped */
+    c = StepEngine::extend(ended);
     if (c == StepEngine::ENDED)
         report_done(ended);
     if (c != StepEngine::CONTINUES) {
@@ -184,7 +206,7 @@ void StepperConsole::reply_status()
     out.print(F("pos="));
     out.print(StepEngine::position());
     out.print(F(" target="));
-    out.print(step_planner_target(&planner_));
+    out.print(has_next_ ? next_target_ : step_planner_target(&planner_));
     out.print(F(" state="));
     out.print(ramp_phase_name(moving && phase != 0 ? (ramp_phase_t)phase : (moving ? RAMP_ACCEL : RAMP_IDLE)));
     ramp_.print_params(out);

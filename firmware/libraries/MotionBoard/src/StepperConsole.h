@@ -6,7 +6,10 @@
  *                        While moving, the move continues from its current speed to the new target
  *                        (no speed jump; a target behind, or closer than the stopping distance,
  *                        makes it decelerate, reverse and approach); "from" is where the new plan
- *                        starts; the replaced move gets no DONE, the new one does.
+ *                        starts; the replaced move gets no DONE, the new one does. If every
+ *                        step of the move is already queued (it is about to end at rest), the
+ *                        move keeps its DONE and the new one starts from its target after it:
+ *                        "OK <old target> <to>", "DONE <old target>", later "DONE <to>".
  *   stop                 decelerate at accel to rest: "OK stop", then "DONE <position>"
  *   !                    halt now, no further step: "OK halt", then "DONE <position>"
  *                        (either while idle: "OK stop (not moving)" / "OK halt (not moving)")
@@ -37,7 +40,10 @@
 
 class StepperConsole {
 public:
-    explicit StepperConsole(StepperRamp &ramp) : ramp_(ramp), queue_(Serial), serial_(Serial, queue_, 240) {}
+    explicit StepperConsole(StepperRamp &ramp)
+        : ramp_(ramp), queue_(Serial), serial_(Serial, queue_, 240), has_next_(false), next_target_(0)
+    {
+    }
 
     /* Serial at 9600 baud, the engine's pins and timer, the planner; prints "READY <name>". */
     void begin(const __FlashStringHelper *sketch_name);
@@ -59,6 +65,8 @@ private:
     step_planner_t planner_;
     SerialOutQueue queue_; /* before serial_, which is built on it */
     MotionSerial serial_;
+    bool has_next_;       /* a target accepted while the move's last steps were queued */
+    int32_t next_target_;
 };
 
 #endif
