@@ -1,59 +1,75 @@
 // motion-sketch: servo
-/* ProportionalClosedLoop - closed-loop position control of a DC gearmotor with a proportional
- * controller (seed 003 section 4.1): every 20 ms the encoder position is read from the LS7366R
- * and the PWM duty is set to
+/* ProportionalClosedLoop - position control of a DC gearmotor with a proportional controller
+ * (the lab handout, section 4.1). Every 20 ms controlLoop() reads the motor's position from the
+ * LS7366R encoder counter and sets the PWM duty to
  *     percentDutyCycle = Kp x (positionSetPoint - measuredPosition),  clamped to -100..+100 %
- * with Kp = 0.02 % per count by default. A number sent over the serial port sets the setpoint.
+ * and every 1000 ms printLoop() prints one status line. A number sent over the serial port is
+ * the new setpoint; "kp <value>" retunes Kp; "?" prints the state (9600 baud, line endings CR,
+ * LF or both; the protocol is in MotionBoard/ServoSerial.h, docs/serial.md).
  *
- * Board: Arduino Mega 2560 + Arduino Motor Shield R3 (channel A) + LS7366R on SPI; pins in
- * MotionBoard/ServoPins.h. Serial 9600 baud, protocol in MotionBoard/ServoConsole.h:
- *   <counts> | kp <value> | ?      replies OK ... / ERR ...; "READY ProportionalClosedLoop" at boot;
- *   every second: t_ms=<ms> setpoint=<n> position=<n> error=<n> duty=<%>
- *
- * Timing: two loops scheduled "blink without delay" style on millis(), each by advancing its own
- * deadline by exactly one period (last += period), so neither drifts: the control loop every
- * 20 ms (sample the encoder, compute, write the PWM, in that order), the print loop every 1000 ms.
- *
- * Serial output never makes the control loop wait (MotionBoard/ServoConsole.h, SerialOutQueue.h):
- * every line goes into a 256-byte queue that console.poll() feeds to Serial only as fast as its
- * transmit buffer takes it; a command is read only when its longest reply fits in the queue
- * (otherwise it waits unread: back-pressure), and the status line is deferred until it fits (no
- * command is read meanwhile). At 9600 baud a blocking Serial.print() used to stretch control
- * periods to 67 ms when a reply met the status line; now they stay within the millis() jitter
- * (19.4-20.5 ms) while commands are answered.
- *
- * The same controller code (lib/src/pctrl.c, float) and PWM quantisation (lib/src/duty_pwm.c) run
- * in `motionsim servo --ctrl p`.
+ * Board: Arduino Mega 2560 + Arduino Motor Shield R3 (channel A) + LS7366R on SPI; the pins are
+ * in MotionBoard/ServoPins.h. The files behind this sketch:
+ *   LS7366R.h     encoder.read(): the 32-bit count over SPI
+ *   HBridge.h     motor.setDuty(%): 8-bit PWM on D3 and the direction pin D12
+ *   pctrl.h       pctrl_kp_duty_pct(): the P law above (lib/, the code `motionsim servo` runs)
+ *   ServoSerial.h reads and answers the command lines; output never makes the loops wait
  */
 #include <HBridge.h>
 #include <LS7366R.h>
-#include <ServoConsole.h>
 #include <ServoPins.h>
+#include <ServoSerial.h>
 #include <pctrl.h>
 
-const uint32_t controlInterval = 20;  /* ms */
-const uint32_t printInterval = 1000;  /* ms */
-const float Kp = 0.02f;               /* % duty per count (the lab's value) */
+// ---- the controller ----
+float Kp = 0.02;            // % duty per count of error (the lab's value)
+long positionSetPoint = 0;  // counts
+long measuredPosition = 0;  // counts
+float percentDutyCycle = 0; // -100..+100 %
 
+// ---- timing: two loops, each advanced by exactly one period so neither drifts ----
+const unsigned long controlInterval = 20; // ms
+const unsigned long printInterval = 1000; // ms
+unsigned long lastControlTime;
+unsigned long lastPrintTime;
+
+// ---- the board ----
 LS7366R encoder(SERVO_PIN_ENCODER_CS);
 HBridge motor(SERVO_PIN_PWM, SERVO_PIN_DIR, SERVO_PIN_BRAKE);
-ServoConsole console(Serial, ServoConsole::P_ONLY); /* every line goes out through its queue: never blocks */
+ServoSerial servoSerial(Serial, ServoSerial::KP_ONLY);
 
-ServoState servo; /* setpoint, measured position, duty, gains */
-pctrl_t controller;
-uint32_t lastControlMs;
-uint32_t lastPrintMs;
-
+// Every 20 ms: sample the encoder, compute the duty, drive the motor (in that order).
 void controlLoop()
 {
-    servo.position_counts = encoder.read();
-    servo.duty_pct = pctrl_duty_pct(&controller, servo.setpoint_counts, servo.position_counts);
-    motor.setDuty(servo.duty_pct);
+    measuredPosition = encoder.read();
+    percentDutyCycle = pctrl_kp_duty_pct(Kp, positionSetPoint, measuredPosition);
+    motor.setDuty(percentDutyCycle);
 }
 
+// Every 1000 ms: "t_ms=<scheduled time> setpoint=<n> position=<n> error=<n> duty=<%>".
 void printLoop()
 {
-    console.queueStatus(lastPrintMs, servo);
+    servoSerial.printStatus(lastPrintTime, positionSetPoint, measuredPosition, percentDutyCycle);
+}
+
+// On every pass: one command line, already checked (and answered "OK ...") by servoSerial.
+void serialCommands()
+{
+    ServoCommand command;
+    if (!servoSerial.readCommand(command))
+        return;
+    switch (command.what) {
+    case ServoCommand::SETPOINT:
+        positionSetPoint = command.setpoint;
+        break;
+    case ServoCommand::KP:
+        Kp = command.gain;
+        break;
+    case ServoCommand::QUERY:
+        servoSerial.replyState(positionSetPoint, measuredPosition, percentDutyCycle, Kp);
+        break;
+    default: // KI, KD: refused by a KP_ONLY servoSerial
+        break;
+    }
 }
 
 void setup()
@@ -61,28 +77,22 @@ void setup()
     Serial.begin(9600);
     motor.begin();
     if (!encoder.begin())
-        console.out().println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
-    servo.setpoint_counts = 0;
-    servo.position_counts = encoder.read();
-    servo.duty_pct = 0;
-    servo.kp = Kp;
-    servo.ki = servo.kd = 0;
-    pctrl_init(&controller, Kp);
-    lastControlMs = lastPrintMs = millis();
-    console.ready(F("ProportionalClosedLoop"));
+        servoSerial.out().println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
+    measuredPosition = encoder.read();
+    lastControlTime = lastPrintTime = millis();
+    servoSerial.out().println(F("READY ProportionalClosedLoop"));
 }
 
 void loop()
 {
-    uint32_t now = millis();
-    if (now - lastControlMs >= controlInterval) {
-        lastControlMs += controlInterval;
+    unsigned long now = millis();
+    if (now - lastControlTime >= controlInterval) {
+        lastControlTime += controlInterval;
         controlLoop();
     }
-    if (now - lastPrintMs >= printInterval) {
-        lastPrintMs += printInterval;
+    if (now - lastPrintTime >= printInterval) {
+        lastPrintTime += printInterval;
         printLoop();
     }
-    if (console.poll(servo) == ServoConsole::GAINS_CHANGED)
-        pctrl_set_kp(&controller, servo.kp); /* the console has already checked it */
+    serialCommands();
 }

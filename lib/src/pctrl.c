@@ -33,7 +33,12 @@ int32_t pctrl_error_counts(int32_t setpoint_counts, int32_t measured_counts)
 
 float pctrl_duty_pct(const pctrl_t *c, int32_t setpoint_counts, int32_t measured_counts)
 {
-    float duty = c->kp_pct_per_count * (float)pctrl_error_counts(setpoint_counts, measured_counts);
+    return pctrl_kp_duty_pct(c->kp_pct_per_count, setpoint_counts, measured_counts);
+}
+
+float pctrl_kp_duty_pct(float kp_pct_per_count, int32_t setpoint_counts, int32_t measured_counts)
+{
+    float duty = kp_pct_per_count * (float)pctrl_error_counts(setpoint_counts, measured_counts);
     if (duty > PCTRL_DUTY_MAX_PCT)
         return PCTRL_DUTY_MAX_PCT;
     if (duty < -PCTRL_DUTY_MAX_PCT)

@@ -40,8 +40,13 @@ motion_status_t pctrl_set_kp(pctrl_t *c, float kp_pct_per_count);
 /* setpoint - measured as a wrapping 32-bit difference. */
 int32_t pctrl_error_counts(int32_t setpoint_counts, int32_t measured_counts);
 
-/* Kp x (setpoint - measured), clamped to [-100, +100] %. */
+/* Kp x (setpoint - measured), clamped to [-100, +100] %, with the controller's gain. */
 float pctrl_duty_pct(const pctrl_t *c, int32_t setpoint_counts, int32_t measured_counts);
+
+/* The same with the gain given directly (ProportionalClosedLoop keeps Kp as its own variable);
+ * pctrl_duty_pct is this call with c's gain. kp must be finite (the sketch's serial commands
+ * accept 0..1000 only). */
+float pctrl_kp_duty_pct(float kp_pct_per_count, int32_t setpoint_counts, int32_t measured_counts);
 
 #ifdef __cplusplus
 }

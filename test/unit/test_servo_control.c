@@ -53,6 +53,25 @@ static void p_error_wraps_like_the_counter(void **state)
     assert_true(pctrl_duty_pct(&c, INT32_MIN + 3, INT32_MAX - 2) == 6.0f);
 }
 
+/* ProportionalClosedLoop calls pctrl_kp_duty_pct(Kp, ...) with its own Kp; motionsim calls
+ * pctrl_duty_pct(&c, ...): the same number for every gain and error. */
+static void p_duty_with_the_gain_given_is_the_controllers(void **state)
+{
+    static const float gains[] = {0.0f, 0.02f, 0.3f, 1.0f, 1000.0f};
+    static const int32_t errs[][2] = {{1000, 0}, {0, 1000}, {202, 0}, {5001, 0}, {INT32_MIN + 3, INT32_MAX - 2}};
+    pctrl_t c;
+    size_t i, j;
+    (void)state;
+    for (i = 0; i < sizeof gains / sizeof gains[0]; i++) {
+        assert_int_equal(pctrl_init(&c, gains[i]), MS_OK);
+        for (j = 0; j < sizeof errs / sizeof errs[0]; j++)
+            assert_true(pctrl_kp_duty_pct(gains[i], errs[j][0], errs[j][1]) ==
+                        pctrl_duty_pct(&c, errs[j][0], errs[j][1]));
+    }
+    assert_true(pctrl_kp_duty_pct(0.02f, 1000, 0) == 0.02f * 1000.0f);
+    assert_true(pctrl_kp_duty_pct(0.02f, -5001, 0) == -100.0f);
+}
+
 static void p_rejects_negative_and_non_finite_gain(void **state)
 {
     pctrl_t c;
@@ -186,6 +205,7 @@ int main(void)
         cmocka_unit_test(p_duty_is_kp_times_error),
         cmocka_unit_test(p_duty_is_clamped_to_100_percent),
         cmocka_unit_test(p_error_wraps_like_the_counter),
+        cmocka_unit_test(p_duty_with_the_gain_given_is_the_controllers),
         cmocka_unit_test(p_rejects_negative_and_non_finite_gain),
         cmocka_unit_test(pwm_rounds_duty_to_8_bits),
         cmocka_unit_test(pwm_applied_duty_is_pwm_over_255),
