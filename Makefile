@@ -76,6 +76,7 @@ LIB_OBJS_SAN   := $(patsubst %,$(BUILD)/host-san/%.o,$(basename $(LIB_C) $(LIB_C
 MODEL_OBJS     := $(patsubst %,$(BUILD)/host/%.o,$(basename $(SIM_MODELS)))
 MODEL_OBJS_SAN := $(patsubst %,$(BUILD)/host-san/%.o,$(basename $(SIM_MODELS)))
 SIM_OBJS       := $(patsubst %,$(BUILD)/host/%.o,$(basename $(SIM_MAIN)))
+SIM_OBJS_SAN   := $(patsubst %,$(BUILD)/host-san/%.o,$(basename $(SIM_MAIN)))
 
 $(BUILD)/libmotion.a: $(LIB_OBJS) $(MODEL_OBJS)
 	@rm -f $@
@@ -87,6 +88,9 @@ $(BUILD)/libmotion-san.a: $(LIB_OBJS_SAN) $(MODEL_OBJS_SAN)
 sim: $(BUILD)/motionsim
 $(BUILD)/motionsim: $(SIM_OBJS) $(BUILD)/libmotion.a
 	$(CXX) $(SIM_OBJS) $(BUILD)/libmotion.a -lcjson -lm -o $@
+# motionsim with AddressSanitizer + UBSan, for the fuzzer (tools/fuzz)
+$(BUILD)/motionsim-san: $(SIM_OBJS_SAN) $(BUILD)/libmotion-san.a
+	$(CXX) $(SAN_FLAGS) $(SIM_OBJS_SAN) $(BUILD)/libmotion-san.a -lcjson -lm -o $@
 
 # Unit tests (cmocka), each linked against the same library archive.
 $(BUILD)/test/unit/%: test/unit/%.c $(BUILD)/libmotion.a $(HDRS)
