@@ -9,6 +9,8 @@
 #   make upload SKETCH=<name> PORT=<device>    flash a real Mega over USB
 #   make monitor PORT=<device> [BAUD=115200]   serial monitor (default 9600 baud), CR+LF line ends
 #   make emulate SKETCH=<name> [INPUT=<file>]  run a sketch's ELF in the ATmega2560 emulator
+#   make fuzz [FUZZ_LINES=10000] [FUZZ_SEED=1] [FUZZ_SIM_RUNS=<lines/4>]   fuzz every sketch's serial
+#                   console in the emulator and motionsim under ASan+UBSan (tools/fuzz); make test runs a short one
 #   make clean
 
 SHELL := /bin/bash
@@ -43,7 +45,7 @@ SAN_BINS   := $(addprefix $(BUILD)/test/unit-san/,$(UNIT_NAMES))
 # marker line "// motion-sketch: <family>" (what the sketch is, for the build, the emulator and the tests)
 SKETCHES := $(sort $(patsubst firmware/%/,%,$(filter-out firmware/libraries/,$(wildcard firmware/*/))))
 
-.PHONY: help setup sim firmware profiles test unit upload monitor emulate clean check-setup
+.PHONY: help setup sim firmware profiles test unit upload monitor emulate fuzz clean check-setup
 
 help:
 	@sed -n '1,/^$$/p' Makefile | sed -n 's/^# \{0,1\}//p'
@@ -128,10 +130,18 @@ TEST_SUITES = \
 	"unit (cmocka, ASan+UBSan)|tap-dir|$(BUILD)/test/unit-san" \
 	"motionsim CLI|pytest|test/cli" \
 	"firmware build|firmware|tools/build_firmware.sh" \
-	$(EMU_SUITES)
+	$(EMU_SUITES) \
+	"fuzz (emulator, motionsim ASan+UBSan)|tap|$(PY) tools/fuzz/run_fuzz.py --tap"
 
-test: check-setup $(BUILD)/motionsim unit $(EMU_DEPS)
+test: check-setup $(BUILD)/motionsim $(BUILD)/motionsim-san unit $(EMU_DEPS)
 	@MOTIONSIM=$(abspath $(BUILD)/motionsim) $(PY) tools/run_tests.py $(TEST_SUITES)
+
+# The long fuzz campaign (tools/fuzz/run_fuzz.py): FUZZ_LINES lines per sketch, FUZZ_SIM_RUNS motionsim
+# invocations (default FUZZ_LINES / 4), seed FUZZ_SEED; failing inputs are kept in build/fuzz/failures.
+FUZZ_LINES ?= 10000
+FUZZ_SEED  ?= 1
+fuzz: check-setup $(BUILD)/motionsim-san $(EMU_DEPS)
+	@$(PY) tools/fuzz/run_fuzz.py --lines "$(FUZZ_LINES)" --seed "$(FUZZ_SEED)" $(if $(FUZZ_SIM_RUNS),--sim-runs "$(FUZZ_SIM_RUNS)")
 
 # ---------------------------------------------------------------------------------------
 # A real board over USB (cannot run without one). Every refusal is one line and exit 2: the checks

@@ -39,8 +39,8 @@ int main(int argc, char **argv)
     size_t i;
     if (argc < 2) {
         /* one line, as every other usage error */
-        fprintf(stderr, "usage: motionsim <command> [options]: the command is missing (commands: ramp, filter, servo, "
-                        "pid-replay; try 'motionsim --help')\n");
+        fprintf(stderr, "motionsim: the command is missing: usage: motionsim <command> [options] (commands: ramp, filter, "
+                        "servo, pid-replay; try 'motionsim --help')\n");
         return CLI_EXIT_USAGE;
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
