@@ -10,6 +10,8 @@
 #   make monitor PORT=<device> [BAUD=115200]   serial monitor (default 9600 baud), CR+LF line ends
 #   make emulate SKETCH=<name> [INPUT=<file>]  run a sketch's ELF in the ATmega2560 emulator
 #   make bench      step-engine benchmark in the emulator -> build/bench/bench.md
+#   make fuzz [FUZZ_LINES=10000] [FUZZ_SEED=1] [FUZZ_SIM_RUNS=<lines/4>]   fuzz every sketch's serial
+#                   console in the emulator and motionsim under ASan+UBSan (tools/fuzz); make test runs a short one
 #   make clean
 
 SHELL := /bin/bash
@@ -44,7 +46,7 @@ SAN_BINS   := $(addprefix $(BUILD)/test/unit-san/,$(UNIT_NAMES))
 # marker line "// motion-sketch: <family>" (what the sketch is, for the build, the emulator and the tests)
 SKETCHES := $(sort $(patsubst firmware/%/,%,$(filter-out firmware/libraries/,$(wildcard firmware/*/))))
 
-.PHONY: help setup sim firmware profiles test unit upload monitor emulate clean check-setup bench
+.PHONY: help setup sim firmware profiles test unit upload monitor emulate fuzz clean check-setup bench
 
 help:
 	@sed -n '1,/^$$/p' Makefile | sed -n 's/^# \{0,1\}//p'
@@ -77,6 +79,7 @@ LIB_OBJS_SAN   := $(patsubst %,$(BUILD)/host-san/%.o,$(basename $(LIB_C) $(LIB_C
 MODEL_OBJS     := $(patsubst %,$(BUILD)/host/%.o,$(basename $(SIM_MODELS)))
 MODEL_OBJS_SAN := $(patsubst %,$(BUILD)/host-san/%.o,$(basename $(SIM_MODELS)))
 SIM_OBJS       := $(patsubst %,$(BUILD)/host/%.o,$(basename $(SIM_MAIN)))
+SIM_OBJS_SAN   := $(patsubst %,$(BUILD)/host-san/%.o,$(basename $(SIM_MAIN)))
 
 $(BUILD)/libmotion.a: $(LIB_OBJS) $(MODEL_OBJS)
 	@rm -f $@
@@ -88,6 +91,9 @@ $(BUILD)/libmotion-san.a: $(LIB_OBJS_SAN) $(MODEL_OBJS_SAN)
 sim: $(BUILD)/motionsim
 $(BUILD)/motionsim: $(SIM_OBJS) $(BUILD)/libmotion.a
 	$(CXX) $(SIM_OBJS) $(BUILD)/libmotion.a -lcjson -lm -o $@
+# motionsim with AddressSanitizer + UBSan, for the fuzzer (tools/fuzz)
+$(BUILD)/motionsim-san: $(SIM_OBJS_SAN) $(BUILD)/libmotion-san.a
+	$(CXX) $(SAN_FLAGS) $(SIM_OBJS_SAN) $(BUILD)/libmotion-san.a -lcjson -lm -o $@
 
 # Unit tests (cmocka), each linked against the same library archive.
 $(BUILD)/test/unit/%: test/unit/%.c $(BUILD)/libmotion.a $(HDRS)
@@ -129,10 +135,18 @@ TEST_SUITES = \
 	"unit (cmocka, ASan+UBSan)|tap-dir|$(BUILD)/test/unit-san" \
 	"motionsim CLI|pytest|test/cli" \
 	"firmware build|firmware|tools/build_firmware.sh" \
-	$(EMU_SUITES)
+	$(EMU_SUITES) \
+	"fuzz (emulator, motionsim ASan+UBSan)|tap|$(PY) tools/fuzz/run_fuzz.py --tap"
 
-test: check-setup $(BUILD)/motionsim unit $(EMU_DEPS)
+test: check-setup $(BUILD)/motionsim $(BUILD)/motionsim-san unit $(EMU_DEPS)
 	@MOTIONSIM=$(abspath $(BUILD)/motionsim) $(PY) tools/run_tests.py $(TEST_SUITES)
+
+# The long fuzz campaign (tools/fuzz/run_fuzz.py): FUZZ_LINES lines per sketch, FUZZ_SIM_RUNS motionsim
+# invocations (default FUZZ_LINES / 4), seed FUZZ_SEED; failing inputs are kept in build/fuzz/failures.
+FUZZ_LINES ?= 10000
+FUZZ_SEED  ?= 1
+fuzz: check-setup $(BUILD)/motionsim-san $(EMU_DEPS)
+	@$(PY) tools/fuzz/run_fuzz.py --lines "$(FUZZ_LINES)" --seed "$(FUZZ_SEED)" $(if $(FUZZ_SIM_RUNS),--sim-runs "$(FUZZ_SIM_RUNS)")
 
 # ---------------------------------------------------------------------------------------
 # A real board over USB (cannot run without one). Every refusal is one line and exit 2: the checks

@@ -38,7 +38,9 @@ int main(int argc, char **argv)
 {
     size_t i;
     if (argc < 2) {
-        usage(stderr);
+        /* one line, as every other usage error */
+        fprintf(stderr, "motionsim: the command is missing: usage: motionsim <command> [options] (commands: ramp, filter, "
+                        "servo, pid-replay; try 'motionsim --help')\n");
         return CLI_EXIT_USAGE;
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {

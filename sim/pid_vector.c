@@ -248,6 +248,24 @@ static int json_whole(const cJSON *m, double lo, double hi, double *out)
 }
 
 /* Line and column of a position in text, for a syntax error. */
+/* Up to 12 bytes of the text at `at`, for an error line: a line end, tab or other control byte and
+ * any byte over 0x7e written as \n, \r, \t or \xNN, so that the message stays one line. */
+static void near_text(const char *at, char *out, size_t n)
+{
+    size_t k = 0;
+    int i;
+    for (i = 0; i < 12 && at[i] != '\0' && k + 5 < n; i++) {
+        unsigned char c = (unsigned char)at[i];
+        if (c == '\n' || c == '\r' || c == '\t')
+            k += (size_t)snprintf(out + k, n - k, "\\%c", c == '\n' ? 'n' : c == '\r' ? 'r' : 't');
+        else if (c < 0x20 || c > 0x7e)
+            k += (size_t)snprintf(out + k, n - k, "\\x%02x", c);
+        else
+            out[k++] = (char)c;
+    }
+    out[k] = '\0';
+}
+
 static void text_position(const char *text, const char *at, int *line, int *col)
 {
     const char *p;
@@ -280,10 +298,11 @@ static int load_json(pv_vector_t *v, const char *path, char *err, size_t err_n)
     j = cJSON_ParseWithOpts(text, &end, 1);
     if (j == NULL) {
         int line, col;
+        char near[64];
         const char *at = end != NULL ? end : cJSON_GetErrorPtr();
         text_position(text, at != NULL ? at : text, &line, &col);
-        pv_err(err, err_n, "%s line %d column %d: not valid JSON (near '%.12s')", path, line, col,
-               at != NULL && *at != '\0' ? at : "the end");
+        near_text(at != NULL && *at != '\0' ? at : "the end", near, sizeof near);
+        pv_err(err, err_n, "%s line %d column %d: not valid JSON (near '%s')", path, line, col, near);
         free(text);
         return -1;
     }

@@ -25,6 +25,9 @@ def test_no_arguments_is_a_usage_error(motionsim):
     r = motionsim()
     assert r.rc == 2
     assert "usage: motionsim" in r.err
+    # one line like every exit-2 error (the fuzzer's rule, tools/fuzz/motionsim_fuzz.py)
+    assert len(r.err.splitlines()) == 1 and "command is missing" in r.err, r.err
+    assert r.out == ""
 
 
 def test_unknown_command_exits_2_with_one_line(motionsim):

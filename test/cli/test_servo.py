@@ -331,6 +331,11 @@ def test_pid_replay_bad_command_names_file_and_line(motionsim, tmp_path, cmd, wo
     ('', "line 1 column 1: not valid JSON"),
     ('[1, 2]', "must be one JSON object"),
     ('{"kp": 1,\n "ki": }', "line 2 column 8: not valid JSON"),
+    # found by the fuzzer: the text near the error holds a line end, tab or control byte; the message
+    # stays one line (they are written \\n \\t \\xNN)
+    ('{"kp": 1 2\n}', "line 1 column 10: not valid JSON (near '2\\n}')"),
+    ('{\n "kp": 0.5,\n "ki"\t: x}', "line 3 column 9: not valid JSON (near 'x}')"),
+    ('{"kp": 1 x\t\x01\r\n}', "line 1 column 10: not valid JSON (near 'x\\t\\x01\\r\\n}')"),
 ])
 def test_pid_replay_bad_json_is_refused(motionsim, tmp_path, json_text, words):
     path = write_vector(tmp_path, ["SetMode(AUTOMATIC)"], json_text=json_text)
