@@ -1,10 +1,11 @@
 // motion-sketch: stepper
-/* ExactRampStepper - true constant acceleration at up to 100,000 steps/s on the RAMPS 1.4 X axis:
+/* ExactRampStepper - true constant acceleration on the RAMPS 1.4 X axis, fast (max_sps in `?`; the
+ * rates measured by `make bench` are in build/bench/bench.md):
  * every step at round(F t_n) of t_n = (sqrt(v0^2 + 2 a n) - v0)/a (then the cruise line and the
  * mirrored deceleration), within one tick of F = 16 MHz, from the first step to the last.
  *
  * How: the planner (lib/src/step_planner.h, step_exact.h) runs here in loop() and keeps a queue of
- * step commands about 20 ms ahead; Timer1's compare interrupt only takes the next command and
+ * step commands STEP_ENGINE_LEAD_MS ahead; Timer1's compare interrupt only takes the next command and
  * makes the step (StepEngine.h). Defaults: v0 = 0, vmax = 20,000 steps/s, accel = 50,000
  * steps/s^2. Serial Monitor at 9600 baud, "Both NL & CR":
  *   20000         move to absolute position 20000: "OK 0 20000", then "DONE 20000"

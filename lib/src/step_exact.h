@@ -17,7 +17,7 @@
  * the commands follow the time law as quadratics (rate + add per step, 16.16 ticks), over
  * 1 to 128 steps chosen so that the interpolation stays within about 0.4 tick; the executor's
  * time is predicted exactly, so the next command absorbs every rounding. Every step edge
- * floor(acc) is within 1 tick of round(F t_n) (test_step_exact: thousands of random moves).
+ * floor(acc) is within 1 tick of round(F t_n) (test_step_planner: thousands of random moves).
  * Limits (step_exact_set_params refuses others, each with its own status): tick_hz <= 2^25;
  * accel >= 8 steps/s^2 at 16 MHz (8 (F/16 MHz)^2 in general, and >= 0.5: C below 2^46 ticks^2);
  * vmax/accel (the time to reach vmax from rest) at most 2^34 ticks (1073 s at 16 MHz); parameters

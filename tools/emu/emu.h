@@ -76,6 +76,8 @@ void emu_uart_send(const uint8_t *bytes, size_t n);
 size_t emu_uart_pending(void);
 /* lines received so far (the array grows; index stays valid) */
 size_t emu_uart_line_count(void);
+/* The CPU's program counter (byte address) now: where a sketch that stopped answering is. */
+uint32_t emu_uart_cpu_pc(void);
 const emu_line_t *emu_uart_line(size_t i);
 uint32_t emu_uart_cycles_per_byte(void);
 int emu_uart_ready_count(void);

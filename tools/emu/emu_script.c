@@ -317,8 +317,8 @@ uint64_t emu_script_step(avr_t *avr, int *finished)
                 }
             }
             if (now >= wait_deadline) {
-                emu_fail(now, "timeout", "%s:%d: no line matching '%s' within %g ms", script_name, c->lineno,
-                         c->src, timeout_ms);
+                emu_fail(now, "timeout", "%s:%d: no line matching '%s' within %g ms (CPU at PC=0x%05x)", script_name,
+                         c->lineno, c->src, timeout_ms, (unsigned)emu_uart_cpu_pc());
                 waiting = 0;
                 pc = ncmds; /* the script cannot go on */
                 *finished = 1;

@@ -166,6 +166,11 @@ size_t emu_uart_pending(void)
     return txq_len - txq_head;
 }
 
+uint32_t emu_uart_cpu_pc(void)
+{
+    return the_avr ? (uint32_t)the_avr->pc : 0U;
+}
+
 size_t emu_uart_line_count(void)
 {
     return line_count;
