@@ -316,7 +316,7 @@ def check_steps(log, lines, sends, per_line, asyncs, o):
     move; the pin-counted position at each DONE equals it. The firmware's lines are taken in the
     order it printed them (a DONE printed just before the OK of the next move belongs to the
     move before)."""
-    ok_move = re.compile(r"^OK (-?\d+) (-?\d+)$")
+    ok_move = re.compile(r"^OK (-?\d+) (-?\d+)( \(after DONE -?\d+\))?$")
     line_of = {}
     for i, got in enumerate(per_line):
         for r in got:
@@ -325,26 +325,44 @@ def check_steps(log, lines, sends, per_line, asyncs, o):
                  key=lambda e: e[0])
     windows = []
     done_at = []
+    # the moves open (their targets): a target while moving replaces the move, except when every
+    # step of it is already queued (docs/stepper-engine.md): then the reply ends "(after DONE
+    # <from>)", the move keeps its DONE and the new one follows it; stop and ! drop a waiting move
+    open_moves = []
     open_at = open_line = None
     for c, l in seq:
         if l.text.startswith("DONE"):
             p = int(l.text.split()[1])
             done_at.append((c, p))
-            if open_at is None:
+            if not open_moves:
                 o.bad(f"DONE {p} at {c / emulog.F_CPU:.3f} s without a move in progress")
             else:
                 windows.append((open_at, c))
-                open_at = None
+                open_moves.pop(0)
+                open_at = c if open_moves else None
             continue
         i = line_of[id(l)]
-        if ok_move.match(l.text):
+        m = ok_move.match(l.text)
+        if m:
             o.accepted_moves += 1
-            if open_at is None:
+            frm, to = int(m.group(1)), int(m.group(2))
+            if not open_moves:
+                open_moves = [to]
                 open_at, open_line = sends[i].cycle, i
-        elif l.text in ("OK halt", "OK stop") and open_at is None:
-            o.bad(f"line {i + 1} {lines[i][0]!r} was answered {l.text!r} (stopping a move) while none was in progress", i)
+            elif m.group(3):
+                if len(open_moves) == 1:
+                    open_moves.append(to)
+                else:
+                    open_moves[-1] = to
+            else:
+                open_moves[-1] = to
+        elif l.text in ("OK halt", "OK stop"):
+            if not open_moves:
+                o.bad(f"line {i + 1} {lines[i][0]!r} was answered {l.text!r} (stopping a move) while none was in "
+                      "progress", i)
+            del open_moves[1:]
     o.done = len(done_at)
-    if open_at is not None:
+    if open_moves:
         o.bad(f"the move accepted at line {open_line + 1} {lines[open_line][0]!r} never reported DONE "
               f"(not even after the final `!`)", open_line)
         windows.append((open_at, float("inf")))

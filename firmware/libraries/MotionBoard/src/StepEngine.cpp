@@ -59,15 +59,17 @@ inline uint8_t next_slot(uint8_t i)
 }
 
 /* the interrupt's current slot: a two-byte pointer it may change at any time, so read with
- * interrupts off (a torn read would point anywhere) */
+ * care (a torn read would point anywhere) */
 inline StepSlot *cur_slot()
 {
-    StepSlot *c;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        c = step_engine.cur;
-    }
-    return c;
+    /* read twice until both agree: the interrupt changes it at most once per command, so this
+     * never disables interrupts (which would delay a step edge) */
+    StepSlot *a, *b;
+    do {
+        a = step_engine.cur;
+        b = step_engine.cur;
+    } while (a != b);
+    return a;
 }
 
 inline uint8_t cur_index()

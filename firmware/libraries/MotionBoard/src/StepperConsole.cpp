@@ -106,7 +106,10 @@ void StepperConsole::handle_target(const char *word)
         serial_.out().print(F("OK "));
         serial_.out().print(from);
         serial_.out().print(' ');
-        serial_.out().println(to);
+        serial_.out().print(to);
+        serial_.out().print(F(" (after DONE "));
+        serial_.out().print(from);
+        serial_.out().println(')');
         return;
     }
     c = StepEngine::extend(ended);

@@ -9,7 +9,8 @@
  *                        starts; the replaced move gets no DONE, the new one does. If every
  *                        step of the move is already queued (it is about to end at rest), the
  *                        move keeps its DONE and the new one starts from its target after it:
- *                        "OK <old target> <to>", "DONE <old target>", later "DONE <to>".
+ *                        "OK <old target> <to> (after DONE <old target>)", "DONE <old target>",
+ *                        later "DONE <to>".
  *   stop                 decelerate at accel to rest: "OK stop", then "DONE <position>"
  *   !                    halt now, no further step: "OK halt", then "DONE <position>"
  *                        (either while idle: "OK stop (not moving)" / "OK halt (not moving)")
