@@ -49,7 +49,11 @@ const char *MotionSerial::poll(uint8_t max_bytes)
         motion_status_t err = MS_OK;
         if (c < 0)
             break;
-        if (pending_ != 0 && lost_before_next() && line_reader_overrun(&reader_)) {
+        if (pending_ != 0 && lost_before_next()) {
+            /* input was lost here: what follows is the host's next line, whatever state the current
+             * one was in (even one already refused, whose end may be what was lost), so it is
+             * answered ERR input overrun and discarded to its end: one reply, never none */
+            (void)line_reader_overrun(&reader_);
             reply_error(MS_ERR_INPUT_OVERRUN);
             (void)line_reader_feed(&reader_, (uint8_t)c, &err); /* discarded, or its terminator */
             if (queue_ != 0)
