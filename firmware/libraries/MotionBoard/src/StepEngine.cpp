@@ -124,6 +124,22 @@ void lay_out(StepSlot &t, const step_cmd_t &c)
     s_next_p_start += forward ? (int32_t)c.count : -(int32_t)c.count;
 }
 
+/* The last step of slot t is made and nothing is laid out after it: the move's end (when the
+ * planner has marked it) or an underrun. The axis rests where t's steps took it. */
+void stop_after(const StepSlot &t)
+{
+    StepEngineState &s = step_engine;
+    s.pos_rest = t.p_start + ((t.flags & _BV(STEP_SLOT_FORWARD)) ? (int32_t)t.count : -(int32_t)t.count);
+    s.running = 0;
+    if (s.finishing) {
+        s.finishing = 0;
+        s.done = 1;
+    } else {
+        s.starved = 1;
+        s.underruns = s.underruns + 1U;
+    }
+}
+
 #if !STEPPER_TIMED_LOOP
 /* Arms the next step of a slot by the executor's rule (step_queue.h), counting a slow interval's
  * wraps; a first match already missed counts as passed, and a step already due fires 2 us later. */
@@ -185,15 +201,7 @@ void __vector_step_engine_cold(void)
     if (!next->ready) {
         /* nothing laid out: the move's end, or an underrun */
         TIMSK1 &= (uint8_t)~_BV(OCIE1A);
-        s.pos_rest = cur->p_start + ((cur->flags & _BV(STEP_SLOT_FORWARD)) ? (int32_t)cur->count : -(int32_t)cur->count);
-        s.running = 0;
-        if (s.finishing) {
-            s.finishing = 0;
-            s.done = 1;
-        } else {
-            s.starved = 1;
-            s.underruns = s.underruns + 1U;
-        }
+        stop_after(*cur);
         __builtin_avr_delay_cycles(32); /* the STEP pulse: >= 2 us */
         step_low();
         return;
@@ -516,15 +524,7 @@ void StepEngine::poll()
     } else {
         StepSlot *next = t->other;
         if (!next->ready) {
-            s.pos_rest = t->p_start + ((t->flags & _BV(STEP_SLOT_FORWARD)) ? (int32_t)t->count : -(int32_t)t->count);
-            s.running = 0;
-            if (s.finishing) {
-                s.finishing = 0;
-                s.done = 1;
-            } else {
-                s.starved = 1;
-                s.underruns = s.underruns + 1U;
-            }
+            stop_after(*t);
             _delay_us(2);
             step_low();
             return;
