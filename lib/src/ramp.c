@@ -207,72 +207,131 @@ static uint32_t ticks_from_double(double t)
     return (uint32_t)(t + 0.5);
 }
 
-uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
+/* simplistic and Leib: the next step's interval (kept in u.leib.p / u.simplistic.p), its whole
+ * ticks (r->whole_ticks) and the level change */
+static ramp_phase_t next_trapezoid(ramp_t *r, uint32_t n)
+{
+    ramp_phase_t change;
+    float p;
+    /* step 1 takes the planned first interval; later steps update it by the level change,
+     * and a cruise step keeps both the interval and its whole ticks (no float work at all) */
+    if (n == 1 && r->start_level == 0) {
+        r->level = ramp_level(r->steps_total, r->peak_level, 1);
+        p = r->algo == RAMP_ALGO_LEIB ? r->u.leib.p : r->u.simplistic.p;
+        change = RAMP_ACCEL;
+    } else {
+        change = level_change(r, n);
+        if (change == RAMP_CRUISE)
+            return change;
+        if (r->algo == RAMP_ALGO_LEIB)
+            p = ramp_leib_update(&r->u.leib, change);
+        else
+            p = ramp_simplistic_update(&r->u.simplistic, change);
+    }
+    r->whole_ticks = ramp_ticks_from_float(p);
+    return change;
+}
+
+/* the sigmoid's next step: its period (also in r->whole_ticks) and level change */
+static ramp_phase_t next_sigmoid(ramp_t *r, uint32_t n)
+{
+    uint32_t from_end = r->steps_total - n + 1U;
+    uint32_t k = r->start_level + n < from_end ? r->start_level + n : from_end;
+    uint32_t kold = r->u.sigmoid.k;
+    int8_t move;
+    if (r->start_level != 0 && k > r->accel_steps)
+        k = r->accel_steps > kold ? r->accel_steps : kold; /* continued: hold at the table's top */
+    move = k > kold ? 1 : (k < kold ? -1 : 0);
+    r->whole_ticks = ramp_sigmoid_move_k(&r->u.sigmoid, move);
+    r->level = r->u.sigmoid.k; /* for ramp_stop_steps and ramp_plan_continue */
+    return move > 0 ? RAMP_ACCEL : (move < 0 ? RAMP_DECEL : RAMP_CRUISE);
+}
+
+uint8_t ramp_next_ticks(ramp_t *r, uint32_t *whole_ticks, ramp_phase_t *phase)
 {
     uint32_t n;
+    ramp_phase_t change;
     if (r->steps_done >= r->steps_total)
         return 0;
     n = ++r->steps_done;
-    s->step = n;
-    s->position = ramp_position_after(r->from, r->dir, n);
     switch (r->algo) {
     case RAMP_ALGO_SIMPLISTIC:
-    case RAMP_ALGO_LEIB: {
-        float p;
-        /* step 1 takes the planned first interval; later steps update it by the level change,
-         * and a cruise step keeps both the interval and its whole ticks (no float work at all) */
-        ramp_phase_t change = RAMP_ACCEL;
-        if (n == 1 && r->start_level == 0) {
-            r->level = ramp_level(r->steps_total, r->peak_level, 1);
-            p = r->algo == RAMP_ALGO_LEIB ? r->u.leib.p : r->u.simplistic.p;
-        } else {
-            change = level_change(r, n);
-            if (change == RAMP_CRUISE)
-                p = r->algo == RAMP_ALGO_LEIB ? r->u.leib.p : r->u.simplistic.p;
-            else if (r->algo == RAMP_ALGO_LEIB)
-                p = ramp_leib_update(&r->u.leib, change);
-            else
-                p = ramp_simplistic_update(&r->u.simplistic, change);
-        }
-        if (change != RAMP_CRUISE)
-            r->whole_ticks = ramp_ticks_from_float(p);
-        s->interval_ticks = p;
-        s->whole_ticks = r->whole_ticks;
-        s->phase = r->start_level == 0 ? phase_label(r, n) : change;
+    case RAMP_ALGO_LEIB:
+        change = next_trapezoid(r, n);
         break;
-    }
+    case RAMP_ALGO_SIGMOID:
+        change = next_sigmoid(r, n);
+        break;
     case RAMP_ALGO_EXACT:
+        *whole_ticks = ticks_from_double(ramp_exact_interval_s(&r->u.exact, n) * r->u.exact.tick_hz);
+        *phase = ramp_exact_phase(&r->u.exact, n);
+        return 1;
+    default:
+        *whole_ticks = 0;
+        *phase = RAMP_IDLE;
+        return 1;
+    }
+    *whole_ticks = r->whole_ticks;
+    *phase = r->start_level == 0 ? phase_label(r, n) : change;
+    return 1;
+}
+
+uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps)
+{
+    ramp_sigmoid_t *g = &r->u.sigmoid;
+    uint32_t n = r->steps_done, d = r->steps_total, j;
+    if (r->algo != RAMP_ALGO_SIGMOID || r->start_level != 0 || n == 0 || n >= d)
+        return 0;
+    if (g->k == n && n <= r->label_accel && 2U * n < d) {
+        /* accelerating (k = n): the rest of the entry's hold, while k still rises (2(n + j) <= D + 1)
+         * and the steps are still labelled accel */
+        j = (uint32_t)(g->hold - 1U - g->phase);
+        if (j > r->label_accel - n)
+            j = r->label_accel - n;
+        if (j > (d + 1U) / 2U - n)
+            j = (d + 1U) / 2U - n;
+        if (j > max_steps)
+            j = max_steps;
+        g->k += j;
+        g->phase = (uint16_t)(g->phase + j);
+    } else if (g->k == d + 1U - n && n > d - r->label_accel && g->k > 1U) {
+        /* decelerating (k = D + 1 - n): down to the entry's first phase, and k stays >= 1 */
+        j = g->phase;
+        if (j > g->k - 1U)
+            j = g->k - 1U;
+        if (j > max_steps)
+            j = max_steps;
+        g->k -= j;
+        g->phase = (uint16_t)(g->phase - j);
+    } else {
+        return 0;
+    }
+    r->level = g->k;
+    r->steps_done = n + j;
+    return j;
+}
+
+uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
+{
+    if (r->algo == RAMP_ALGO_EXACT) {
+        uint32_t n;
+        if (r->steps_done >= r->steps_total)
+            return 0;
+        n = ++r->steps_done;
         s->interval_ticks = ramp_exact_interval_s(&r->u.exact, n) * r->u.exact.tick_hz;
         s->whole_ticks = ticks_from_double(s->interval_ticks);
         s->phase = ramp_exact_phase(&r->u.exact, n);
-        break;
-    case RAMP_ALGO_SIGMOID: {
-        uint32_t from_end = r->steps_total - n + 1U;
-        uint32_t k = r->start_level + n < from_end ? r->start_level + n : from_end;
-        uint32_t kold = r->u.sigmoid.k;
-        if (r->start_level != 0 && k > r->accel_steps)
-            k = r->accel_steps > kold ? r->accel_steps : kold; /* continued: hold at the table's top */
-        uint16_t period;
-        if (k > kold)
-            period = ramp_sigmoid_move_k(&r->u.sigmoid, 1);
-        else if (k < kold)
-            period = ramp_sigmoid_move_k(&r->u.sigmoid, -1);
-        else
-            period = ramp_sigmoid_move_k(&r->u.sigmoid, 0);
-        s->interval_ticks = period;
-        s->whole_ticks = period;
-        r->whole_ticks = period;
-        r->level = r->u.sigmoid.k; /* for ramp_stop_steps and ramp_plan_continue */
-        s->phase = r->start_level == 0 ? phase_label(r, n)
-                                       : (k > kold ? RAMP_ACCEL : (k < kold ? RAMP_DECEL : RAMP_CRUISE));
-        break;
+    } else {
+        if (!ramp_next_ticks(r, &s->whole_ticks, &s->phase))
+            return 0;
+        switch (r->algo) {
+        case RAMP_ALGO_LEIB: s->interval_ticks = r->u.leib.p; break;
+        case RAMP_ALGO_SIMPLISTIC: s->interval_ticks = r->u.simplistic.p; break;
+        default: s->interval_ticks = (double)s->whole_ticks; break;
+        }
     }
-    default:
-        s->interval_ticks = 0;
-        s->whole_ticks = 0;
-        s->phase = RAMP_IDLE;
-        break;
-    }
+    s->step = r->steps_done;
+    s->position = ramp_position_after(r->from, r->dir, r->steps_done);
     return 1;
 }
 

@@ -90,6 +90,17 @@ int32_t ramp_position(const ramp_t *r);
 /* Hands out the next step: 1 and *s filled, or 0 when the move is complete. */
 uint8_t ramp_next(ramp_t *r, ramp_step_t *s);
 
+/* ramp_next as the step planner needs it, without the step's position and real interval (the
+ * per-step cost on the AVR is the algorithm's own arithmetic and little more): the whole ticks
+ * and the phase of the next step; 0 when the move is complete. */
+uint8_t ramp_next_ticks(ramp_t *r, uint32_t *whole_ticks, ramp_phase_t *phase);
+
+/* After a step was handed out: hands out at once the steps that follow it with the same whole
+ * ticks and phase, at most max_steps, and returns how many (0 when there are none or this ramp
+ * cannot tell without stepping). Today the sigmoid from rest: the rest of a table entry's hold
+ * while the move accelerates or decelerates. The same state as ramp_next_ticks step by step. */
+uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps);
+
 /* Steps still to come. */
 uint32_t ramp_steps_left(const ramp_t *r);
 

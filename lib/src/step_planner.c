@@ -239,20 +239,32 @@ void step_planner_stop(step_planner_t *pl)
         (void)stop_ramp(pl);
 }
 
+/* whether the ramp may have reached a cruise to skip: a cheap test first (simplistic and Leib
+ * cruise only at their peak level), the full one (ramp_cruise_skippable) only then */
+static uint8_t may_skip(const ramp_t *r)
+{
+    if ((r->algo == RAMP_ALGO_SIMPLISTIC || r->algo == RAMP_ALGO_LEIB) && r->level != r->peak_level)
+        return 0;
+    if (r->algo == RAMP_ALGO_SIGMOID && (r->start_level != 0 || r->steps_done < r->accel_steps))
+        return 0; /* the sigmoid's cruise: after its accel_steps, from rest only */
+    return ramp_cruise_skippable(r) != 0;
+}
+
 /* one command from the ramp's steps: a run of whole-tick intervals with a constant difference */
 static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
 {
     ramp_t *r = &pl->ramp;
-    ramp_step_t s;
-    uint32_t w1, last, count = 1, dur;
+    uint32_t w, w1, last, count = 1, dur;
     int32_t add = 0;
     uint8_t wide;
-    ramp_phase_t phase;
+    ramp_phase_t phase, ph;
     if (!pl->has_carry) {
-        uint32_t skip = ramp_cruise_skippable(r);
+        uint32_t skip = may_skip(r) ? ramp_cruise_skippable(r) : 0;
         if (skip > 0) {
             /* the cruise: whole commands of one interval */
-            uint32_t w = nonzero(r->whole_ticks), cap = pl->max_cmd_ticks / w;
+            uint32_t cap;
+            w = nonzero(r->whole_ticks);
+            cap = pl->max_cmd_ticks / w;
             if (cap < 1U)
                 cap = 1U;
             if (cap > 65535U)
@@ -268,27 +280,35 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
             pl->pos = ramp_position_after(pl->pos, r->dir, skip);
             return 1;
         }
-        if (!ramp_next(r, &s))
+        if (!ramp_next_ticks(r, &w1, &phase))
             return 0;
     } else {
-        s = pl->carry;
+        w1 = pl->carry.whole_ticks;
+        phase = pl->carry.phase;
         pl->has_carry = 0;
     }
-    w1 = nonzero(s.whole_ticks);
+    w1 = nonzero(w1);
     wide = w1 > WIDE_ABOVE;
-    phase = s.phase;
     last = w1;
     dur = w1;
-    while (count < 65535U && dur < pl->max_cmd_ticks && ramp_cruise_skippable(r) == 0) {
-        uint32_t w;
+    if (r->algo == RAMP_ALGO_SIGMOID && !wide) {
+        /* a table entry's held steps at once: one interval, add 0 (the 4 ms bound of a command may
+         * be passed by one entry's hold) */
+        uint32_t more = ramp_take_same(r, 65534U);
+        count += more;
+        dur += more * w1;
+    }
+    /* the per-step loop: the algorithm's arithmetic (ramp_next_ticks) and a few integer tests */
+    while (count < 65535U && dur < pl->max_cmd_ticks && !may_skip(r)) {
         int32_t d;
-        if (!ramp_next(r, &s))
+        if (!ramp_next_ticks(r, &w, &ph))
             break;
-        w = nonzero(s.whole_ticks);
+        w = nonzero(w);
         d = (int32_t)(w - last);
         if ((w > WIDE_ABOVE) != wide || (wide && w != last) || d > 32767 || d < -32767 ||
-            (count >= 2U && d != add) || s.phase != phase) {
-            pl->carry = s;
+            (count >= 2U && d != add) || ph != phase) {
+            pl->carry.whole_ticks = w;
+            pl->carry.phase = ph;
             pl->has_carry = 1;
             break;
         }
@@ -297,6 +317,11 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
         count++;
         last = w;
         dur += w;
+        if (add == 0 && r->algo == RAMP_ALGO_SIGMOID && !wide && dur < pl->max_cmd_ticks) {
+            uint32_t more = ramp_take_same(r, 65535U - count);
+            count += more;
+            dur += more * w;
+        }
     }
     c->count = (uint16_t)count;
     c->flags = (uint8_t)((r->dir < 0 ? STEP_CMD_REVERSE : 0) | (wide ? STEP_CMD_WIDE : 0) |

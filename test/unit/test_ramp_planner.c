@@ -52,6 +52,28 @@ static void level_rule(void **state)
     assert_int_equal(ramp_phase_label(4, 9, 3), RAMP_DECEL);
 }
 
+/* The bit-pattern rounding against double arithmetic (floor(x + 0.5), exact for every float
+ * below 2^32): every 97th float pattern from 0.25 to 2^32, and the neighbours of each half. */
+static void whole_ticks_match_double_rounding(void **state)
+{
+    union {
+        float f;
+        uint32_t u;
+    } v;
+    uint32_t u;
+    (void)state;
+    for (u = 0x3E800000UL; u < 0x4F800000UL; u += 97U) {
+        v.u = u;
+        assert_int_equal(ramp_ticks_from_float(v.f), v.f < 0.5f ? 0U : (uint32_t)floor((double)v.f + 0.5));
+    }
+    for (u = 1; u < 200000U; u++) {
+        float h = (float)u - 0.5f, lo = nextafterf(h, 0.0f), hi = nextafterf(h, 1e30f);
+        assert_int_equal(ramp_ticks_from_float(h), u);
+        assert_int_equal(ramp_ticks_from_float(lo), u - 1U);
+        assert_int_equal(ramp_ticks_from_float(hi), u);
+    }
+}
+
 /* Round half up, as a timer can count: checked against the integers and halves around them. */
 static void whole_ticks_round_to_nearest(void **state)
 {
@@ -263,6 +285,7 @@ int main(void)
         cmocka_unit_test(distances_directions_and_positions_at_the_extremes),
         cmocka_unit_test(level_rule),
         cmocka_unit_test(whole_ticks_round_to_nearest),
+        cmocka_unit_test(whole_ticks_match_double_rounding),
         cmocka_unit_test(every_algorithm_counts_steps_exactly),
         cmocka_unit_test(unknown_algorithm_and_null_are_rejected),
         cmocka_unit_test(names),

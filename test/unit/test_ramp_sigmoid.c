@@ -171,6 +171,59 @@ static void steps_walk_the_table_and_back(void **state)
     }
 }
 
+/* ramp_take_same (the planner's bulk step) hands out only steps that stepping one by one would
+ * give the same whole ticks and phase, and leaves the ramp where those steps would: checked
+ * against the formula above (k = min(n, D + 1 - n), entry (k - 1)/hold) for every step. */
+static void bulk_steps_equal_single_steps(void **state)
+{
+    const uint32_t lengths[] = {1, 2, 3, 9, 10, 41, 3999, 8000, 8001, 12345};
+    const uint16_t holds[] = {1, 4, 7};
+    const uint32_t caps[] = {1, 3, 65534};
+    size_t li, hi, ci;
+    uint16_t table[1000];
+    (void)state;
+    for (hi = 0; hi < 3; hi++) {
+        ramp_sigmoid_params_t p = SEED[1];
+        p.hold = holds[hi];
+        assert_int_equal(ramp_sigmoid_fill(&p, table, 1000), MS_OK);
+        for (li = 0; li < sizeof lengths / sizeof lengths[0]; li++) {
+            for (ci = 0; ci < 3; ci++) {
+                ramp_t r, single;
+                uint32_t d = lengths[li], w, n = 0, bulk = 0;
+                ramp_phase_t ph;
+                assert_int_equal(ramp_plan_sigmoid(&r, &p, table, 1000, 0, (int32_t)d), MS_OK);
+                while (ramp_next_ticks(&r, &w, &ph)) {
+                    uint32_t j, more;
+                    n++;
+                    single = r;
+                    more = ramp_take_same(&r, caps[ci]);
+                    assert_true(more <= caps[ci]);
+                    bulk += more;
+                    for (j = 0; j < more; j++) {
+                        uint32_t w2, k, e;
+                        ramp_phase_t ph2;
+                        assert_int_equal(ramp_next_ticks(&single, &w2, &ph2), 1);
+                        n++;
+                        k = n < d + 1 - n ? n : d + 1 - n;
+                        e = (k - 1) / p.hold;
+                        assert_int_equal(w2, w);
+                        assert_int_equal(w2, table[e < 999 ? e : 999]);
+                        assert_int_equal(ph2, ph);
+                    }
+                    assert_int_equal(r.steps_done, single.steps_done);
+                    assert_int_equal(r.level, single.level);
+                    assert_int_equal(r.u.sigmoid.k, single.u.sigmoid.k);
+                    assert_int_equal(r.u.sigmoid.entry, single.u.sigmoid.entry);
+                    assert_int_equal(r.u.sigmoid.phase, single.u.sigmoid.phase);
+                }
+                assert_int_equal(n, d);
+                if (p.hold > 1 && d >= 40 && caps[ci] > 1)
+                    assert_true(bulk > d / 4); /* it does take steps in bulk */
+            }
+        }
+    }
+}
+
 /* The acceleration's duration is hold * sum(period)/timer_hz; the seed's hold of 4 takes four
  * times as long as a hold of 1 and covers 4 * len steps (its "1.8 deg * 1000 steps / 4" per len). */
 static void acceleration_time_and_distance(void **state)
@@ -244,6 +297,7 @@ int main(void)
         cmocka_unit_test(fmin_bound_of_the_seed),
         cmocka_unit_test(bad_parameters_are_rejected),
         cmocka_unit_test(steps_walk_the_table_and_back),
+        cmocka_unit_test(bulk_steps_equal_single_steps),
         cmocka_unit_test(acceleration_time_and_distance),
         cmocka_unit_test(extreme_distance),
     };

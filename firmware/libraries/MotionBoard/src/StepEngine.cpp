@@ -215,7 +215,7 @@ void __vector_step_engine_cold(void)
 }
 #endif
 
-void StepEngine::begin(uint32_t tick_hz)
+void StepEngine::begin(uint32_t tick_hz, uint16_t lead_ms)
 {
     STEPPER_STEP_DDR |= _BV(STEPPER_STEP_BIT);
     STEPPER_STEP_PORT &= (uint8_t)~_BV(STEPPER_STEP_BIT);
@@ -257,7 +257,7 @@ void StepEngine::begin(uint32_t tick_hz)
         TIFR1 = _BV(OCF1A) | _BV(OCF1B) | _BV(OCF1C) | _BV(TOV1);
     }
 #endif
-    s_lead_ticks = s_tick_hz / 1000UL * STEP_ENGINE_LEAD_MS;
+    s_lead_ticks = s_tick_hz / 1000UL * lead_ms;
 }
 
 uint32_t StepEngine::tick_hz()

@@ -33,9 +33,9 @@
 
 #include "StepperPins.h"
 
-/* Commands the queue holds (one is the interrupt's current one); 21 bytes of SRAM each. */
+/* Commands the queue holds (one is the interrupt's current one); 25 bytes of SRAM each. */
 #ifndef STEP_ENGINE_SLOTS
-#define STEP_ENGINE_SLOTS 64U
+#define STEP_ENGINE_SLOTS 96U
 #endif
 
 /* A move starts stepping once this many commands are laid out (or the planner has no more, or
@@ -44,9 +44,15 @@
 #define STEP_ENGINE_START_SLOTS 24U
 #endif
 
-/* Steps kept queued ahead of the interrupt, in milliseconds (and at least two commands). */
+/* Steps kept queued ahead of the interrupt, in milliseconds (and at least two commands), as far
+ * as the slots reach: a stop or a new target takes effect after them. The Leib ramp's float
+ * update costs nearly a whole step's time near its top rate, so its sketch banks more
+ * (StepperRamp::lead_ms). */
 #ifndef STEP_ENGINE_LEAD_MS
-#define STEP_ENGINE_LEAD_MS 40U
+#define STEP_ENGINE_LEAD_MS 100U
+#endif
+#ifndef STEP_ENGINE_LEAD_MS_LEIB
+#define STEP_ENGINE_LEAD_MS_LEIB 200U
 #endif
 
 /* A command as the interrupt executes it. The queue is a ring of slots: loop() lays commands out
@@ -91,7 +97,7 @@ class StepEngine {
 public:
     /* Pins as outputs (STEP low, DIR high, ENABLE low = on, LED), Timer1 in normal mode at
      * tick_hz: 16000000 or 2000000 (timed-loop mode: always 1000000). */
-    static void begin(uint32_t tick_hz);
+    static void begin(uint32_t tick_hz, uint16_t lead_ms = STEP_ENGINE_LEAD_MS);
     static uint32_t tick_hz();
 
     /* loop()'s part: moves commands from the planner into the queue while it needs them, starts

@@ -15,7 +15,7 @@ void StepperConsole::begin(const __FlashStringHelper *sketch_name)
     s_fed = &planner_;
     stepper_print_hook = keep_fed;
     Serial.begin(9600);
-    StepEngine::begin(ramp_.tick_hz());
+    StepEngine::begin(ramp_.tick_hz(), ramp_.lead_ms());
     (void)ramp_.setup(planner_, StepEngine::position());
 #if STEPPER_TIMED_LOOP
     /* one step per command: each planner call is one ramp step (about 100 us), so the planner

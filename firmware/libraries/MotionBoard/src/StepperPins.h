@@ -78,7 +78,7 @@
 /* The fastest step rate each sketch accepts for vmax (steps/s): below the highest rate `make bench`
  * shows stepping cleanly (every step, no underrun, every edge within its bound, serial served), by
  * about one rung of its ladder as the margin; build/bench/bench.md has the measured figures.
- * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=70000 (no redefinition warning). */
+ * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=80000 (no redefinition warning). */
 #if STEPPER_TIMED_LOOP
 #ifndef STEPPER_MAX_SPS_SIMPLISTIC
 #define STEPPER_MAX_SPS_SIMPLISTIC 2000.0
@@ -94,16 +94,16 @@
 #endif
 #else
 #ifndef STEPPER_MAX_SPS_SIMPLISTIC
-#define STEPPER_MAX_SPS_SIMPLISTIC 20000.0
+#define STEPPER_MAX_SPS_SIMPLISTIC 40000.0
 #endif
 #ifndef STEPPER_MAX_SPS_LEIB
-#define STEPPER_MAX_SPS_LEIB 7000.0
+#define STEPPER_MAX_SPS_LEIB 10000.0
 #endif
 #ifndef STEPPER_MAX_SPS_SCURVE
-#define STEPPER_MAX_SPS_SCURVE 12000.0
+#define STEPPER_MAX_SPS_SCURVE 50000.0
 #endif
 #ifndef STEPPER_MAX_SPS_EXACT
-#define STEPPER_MAX_SPS_EXACT 60000.0
+#define STEPPER_MAX_SPS_EXACT 70000.0
 #endif
 #endif
 

@@ -23,6 +23,8 @@
 #include <ramp.h>
 #include <step_planner.h>
 
+#include "StepEngine.h" /* STEP_ENGINE_LEAD_MS */
+
 class StepperRamp {
 public:
     /* Sets the step engine's planner up at rest at pos with this sketch's algorithm and parameters. */
@@ -44,6 +46,8 @@ public:
     virtual void print_limit(Print &out, const char *key) const = 0;
     /* The step timer's rate for this algorithm, ticks/s. */
     virtual uint32_t tick_hz() const = 0;
+    /* How far ahead the step engine plans, ms (StepEngine.h). */
+    virtual uint16_t lead_ms() const { return STEP_ENGINE_LEAD_MS; }
 
 protected:
     ~StepperRamp() {}
@@ -71,6 +75,10 @@ public:
     motion_status_t set(const char *key, const char *value) override;
     bool apply(step_planner_t &pl, bool moving) override;
     uint32_t tick_hz() const override { return params_.tick_hz; }
+    uint16_t lead_ms() const override
+    {
+        return algo_ == RAMP_ALGO_LEIB ? STEP_ENGINE_LEAD_MS_LEIB : STEP_ENGINE_LEAD_MS;
+    }
     void print_params(Print &out) const override;
     void print_param(Print &out, const char *key) const override;
     void print_limit(Print &out, const char *key) const override;
