@@ -364,6 +364,75 @@ static void stepwise_random_moves_exact_ticks(void **state)
     }
 }
 
+/* The longest moves (2^31 - 1 steps, both ways, across zero) of simplistic, Leib and sigmoid:
+ * every step of the ramps and the end of every cruise command lands on the algorithm's own
+ * whole-tick time (ramp_next stepped alongside, its cruise skipped as far as the command's),
+ * so nothing drifts over 2^31 steps and the position ends exactly on the target. The commands
+ * may cover any time here (max_cmd_ticks raised), to keep the test's command count small. */
+static void stepwise_longest_moves_no_drift(void **state)
+{
+    static uint16_t table[300];
+    unsigned c;
+    (void)state;
+    for (c = 0; c < 6U; c++) {
+        step_planner_t pl;
+        ramp_t ref;
+        step_cmd_t cmd;
+        step_exec_t x;
+        uint64_t abs16 = 0x8000U, t = 0, n = 0, checked = 0;
+        const uint32_t d = 2147483647U;
+        int32_t from = (c & 1U) ? -1 : INT32_MIN, to = (c & 1U) ? INT32_MIN : -1;
+        if (c / 2U == 2U) {
+            ramp_sigmoid_params_t sp = {300, 3, 500.0f, 20000.0f, 5.0f, 2000000};
+            assert_int_equal(ramp_sigmoid_fill(&sp, table, 300), MS_OK);
+            assert_int_equal(step_planner_init_sigmoid(&pl, &sp, table, 300, from), MS_OK);
+            assert_int_equal(ramp_plan_sigmoid(&ref, &sp, table, 300, from, to), MS_OK);
+        } else {
+            ramp_algo_t algo = c / 2U == 0U ? RAMP_ALGO_LEIB : RAMP_ALGO_SIMPLISTIC;
+            ramp_params_t p = {200.0f, 20000.0f, 100000.0f, 2000000};
+            assert_int_equal(step_planner_init_trapezoid(&pl, algo, &p, from), MS_OK);
+            assert_int_equal(ramp_plan(&ref, algo, &p, from, to), MS_OK);
+        }
+        pl.max_cmd_ticks = UINT32_MAX;
+        assert_int_equal(step_planner_move(&pl, to), MS_OK);
+        step_exec_init(&x, 0x8000U);
+        while (step_planner_next(&pl, &cmd)) {
+            uint32_t skip = ramp_cruise_skippable(&ref);
+            ramp_step_t s;
+            assert_true((cmd.flags & STEP_CMD_REVERSE) ? (c & 1U) : !(c & 1U));
+            if (cmd.add == 0 && !(cmd.flags & STEP_CMD_WIDE) && skip >= cmd.count) {
+                /* a cruise command: its end against the reference's cruise skipped as far */
+                uint32_t w = ref.whole_ticks != 0 ? ref.whole_ticks : 1U;
+                assert_int_equal(ramp_skip_cruise_at_most(&ref, cmd.count), cmd.count);
+                t += (uint64_t)w * cmd.count;
+                abs16 += (uint64_t)cmd.rate * cmd.count;
+                n += cmd.count;
+                if ((abs16 >> 16) != t)
+                    fail_msg("case %u: cruise to step %llu at %llu ticks, the ramp %llu", c, (unsigned long long)n,
+                             (unsigned long long)(abs16 >> 16), (unsigned long long)t);
+                checked++;
+                continue;
+            }
+            step_exec_load(&x, &cmd);
+            while (x.left > 0U) {
+                abs16 += (x.flags & STEP_CMD_WIDE) ? (uint64_t)x.rate << 16 : x.rate;
+                (void)step_exec_next(&x);
+                assert_int_equal(ramp_next(&ref, &s), 1);
+                t += s.whole_ticks != 0 ? s.whole_ticks : 1U;
+                n++;
+                if ((abs16 >> 16) != t)
+                    fail_msg("case %u: step %llu at %llu ticks, the ramp %llu", c, (unsigned long long)n,
+                             (unsigned long long)(abs16 >> 16), (unsigned long long)t);
+                checked++;
+            }
+        }
+        assert_true(n == d);
+        assert_int_equal(ramp_steps_left(&ref), 0);
+        assert_int_equal(step_planner_position(&pl), to);
+        assert_true(checked > 2000U);
+    }
+}
+
 /* The lab handout's checkpoint (Leib, 0 -> 50, v0 1, vmax 20, a 10, F 1000 ticks/s): the first
  * intervals 218.218, 188.528 and 157.245 ticks, i.e. 218, 189 and 157 whole ticks in the queue. */
 static void leib_lab_checkpoint_through_the_queue(void **state)
@@ -529,6 +598,7 @@ int main(void)
         cmocka_unit_test(exact_random_moves_every_step),
         cmocka_unit_test(exact_longest_move_no_drift),
         cmocka_unit_test(stepwise_random_moves_exact_ticks),
+        cmocka_unit_test(stepwise_longest_moves_no_drift),
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
         cmocka_unit_test(stop_decelerates_to_rest),
