@@ -562,6 +562,80 @@ static void stop_decelerates_to_rest(void **state)
     }
 }
 
+/* The sigmoid walks its table: the interval of a step with level k is period[(k - 1)/hold]
+ * (the last entry beyond the table). A stop, a target further on and a target behind, taken
+ * after M accelerating steps (k = M), against the level the S-curve article's stepping gives:
+ * stop: k = M - 1 ... 1; further on to T: k = min(M + j, T - M - j + 1, len * hold) for the j-th
+ * step after; behind: the stop, then a move from rest to the target, k = min(i, D + 1 - i). */
+static uint32_t sigmoid_period(const uint16_t *table, const ramp_sigmoid_params_t *sp, uint32_t k)
+{
+    uint32_t e = (k - 1U) / sp->hold;
+    return table[e < sp->len ? e : sp->len - 1U];
+}
+
+static void sigmoid_stop_and_retarget(void **state)
+{
+    static uint16_t table[300];
+    ramp_sigmoid_params_t sp = {300, 3, 500.0f, 20000.0f, 5.0f, 2000000};
+    unsigned c;
+    (void)state;
+    assert_int_equal(ramp_sigmoid_fill(&sp, table, 300), MS_OK);
+    for (c = 0; c < 3U; c++) {
+        step_planner_t pl;
+        trace_t tr;
+        uint32_t m, n, a = (uint32_t)sp.len * sp.hold;
+        int32_t pos = 0, target;
+        assert_int_equal(step_planner_init_sigmoid(&pl, &sp, table, sp.len, 0), MS_OK);
+        assert_int_equal(step_planner_move(&pl, 20000), MS_OK);
+        trace_init(&tr, 60000);
+        drain_steps(&pl, &tr, 500);
+        m = pl.ramp.steps_done; /* steps taken from the ramp (one may not be in a command yet): the
+                                   new plan starts after them */
+        assert_true(m == tr.n || m == tr.n + 1U);
+        assert_true(m < a);
+        if (c == 0U) {
+            step_planner_stop(&pl);
+            target = (int32_t)(2U * m - 1U);
+        } else if (c == 1U) {
+            target = 9000;
+            assert_int_equal(step_planner_move(&pl, target), MS_OK);
+        } else {
+            target = (int32_t)m - 300;
+            assert_int_equal(step_planner_move(&pl, target), MS_OK);
+        }
+        assert_int_equal(step_planner_target(&pl), target);
+        drain(&pl, &tr, UINT32_MAX);
+        for (n = 1; n <= tr.n; n++) {
+            uint32_t k, got = (uint32_t)(tr.t[n] - tr.t[n - 1]);
+            if (n <= m) {
+                k = n;
+            } else if (c == 0U || (c == 2U && n < 2U * m)) {
+                k = 2U * m - n; /* decelerating to rest at 2M - 1 */
+            } else if (c == 1U) {
+                uint32_t j = n - m, up = m + j, down = (uint32_t)target - m - j + 1U;
+                k = up < down ? up : down;
+                if (k > a)
+                    k = a;
+            } else {
+                uint32_t i = n - (2U * m - 1U), dd = 2U * m - 1U - (uint32_t)target;
+                k = i < dd + 1U - i ? i : dd + 1U - i;
+            }
+            if (got != sigmoid_period(table, &sp, k))
+                fail_msg("case %u step %u: %u ticks, the table at level %u has %u", c, n, got, k,
+                         sigmoid_period(table, &sp, k));
+            pos += tr.dir[n];
+            if (c == 2U && n >= 2U * m)
+                assert_int_equal(tr.dir[n], -1);
+            else
+                assert_int_equal(tr.dir[n], 1);
+        }
+        assert_int_equal(pos, target);
+        assert_int_equal(step_planner_position(&pl), target);
+        assert_false(step_planner_busy(&pl));
+        trace_free(&tr);
+    }
+}
+
 static void stop_at_rest_does_nothing(void **state)
 {
     ramp_params_t p = {0.0f, 20000.0f, 50000.0f, 16000000U};
@@ -599,6 +673,7 @@ int main(void)
         cmocka_unit_test(exact_longest_move_no_drift),
         cmocka_unit_test(stepwise_random_moves_exact_ticks),
         cmocka_unit_test(stepwise_longest_moves_no_drift),
+        cmocka_unit_test(sigmoid_stop_and_retarget),
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
         cmocka_unit_test(stop_decelerates_to_rest),
