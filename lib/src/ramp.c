@@ -29,6 +29,15 @@ static ramp_phase_t phase_label(const ramp_t *r, uint32_t n)
     return RAMP_CRUISE;
 }
 
+/* the simplistic pre-computation: the sketch's (hooks) or lib's */
+static motion_status_t simplistic_plan(const ramp_hooks_t *h, const ramp_params_t *params, ramp_simplistic_t *s,
+                                       uint32_t steps_total)
+{
+    if (h != 0 && h->simplistic_plan != 0)
+        return h->simplistic_plan(s, params, steps_total);
+    return ramp_simplistic_plan(s, params, steps_total);
+}
+
 static void plan_geometry(ramp_t *r, ramp_algo_t algo, int32_t from, int32_t to)
 {
     r->algo = algo;
@@ -40,9 +49,16 @@ static void plan_geometry(ramp_t *r, ramp_algo_t algo, int32_t from, int32_t to)
     r->level = 0;
     r->whole_ticks = 0;
     r->start_level = 0;
+    r->hooks = 0;
 }
 
 motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, int32_t from, int32_t to)
+{
+    return ramp_plan_hooked(r, algo, params, 0, from, to);
+}
+
+motion_status_t ramp_plan_hooked(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, const ramp_hooks_t *hooks,
+                                 int32_t from, int32_t to)
 {
     ramp_t n;
     motion_status_t st;
@@ -51,12 +67,13 @@ motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *para
     plan_geometry(&n, algo, from, to);
     switch (algo) {
     case RAMP_ALGO_SIMPLISTIC:
-        st = ramp_simplistic_plan(&n.u.simplistic, params, n.steps_total);
+        st = simplistic_plan(hooks, params, &n.u.simplistic, n.steps_total);
         n.accel_steps = n.u.simplistic.accel_steps;
         n.peak_level = n.accel_steps + 1U;
         break;
     case RAMP_ALGO_LEIB:
-        st = ramp_leib_plan(&n.u.leib, params, n.steps_total);
+        st = hooks != 0 && hooks->leib_plan != 0 ? hooks->leib_plan(&n.u.leib, params, n.steps_total)
+                                                 : ramp_leib_plan(&n.u.leib, params, n.steps_total);
         n.accel_steps = n.u.leib.accel_steps;
         n.peak_level = n.accel_steps;
         break;
@@ -70,6 +87,7 @@ motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *para
     }
     if (st != MS_OK)
         return st;
+    n.hooks = hooks;
     set_label_bound(&n);
     *r = n;
     return MS_OK;
@@ -137,7 +155,7 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params
         /* nothing handed out yet: a fresh plan from rest */
         if (m->algo == RAMP_ALGO_SIGMOID)
             return MS_ERR_BUSY;
-        return ramp_plan(r, m->algo, params, from, to);
+        return ramp_plan_hooked(r, m->algo, params, m->hooks, from, to);
     }
     if (ramp_distance(from, to) < ramp_stop_steps(m) || (to != from && ramp_direction(from, to) != m->dir))
         return MS_ERR_BUSY;
@@ -157,7 +175,7 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params
         motion_status_t st;
         if (params == 0)
             return MS_ERR_NULL;
-        st = ramp_plan(&n, m->algo, params, from, to);
+        st = ramp_plan_hooked(&n, m->algo, params, m->hooks, from, to);
         if (st != MS_OK)
             return st;
         /* the peak of the parameters, not limited by this move's length (the level rule does) */
@@ -170,7 +188,7 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params
             n.u.leib.p = m->u.leib.p;
         } else if (m->algo == RAMP_ALGO_SIMPLISTIC) {
             /* S and dp of the parameters, not of this move's length */
-            st = ramp_simplistic_plan(&n.u.simplistic, params, UINT32_MAX);
+            st = simplistic_plan(m->hooks, params, &n.u.simplistic, UINT32_MAX);
             if (st != MS_OK)
                 return st;
             n.accel_steps = n.u.simplistic.accel_steps;
@@ -223,10 +241,13 @@ static ramp_phase_t next_trapezoid(ramp_t *r, uint32_t n)
         change = level_change(r, n);
         if (change == RAMP_CRUISE)
             return change;
+        const ramp_hooks_t *h = r->hooks;
         if (r->algo == RAMP_ALGO_LEIB)
-            p = ramp_leib_update(&r->u.leib, change);
+            p = h != 0 && h->leib_update != 0 ? h->leib_update(&r->u.leib, change)
+                                              : ramp_leib_update(&r->u.leib, change);
         else
-            p = ramp_simplistic_update(&r->u.simplistic, change);
+            p = h != 0 && h->simplistic_update != 0 ? h->simplistic_update(&r->u.simplistic, change)
+                                                    : ramp_simplistic_update(&r->u.simplistic, change);
     }
     r->whole_ticks = ramp_ticks_from_float(p);
     return change;

@@ -43,6 +43,19 @@ typedef struct {
     ramp_phase_t phase;
 } ramp_step_t;
 
+/* The lab's two places to edit, for a sketch that brings its own (the lab handout §4.3.3: the
+ * "pre-computation code", steps 1-5, and computeNewSpeed(), step 6): functions with the
+ * signatures of ramp_leib_plan/ramp_leib_update and ramp_simplistic_plan/ramp_simplistic_update,
+ * called instead of them (a NULL member, or no hooks: lib's own; ramp_plan_hooked). The planner calls the
+ * pre-computation once per plan (also to check parameters) and the update once per accelerating
+ * or decelerating step, in loop(), never in the step interrupt. */
+typedef struct ramp_hooks {
+    motion_status_t (*leib_plan)(ramp_leib_t *l, const ramp_params_t *params, uint32_t steps_total);
+    float (*leib_update)(ramp_leib_t *l, ramp_phase_t phase);
+    motion_status_t (*simplistic_plan)(ramp_simplistic_t *s, const ramp_params_t *params, uint32_t steps_total);
+    float (*simplistic_update)(ramp_simplistic_t *s, ramp_phase_t phase);
+} ramp_hooks_t;
+
 typedef struct {
     ramp_algo_t algo;
     int32_t from;
@@ -56,6 +69,7 @@ typedef struct {
     uint32_t whole_ticks;  /* whole_ticks of the last step (reused while cruising) */
     uint32_t start_level;  /* level before step 1: 0 from rest, else that of the move continued */
     uint32_t label_accel;  /* min(accel_steps, D/2): ramp_phase_label's bound, divided once per plan */
+    const ramp_hooks_t *hooks; /* ramp_plan_hooked's, or NULL */
     union {
         ramp_simplistic_t simplistic;
         ramp_leib_t leib;
@@ -67,6 +81,11 @@ typedef struct {
 /* Plans a move with the simplistic, Leib or exact ramp. On error (bad parameters, an algorithm
  * that is not one of these three) *r is untouched. A zero-length move is valid: it has no steps. */
 motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, int32_t from, int32_t to);
+
+/* ramp_plan with a sketch's own pre-computation and update (hooks, may be NULL); a move continued
+ * from this one (ramp_plan_continue) keeps them. */
+motion_status_t ramp_plan_hooked(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, const ramp_hooks_t *hooks,
+                                 int32_t from, int32_t to);
 
 /* Plans a move through a sigmoid table filled by ramp_sigmoid_fill (table_len entries, at
  * least p->len). The table must stay unchanged until the move ends. */

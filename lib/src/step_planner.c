@@ -16,6 +16,12 @@ static void clear_state(step_planner_t *pl, int32_t pos)
 motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
                                             int32_t pos)
 {
+    return step_planner_init_hooked(pl, algo, params, 0, pos);
+}
+
+motion_status_t step_planner_init_hooked(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                         const ramp_hooks_t *hooks, int32_t pos)
+{
     step_planner_t n;
     motion_status_t st;
     if (pl == 0 || params == 0)
@@ -23,6 +29,7 @@ motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo
     if (algo != RAMP_ALGO_SIMPLISTIC && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_EXACT)
         return MS_ERR_UNKNOWN_COMMAND;
     n.algo = algo;
+    n.hooks = hooks;
     n.exact.max_cmd_ticks = 0;
     n.table = 0;
     n.table_len = 0;
@@ -48,6 +55,7 @@ motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid
     if (st != MS_OK)
         return st;
     pl->algo = RAMP_ALGO_SIGMOID;
+    pl->hooks = 0;
     pl->sig = *p;
     pl->table = table;
     pl->table_len = table_len;
@@ -71,7 +79,7 @@ motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t 
         if (!pl->active && !pl->has_then)
             pl->exact.k = e.k;
     } else {
-        st = ramp_plan(&probe, pl->algo, params, 0, 1);
+        st = ramp_plan_hooked(&probe, pl->algo, params, pl->hooks, 0, 1);
         if (st != MS_OK)
             return st;
     }
@@ -145,7 +153,7 @@ static motion_status_t plan_from_rest(step_planner_t *pl, int32_t to)
     } else if (pl->algo == RAMP_ALGO_SIGMOID) {
         st = ramp_plan_sigmoid(&pl->ramp, &pl->sig, pl->table, pl->table_len, pl->pos, to);
     } else {
-        st = ramp_plan(&pl->ramp, pl->algo, &pl->params, pl->pos, to);
+        st = ramp_plan_hooked(&pl->ramp, pl->algo, &pl->params, pl->hooks, pl->pos, to);
     }
     if (st != MS_OK)
         return st;

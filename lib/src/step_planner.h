@@ -36,6 +36,7 @@ extern "C" {
 
 typedef struct {
     ramp_algo_t algo;
+    const ramp_hooks_t *hooks;       /* a sketch's pre-computation and update (ramp.h), or NULL */
     ramp_params_t params;            /* trapezoid algorithms: in force for the next plan */
     ramp_sigmoid_params_t sig;       /* sigmoid: its parameters and table */
     const uint16_t *table;
@@ -58,6 +59,11 @@ typedef struct {
  * exact also step_exact_set_params' limits); on error *pl is untouched. */
 motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
                                             int32_t pos);
+
+/* The same, with a sketch's own pre-computation and per-step update for simplistic or Leib
+ * (ramp_hooks_t; NULL members: lib's), used for every plan from here on. */
+motion_status_t step_planner_init_hooked(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                         const ramp_hooks_t *hooks, int32_t pos);
 
 /* A sigmoid planner over a filled table (it must stay unchanged while a move runs). */
 motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,

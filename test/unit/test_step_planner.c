@@ -636,6 +636,92 @@ static void sigmoid_stop_and_retarget(void **state)
     }
 }
 
+/* A sketch's own pre-computation and computeNewSpeed() (ramp_hooks_t): hooks that call lib's
+ * functions give the very commands lib's own do, through a move, a new target and a stop, and are
+ * called (once per plan, once per accelerating or decelerating step); a different update is what
+ * the steps then follow (here: p never changes, so every interval is the first, F/sqrt(v0^2 + 2a)). */
+static unsigned hook_plans, hook_updates;
+static motion_status_t counting_leib_plan(ramp_leib_t *l, const ramp_params_t *p, uint32_t steps_total)
+{
+    hook_plans++;
+    return ramp_leib_plan(l, p, steps_total);
+}
+static float counting_leib_update(ramp_leib_t *l, ramp_phase_t phase)
+{
+    hook_updates++;
+    return ramp_leib_update(l, phase);
+}
+static motion_status_t counting_simplistic_plan(ramp_simplistic_t *s, const ramp_params_t *p, uint32_t steps_total)
+{
+    hook_plans++;
+    return ramp_simplistic_plan(s, p, steps_total);
+}
+static float counting_simplistic_update(ramp_simplistic_t *s, ramp_phase_t phase)
+{
+    hook_updates++;
+    return ramp_simplistic_update(s, phase);
+}
+static float constant_leib_update(ramp_leib_t *l, ramp_phase_t phase)
+{
+    (void)phase;
+    return l->p;
+}
+
+static void sketch_hooks_are_what_runs(void **state)
+{
+    const ramp_hooks_t counting = {counting_leib_plan, counting_leib_update, counting_simplistic_plan,
+                                   counting_simplistic_update};
+    const ramp_hooks_t constant = {0, constant_leib_update, 0, 0};
+    const ramp_algo_t algos[] = {RAMP_ALGO_LEIB, RAMP_ALGO_SIMPLISTIC};
+    ramp_params_t p = {200.0f, 20000.0f, 50000.0f, 2000000};
+    unsigned i;
+    (void)state;
+    for (i = 0; i < 2U; i++) {
+        step_planner_t a, b;
+        step_cmd_t ca, cb;
+        unsigned k = 0;
+        hook_plans = hook_updates = 0;
+        assert_int_equal(step_planner_init_trapezoid(&a, algos[i], &p, 0), MS_OK);
+        assert_int_equal(step_planner_init_hooked(&b, algos[i], &p, &counting, 0), MS_OK);
+        assert_int_equal(step_planner_move(&a, 30000), MS_OK);
+        assert_int_equal(step_planner_move(&b, 30000), MS_OK);
+        for (;;) {
+            uint8_t ma = step_planner_next(&a, &ca), mb = step_planner_next(&b, &cb);
+            assert_int_equal(ma, mb);
+            if (!ma)
+                break;
+            assert_int_equal(ca.rate, cb.rate);
+            assert_int_equal(ca.add, cb.add);
+            assert_int_equal(ca.count, cb.count);
+            assert_int_equal(ca.flags, cb.flags);
+            if (++k == 40U) {
+                assert_int_equal(step_planner_move(&a, 12000), MS_OK);
+                assert_int_equal(step_planner_move(&b, 12000), MS_OK);
+            }
+            if (k == 200U) {
+                step_planner_stop(&a);
+                step_planner_stop(&b);
+            }
+        }
+        assert_int_equal(step_planner_position(&a), step_planner_position(&b));
+        assert_true(hook_plans >= 3U);    /* the move, the new target, the stop (and the checks) */
+        assert_true(hook_updates > 100U); /* every step of the ramps */
+    }
+    {
+        step_planner_t c;
+        trace_t tr;
+        uint32_t n, p1 = (uint32_t)floor(2000000.0 / sqrt(200.0 * 200.0 + 2.0 * 50000.0) + 0.5);
+        assert_int_equal(step_planner_init_hooked(&c, RAMP_ALGO_LEIB, &p, &constant, 0), MS_OK);
+        assert_int_equal(step_planner_move(&c, 500), MS_OK);
+        trace_init(&tr, 500);
+        drain(&c, &tr, UINT32_MAX);
+        assert_int_equal(tr.n, 500);
+        for (n = 1; n <= 500U; n++)
+            assert_int_equal(tr.t[n] - tr.t[n - 1], p1);
+        trace_free(&tr);
+    }
+}
+
 static void stop_at_rest_does_nothing(void **state)
 {
     ramp_params_t p = {0.0f, 20000.0f, 50000.0f, 16000000U};
@@ -674,6 +760,7 @@ int main(void)
         cmocka_unit_test(stepwise_random_moves_exact_ticks),
         cmocka_unit_test(stepwise_longest_moves_no_drift),
         cmocka_unit_test(sigmoid_stop_and_retarget),
+        cmocka_unit_test(sketch_hooks_are_what_runs),
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
         cmocka_unit_test(stop_decelerates_to_rest),
