@@ -1,21 +1,58 @@
 // motion-sketch: stepper
-/* SimplisticRampStepper - the lab's starting point (the lab handout §4.3.2): the step interval changes by a
- * fixed amount per step, which "nearly works": the speed creeps up, then the acceleration near vmax
- * is far too large. Kept to compare with LeibRampStepper on the same RAMPS 1.4 X axis and timer.
+/* SimplisticRampStepper - the lab's starting point (the lab handout §4.3.2): the step interval
+ * changes by a fixed amount per step, which "nearly works": the speed creeps up, then the
+ * acceleration near vmax is far too large. Kept to compare with LeibRampStepper on the same
+ * RAMPS 1.4 X axis and timer.
  *
  * Defaults are the lab's: v0 = 1 step/s, vmax = 20 steps/s, accel = 10 steps/s^2 (which sets the
  * number of accelerating steps, as for Leib). Serial Monitor at 9600 baud, "Both NL & CR":
  *   50            move to absolute position 50: "OK 0 50", then "DONE 50"
  *   ?             position, state and parameters on one line
- *   set v0 5      change v0 (> 0 here), vmax or accel between moves
- * Pins, timer and compile-time options: MotionBoard's StepperPins.h. The same ramp runs in
- * `motionsim ramp --algo simplistic`; `motionsim ramp --compare` shows how far it is from ideal.
+ *   set v0 5      change v0 (> 0 here), vmax or accel (while moving: from the next plan)
+ *   stop  !       decelerate to rest / halt at once (then "DONE <position>")
+ *
+ * Where the handout's code is in this sketch:
+ *   "Pre-computation code"              preComputation() below: once for every move
+ *   "On-the-fly step calculation"       computeNewSpeed() below: once for every step
+ *   moveOneStep(), with dirPin          the step interrupt (StepEngineIsr.S): STEP, and DIR high
+ *                                       for forwards, low for backwards, before the step
+ * Both functions run in loop(), ahead of the motor; Timer1's compare interrupt only plays back
+ * the step commands the planner made of their intervals. The arithmetic is lib's
+ * ramp_simplistic.c, the code `motionsim ramp --algo simplistic` runs; `motionsim ramp --compare`
+ * shows how far it is from ideal. The files behind this sketch: StepperConsole.h, StepEngine.h,
+ * step_planner.h, ramp_simplistic.h. Pins, timer and compile-time options: StepperPins.h.
  */
 #include <StepperConsole.h>
+#include <ramp_simplistic.h>
 
-static TrapezoidRamp ramp(RAMP_ALGO_SIMPLISTIC, 1.0, 20.0, 10.0, STEPPER_MAX_SPS_SIMPLISTIC, STEPPER_TICK_HZ_LAB);
+// ---- the handout's constants: the defaults of `set v0|vmax|accel` ----
+const float minSpeed = 1.0;        // v0, steps/s (> 0: the first interval is F/v0)
+const float maxPermisSpeed = 20.0; // vmax, steps/s
+const float maxAccel = 10.0;       // a, steps/s^2
+// F, the timer ticks per second: STEPPER_TICK_HZ_LAB, 2,000,000 (Timer1 at 16 MHz / 8)
+
+// ---- Pre-computation code, for a move of stepsToGo steps (S_tot) ----
+//   S = acce1Steps = (v^2 - v0^2) / (2a), v = maxPermisSpeed; if 2S > S_tot: v = sqrt(v0^2 + a S_tot),
+//   S = int(S_tot / 2) (as for Leib); p_max = F / v0, p_min = F / v, dp = (p_max - p_min) / S   eq. (1)
+// into ramp->accel_steps (S), ->peak_sps (v), ->p_max, ->p_min, ->dp; and p = p_max for step 1.
+motion_status_t preComputation(ramp_simplistic_t *ramp, const ramp_params_t *params, uint32_t stepsToGo)
+{
+    return ramp_simplistic_plan(ramp, params, stepsToGo);
+}
+
+// ---- On-the-fly step calculation code: the next interval p from the last one ----
+//   p = p - dp accelerating, p + dp decelerating (never above p_max), unchanged at constant speed   eq. (2)
+float computeNewSpeed(ramp_simplistic_t *ramp, ramp_phase_t phase)
+{
+    return ramp_simplistic_update(ramp, phase);
+}
+
+static const ramp_hooks_t labCode = {0, 0, preComputation, computeNewSpeed};
+static TrapezoidRamp ramp(RAMP_ALGO_SIMPLISTIC, minSpeed, maxPermisSpeed, maxAccel, STEPPER_MAX_SPS_SIMPLISTIC,
+                          STEPPER_TICK_HZ_LAB, &labCode);
 static StepperConsole console(ramp);
-/* Timer1's compare interrupt makes the steps the planner queued (StepEngine.h) */
+
+// Timer1's compare interrupt: makes the steps the planner queued (StepEngine.h)
 #if !STEPPER_TIMED_LOOP
 ISR(TIMER1_COMPA_vect, ISR_NAKED)
 {
@@ -30,5 +67,5 @@ void setup()
 
 void loop()
 {
-    console.poll();
+    console.poll(); // serial commands, and the planner keeping the step queue ahead
 }

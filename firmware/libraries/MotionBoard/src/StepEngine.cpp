@@ -320,6 +320,11 @@ static void catch_missed_match()
     StepEngineState &s = step_engine;
     if ((++every & 7U) != 0)
         return;
+    /* a first look with interrupts on (a torn read only costs the careful look below): interrupts
+     * stay on unless a match really seems missed, so this check does not delay step edges */
+    if (!s.running || s.waiting || (TIFR1 & _BV(OCF1A)) ||
+        (int16_t)(TCNT1 - (uint16_t)(s.acc >> 16)) <= 64)
+        return;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         if (s.running && !s.waiting && !(s.cur->flags & _BV(STEP_SLOT_SLOW)) && !(TIFR1 & _BV(OCF1A))) {
@@ -494,6 +499,8 @@ uint16_t StepEngine::late_edges()
 bool StepEngine::take_done(int32_t &position)
 {
     bool done = false;
+    if (!step_engine.done)
+        return false; /* one byte, read with interrupts on: loop() asks on every pass */
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         if (step_engine.done) {

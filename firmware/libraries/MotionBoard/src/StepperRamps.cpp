@@ -57,8 +57,8 @@ static void print_upper_limit(Print &out, const char *key, double limit, const _
 
 /* ---- TrapezoidRamp ---- */
 TrapezoidRamp::TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps,
-                             uint32_t tick_hz)
-    : algo_(algo), max_sps_(max_sps)
+                             uint32_t tick_hz, const ramp_hooks_t *hooks)
+    : algo_(algo), max_sps_(max_sps), hooks_(hooks)
 {
     params_.v0_sps = v0_sps;
     params_.vmax_sps = vmax_sps;
@@ -68,7 +68,7 @@ TrapezoidRamp::TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, d
 
 motion_status_t TrapezoidRamp::setup(step_planner_t &pl, int32_t pos)
 {
-    return step_planner_init_trapezoid(&pl, algo_, &params_, pos);
+    return step_planner_init_hooked(&pl, algo_, &params_, hooks_, pos);
 }
 
 bool TrapezoidRamp::apply(step_planner_t &pl, bool moving)
@@ -104,7 +104,8 @@ motion_status_t TrapezoidRamp::set(const char *key, const char *value)
     *field = v;
     /* a one-step move has the longest first interval of all moves: if it plans, every move does;
      * the exact planner also checks its own limits */
-    st = algo_ == RAMP_ALGO_EXACT ? step_planner_init_trapezoid(&probe, algo_, &p, 0) : ramp_plan(&ramp_probe, algo_, &p, 0, 1);
+    st = algo_ == RAMP_ALGO_EXACT ? step_planner_init_trapezoid(&probe, algo_, &p, 0)
+                                  : ramp_plan_hooked(&ramp_probe, algo_, &p, hooks_, 0, 1);
     if (st != MS_OK)
         return st;
     params_ = p;

@@ -68,9 +68,10 @@ extern void (*stepper_print_hook)();
 class TrapezoidRamp : public StepperRamp {
 public:
     /* algo: RAMP_ALGO_SIMPLISTIC, RAMP_ALGO_LEIB or RAMP_ALGO_EXACT; max_sps: the fastest step
-     * rate `set` allows; tick_hz: the step timer (2 MHz for the lab's ramps, 16 MHz for exact). */
+     * rate `set` allows; tick_hz: the step timer (2 MHz for the lab's ramps, 16 MHz for exact);
+     * hooks: the sketch's own pre-computation and computeNewSpeed() (ramp.h), or NULL for lib's. */
     TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps,
-                  uint32_t tick_hz);
+                  uint32_t tick_hz, const ramp_hooks_t *hooks = 0);
     motion_status_t setup(step_planner_t &pl, int32_t pos) override;
     motion_status_t set(const char *key, const char *value) override;
     bool apply(step_planner_t &pl, bool moving) override;
@@ -87,6 +88,7 @@ private:
     ramp_algo_t algo_;
     ramp_params_t params_;
     double max_sps_;
+    const ramp_hooks_t *hooks_;
 };
 
 #ifndef SCURVE_MAX_LEN
