@@ -38,6 +38,10 @@ BAD = [
     # a negative value is the option's value, refused by the range check
     (["x.elf", "--duration", "-5"], "motionemu: --duration wants milliseconds, not '-5'"),
     (["x.elf", "--max-ms=-1"], "motionemu: --max-ms wants milliseconds, not '-1'"),
+    # numbers are lib's text_parse (as motionsim's and the sketches'): no hexadecimal, inf or blanks
+    (["x.elf", "--duration", "0x10"], "motionemu: --duration wants milliseconds, not '0x10'"),
+    (["x.elf", "--duration", "inf"], "motionemu: --duration wants milliseconds, not 'inf'"),
+    (["x.elf", "--duration", " 5"], "motionemu: --duration wants milliseconds, not ' 5'"),
     (["x.elf", "y.elf"], "motionemu: one firmware file only ('x.elf' and 'y.elf')"),
     (["x.elf", "--", "y.elf"], "motionemu: one firmware file only ('x.elf' and 'y.elf')"),
     ([], "motionemu: no firmware file given"),
@@ -64,3 +68,18 @@ def test_help(emu):
     for option in ("--input", "--exec", "--output", "--pin", "--motor", "--ls7366r", "--duration", "--max-ms"):
         assert option in r.stdout
     assert emu("-h").stdout == r.stdout
+
+
+def test_script_numbers_are_text_parse_numbers(emu):
+    """An INPUT script's numbers go through lib's text_parse too: hexadecimal is refused naming the line."""
+    elf = os.path.join(ROOT, "build", "emu", "emu_selftest.elf")
+    if not os.path.exists(elf):
+        subprocess.run(["make", "build/emu/emu_selftest.elf"], cwd=ROOT, check=True, capture_output=True)
+    for cmd, what in (("run 0x10", "run time (ms) must be a number in 0..1e+09"),
+                      ("timeout inf", "timeout (ms) must be a number in 1..1e+09")):
+        r = emu(elf, "-e", cmd)
+        word = cmd.split()[1]
+        assert r.returncode == 2 and r.stdout == "", r.stderr
+        assert r.stderr.splitlines() == [f"--exec:1: {what}, not '{word}'"], r.stderr
+    r = emu(elf, "-e", "run 1e1")
+    assert r.returncode == 0, r.stderr

@@ -22,6 +22,7 @@
 #include <sim_elf.h>
 
 #include "emu.h"
+#include "text_parse.h"
 
 static const char usage[] =
     "usage: motionemu FIRMWARE.elf [options]\n"
@@ -107,15 +108,10 @@ static int check_elf(const char *path)
     return 0;
 }
 
+/* Milliseconds 0..1e9, parsed by lib's text_parse (the sketches' and motionsim's parser). */
 static int parse_ms(const char *s, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || errno || v < 0 || v > 1e9)
-        return -1;
-    *out = v;
-    return 0;
+    return text_parse_real(s, 0, 1e9, out) == MS_OK ? 0 : -1;
 }
 
 /* "KEY=VAL,KEY=VAL" -> value of key, or NULL */
