@@ -27,7 +27,7 @@ def fails_of(log, problems):
 def run_kwargs(env, sketch):
     fam = env.family(sketch)
     if fam == "servo":
-        return {"motor": sketches.servo_motor_spec(env)}
+        return {"motor": sketches.servo_motor_spec(env, sketch)}
     if fam == "filter":
         return {"pins": sketches.filter_pins(env)}
     return {}
@@ -71,7 +71,7 @@ def check_servo_overrun(env, sketch):
         # the line after a burst whose tail was lost is the one the overrun hit (docs/serial.md)
         "send ?", "run 1000", "mark sync", "send ?", "run 1000",
     ]) + "\n"
-    log = emulog.run(env.elf(sketch), script, motor=sketches.servo_motor_spec(env))
+    log = emulog.run(env.elf(sketch), script, motor=sketches.servo_motor_spec(env, sketch))
     problems = []
     fails_of(log, problems)
     start, end, sync = log.mark("flood"), log.mark("flood-end"), log.mark("sync")
