@@ -115,6 +115,41 @@ def check_overrun(env, sketch):
     return CheckResult(not problems, summary, problems)
 
 
+# issue 12 item 7: one rule for tau under every kind (at most the moving-average buffer), so that
+# any kind can follow; before, `tau 100` was taken under exp and `kind ma` refused after it.
+FILTER_TAU_SCRIPT = """\
+wait ^READY MovingAverageFilter$
+timeout 3000
+send kind exp
+wait ^OK kind=exp$
+mark tau
+send tau 100
+wait ^(OK|ERR)
+send tau 20.01
+wait ^(OK|ERR)
+send tau 20
+wait ^(OK|ERR)
+send kind ma
+wait ^(OK|ERR)
+send ?
+wait ^kind=
+"""
+
+
+def check_filter_tau_rule(env):
+    log = emulog.run(env.elf("MovingAverageFilter"), FILTER_TAU_SCRIPT, pins=sketches.filter_pins(env))
+    problems = []
+    fails_of(log, problems)
+    start = log.mark("tau")
+    got = [l.text for l in log.lines_matching(r"^(OK|ERR|kind=)", start or 0)]
+    want = [r"^ERR tau/Ts needs more taps than the buffer holds: tau and tau2 at most 20\.00 s each under every "
+            r"kind \(ma2: tau \+ tau2\)$"] * 2 + [r"^OK tau=20\.00$", r"^OK kind=ma$", r"^kind=ma tau=20\.00 "]
+    if len(got) != len(want) or not all(re.match(w, g) for w, g in zip(want, got)):
+        problems.append(f"replies {got}, want {want}")
+    return CheckResult(not problems, f"under exp: tau 100 and 20.01 refused, tau 20 then kind ma accepted: {got}",
+                       problems)
+
+
 def checks_for(env):
     checks = []
     names = env.sketch_names()
