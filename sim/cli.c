@@ -5,6 +5,7 @@
 
 #include <errno.h>
 #include <float.h>
+#include <getopt.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -118,102 +119,175 @@ static int choice_index(const char *choices, const char *value)
     return -1;
 }
 
+/* Options that getopt_long(3) returns: a table entry k named "--name" comes back as OPT_LONG + k, one
+ * named "-x" as the character x; help as 'h'. */
+#define OPT_LONG 256
+
+/* The name as the user typed it in `elem` (up to '=' for a long option), for messages. */
+static int typed_len(const char *elem)
+{
+    const char *eq = strncmp(elem, "--", 2) == 0 ? strchr(elem, '=') : NULL;
+    return eq != NULL ? (int)(eq - elem) : (int)strlen(elem);
+}
+
+/* Stores the value of option o (a kind with a value) or returns the usage exit code. */
+static int store_value(const cli_spec_t *spec, const cli_opt_t *o, const char *value)
+{
+    switch (o->kind) {
+    case CLI_DOUBLE:
+        switch (cli_parse_double(value, (double *)o->dest)) {
+        case 0:
+            return -1;
+        case CLI_NUM_OVERFLOW:
+            return cli_error(spec->cmd, "%s: '%s' is out of range: it overflows a double (magnitude above 1.8e308)",
+                             o->name, value);
+        case CLI_NUM_UNDERFLOW:
+            return cli_error(spec->cmd,
+                             "%s: '%s' is out of range: it underflows a double (nonzero magnitude below 2.2e-308)",
+                             o->name, value);
+        default:
+            return cli_error(spec->cmd, "%s: '%s' is not a finite number", o->name, value);
+        }
+    case CLI_INT32:
+        if (cli_parse_int32(value, (int32_t *)o->dest) != 0)
+            return cli_error(spec->cmd, "%s: '%s' is not a whole number in -2147483648..2147483647", o->name, value);
+        return -1;
+    case CLI_UINT32:
+        if (cli_parse_uint32(value, (uint32_t *)o->dest) != 0)
+            return cli_error(spec->cmd, "%s: '%s' is not a whole number in 0..4294967295", o->name, value);
+        return -1;
+    case CLI_STRING:
+        if (value[0] == '\0')
+            return cli_error(spec->cmd, "%s: the value is empty", o->name);
+        *(const char **)o->dest = value;
+        return -1;
+    case CLI_CHOICE: {
+        int idx = choice_index(o->choices, value);
+        if (idx < 0)
+            return cli_error(spec->cmd, "%s: '%s' is not one of %s", o->name, value, o->choices);
+        *(int *)o->dest = idx;
+        return -1;
+    }
+    default:
+        return -1;
+    }
+}
+
+/* The table as getopt_long(3) wants it. Options are processed in order (optstring "-:": bare arguments
+ * come back as 1 where they stand, a missing value as ':'), "--" ends the options, and only whole
+ * option names are accepted: getopt_long's unique-prefix abbreviations ("--acc" for "--accel") are
+ * refused, so that a script keeps its meaning when an option is added. Every short option here takes
+ * a value or ends the parse (-h), so each call starts at the beginning of an argument. */
 int cli_parse(const cli_spec_t *spec, int argc, char **argv, const char **positional, size_t *n_positional)
 {
-    int i;
-    size_t npos = 0;
+    struct option longopts[CLI_MAX_OPTS + 2];
+    char optstring[2 * CLI_MAX_OPTS + 8];
     unsigned char given[CLI_MAX_OPTS];
+    size_t npos = 0, k, nl = 0, ns = 0;
+    int c;
     if (spec->n_opts > CLI_MAX_OPTS)
         return cli_error(spec->cmd, "internal error: more than %d options", CLI_MAX_OPTS);
     memset(given, 0, sizeof given);
-    for (i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        const char *value = NULL;
-        const cli_opt_t *o = NULL;
-        size_t k, name_len;
-        const char *eq;
-        if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
-            print_help(spec);
-            return CLI_EXIT_OK;
+    optstring[ns++] = '-';
+    optstring[ns++] = ':';
+    optstring[ns++] = 'h';
+    for (k = 0; k < spec->n_opts; k++) {
+        const cli_opt_t *o = &spec->opts[k];
+        int has_arg = o->kind == CLI_FLAG ? no_argument : required_argument;
+        if (strncmp(o->name, "--", 2) == 0) {
+            longopts[nl].name = o->name + 2;
+            longopts[nl].has_arg = has_arg;
+            longopts[nl].flag = NULL;
+            longopts[nl].val = OPT_LONG + (int)k;
+            nl++;
+        } else {
+            optstring[ns++] = o->name[1];
+            if (has_arg == required_argument)
+                optstring[ns++] = ':';
         }
-        if (arg[0] != '-' || strcmp(arg, "-") == 0 || (arg[1] >= '0' && arg[1] <= '9')) {
+    }
+    optstring[ns] = '\0';
+    longopts[nl].name = "help";
+    longopts[nl].has_arg = no_argument;
+    longopts[nl].flag = NULL;
+    longopts[nl].val = 'h';
+    nl++;
+    memset(&longopts[nl], 0, sizeof longopts[nl]);
+    opterr = 0; /* the messages are ours, one line each */
+    optind = 0; /* glibc: start afresh */
+    for (;;) {
+        int at = optind < 1 ? 1 : optind; /* the argument this call reads */
+        const char *elem = at < argc ? argv[at] : "";
+        const cli_opt_t *o = NULL;
+        int rc, id;
+        c = getopt_long(argc, argv, optstring, longopts, NULL);
+        if (c == -1)
+            break;
+        if (c == 1) { /* a bare argument */
             if (npos >= spec->max_positional)
-                return cli_error(spec->cmd, "unexpected argument '%s' (try 'motionsim %s --help')", arg, spec->cmd);
+                return cli_error(spec->cmd, "unexpected argument '%s' (try 'motionsim %s --help')", optarg, spec->cmd);
             if (positional != NULL)
-                positional[npos] = arg;
+                positional[npos] = optarg;
             npos++;
             continue;
         }
-        eq = strchr(arg, '=');
-        name_len = eq != NULL ? (size_t)(eq - arg) : strlen(arg);
-        for (k = 0; k < spec->n_opts; k++) {
-            if (strlen(spec->opts[k].name) == name_len && strncmp(spec->opts[k].name, arg, name_len) == 0) {
-                o = &spec->opts[k];
-                break;
-            }
+        id = (c == '?' || c == ':') ? optopt : c;
+        if (c == '?' && id == 0) /* a long option not in the table (or a prefix of several) */
+            return cli_error(spec->cmd, "unknown option '%.*s' (try 'motionsim %s --help')", typed_len(elem), elem,
+                             spec->cmd);
+        if (c == '?' && id < OPT_LONG && id != 'h') /* a short option not in the table */
+            return cli_error(spec->cmd, "unknown option '-%c' (try 'motionsim %s --help')", id, spec->cmd);
+        if (id >= OPT_LONG)
+            o = &spec->opts[id - OPT_LONG];
+        else
+            for (k = 0; k < spec->n_opts; k++)
+                if (spec->opts[k].name[1] == id && spec->opts[k].name[2] == '\0')
+                    o = &spec->opts[k];
+        /* a long option as typed must be the whole name */
+        if (strncmp(elem, "--", 2) == 0) {
+            const char *want = o != NULL ? o->name : "--help";
+            int n = typed_len(elem);
+            if ((size_t)n != strlen(want) || strncmp(elem, want, (size_t)n) != 0)
+                return cli_error(spec->cmd, "option '%.*s' is abbreviated: write %s (abbreviations are not accepted)", n,
+                                 elem, want);
         }
-        if (o == NULL)
-            return cli_error(spec->cmd, "unknown option '%.*s' (try 'motionsim %s --help')", (int)name_len, arg, spec->cmd);
+        if (id == 'h') {
+            if (c == '?')
+                return cli_error(spec->cmd, "option --help takes no value");
+            print_help(spec);
+            return CLI_EXIT_OK;
+        }
+        if (o == NULL) /* cannot happen: getopt_long returns only what the table holds */
+            return cli_error(spec->cmd, "unknown option '%s' (try 'motionsim %s --help')", elem, spec->cmd);
+        k = (size_t)(o - spec->opts);
         /* a second value would silently replace the first: refuse it, as a typo usually */
         if (given[k])
             return cli_error(spec->cmd, "%s given twice", o->name);
         given[k] = 1;
+        if (c == ':')
+            return cli_error(spec->cmd, "option %s needs a value (%s)", o->name, kind_metavar(o));
+        if (c == '?')
+            return cli_error(spec->cmd, "option %s takes no value", o->name);
         if (o->kind == CLI_FLAG) {
-            if (eq != NULL)
-                return cli_error(spec->cmd, "option %s takes no value", o->name);
             *(int *)o->dest = 1;
-            if (o->seen != NULL)
-                *o->seen = 1;
-            continue;
-        }
-        if (eq != NULL) {
-            value = eq + 1;
         } else {
-            if (i + 1 >= argc)
-                return cli_error(spec->cmd, "option %s needs a value (%s)", o->name, kind_metavar(o));
-            value = argv[++i];
-        }
-        switch (o->kind) {
-        case CLI_DOUBLE:
-            switch (cli_parse_double(value, (double *)o->dest)) {
-            case 0:
-                break;
-            case CLI_NUM_OVERFLOW:
-                return cli_error(spec->cmd, "%s: '%s' is out of range: it overflows a double (magnitude above 1.8e308)",
-                                 o->name, value);
-            case CLI_NUM_UNDERFLOW:
-                return cli_error(spec->cmd,
-                                 "%s: '%s' is out of range: it underflows a double (nonzero magnitude below 2.2e-308)",
-                                 o->name, value);
-            default:
-                return cli_error(spec->cmd, "%s: '%s' is not a finite number", o->name, value);
-            }
-            break;
-        case CLI_INT32:
-            if (cli_parse_int32(value, (int32_t *)o->dest) != 0)
-                return cli_error(spec->cmd, "%s: '%s' is not a whole number in -2147483648..2147483647", o->name, value);
-            break;
-        case CLI_UINT32:
-            if (cli_parse_uint32(value, (uint32_t *)o->dest) != 0)
-                return cli_error(spec->cmd, "%s: '%s' is not a whole number in 0..4294967295", o->name, value);
-            break;
-        case CLI_STRING:
-            if (value[0] == '\0')
-                return cli_error(spec->cmd, "%s: the value is empty", o->name);
-            *(const char **)o->dest = value;
-            break;
-        case CLI_CHOICE: {
-            int idx = choice_index(o->choices, value);
-            if (idx < 0)
-                return cli_error(spec->cmd, "%s: '%s' is not one of %s", o->name, value, o->choices);
-            *(int *)o->dest = idx;
-            break;
-        }
-        default:
-            break;
+            const char *value = optarg;
+            /* "-o=FILE" as "-o FILE" (the '=' is not part of the value, as for "--name=VALUE") */
+            if (o->name[1] != '-' && value == elem + 2 && value[0] == '=')
+                value++;
+            if ((rc = store_value(spec, o, value)) >= 0)
+                return rc;
         }
         if (o->seen != NULL)
             *o->seen = 1;
+    }
+    /* after "--": the rest are bare arguments */
+    for (; optind < argc; optind++) {
+        if (npos >= spec->max_positional)
+            return cli_error(spec->cmd, "unexpected argument '%s' (try 'motionsim %s --help')", argv[optind], spec->cmd);
+        if (positional != NULL)
+            positional[npos] = argv[optind];
+        npos++;
     }
     if (n_positional != NULL)
         *n_positional = npos;

@@ -4,6 +4,9 @@
  * parsed strictly (the whole argument must be a finite decimal number in range; "1e3" is accepted
  * for doubles, "12abc", "", "0x5", "nan" and "inf" are not, nor a double that overflows or
  * underflows, e.g. 1e400 or 1e-320). Each option may be given once ("--kp given twice").
+ * The parsing is getopt_long(3)'s, in order, with these choices: whole option names only (a unique
+ * prefix such as "--acc" is refused, naming --accel), a value may start with '-' ("--v0 -5"),
+ * "--" ends the options, and "-o=FILE" means "-o FILE".
  * Errors print one line
  *   motionsim <cmd>: <what is wrong> (try 'motionsim <cmd> --help')
  * on stderr. Exit codes used by all of motionsim:
@@ -38,7 +41,7 @@ typedef enum {
 } cli_kind_t;
 
 typedef struct {
-    const char *name;    /* long option including dashes, e.g. "--v0"; "-o" style also works */
+    const char *name;    /* long option including dashes, e.g. "--v0", or a short one with a value, e.g. "-o" */
     cli_kind_t kind;
     void *dest;
     const char *metavar; /* shown in --help, e.g. "STEPS" */

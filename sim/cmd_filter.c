@@ -13,6 +13,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "csv.h"
+#include "csv_read.h"
 #include "filter_param.h"
 #include "filter_stream.h"
 
@@ -81,80 +82,39 @@ static int split_colons(char *s, char **fields, int max)
 
 /* ---- csv:FILE ---------------------------------------------------------------------------------- */
 
-static char *trim(char *s)
-{
-    char *e;
-    while (*s == ' ' || *s == '\t')
-        s++;
-    e = s + strlen(s);
-    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' || e[-1] == '\n'))
-        *--e = '\0';
-    return s;
-}
-
-/* Splits a CSV line (no quoting) into fields, in place. Returns the number of fields. */
-static int split_commas(char *line, char **fields, int max)
-{
-    int n = 0;
-    char *p = line;
-    for (;;) {
-        char *c = strchr(p, ',');
-        if (c != NULL)
-            *c = '\0';
-        if (n < max)
-            fields[n] = trim(p);
-        n++;
-        if (c == NULL)
-            return n;
-        p = c + 1;
-    }
-}
-
 #define CSV_MAX_COLS 32
 
 static int load_csv(const char *cmd, const char *path, double ts, double quantum, input_t *in)
 {
-    FILE *f = fopen(path, "r");
-    char *line = NULL, *fields[CSV_MAX_COLS];
-    size_t cap = 0, n_alloc = 0;
-    ssize_t len;
-    int n_cols = 0, col_u = -1, col_t = -1, col_k = -1, i, rc = -1;
-    uint64_t lineno = 0, n = 0;
+    csv_reader_t r;
+    const char *why;
+    size_t n_alloc = 0;
+    int got, n_cols = 0, col_u = -1, col_t = -1, col_k = -1, rc = -1;
+    uint64_t n = 0;
     double t0 = 0, k_first = 0;
     int16_t *samples = NULL;
-    if (f == NULL)
+    if (csv_open(&r, path, 1) != 0)
         return cli_error(cmd, "--input csv:%s: cannot read the file: %s", path, strerror(errno));
-    while ((len = getline(&line, &cap, f)) >= 0) {
-        int nf;
-        lineno++;
-        /* the string functions below would stop at a NUL byte: refuse it (as pid-replay does) */
-        if (memchr(line, '\0', (size_t)len) != NULL) {
-            rc = cli_error(cmd, "csv:%s line %llu: contains a NUL byte (not a text file)", path, (unsigned long long)lineno);
-            goto out;
-        }
-        if (trim(line)[0] == '\0')
+    while ((got = csv_next(&r, &why)) > 0) {
+        char **fields = r.fields;
+        int nf = (int)r.n_fields;
+        unsigned long long lineno = r.lineno;
+        if (csv_blank(&r))
             continue;
-        nf = split_commas(line, fields, CSV_MAX_COLS);
         if (n_cols == 0) { /* the header */
+            const char *twice = csv_duplicate_column(&r);
             if (nf > CSV_MAX_COLS) {
                 rc = cli_error(cmd, "csv:%s: more than %d columns", path, CSV_MAX_COLS);
                 goto out;
             }
-            n_cols = nf;
-            for (i = 0; i < nf; i++) {
-                for (int j = 0; j < i; j++) {
-                    if (strcmp(fields[i], fields[j]) == 0) {
-                        rc = cli_error(cmd, "csv:%s: the header names column '%s' twice", path, fields[i]);
-                        goto out;
-                    }
-                }
-                if (strcmp(fields[i], "u") == 0)
-                    col_u = i;
-                else if (strcmp(fields[i], "t_ms") == 0)
-                    col_t = i;
-                else if (strcmp(fields[i], "k") == 0)
-                    col_k = i;
+            if (twice != NULL) {
+                rc = cli_error(cmd, "csv:%s: the header names column '%s' twice", path, twice);
+                goto out;
             }
+            n_cols = nf;
+            col_u = csv_column(&r, "u");
+            col_t = csv_column(&r, "t_ms");
+            col_k = csv_column(&r, "k");
             if (col_u < 0 && nf == 1)
                 col_u = 0;
             if (col_u < 0) {
@@ -164,7 +124,7 @@ static int load_csv(const char *cmd, const char *path, double ts, double quantum
             continue;
         }
         if (nf != n_cols) {
-            rc = cli_error(cmd, "csv:%s line %llu: %d fields, the header has %d", path, (unsigned long long)lineno, nf, n_cols);
+            rc = cli_error(cmd, "csv:%s line %llu: %d fields, the header has %d", path, lineno, nf, n_cols);
             goto out;
         }
         if (n == n_alloc) {
@@ -181,39 +141,38 @@ static int load_csv(const char *cmd, const char *path, double ts, double quantum
             double v, tv;
             motion_status_t st;
             if (cli_parse_double(fields[col_u], &v) != 0) {
-                rc = cli_error(cmd, "csv:%s line %llu: u '%s' is not a number", path, (unsigned long long)lineno, fields[col_u]);
+                rc = cli_error(cmd, "csv:%s line %llu: u '%s' is not a number", path, lineno, fields[col_u]);
                 goto out;
             }
             st = filt_quantise(v, quantum, &samples[n]);
             if (st != MS_OK) {
-                rc = cli_error(cmd, "csv:%s line %llu: u = %s: %s", path, (unsigned long long)lineno, fields[col_u],
-                               motion_status_text(st));
+                rc = cli_error(cmd, "csv:%s line %llu: u = %s: %s", path, lineno, fields[col_u], motion_status_text(st));
                 goto out;
             }
             /* Rows must be consecutive samples: a decimated or gappy capture cannot be replayed. */
             if (col_t >= 0) {
                 if (cli_parse_double(fields[col_t], &tv) != 0) {
-                    rc = cli_error(cmd, "csv:%s line %llu: t_ms '%s' is not a number", path, (unsigned long long)lineno, fields[col_t]);
+                    rc = cli_error(cmd, "csv:%s line %llu: t_ms '%s' is not a number", path, lineno, fields[col_t]);
                     goto out;
                 }
                 if (n == 0)
                     t0 = tv;
                 else if (fabs(tv - (t0 + (double)n * ts * 1000.0)) > 0.5) {
                     rc = cli_error(cmd, "csv:%s line %llu: t_ms %s is not %.0f: rows must be consecutive samples %g ms apart (stream every 1, no dropped lines)",
-                                   path, (unsigned long long)lineno, fields[col_t], t0 + (double)n * ts * 1000.0, ts * 1000.0);
+                                   path, lineno, fields[col_t], t0 + (double)n * ts * 1000.0, ts * 1000.0);
                     goto out;
                 }
             }
             if (col_k >= 0) {
                 if (cli_parse_double(fields[col_k], &tv) != 0) {
-                    rc = cli_error(cmd, "csv:%s line %llu: k '%s' is not a number", path, (unsigned long long)lineno, fields[col_k]);
+                    rc = cli_error(cmd, "csv:%s line %llu: k '%s' is not a number", path, lineno, fields[col_k]);
                     goto out;
                 }
                 if (n == 0)
                     k_first = tv;
                 else if (tv != k_first + (double)n) {
                     rc = cli_error(cmd, "csv:%s line %llu: k %s is not %.0f: rows must be consecutive samples", path,
-                                   (unsigned long long)lineno, fields[col_k], k_first + (double)n);
+                                   lineno, fields[col_k], k_first + (double)n);
                     goto out;
                 }
             }
@@ -224,8 +183,12 @@ static int load_csv(const char *cmd, const char *path, double ts, double quantum
             goto out;
         }
     }
-    if (ferror(f)) {
-        rc = cli_error(cmd, "csv:%s: read error", path);
+    if (got < 0) {
+        /* a read error has no line of its own */
+        if (strcmp(why, "read error") == 0)
+            rc = cli_error(cmd, "csv:%s: read error", path);
+        else
+            rc = cli_error(cmd, "csv:%s line %lu: %s", path, r.lineno, why);
         goto out;
     }
     if (n_cols == 0 || n == 0) {
@@ -238,8 +201,7 @@ static int load_csv(const char *cmd, const char *path, double ts, double quantum
     samples = NULL;
 out:
     free(samples);
-    free(line);
-    fclose(f);
+    csv_close(&r);
     return rc;
 }
 

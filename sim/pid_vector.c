@@ -12,6 +12,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "csv_read.h"
 #include "text_parse.h"
 
 #define PV_MAX_FILE (64L * 1024L * 1024L)
@@ -26,7 +27,7 @@ static int pv_err(char *err, size_t n, const char *fmt, ...)
     return -1;
 }
 
-/* Whole file into a NUL-terminated malloc'd buffer. */
+/* A whole file (the JSON set-up) into a NUL-terminated malloc'd buffer. */
 static char *read_file(const char *path, char *err, size_t err_n)
 {
     FILE *f = fopen(path, "rb");
@@ -450,24 +451,6 @@ static int col_index(const pv_vector_t *v, const char *name)
     return -1;
 }
 
-/* Splits a line on ',' into fields[]; returns the number of fields. */
-static size_t split_commas(char *line, char **fields, size_t max)
-{
-    size_t n = 0;
-    char *p = line;
-    for (;;) {
-        char *comma = strchr(p, ',');
-        if (n < max)
-            fields[n] = p;
-        n++;
-        if (comma == NULL)
-            break;
-        *comma = '\0';
-        p = comma + 1;
-    }
-    return n;
-}
-
 /* Fails pv_load: the message is formatted first (it may quote cells of v), then v is freed. */
 static int pv_fail(pv_vector_t *v, char *err, size_t n, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
 static int pv_fail(pv_vector_t *v, char *err, size_t n, const char *fmt, ...)
@@ -480,105 +463,120 @@ static int pv_fail(pv_vector_t *v, char *err, size_t n, const char *fmt, ...)
     return -1;
 }
 
+/* A copy of the line last read (cut into its fields) that v keeps; the fields' pointers are moved
+ * into it, at fields. NULL when out of memory. */
+static char **keep_line(pv_vector_t *v, const csv_reader_t *r, char **fields)
+{
+    size_t i;
+    char *copy;
+    char **lines = (char **)realloc(v->lines, (v->n_lines + 1) * sizeof *lines);
+    if (lines == NULL)
+        return NULL;
+    v->lines = lines;
+    copy = (char *)malloc(r->len + 1);
+    if (copy == NULL)
+        return NULL;
+    memcpy(copy, r->line, r->len + 1);
+    v->lines[v->n_lines++] = copy;
+    for (i = 0; i < r->n_fields; i++)
+        fields[i] = copy + (r->fields[i] - r->line);
+    return fields;
+}
+
 int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n)
 {
     char msg[256];
-    char *p, *line;
-    size_t lines = 0, r, cap_rows, len = strlen(csv_path);
-    int lineno = 1;
-    int c_t, c_in, c_sp, c_cmd;
+    csv_reader_t rd;
+    const char *why = NULL;
+    size_t r, cap_rows = 0, len = strlen(csv_path), bytes = 0;
+    int got, c_t, c_in, c_sp, c_cmd;
     memset(v, 0, sizeof *v);
     if (len < 5 || strcmp(csv_path + len - 4, ".csv") != 0)
         return pv_err(err, err_n, "'%s': a vector file name ends in .csv", csv_path);
     /* the vector itself first: a missing CSV is "cannot read", whatever the .json */
-    v->csv_text = read_file(csv_path, err, err_n);
-    if (v->csv_text == NULL)
-        return -1;
+    if (csv_open(&rd, csv_path, 0) != 0)
+        return pv_err(err, err_n, "cannot read '%s': %s", csv_path, strerror(errno));
+#define PV_FAIL(...)                                                                              \
+    do {                                                                                          \
+        pv_fail(v, err, err_n, __VA_ARGS__);                                                      \
+        csv_close(&rd);                                                                           \
+        return -1;                                                                                \
+    } while (0)
     if (find_json(csv_path, v->json_path, sizeof v->json_path, err, err_n) != 0 ||
         load_json(v, v->json_path, err, err_n) != 0) {
         pv_free(v);
+        csv_close(&rd);
         return -1;
     }
-    for (p = v->csv_text; *p != '\0'; p++)
-        lines += *p == '\n';
-    cap_rows = lines + 1;
     /* header */
-    line = v->csv_text;
-    p = strchr(line, '\n');
-    if (p != NULL)
-        *p = '\0';
-    if (p != NULL && p > line && p[-1] == '\r')
-        p[-1] = '\0';
-    if (line[0] == '\0')
-        return pv_fail(v, err, err_n, "%s:1: empty header line", csv_path);
+    got = csv_next(&rd, &why);
+    if (got < 0)
+        PV_FAIL("%s:%lu: %s", csv_path, rd.lineno, why);
+    if (got == 0 || rd.len == 0)
+        PV_FAIL("%s:1: empty header line", csv_path);
     {
-        size_t n = split_commas(line, NULL, 0);
-        v->header = (char **)malloc(n * sizeof *v->header);
-        if (v->header == NULL)
-            return pv_fail(v, err, err_n, "out of memory");
-        /* split again into the array (split_commas stopped writing at max = 0 but cut the text) */
-        {
-            size_t i;
-            char *q = line;
-            for (i = 0; i < n; i++) {
-                v->header[i] = q;
-                q += strlen(q) + 1;
-            }
-        }
-        v->n_cols = n;
+        const char *twice = csv_duplicate_column(&rd);
         /* a column named twice: which one holds the data would be a guess (as `motionsim filter`) */
-        for (size_t i = 0; i < n; i++)
-            for (size_t k = 0; k < i; k++)
-                if (strcmp(v->header[i], v->header[k]) == 0)
-                    return pv_fail(v, err, err_n, "%s:1: the header names column '%s' twice", csv_path,
-                                   v->header[i]);
+        if (twice != NULL)
+            PV_FAIL("%s:1: the header names column '%s' twice", csv_path, twice);
     }
-    c_t = col_index(v, "t_ms");
-    c_in = col_index(v, "input");
-    c_sp = col_index(v, "setpoint");
-    c_cmd = col_index(v, "command");
+    c_t = csv_column(&rd, "t_ms");
+    c_in = csv_column(&rd, "input");
+    c_sp = csv_column(&rd, "setpoint");
+    c_cmd = csv_column(&rd, "command");
     if (c_t < 0 || c_in < 0 || c_sp < 0 || c_cmd < 0)
-        return pv_fail(v, err, err_n, "%s:1: the header needs columns t_ms, input, setpoint and command", csv_path);
-    v->rows = (pv_row_t *)calloc(cap_rows, sizeof *v->rows);
-    v->cells = (char **)calloc(cap_rows * v->n_cols, sizeof *v->cells);
-    if (v->rows == NULL || v->cells == NULL)
-        return pv_fail(v, err, err_n, "out of memory");
+        PV_FAIL("%s:1: the header needs columns t_ms, input, setpoint and command", csv_path);
+    v->n_cols = rd.n_fields;
+    v->header = (char **)malloc(v->n_cols * sizeof *v->header);
+    if (v->header == NULL || keep_line(v, &rd, v->header) == NULL)
+        PV_FAIL("out of memory");
+    bytes = rd.len;
     r = 0;
-    while (p != NULL) {
+    while ((got = csv_next(&rd, &why)) > 0) {
         char **f;
         pv_row_t *row;
-        size_t n;
         char cmd_copy[1024];
-        line = p + 1;
-        lineno++;
-        p = strchr(line, '\n');
-        if (p != NULL)
-            *p = '\0';
-        if (p != NULL && p > line && p[-1] == '\r')
-            p[-1] = '\0';
-        if (line[0] == '\0') {
-            if (p == NULL)
-                break;
-            return pv_fail(v, err, err_n, "%s:%d: empty line", csv_path, lineno);
+        unsigned long lineno = rd.lineno;
+        bytes += rd.len + 1;
+        if (bytes > (size_t)PV_MAX_FILE)
+            PV_FAIL("'%s' is larger than %ld bytes", csv_path, PV_MAX_FILE);
+        if (rd.len == 0)
+            PV_FAIL("%s:%lu: empty line", csv_path, lineno);
+        if (rd.n_fields != v->n_cols)
+            PV_FAIL("%s:%lu: %zu fields, the header has %zu", csv_path, lineno, rd.n_fields, v->n_cols);
+        if (r == cap_rows) {
+            size_t grow = cap_rows != 0 ? 2 * cap_rows : 256;
+            pv_row_t *rows = (pv_row_t *)realloc(v->rows, grow * sizeof *rows);
+            char **cells;
+            if (rows == NULL)
+                PV_FAIL("out of memory");
+            v->rows = rows;
+            cells = (char **)realloc(v->cells, grow * v->n_cols * sizeof *cells);
+            if (cells == NULL)
+                PV_FAIL("out of memory");
+            v->cells = cells;
+            cap_rows = grow;
         }
-        f = &v->cells[r * v->n_cols];
-        n = split_commas(line, f, v->n_cols);
-        if (n != v->n_cols)
-            return pv_fail(v, err, err_n, "%s:%d: %zu fields, the header has %zu", csv_path, lineno, n, v->n_cols);
+        f = keep_line(v, &rd, &v->cells[r * v->n_cols]);
+        if (f == NULL)
+            PV_FAIL("out of memory");
         row = &v->rows[r];
+        memset(row, 0, sizeof *row);
         if (parse_uint32(f[c_t], &row->t_ms) != 0)
-            return pv_fail(v, err, err_n, "%s:%d: t_ms '%s' is not a whole number 0..4294967295", csv_path, lineno,
-                           f[c_t]);
-        if (parse_real(f[c_in], &row->input) != 0 || parse_real(f[c_sp], &row->setpoint) != 0) {
-            return pv_fail(v, err, err_n, "%s:%d: input and setpoint must be finite numbers", csv_path, lineno);
-        }
+            PV_FAIL("%s:%lu: t_ms '%s' is not a whole number 0..4294967295", csv_path, lineno, f[c_t]);
+        if (parse_real(f[c_in], &row->input) != 0 || parse_real(f[c_sp], &row->setpoint) != 0)
+            PV_FAIL("%s:%lu: input and setpoint must be finite numbers", csv_path, lineno);
         if (strlen(f[c_cmd]) >= sizeof cmd_copy)
-            return pv_fail(v, err, err_n, "%s:%d: command too long", csv_path, lineno);
+            PV_FAIL("%s:%lu: command too long", csv_path, lineno);
         strcpy(cmd_copy, f[c_cmd]);
         if (parse_commands(cmd_copy, row->cmds, &row->n_cmds, msg, sizeof msg) != 0)
-            return pv_fail(v, err, err_n, "%s:%d: %s", csv_path, lineno, msg);
+            PV_FAIL("%s:%lu: %s", csv_path, lineno, msg);
         r++;
     }
+    if (got < 0)
+        PV_FAIL("%s:%lu: %s", csv_path, rd.lineno, why);
+#undef PV_FAIL
+    csv_close(&rd);
     v->n_rows = r;
     if (r == 0)
         return pv_fail(v, err, err_n, "%s: no data rows", csv_path);
@@ -587,14 +585,18 @@ int pv_load(pv_vector_t *v, const char *csv_path, char *err, size_t err_n)
 
 void pv_free(pv_vector_t *v)
 {
+    size_t i;
+    for (i = 0; i < v->n_lines; i++)
+        free(v->lines[i]);
+    free(v->lines);
     free(v->rows);
     free(v->cells);
     free(v->header);
-    free(v->csv_text);
+    v->lines = NULL;
+    v->n_lines = 0;
     v->rows = NULL;
     v->cells = NULL;
     v->header = NULL;
-    v->csv_text = NULL;
     v->n_rows = v->n_cols = 0;
 }
 

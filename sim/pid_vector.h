@@ -67,7 +67,8 @@ typedef struct {
     size_t n_cols;
     char **header;  /* n_cols names */
     char **cells;   /* n_rows x n_cols raw texts, row-major */
-    char *csv_text; /* storage the names and cells point into */
+    char **lines;   /* the CSV's lines (sim/csv_read), which the names and cells point into */
+    size_t n_lines;
 } pv_vector_t;
 
 /* Loads csv_path and the .json beside it (NAME.json in the same folder, or in the parent folder

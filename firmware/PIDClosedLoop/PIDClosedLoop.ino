@@ -7,7 +7,7 @@
  * the PID; "?" prints the state (9600 baud; the protocol is in MotionBoard/ServoSerial.h).
  *
  * Board: Arduino Mega 2560 + Arduino Motor Shield R3 (channel A) + LS7366R on SPI; the pins are
- * in MotionBoard/ServoPins.h. The files behind this sketch:
+ * below, under "the pins". The files behind this sketch (with it, five to read end to end):
  *   LS7366R.h     encoder.read(): the 32-bit count over SPI
  *   HBridge.h     motor.setDuty(%): 8-bit PWM on D3 and the direction pin D12
  *   MotionPID.h   the PID: PID_v1 1.2.1's class and behaviour, bit for bit (lib/, docs/pid_v1.md;
@@ -26,7 +26,6 @@
  */
 #include <HBridge.h>
 #include <LS7366R.h>
-#include <ServoPins.h>
 #include <ServoSerial.h>
 
 #if USE_REAL_PID_V1
@@ -49,6 +48,18 @@ const int controlInterval = 20;           // ms: the control period and the PID'
 const unsigned long printInterval = 1000; // ms
 unsigned long lastControlTime;
 unsigned long lastPrintTime;
+
+// ---- the pins: Arduino Mega 2560 + Arduino Motor Shield R3 (L298P, channel A) + LS7366R ----
+//   LS7366R quadrature counter on the hardware SPI bus: MISO D50, MOSI D51, SCK D52, and its
+//     /SS (chip select) on D53, the Mega's SS pin (an output anyway for an SPI master)
+//   Motor Shield R3 channel A: PWM (EN A) D3 (Timer3, 490 Hz), DIR A D12 (high = positive duty),
+//     BRAKE A D9 (held low: brake off); its current sense A0 is not used
+// Wire the encoder so that positive duty makes the count increase; if it runs the other way,
+// swap the encoder's A and B lines (or the motor leads). The emulator reads these four lines.
+const uint8_t SERVO_PIN_ENCODER_CS = 53;
+const uint8_t SERVO_PIN_PWM = 3;
+const uint8_t SERVO_PIN_DIR = 12;
+const uint8_t SERVO_PIN_BRAKE = 9;
 
 // ---- the board ----
 LS7366R encoder(SERVO_PIN_ENCODER_CS);

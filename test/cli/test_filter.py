@@ -237,6 +237,17 @@ def test_bad_csv_input_exits_2_with_one_line(motionsim, tmp_path, content, messa
     assert r.out == ""
 
 
+def test_csv_line_ends_blanks_and_blank_lines(motionsim, tmp_path):
+    """CR LF line ends, blanks around fields and blank lines read as the plain file does."""
+    plain, odd = tmp_path / "plain.csv", tmp_path / "odd.csv"
+    plain.write_text("t_ms,u\n0,1\n10,2\n20,3\n")
+    odd.write_bytes(b"\r\n t_ms , u\t\r\n0,1\r\n   \r\n10 ,\t2\r\n\n20,3")
+    want = motionsim("filter", "--tau", 0.02, "--input", f"csv:{plain}")
+    got = motionsim("filter", "--tau", 0.02, "--input", f"csv:{odd}")
+    assert want.rc == 0 and got.rc == 0, got.err
+    assert got.out == want.out and len(want.out.splitlines()) == 4
+
+
 def test_duration_longer_than_the_csv_is_refused(motionsim, tmp_path):
     f = tmp_path / "in.csv"
     f.write_text("u\n1\n2\n3\n")

@@ -115,3 +115,40 @@ def test_sketch_with_only_the_pid_header_builds_and_runs(tmp_path):
     times = [int(r["t"]) for r in rows]
     assert all(19 <= b - a <= 21 for a, b in zip(times, times[1:])), times
     assert len({r["out"] for r in rows}) > 1, rows
+
+
+def test_use_real_pid_v1_build_loses_no_control_period(tmp_path):
+    """Issue 12 item 4: what docs/servo.md says of the real-library build, measured: PID_v1 reads
+    millis() itself and may refuse a Compute() 19 ms after the last one; the sketch then retries on
+    the next passes of loop(), so every 20 ms period computes once. Each controlLoop() attempt reads
+    the LS7366R (one chip-select pulse): a refused attempt is retried within a pass of loop()
+    (< 2 ms), an accepted one is followed by the next period's attempt. Expected: accepted attempts
+    20 ms of millis() apart (PID_v1's SampleTime), none missing. millis() advances every 1.024 ms
+    (Timer0 overflow) and skips a value every 125/3 of them, so 20 ms of millis() are 19 or 20
+    overflows: 19.456 or 20.48 ms of emulated time, plus a pass of loop() of jitter (19.3..21 ms);
+    a lost period would be a gap near 40 ms."""
+    import sys
+    sys.path.insert(0, os.path.join(ROOT, "tools", "emu"))
+    import emulog  # noqa: E402
+    import sketches  # noqa: E402
+    p, _ = build(tmp_path, "PIDClosedLoop", "-DUSE_REAL_PID_V1=1", STANDIN)
+    assert p.returncode == 0, p.stdout + p.stderr
+    emu = os.path.join(ROOT, "build", "motionemu")
+    if not os.path.exists(emu):
+        subprocess.run(["make", "build/motionemu"], cwd=ROOT, check=True, capture_output=True)
+    run_ms = 3000
+    log = emulog.run(str(tmp_path / "fw" / "PIDClosedLoop" / "PIDClosedLoop.ino.elf"),
+                     f"wait ^READY PIDClosedLoop$\nmark go\nsend 800\nrun {run_ms}\n",
+                     motor=sketches.servo_motor_spec(sketches.Env(), "PIDClosedLoop"), pins={"CS": "D53"})
+    assert log.rc == 0 and not log.fails, (log.rc, log.fails, log.stderr[-500:])
+    go = log.mark("go")
+    reads = [c / emulog.F_CPU * 1000 for c, level in log.pins["CS"] if level == 0 and c > go]
+    assert len(reads) > run_ms / 20 - 5, len(reads)
+    # an attempt is accepted when the next one comes a period later (a refused one is retried at once)
+    accepted = [t for t, nxt in zip(reads, reads[1:]) if nxt - t > 5]
+    retries = len(reads) - 1 - len(accepted)
+    gaps = [b - a for a, b in zip(accepted, accepted[1:])]
+    assert gaps and all(19.3 <= g <= 21.0 for g in gaps), sorted(gaps)[:3] + sorted(gaps)[-3:]
+    assert len(accepted) >= run_ms / 21 - 3, len(accepted)
+    assert all(b - a < 2 for a, b in zip(reads, reads[1:]) if b - a <= 5), "a retry later than one pass"
+    print(f"{len(accepted)} periods, {retries} retries, gaps {min(gaps):.2f}..{max(gaps):.2f} ms")

@@ -135,3 +135,66 @@ def test_a_write_error_stops_a_long_run_at_once(motionsim):
         r = motionsim(c, *args, "-o", "/dev/full", timeout=5)
         assert r.rc == 1, (c, r.err)
         assert one_line(r.err) and r.err.startswith(f"motionsim {c}: writing '/dev/full' failed"), (c, r.err)
+
+
+# Options are parsed by getopt_long(3) (issue 12); what it would add by default is decided here.
+def test_abbreviated_options_are_refused_with_the_whole_name(motionsim):
+    """getopt_long accepts a unique prefix ("--acc" for "--accel"); motionsim does not, so that a
+    script keeps its meaning when an option is added: one line naming the whole option."""
+    cases = [
+        ("ramp", ["--acc", "5"], "option '--acc' is abbreviated: write --accel (abbreviations are not accepted)"),
+        ("ramp", ["--compar"], "option '--compar' is abbreviated: write --compare"),
+        ("servo", ["--metric"], "option '--metric' is abbreviated: write --metrics"),
+        ("filter", ["--str=1"], "option '--str' is abbreviated: write --stream"),
+        ("ramp", ["--hel"], "option '--hel' is abbreviated: write --help"),
+        # a prefix of several options is simply unknown
+        ("ramp", ["--t", "5"], "unknown option '--t'"),
+    ]
+    for c, args, message in cases:
+        r = motionsim(c, *args)
+        assert r.rc == 2 and r.out == "", (c, args, r.out)
+        assert one_line(r.err) and r.err.startswith(f"motionsim {c}: ") and message in r.err, (c, args, r.err)
+
+
+def test_unknown_short_options_and_option_values(motionsim):
+    cases = [
+        ("ramp", ["-x"], "unknown option '-x'"),
+        ("ramp", ["-5"], "unknown option '-5'"),          # where an option stands, -5 is not a number
+        ("servo", ["--frob=3"], "unknown option '--frob'"),
+        ("ramp", ["-o"], "option -o needs a value (FILE)"),
+        ("ramp", ["--help=1"], "option --help takes no value"),
+        ("ramp", ["--metrics"], "unknown option '--metrics'"),
+    ]
+    for c, args, message in cases:
+        r = motionsim(c, *args)
+        assert r.rc == 2 and r.out == "", (c, args)
+        assert one_line(r.err) and message in r.err, (c, args, r.err)
+
+
+def test_negative_numbers_are_option_values(motionsim):
+    """A value that starts with '-' is still the option's value, in both spellings, and reaches the
+    range check (getopt_long takes the next argument for an option that needs one)."""
+    for args in (["--v0", "-5"], ["--v0=-5"]):
+        r = motionsim("ramp", *args)
+        assert r.rc == 2 and r.err.strip() == "motionsim ramp: minimum speed v0 must not be negative", (args, r.err)
+    r = motionsim("ramp", "--from", "-3", "--to", "-1", "--v0", "1", "--vmax", "2", "--accel", "1")
+    assert r.rc == 0, r.err
+    assert [int(row["position"]) for row in r.rows()[1]] == [-2, -1]
+
+
+def test_double_dash_ends_the_options(motionsim, tmp_path):
+    vector = os.path.join(DATA, "a_p_only.csv")
+    plain = motionsim("pid-replay", vector)
+    after = motionsim("pid-replay", "--", vector)
+    assert plain.rc == 0 and after.rc == 0 and after.out == plain.out, after.err
+    r = motionsim("ramp", "--to", "5", "--", "--compare")
+    assert r.rc == 2 and one_line(r.err) and "unexpected argument '--compare'" in r.err, r.err
+
+
+def test_short_option_spellings(motionsim, tmp_path):
+    """-o FILE, -oFILE and -o=FILE (the old parser's spelling) write the same file."""
+    want = motionsim("ramp", "--to", "4").out
+    for k, args in enumerate((["-o", tmp_path / "a.csv"], [f"-o{tmp_path / 'b.csv'}"], [f"-o={tmp_path / 'c.csv'}"])):
+        r = motionsim("ramp", "--to", "4", *args)
+        assert r.rc == 0 and r.out == "", (args, r.err)
+        assert (tmp_path / "abc"[k]).with_suffix(".csv").read_text() == want

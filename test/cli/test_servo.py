@@ -384,6 +384,24 @@ def test_pid_replay_refuses_a_header_naming_a_column_twice(motionsim, tmp_path):
     assert r.out == ""
 
 
+def test_pid_replay_refuses_a_nul_byte_naming_its_line_and_reads_crlf(motionsim, tmp_path):
+    """The one CSV reader (sim/csv_read.c, shared with `motionsim filter`): a NUL byte in a row is
+    refused with the row's line; CR LF line ends read as LF ones (the same replay)."""
+    path = write_vector(tmp_path, ["SetMode(AUTOMATIC)", "", ""])
+    plain = motionsim("pid-replay", path)
+    assert plain.rc == 0, plain.err
+    text = open(path, "rb").read()
+    open(path, "wb").write(text.replace(b"\n", b"\r\n"))
+    crlf = motionsim("pid-replay", path)
+    assert crlf.rc == 0 and crlf.out == plain.out, crlf.err
+    lines = text.split(b"\n")
+    lines[2] = lines[2][:3] + b"\x00" + lines[2][3:]
+    open(path, "wb").write(b"\n".join(lines))
+    r = motionsim("pid-replay", path)
+    assert r.rc == 2 and one_line(r.err) and r.out == "", r.err
+    assert f"{path}:3: contains a NUL byte (not a text file)" in r.err, r.err
+
+
 def test_pid_replay_file_problems(motionsim, tmp_path):
     r = motionsim("pid-replay")
     assert r.rc == 2 and one_line(r.err) and "VECTOR.csv" in r.err

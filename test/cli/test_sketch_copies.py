@@ -8,6 +8,7 @@ passes the stepper check its original passes; a sketch without the marker is ref
 that names the marker, by each tool.
 """
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -66,6 +67,37 @@ def test_a_renamed_copy_is_recognised_and_gets_its_originals_checks(tmp_path):
     # the default emulator script does not insist on the original's READY banner
     script = sketches.default_input(env, "LeibRampStepperABC")
     assert "wait ^READY [^ ]+$" in script and "READY LeibRampStepper" not in script
+
+
+def test_a_servo_sketchs_pins_are_read_from_the_sketch_itself(tmp_path):
+    """The servo sketches define their pins (issue 11: a student follows them in five files); the
+    harness wires the emulated motor to the pins of the sketch it runs, so a copy with another
+    PWM pin is emulated with it, and a sketch without a pin constant is refused naming it."""
+    env = copy_tree(tmp_path, {"MyServo": "ProportionalClosedLoop", "Bare": "PIDClosedLoop"})
+    assert sketches.servo_motor_spec(env, "MyServo") == "PWM=D3,DIR=D12,BRAKE=D9,CS=D53,DIRPOS=1,BRAKEON=1"
+    ino = tmp_path / "firmware" / "MyServo" / "MyServo.ino"
+    text = ino.read_text()
+    assert text.count("const uint8_t SERVO_PIN_PWM = 3;") == 1
+    ino.write_text(text.replace("const uint8_t SERVO_PIN_PWM = 3;", "const uint8_t SERVO_PIN_PWM = 5;"))
+    assert sketches.servo_motor_spec(env, "MyServo").startswith("PWM=D5,DIR=D12,")
+    assert sketches.servo_pins(env, "MyServo")["PWM"] == "D5"
+    bare = tmp_path / "firmware" / "Bare" / "Bare.ino"
+    bare.write_text(bare.read_text().replace("SERVO_PIN_BRAKE = 9;", "SERVO_PIN_BRAKE_X = 9;"))
+    with pytest.raises(sketches.SketchError, match="Bare.ino does not define SERVO_PIN_BRAKE"):
+        sketches.servo_motor_spec(env, "Bare")
+
+
+def test_a_servo_sketch_is_followed_end_to_end_in_five_files():
+    """Issue 11: the .ino plus each header (with its source) it includes from MotionBoard and lib."""
+    ours = set(os.listdir(os.path.join(ROOT, "firmware", "libraries", "MotionBoard", "src"))) | \
+        set(os.listdir(os.path.join(ROOT, "lib", "src")))
+    for name in ("ProportionalClosedLoop", "PIDClosedLoop"):
+        text = open(os.path.join(ROOT, "firmware", name, name + ".ino")).read()
+        includes = re.findall(r"^#include <([^>]+)>", text, re.M)
+        # PIDClosedLoop's USE_REAL_PID_V1 build includes PID_v1.h instead of MotionPID.h: one of the two
+        mine = sorted(h for h in includes if h in ours)
+        assert 1 + len(mine) <= 5, (name, mine)
+        assert "ServoPins.h" not in includes, name
 
 
 def test_a_sketch_without_the_marker_is_refused_in_one_line_naming_the_marker(tmp_path):

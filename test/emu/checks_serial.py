@@ -4,8 +4,8 @@ The expectations are the documented rules, not recordings of the firmware:
 - a blank line (empty, or only spaces and tabs, any length) is no line: no reply at all, on every
   sketch (the rule lives in lib/src/line_reader.c, which every console reads through
   MotionSerial, so the stepper sketches follow it without code of their own);
-- receive overrun: a host that sends faster than the sketch reads fills the 63-byte receive
-  buffer and the core drops bytes; the line hit is answered `ERR input overrun` and never
+- receive overrun (every sketch): a host that sends faster than the sketch reads fills the 63-byte
+  receive buffer and the core drops bytes; the line hit is answered `ERR input overrun` and never
   executed, no half line is ever taken for a command, and afterwards the sketch answers again.
 """
 import re
@@ -27,7 +27,7 @@ def fails_of(log, problems):
 def run_kwargs(env, sketch):
     fam = env.family(sketch)
     if fam == "servo":
-        return {"motor": sketches.servo_motor_spec(env)}
+        return {"motor": sketches.servo_motor_spec(env, sketch)}
     if fam == "filter":
         return {"pins": sketches.filter_pins(env)}
     return {}
@@ -57,47 +57,60 @@ def check_blank_lines(env, sketch):
                        f"{len(replies)} replies; `?` after them answered", problems)
 
 
-# A burst far faster than a servo sketch reads: every `?` draws a 100-byte reply at 9600 baud, so
-# the output queue fills, the sketch stops reading (back-pressure) and the receive buffer overflows.
-# Between the `?` lines a setpoint whose every tail is a different command ("2345" etc.).
+# A burst far faster than a sketch reads: every `?` draws a reply of about 100 bytes (9600 baud; the
+# filter's 115200 with its stream), so the sketch stops reading while it writes (the servo sketches:
+# their output queue is full, back-pressure) and the receive buffer overflows. Between the `?`
+# lines one command whose every shortened form is another command or an error: setpoint 12345,
+# `set vmax 1234`, `u 1.234`. Per family: (command, its OK reply, the `?` reply's first key, what
+# the `?` reply then says, lines that are neither: the servo status line, the filter's stream).
 FLOOD_LINES = 24
-FLOOD = "repeat {n} ?\\r\\n12345\\r\\n"
+OVERRUN = {
+    "servo": ("12345", "OK setpoint=12345", "setpoint=", "setpoint=12345 ", re.compile(r"^t_ms=")),
+    "stepper": ("set vmax 1234", "OK vmax=1234", "pos=", " vmax=1234 ", None),  # vmax: fmax on SCurveStepper
+    "filter": ("u 1.234", "OK u=1.234", "kind=", " u=1.234 ", re.compile(r"^\d+,")),
+}
 
 
-def check_servo_overrun(env, sketch):
+def check_overrun(env, sketch):
+    fam = env.family(sketch)
+    cmd, ok_reply, key, state_after, other_lines = OVERRUN[fam]
     script = "\n".join([
-        f"wait ^READY {sketch}$", "timeout 3000", "send ?", "wait ^setpoint=", "mark flood",
-        FLOOD.format(n=FLOOD_LINES // 2), "drain", "run 8000", "mark flood-end",
+        f"wait ^READY {sketch}$", "timeout 3000", "send ?", f"wait ^{key}", "mark flood",
+        f"repeat {FLOOD_LINES // 2} ?\\r\\n{cmd}\\r\\n", "drain", "run 8000", "mark flood-end",
         # the line after a burst whose tail was lost is the one the overrun hit (docs/serial.md)
         "send ?", "run 1000", "mark sync", "send ?", "run 1000",
     ]) + "\n"
-    log = emulog.run(env.elf(sketch), script, motor=sketches.servo_motor_spec(env))
+    log = emulog.run(env.elf(sketch), script, **run_kwargs(env, sketch))
     problems = []
     fails_of(log, problems)
     start, end, sync = log.mark("flood"), log.mark("flood-end"), log.mark("sync")
     if start is None or end is None or sync is None:
         return CheckResult(False, "did not run", problems + ["the script did not run"])
-    lines = [l.text for l in log.lines_matching(r".", start, sync) if not l.text.startswith("t_ms=")]
+
+    def replies(after, before=None):
+        return [l.text for l in log.lines_matching(r".", after, before)
+                if other_lines is None or not other_lines.match(l.text)]
+    lines = replies(start, sync)
     overruns = [t for t in lines if t == "ERR input overrun"]
-    states = [t for t in lines if t.startswith("setpoint=")]
+    states = [t for t in lines if t.startswith(key)]
     oks = [t for t in lines if t.startswith("OK")]
     other = [t for t in lines if t not in overruns and t not in states and t not in oks]
     if not overruns:
         problems.append("no `ERR input overrun` although the receive buffer overflowed")
-    bad_ok = [t for t in oks if t != "OK setpoint=12345"]
+    bad_ok = [t for t in oks if t != ok_reply]
     if bad_ok:
         problems.append(f"half lines were executed: {bad_ok}")
     if other:
-        problems.append(f"replies other than the state line, OK setpoint=12345 and ERR input overrun: {other}")
+        problems.append(f"replies other than the state line, {ok_reply} and ERR input overrun: {other}")
     if len(lines) > FLOOD_LINES + 1:
         problems.append(f"{len(lines)} replies to {FLOOD_LINES + 1} lines")
-    after = [l.text for l in log.lines_matching(r".", sync) if not l.text.startswith("t_ms=")]
-    if len(after) != 1 or not after[0].startswith("setpoint="):
+    after = replies(sync)
+    if len(after) != 1 or not after[0].startswith(key):
         problems.append(f"the `?` after the burst drew {after}, want one state line")
-    elif oks and "setpoint=12345 " not in after[0]:
-        problems.append(f"after OK setpoint=12345 the state says {after[0]}")
+    elif oks and state_after not in after[0] + " ":
+        problems.append(f"after {ok_reply} the state says {after[0]}")
     summary = (f"{FLOOD_LINES} lines in one burst and one `?` after it: {len(states)} `?` replies, {len(oks)} "
-               f"setpoints, {len(overruns)} ERR input overrun, {FLOOD_LINES + 1 - len(lines)} lines lost whole, "
+               f"{ok_reply}, {len(overruns)} ERR input overrun, {FLOOD_LINES + 1 - len(lines)} lines lost whole, "
                f"{len(other) + len(bad_ok)} wrong; the next `?` answered")
     return CheckResult(not problems, summary, problems)
 
@@ -151,8 +164,11 @@ def checks_for(env):
     if "MovingAverageFilter" in names:
         checks.append(("MovingAverageFilter: tau is limited by the buffer under every kind, so kind ma works after exp",
                        lambda: check_filter_tau_rule(env)))
-    for s in ("ProportionalClosedLoop", "PIDClosedLoop"):
-        if s in names:
-            checks.append((f"{s}: a burst that overflows the receive buffer gets ERR input overrun, no half line "
-                           "is executed", lambda s=s: check_servo_overrun(env, s)))
+    for s in names:
+        try:
+            env.family(s)
+        except sketches.SketchError:
+            continue
+        checks.append((f"{s}: a burst that overflows the receive buffer gets ERR input overrun, no half line "
+                       "is executed", lambda s=s: check_overrun(env, s)))
     return checks

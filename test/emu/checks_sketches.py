@@ -497,8 +497,8 @@ SERVO_REACT_MAX_MS = 20.0 + 1.0 + 2 * SERVO_PWM_PERIOD_MS + 1.0
 def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts=None, must_reach=False):
     gains_cmds = "\n".join(f"send {k} {v}\nwait ^OK {k}=" for k, v in gains)
     script = SERVO_SCRIPT.format(sketch=sketch, gains=gains_cmds, setpoint=setpoint, run_ms=run_ms)
-    cs_pin = f"D{env.header_int('servo', 'SERVO_PIN_ENCODER_CS')}"
-    log = emulog.run(env.elf(sketch), script, motor=sketches.servo_motor_spec(env), pins={"CS": cs_pin})
+    cs_pin = f"D{env.header_int('servo', 'SERVO_PIN_ENCODER_CS', sketch)}"
+    log = emulog.run(env.elf(sketch), script, motor=sketches.servo_motor_spec(env, sketch), pins={"CS": cs_pin})
     problems = []
     fails_of(log, problems)
     if problems:
@@ -585,7 +585,7 @@ def servo_ctrl(env, sketch):
     """'pid' or 'p', from the sketch's own `?` reply at boot (a short emulation): a PID sketch
     reports ki= and kd=, the P sketch only kp="""
     log = emulog.run(env.elf(sketch), "wait ^READY [^ ]+$\nsend ?\nwait ^setpoint=\n",
-                     motor=sketches.servo_motor_spec(env))
+                     motor=sketches.servo_motor_spec(env, sketch))
     q, _ = query_reply(log, "setpoint")
     if not q or "kp" not in q:
         raise RuntimeError(f"no `?` reply with kp= from {sketch}: {[l.text for l in log.rx]}")
@@ -619,7 +619,7 @@ def check_servo_bad_input(env, sketch, pid=None):
     return check_bad_input(
         env, sketch, "setpoint", "", COMMON_BAD + extra,
         while_busy=("send 1000", r"^OK setpoint=1000$", busy, r"^t_ms=3000 ", 5000),
-        dynamic=("position", "error", "duty"), motor=sketches.servo_motor_spec(env))
+        dynamic=("position", "error", "duty"), motor=sketches.servo_motor_spec(env, sketch))
 
 
 # ----------------------------------------------------------------------------------------------

@@ -14,6 +14,7 @@ extern "C" {
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../sim/csv_read.c"
 #include "../../sim/pid_vector.c"
 #include "MotionPID.h"
 

@@ -5,7 +5,7 @@
  * and user gains, sample time, limits, mode, direction, POn). Then every argument PID_v1
  * rejects, one by one: the call returns its status and changes nothing.
  *
- * The vector reader (sim/pid_vector.c, with Debian's cJSON) is compiled in from sim/, since the test
+ * The vector reader (sim/pid_vector.c and its CSV reader sim/csv_read.c, with Debian's cJSON) is compiled in from sim/, since the test
  * programs link only libmotion.a. Data folder: $PID_V1_DATA, else test/data/pid_v1 (the tests
  * run from the repository root).
  */
@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../sim/csv_read.c"
 #include "../../sim/pid_vector.c"
 #include "pidv1_ctrl.h"
 

@@ -29,6 +29,7 @@
 #include <avr_adc.h>
 
 #include "emu.h"
+#include "text_parse.h"
 
 enum op { OP_AT, OP_SEND, OP_RAW, OP_REPEAT, OP_WAIT, OP_TIMEOUT, OP_DRAIN, OP_RUN, OP_UNTIL, OP_ADC, OP_ENCODER, OP_MARK, OP_END };
 
@@ -95,16 +96,17 @@ static int decode_text(const char *s, uint8_t **out, size_t *len, int lineno)
     return 0;
 }
 
+/* The number at s (up to the next blank), parsed by lib's text_parse (the sketches' and motionsim's parser). */
 static int parse_num(const char *s, double lo, double hi, double *out, const char *what, int lineno)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || errno || v < lo || v > hi || (*end && !isspace((unsigned char)*end))) {
+    char word[64];
+    size_t n = 0;
+    while (s[n] && !isspace((unsigned char)s[n]))
+        n++;
+    if (n >= sizeof word || (memcpy(word, s, n), word[n] = 0, text_parse_real(word, lo, hi, out) != MS_OK)) {
         fprintf(stderr, "%s:%d: %s must be a number in %g..%g, not '%s'\n", script_name, lineno, what, lo, hi, s);
         return -1;
     }
-    *out = v;
     return 0;
 }
 

@@ -11,6 +11,7 @@
  * Exit status: 0 ran and nothing failed; 1 a failure was seen; 2 bad arguments or ELF.
  */
 #include <errno.h>
+#include <getopt.h>
 #include <inttypes.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -21,6 +22,7 @@
 #include <sim_elf.h>
 
 #include "emu.h"
+#include "text_parse.h"
 
 static const char usage[] =
     "usage: motionemu FIRMWARE.elf [options]\n"
@@ -106,15 +108,10 @@ static int check_elf(const char *path)
     return 0;
 }
 
+/* Milliseconds 0..1e9, parsed by lib's text_parse (the sketches' and motionsim's parser). */
 static int parse_ms(const char *s, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || errno || v < 0 || v > 1e9)
-        return -1;
-    *out = v;
-    return 0;
+    return text_parse_real(s, 0, 1e9, out) == MS_OK ? 0 : -1;
 }
 
 /* "KEY=VAL,KEY=VAL" -> value of key, or NULL */
@@ -182,67 +179,114 @@ int main(int argc, char **argv)
     const char *execs[256];
     int nexecs = 0;
 
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
-#define NEED_VALUE()                                                                     \
-    do {                                                                                 \
-        if (!v) {                                                                        \
-            fprintf(stderr, "motionemu: option %s needs a value\n%s", a, usage);        \
-            return 2;                                                                    \
-        }                                                                                \
-        i++;                                                                             \
-    } while (0)
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+    /* getopt_long(3), in order ("-": the firmware file comes back as 1 where it stands; ":": a missing
+     * value as ':'); "--" ends the options. Whole names only: a unique prefix ("--dur") is refused,
+     * as in motionsim. Options that are not repeatable are refused when given twice. Every short
+     * option takes a value or ends the parse (-h), so each call starts at the beginning of an
+     * argument. */
+    enum { OPT_MOTOR = 256, OPT_LS7366R, OPT_MAX_MS };
+    static const struct option longopts[] = {
+        {"input", required_argument, NULL, 'i'},     {"exec", required_argument, NULL, 'e'},
+        {"output", required_argument, NULL, 'o'},    {"pin", required_argument, NULL, 'p'},
+        {"motor", required_argument, NULL, OPT_MOTOR}, {"ls7366r", required_argument, NULL, OPT_LS7366R},
+        {"duration", required_argument, NULL, 'd'},  {"max-ms", required_argument, NULL, OPT_MAX_MS},
+        {"help", no_argument, NULL, 'h'},            {NULL, 0, NULL, 0}};
+    unsigned char given[OPT_MAX_MS + 1] = {0};
+    opterr = 0;
+    for (;;) {
+        const char *a = optind < argc ? argv[optind] : ""; /* the argument this call reads */
+        int li = -1;
+        int c = getopt_long(argc, argv, "-:i:e:o:p:d:h", longopts, &li);
+        if (c == -1)
+            break;
+        if (c == 1) {
+            if (elf) {
+                fprintf(stderr, "motionemu: one firmware file only ('%s' and '%s')\n", elf, optarg);
+                return 2;
+            }
+            elf = optarg;
+            continue;
+        }
+        if (c == '?' && optopt == 0) { /* a long option not in the table (or a prefix of several) */
+            fprintf(stderr, "motionemu: unknown option '%.*s'\n%s", (int)strcspn(a, "="), a, usage);
+            return 2;
+        }
+        if (c == '?' && optopt < OPT_MOTOR && optopt != 'h') { /* a short option not in the table */
+            fprintf(stderr, "motionemu: unknown option '-%c'\n%s", optopt, usage);
+            return 2;
+        }
+        int id = (c == '?' || c == ':') ? optopt : c;
+        const char *name = NULL; /* the option's whole long name */
+        for (int k = 0; longopts[k].name; k++)
+            if (longopts[k].val == id)
+                name = longopts[k].name;
+        if (!strncmp(a, "--", 2) && (strcspn(a + 2, "=") != strlen(name) || strncmp(a + 2, name, strlen(name)))) {
+            fprintf(stderr, "motionemu: option '%.*s' is abbreviated: write --%s (abbreviations are not accepted)\n",
+                    (int)strcspn(a, "="), a, name);
+            return 2;
+        }
+        if (c == ':') {
+            fprintf(stderr, "motionemu: option %s needs a value\n%s", a, usage);
+            return 2;
+        }
+        if (c == '?') { /* only --help has no value */
+            fprintf(stderr, "motionemu: option --help takes no value\n");
+            return 2;
+        }
+        if (c != 'e' && c != 'p' && given[c]++) { /* --exec and --pin are repeatable */
+            fprintf(stderr, "motionemu: --%s given twice\n", name);
+            return 2;
+        }
+        switch (c) {
+        case 'h':
             fputs(usage, stdout);
             return 0;
-        } else if (!strcmp(a, "-i") || !strcmp(a, "--input")) {
-            NEED_VALUE();
-            input = v;
-        } else if (!strcmp(a, "-e") || !strcmp(a, "--exec")) {
-            NEED_VALUE();
+        case 'i':
+            input = optarg;
+            break;
+        case 'e':
             if (nexecs == 256) {
                 fprintf(stderr, "motionemu: too many --exec\n");
                 return 2;
             }
-            execs[nexecs++] = v;
-        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-            NEED_VALUE();
-            output = v;
-        } else if (!strcmp(a, "-p") || !strcmp(a, "--pin")) {
-            NEED_VALUE();
+            execs[nexecs++] = optarg;
+            break;
+        case 'o':
+            output = optarg;
+            break;
+        case 'p':
             if (npins == 64) {
                 fprintf(stderr, "motionemu: too many --pin\n");
                 return 2;
             }
-            pins[npins++] = v;
-        } else if (!strcmp(a, "--motor")) {
-            NEED_VALUE();
-            motor_spec = v;
-        } else if (!strcmp(a, "--ls7366r")) {
-            NEED_VALUE();
-            ls_spec = v;
-        } else if (!strcmp(a, "-d") || !strcmp(a, "--duration")) {
-            NEED_VALUE();
-            if (parse_ms(v, &duration_ms)) {
-                fprintf(stderr, "motionemu: --duration wants milliseconds, not '%s'\n", v);
+            pins[npins++] = optarg;
+            break;
+        case OPT_MOTOR:
+            motor_spec = optarg;
+            break;
+        case OPT_LS7366R:
+            ls_spec = optarg;
+            break;
+        case 'd':
+            if (parse_ms(optarg, &duration_ms)) {
+                fprintf(stderr, "motionemu: --duration wants milliseconds, not '%s'\n", optarg);
                 return 2;
             }
-        } else if (!strcmp(a, "--max-ms")) {
-            NEED_VALUE();
-            if (parse_ms(v, &max_ms) || max_ms <= 0) {
-                fprintf(stderr, "motionemu: --max-ms wants milliseconds, not '%s'\n", v);
+            break;
+        case OPT_MAX_MS:
+            if (parse_ms(optarg, &max_ms) || max_ms <= 0) {
+                fprintf(stderr, "motionemu: --max-ms wants milliseconds, not '%s'\n", optarg);
                 return 2;
             }
-        } else if (a[0] == '-') {
-            fprintf(stderr, "motionemu: unknown option '%s'\n%s", a, usage);
-            return 2;
-        } else if (!elf) {
-            elf = a;
-        } else {
-            fprintf(stderr, "motionemu: one firmware file only ('%s' and '%s')\n", elf, a);
+            break;
+        }
+    }
+    for (; optind < argc; optind++) { /* after "--" */
+        if (elf) {
+            fprintf(stderr, "motionemu: one firmware file only ('%s' and '%s')\n", elf, argv[optind]);
             return 2;
         }
+        elf = argv[optind];
     }
     if (!elf) {
         fprintf(stderr, "motionemu: no firmware file given\n%s", usage);

@@ -5,9 +5,10 @@ in its .ino (stepper, filter or servo), so a renamed copy (firmware/LeibRampStep
 emulated and checked like its original. The default scripts wait for any `READY <name>` banner
 (a copy may keep its original's banner).
 
-The pins are read from the sketch family's header in firmware/libraries/MotionBoard/src (the one
-place the sketches define them), so a changed pin is followed, and a missing one is an error
-rather than a silently unwatched pin. Each family also has a default INPUT script (what
+The pins are read from where the sketches define them: the family's header in
+firmware/libraries/MotionBoard/src (StepperPins.h, FilterPins.h), or for the servo sketches the
+sketch's own .ino (its pin constants, so a copy with other pins is followed); a changed pin is
+followed, and a missing one is an error rather than a silently unwatched pin. Each family also has a default INPUT script (what
 `make emulate SKETCH=<name>` runs without INPUT=) and the conversion of an emulator log into the
 same CSV that motionsim writes.
 """
@@ -27,7 +28,8 @@ MARKER = "// motion-sketch: <family>"
 MARKER_RE = re.compile(r"^[ \t]*//[ \t]*motion-sketch:[ \t]*([A-Za-z0-9_-]*)[ \t]*$", re.M)
 FAMILIES = ("stepper", "filter", "servo")
 
-PIN_HEADERS = {"stepper": "StepperPins.h", "filter": "FilterPins.h", "servo": "ServoPins.h"}
+# None: the pins are constants in the sketch's .ino itself
+PIN_HEADERS = {"stepper": "StepperPins.h", "filter": "FilterPins.h", "servo": None}
 
 
 class SketchError(Exception):
@@ -80,21 +82,28 @@ class Env:
             raise SketchError(f"{path} is missing: build the sketch first (make firmware)")
         return path
 
-    def header_text(self, family):
-        path = os.path.join(self.source_dir, "firmware", "libraries", "MotionBoard", "src", PIN_HEADERS[family])
+    def header_text(self, family, sketch=None):
+        """The text that defines the family's pins: its MotionBoard header, or (servo) the sketch."""
+        if PIN_HEADERS[family] is None:
+            if sketch is None:
+                raise SketchError(f"the {family} sketches define their pins themselves: name the sketch")
+            path = self.ino(sketch)
+        else:
+            path = os.path.join(self.source_dir, "firmware", "libraries", "MotionBoard", "src", PIN_HEADERS[family])
         try:
             with open(path, encoding="utf-8") as f:
                 return f.read()
         except OSError as e:
-            raise SketchError(f"cannot read the pin header {path}: {e}")
+            raise SketchError(f"cannot read the pin definitions {path}: {e}")
 
-    def header_int(self, family, name):
-        """An integer constant of the pin header: '#define NAME 22' or 'const uint8_t NAME = 22;'."""
-        text = self.header_text(family)
+    def header_int(self, family, name, sketch=None):
+        """An integer constant of the pin header (or sketch): '#define NAME 22' or 'const uint8_t NAME = 22;'."""
+        text = self.header_text(family, sketch)
         m = re.search(r"^\s*#\s*define\s+" + re.escape(name) + r"\s+\(?\s*(\d+)[uUlL]*\s*\)?", text, re.M) or \
             re.search(r"\b" + re.escape(name) + r"\s*=\s*(\d+)[uUlL]*\s*;", text)
         if not m:
-            raise SketchError(f"{PIN_HEADERS[family]} does not define {name} (the emulator reads the pin from there)")
+            where = PIN_HEADERS[family] or os.path.basename(self.ino(sketch))
+            raise SketchError(f"{where} does not define {name} (the emulator reads the pin from there)")
         return int(m.group(1))
 
 
@@ -117,15 +126,15 @@ def filter_pwm_top(env):
     return env.header_int("filter", "FILTER_PWM_TOP")
 
 
-def servo_motor_spec(env):
-    g = lambda n: env.header_int("servo", n)  # noqa: E731
-    # DIR high = positive duty = counts increase; BRAKE high = braking (ServoPins.h, L298P shield)
+def servo_motor_spec(env, sketch):
+    g = lambda n: env.header_int("servo", n, sketch)  # noqa: E731
+    # DIR high = positive duty = counts increase; BRAKE high = braking (the sketch's pins, L298P shield)
     return (f"PWM=D{g('SERVO_PIN_PWM')},DIR=D{g('SERVO_PIN_DIR')},BRAKE=D{g('SERVO_PIN_BRAKE')},"
             f"CS=D{g('SERVO_PIN_ENCODER_CS')},DIRPOS=1,BRAKEON=1")
 
 
-def servo_pins(env):
-    g = lambda n: env.header_int("servo", n)  # noqa: E731
+def servo_pins(env, sketch):
+    g = lambda n: env.header_int("servo", n, sketch)  # noqa: E731
     return {"PWM": f"D{g('SERVO_PIN_PWM')}", "DIR": f"D{g('SERVO_PIN_DIR')}", "BRAKE": f"D{g('SERVO_PIN_BRAKE')}",
             "CS": f"D{g('SERVO_PIN_ENCODER_CS')}"}
 
@@ -189,7 +198,7 @@ def harness_args(env, sketch):
     if fam == "filter":
         return {"pins": filter_pins(env)}
     if fam == "servo":
-        return {"motor": servo_motor_spec(env), "pins": servo_pins(env)}
+        return {"motor": servo_motor_spec(env, sketch), "pins": servo_pins(env, sketch)}
     return {"pins": stepper_pins(env)}
 
 

@@ -1,7 +1,7 @@
 /* HBridge.h - a DC motor on one channel of an L298-type H-bridge in sign-magnitude drive, as the
  * Arduino Motor Shield R3 wires it: PWM on the channel's enable pin, DIR selects the polarity,
  * BRAKE held low. setDuty() takes -100..+100 % and goes through duty_pwm_from_pct() (lib/), the
- * same 8-bit quantisation motionsim applies to its motor model. Pins: ServoPins.h.
+ * same 8-bit quantisation motionsim applies to its motor model. Pins: the servo sketches define them.
  * Cost: the float duty -> PWM conversion (~50 us) plus digitalWrite/analogWrite (~10 us).
  */
 #ifndef HBRIDGE_H

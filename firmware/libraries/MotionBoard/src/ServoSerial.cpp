@@ -3,6 +3,8 @@
 
 #include <stdlib.h>
 
+#include "PrintReal.h"
+
 #include <line_reader.h>
 #include <pctrl.h>
 #include <text_parse.h>
@@ -28,7 +30,7 @@ void ServoSerial::replyState(int32_t setpoint, int32_t position, float duty, flo
 {
     printPosition(setpoint, position, duty);
     queue_.print(F(" kp="));
-    printReal(kp, 6);
+    print_real(queue_, kp, 6);
     queue_.println();
     queue_.pump();
 }
@@ -37,11 +39,11 @@ void ServoSerial::replyState(int32_t setpoint, int32_t position, float duty, flo
 {
     printPosition(setpoint, position, duty);
     queue_.print(F(" kp="));
-    printReal(kp, 6);
+    print_real(queue_, kp, 6);
     queue_.print(F(" ki="));
-    printReal(ki, 6);
+    print_real(queue_, ki, 6);
     queue_.print(F(" kd="));
-    printReal(kd, 6);
+    print_real(queue_, kd, 6);
     queue_.println();
     queue_.pump();
 }
@@ -78,33 +80,7 @@ void ServoSerial::printPosition(int32_t setpoint, int32_t position, float duty)
     queue_.print(F(" error="));
     queue_.print(pctrl_error_counts(setpoint, position));
     queue_.print(F(" duty="));
-    printReal(duty, 2);
-}
-
-/* A real number with up to `decimals` decimals, trailing zeros dropped ("0.02", "1", "-3.5"). */
-void ServoSerial::printReal(float v, uint8_t decimals)
-{
-    char buf[24];
-    char *end;
-    if (!(v == v)) {
-        queue_.print(F("nan"));
-        return;
-    }
-    if (v > 1e9f || v < -1e9f) {
-        queue_.print(v > 0 ? F("1e9+") : F("-1e9+"));
-        return;
-    }
-    dtostrf(v, 1, decimals, buf);
-    end = buf + strlen(buf);
-    if (decimals > 0) {
-        while (end > buf && end[-1] == '0')
-            *--end = '\0';
-        if (end > buf && end[-1] == '.')
-            *--end = '\0';
-    }
-    if (strcmp(buf, "-0") == 0)
-        strcpy(buf, "0");
-    queue_.print(buf);
+    print_real(queue_, duty, 2);
 }
 
 bool ServoSerial::parseLine(const char *line, ServoCommand &command)
@@ -186,7 +162,7 @@ bool ServoSerial::parseGain(const char *word, const char *value, const char *res
     queue_.print(F("OK "));
     queue_.print(word);
     queue_.print('=');
-    printReal(command.gain, 6);
+    print_real(queue_, command.gain, 6);
     queue_.println();
     return true;
 }

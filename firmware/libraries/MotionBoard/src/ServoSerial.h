@@ -83,7 +83,6 @@ private:
     bool parseLine(const char *line, ServoCommand &command);
     bool parseGain(const char *word, const char *value, const char *rest, ServoCommand &command);
     void printPosition(int32_t setpoint, int32_t position, float duty);
-    void printReal(float v, uint8_t decimals);
     void flushStatus();
 
     SerialOutQueue queue_; /* before lines_, which is built on it */

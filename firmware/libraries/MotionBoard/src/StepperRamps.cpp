@@ -7,38 +7,6 @@
 
 void (*stepper_print_hook)() = 0;
 
-void stepper_print_real(Print &out, double v)
-{
-    /* the fewest decimals (up to 6) that read back as the same number, so a `?` reply fed to
-     * motionsim reproduces the firmware's ramp; else 7 significant digits, as many as avr-libc's
-     * conversion gets right (such a value may then differ from the Mega's in the last float bit) */
-    char buf[24];
-    unsigned char d;
-    if (v == 0.0) {
-        out.print('0');
-        return;
-    }
-    if (v > -1e9 && v < 1e9 && v == (double)(long)v) {
-        out.print((long)v); /* whole numbers (most parameters): no conversion loop */
-        return;
-    }
-    if (!(v < 1e12 && v > -1e12)) { /* never for our bounded parameters; keeps buf safe */
-        out.print(v, 0);
-        return;
-    }
-    for (d = 0; d <= 6; d++) {
-        if (stepper_print_hook)
-            stepper_print_hook(); /* each try costs about 7,000 cycles: let the step planner run */
-        dtostrf(v, 0, d, buf);
-        if (strtod(buf, NULL) == v) {
-            out.print(buf);
-            return;
-        }
-    }
-    dtostre(v, buf, 6, 0);
-    out.print(buf);
-}
-
 /* A number word beyond the parser's range on the negative side ("-1e39"): refused below as any
  * negative value is, with the module's own sentence, not as "out of range" with an upper limit. */
 static bool negative_word(const char *value)

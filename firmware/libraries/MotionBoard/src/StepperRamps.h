@@ -19,6 +19,8 @@
 
 #include <Arduino.h>
 
+#include "PrintReal.h"
+
 #include <motion_status.h>
 #include <ramp.h>
 #include <step_planner.h>
@@ -53,12 +55,12 @@ protected:
     ~StepperRamp() {}
 };
 
-/* Prints a real number with the fewest decimals (up to 6) that read back as the same value ("20",
- * "0.5", "333.3"), else with 7 significant digits ("1.234567e-01"). */
-void stepper_print_real(Print &out, double v);
 /* Called between the slow steps of stepper_print_real (the console points it at the step engine's
  * service, so that formatting a long reply never lets the step queue run dry). */
 extern void (*stepper_print_hook)();
+/* Prints a real number with the fewest decimals (up to 6) that read back as the same value ("20",
+ * "0.5", "333.3"), else with 7 significant digits ("1.234567e-01"): PrintReal.h. */
+inline void stepper_print_real(Print &out, double v) { print_real_exact(out, v, stepper_print_hook); }
 
 /* The largest acceleration `set accel` accepts on the trapezoid sketches, steps/s^2. */
 #define STEPPER_MAX_ACCEL 1e7
