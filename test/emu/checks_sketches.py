@@ -974,6 +974,47 @@ def check_stepper_motion(env, sketch):
     return CheckResult(not problems, summary, problems)
 
 
+def check_back_to_back(env, sketch):
+    """A move sent right after the previous one's DONE (within one wrap of Timer1, when its compare
+    flag may still be clear): its first step must wait its whole first interval after the move is
+    armed, as motionsim plans it, never fire at once or a timer wrap early; and at most 40 ms of
+    planning later. The arming is after the DONE line, so DONE -> first step >= the interval."""
+    import emulate  # tools/emu: the argument mapping `make emulate` uses
+    s = ["wait ^READY [^ ]+$", "timeout 20000", "send ?", "wait ^pos=", "send 3", "wait ^OK 0 3$",
+         "wait ^DONE 3$", "send 0", "wait ^OK 3 0$", "wait ^DONE 0$", "send 3", "wait ^OK 0 3$", "wait ^DONE 3$"]
+    log = emulog.run(env.elf(sketch), "\n".join(s) + "\n", pins=sketches.stepper_pins(env))
+    problems = []
+    fails_of(log, problems)
+    if problems:
+        return CheckResult(False, "back-to-back moves", problems)
+    q = emulog.query_fields(log.first("^pos=").text)
+    cpt = F_CPU / float(q["tick_hz"])
+    rises = log.rising("STEP")
+    figures = []
+    for k, (done, a, b) in enumerate(((log.first("^DONE 3$"), 3, 0), (log.first("^DONE 0$"), 0, 3))):
+        r = subprocess.run([env.motionsim] + emulate.stepper_sim_args(q, a, b), stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True)
+        if r.returncode != 0:
+            return CheckResult(False, "back-to-back moves", [f"motionsim: {r.stderr.strip()}"])
+        first_ticks = int(float(r.stdout.splitlines()[1].split(",")[3]))
+        nxt = [c for c in rises if c > done.cycle]
+        if not nxt:
+            problems.append(f"move {a} -> {b}: no step after DONE {a}")
+            continue
+        gap = (nxt[0] - done.cycle) / cpt
+        if gap < first_ticks:
+            problems.append(f"move {a} -> {b}: first step {gap:.0f} ticks after DONE {a}, before its first "
+                            f"interval of {first_ticks} ticks")
+        elif gap > first_ticks + 0.040 * float(q["tick_hz"]):
+            problems.append(f"move {a} -> {b}: first step {gap:.0f} ticks after DONE {a}, more than 40 ms beyond "
+                            f"its first interval of {first_ticks} ticks")
+        figures.append(f"{a} -> {b}: first step {(gap - first_ticks) / float(q['tick_hz']) * 1e3:.1f} ms after "
+                       f"DONE + its first interval ({first_ticks} ticks)")
+    if len(rises) != 9:
+        problems.append(f"{len(rises)} STEP pulses, want 9")
+    return CheckResult(not problems, f"algo={q.get('algo')}: " + "; ".join(figures), problems)
+
+
 # ----------------------------------------------------------------------------------------------
 
 # ----------------------------------------------------------------------------------------------
@@ -1047,6 +1088,8 @@ def checks_for(env):
                        lambda st=st: check_stepper_motion(env, st)))
         checks.append((f"{st}: the step engine at speed: the reference move, every edge on its plan",
                        lambda st=st: check_engine_at_speed(env, st)))
+        checks.append((f"{st}: a move right after the last one's DONE waits its whole first interval",
+                       lambda st=st: check_back_to_back(env, st)))
     # the timed-loop build (tools/emu/emu.mk) is of the lab's Leib sketch only: one build of the mode
     if family.get("LeibRampStepper") == "stepper":
         checks.append(("LeibRampStepper built with STEPPER_TIMED_LOOP=1: moves, intervals == motionsim ramp within "

@@ -162,7 +162,11 @@ void arm_step(StepSlot &t)
     OCR1A = (uint16_t)(s.acc >> 16);
     s.wraps = (uint16_t)((interval - 1U) >> 16);
     first = ((interval - 1U) & 0xFFFFUL) + 1U;
+    /* ticks since the edge the interval counts from: small, or negative at a move's start, where
+     * that reference lies a few ticks ahead (start_stepping): then nothing has elapsed */
     elapsed = TCNT1 - prev;
+    if ((int16_t)elapsed < 0)
+        elapsed = 0;
     if (elapsed >= first && !(TIFR1 & _BV(OCF1A))) {
         if (s.wraps != 0) {
             s.wraps = s.wraps - 1U;
