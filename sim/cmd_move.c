@@ -60,17 +60,18 @@ static void advance(step_coord_t *c, uint8_t i, axis_run_t *a)
 /* distance of point p (relative to the start) from the line through 0 and d */
 static double line_distance(const double p[AXES], const double d[AXES])
 {
-    double dd = 0, pd = 0, pp = 0;
+    double dd = 0, pd = 0, rr = 0, lambda;
     int i;
     for (i = 0; i < AXES; i++) {
         dd += d[i] * d[i];
         pd += p[i] * d[i];
-        pp += p[i] * p[i];
     }
-    if (dd == 0)
-        return sqrt(pp);
-    pp -= pd * pd / dd;
-    return pp > 0 ? sqrt(pp) : 0.0;
+    lambda = dd > 0 ? pd / dd : 0.0;
+    for (i = 0; i < AXES; i++) {
+        double r = p[i] - lambda * d[i]; /* the residual, component by component (no cancellation) */
+        rr += r * r;
+    }
+    return sqrt(rr);
 }
 
 static const char move_description[] =

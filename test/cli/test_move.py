@@ -113,10 +113,10 @@ def test_every_edge_on_the_line_and_all_end_together(motionsim, targets, opts):
         # the path_err column: the distance of the tool from the line, recomputed here
         dd = sum(targets.get(k, 0) ** 2 for k in "xyz")
         pd = sum(pos[k] * targets.get(k, 0) for k in "xyz")
-        pp = sum(pos[k] ** 2 for k in "xyz")
-        dist = math.sqrt(max(pp - pd * pd / dd, 0.0))
+        lam = pd / dd
+        dist = math.sqrt(sum((pos[k] - lam * targets.get(k, 0)) ** 2 for k in "xyz"))
         for row in rows[i:j]:
-            assert row[4] == pytest.approx(dist, abs=1e-6)  # pp - pd^2/dd cancels digits
+            assert row[4] == pytest.approx(dist, abs=1e-9)
         i = j
     for k in d:
         assert steps[k] == d[k] and pos[k] == targets[k]
