@@ -186,3 +186,11 @@ int32_t step_coord_target(const step_coord_t *c, uint8_t axis)
 {
     return c->to[axis];
 }
+
+void step_coord_halt(step_coord_t *c, uint8_t axis, int32_t pos)
+{
+    if (axis >= c->n_axes)
+        return;
+    step_exact_reset(&c->ax[axis], pos);
+    c->to[axis] = pos;
+}

@@ -83,6 +83,9 @@ int64_t step_coord_horizon16(const step_coord_t *c, uint8_t axis);
 /* Decelerates every axis to rest from the state its commands have reached (see above). */
 void step_coord_stop(step_coord_t *c);
 
+/* Forgets what axis i has not handed out yet and stands it at rest at pos (after a halt). */
+void step_coord_halt(step_coord_t *c, uint8_t axis, int32_t pos);
+
 /* Where the move ends for axis i (after a stop: where that axis comes to rest). */
 int32_t step_coord_target(const step_coord_t *c, uint8_t axis);
 

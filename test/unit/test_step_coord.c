@@ -434,6 +434,15 @@ static void stop_decelerates_every_axis(void **state)
         assert_int_equal(step_coord_position(&c, i), tgt);
         assert_int_equal(step_coord_busy(&c, i), 0);
     }
+    /* halt: an axis forgets the rest of its part at once */
+    assert_int_equal(step_coord_plan(&c, 3, p, from, to), MS_OK);
+    assert_int_equal(step_coord_next(&c, 1, &cmd), 1);
+    step_coord_halt(&c, 1, 3);
+    assert_int_equal(step_coord_busy(&c, 1), 0);
+    assert_int_equal(step_coord_next(&c, 1, &cmd), 0);
+    assert_int_equal(step_coord_position(&c, 1), 3);
+    assert_int_equal(step_coord_target(&c, 1), 3);
+    assert_int_equal(step_coord_busy(&c, 0), 1);
 }
 
 int main(void)
