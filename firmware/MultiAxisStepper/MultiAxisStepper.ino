@@ -7,7 +7,8 @@
  * How: the planners (lib/src/step_planner.h for an axis alone, step_coord.h for a coordinated move)
  * run here in loop() and keep each axis's queue of step commands ahead; Timer1's three compare
  * interrupts (A: X, B: Y, C: Z, one timeline) only take the next command and make the step
- * (MultiStepEngine.h). Defaults per axis: v0 = 0, vmax = 20,000 steps/s, accel = 50,000 steps/s^2.
+ * (MultiStepEngine.h). Defaults per axis: v0 = 0, vmax = 10,000 steps/s, accel = 10,000 steps/s^2 (three axes moving
+ * independently at once stay clean at these; build/bench/bench.md has the ceilings).
  * Serial Monitor at 9600 baud, "Both NL & CR":
  *   x 20000          move X alone to 20000: "OK x 0 20000", later "DONE x 20000" (y, z likewise)
  *   move x1000 y500  X and Y together on the line from where they are to (1000, 500): both start
@@ -20,9 +21,9 @@
  */
 #include <MultiAxisConsole.h>
 
-static TrapezoidRamp xRamp(RAMP_ALGO_EXACT, 0.0, 20000.0, 50000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
-static TrapezoidRamp yRamp(RAMP_ALGO_EXACT, 0.0, 20000.0, 50000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
-static TrapezoidRamp zRamp(RAMP_ALGO_EXACT, 0.0, 20000.0, 50000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
+static TrapezoidRamp xRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
+static TrapezoidRamp yRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
+static TrapezoidRamp zRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
 static MultiAxisConsole console(xRamp, yRamp, zRamp);
 
 /* Timer1's compare interrupts make the steps the planners queued (MultiStepEngine.h): each jumps to

@@ -166,19 +166,52 @@ int64_t step_coord_horizon16(const step_coord_t *c, uint8_t axis)
     return c->ax[axis].acc16;
 }
 
+/* steps from the start to where axis i can come to rest soonest (its position if not moving) */
+static uint32_t soonest_rest(const step_coord_t *c, uint8_t i)
+{
+    const step_exact_t *e = &c->ax[i];
+    uint32_t made = ramp_distance(c->from[i], e->pos);
+    if (e->moving && e->n < e->d)
+        made += step_exact_stop_steps(e);
+    return made < c->d[i] ? made : c->d[i];
+}
+
 void step_coord_stop(step_coord_t *c)
 {
-    uint8_t i;
+    uint8_t i, k = c->master;
+    uint32_t kk = 0;
+    /* the axis that can stop on the line furthest along it (the largest s) sets the point where all
+     * come to rest: s* = k_k / D_k; every other axis can still reach round(D_i s*) */
+    for (i = 0; i < c->n_axes; i++) {
+        uint32_t ri;
+        if (c->d[i] == 0)
+            continue;
+        ri = soonest_rest(c, i);
+        if ((uint64_t)ri * c->d[k] > (uint64_t)kk * c->d[i]) {
+            k = i;
+            kk = ri;
+        }
+    }
     for (i = 0; i < c->n_axes; i++) {
         step_exact_t *e = &c->ax[i];
-        if (e->n < e->d && e->moving) {
-            step_exact_stop(e);
-            c->to[i] = ramp_position_after(e->pos, e->dir, e->d);
-        } else if (e->n < e->d) {
-            /* nothing handed out yet: it stays where it is */
-            e->d = e->n = 0;
-            c->to[i] = e->pos;
+        uint32_t ki, soonest;
+        int32_t want;
+        if (c->d[i] == 0)
+            continue;
+        ki = (uint32_t)(((uint64_t)c->d[i] * kk + c->d[k] / 2U) / c->d[k]);
+        soonest = soonest_rest(c, i);
+        if (ki < soonest)
+            ki = soonest; /* rounding: never short of where it can stop */
+        want = ramp_position_after(c->from[i], ramp_direction(c->from[i], c->to[i]), ki);
+        if (e->moving && e->n < e->d) {
+            if (step_exact_plan(e, want) != MS_OK)
+                step_exact_stop(e);
+        } else {
+            step_exact_reset(e, e->pos);
+            if (want == e->pos || step_exact_plan(e, want) != MS_OK)
+                e->d = e->n = 0;
         }
+        c->to[i] = e->d > e->n ? ramp_position_after(e->pos, e->dir, e->d - e->n) : e->pos;
     }
 }
 

@@ -26,9 +26,10 @@
  * same tick.
  * Limits: an axis moving far less than the master has a large C_i; it must stay below 2^62 u^2
  * (D_m / D_i below about 0.137 accel_m / (F / 16 MHz)^2 ... e.g. 6,870 at 50,000 steps/s^2): a
- * larger ratio is refused (MS_ERR_COORD_RATIO). A stop decelerates each axis from the point its
- * commands have reached, at its own share of the profile's acceleration (the path bound holds up to
- * the steps already queued; a halt keeps every step made).
+ * larger ratio is refused (MS_ERR_COORD_RATIO). A stop (step_coord_stop) brings every axis to rest
+ * on the line (within a step, unless an axis was already too close to stop there); on the way the
+ * axes leave the line by up to the steps one command covers, since each stops from the point its
+ * own commands have reached. A halt keeps every step made.
  * Cost on the AVR: per plan, per axis, one 96-by-32-bit division in 64-bit steps (about 3 ms);
  * per command the cost of step_exact_next.
  */
@@ -80,7 +81,9 @@ int32_t step_coord_position(const step_coord_t *c, uint8_t axis);
 /* Time (2^-16 ticks from the move's start) by which axis i's handed-out commands end. */
 int64_t step_coord_horizon16(const step_coord_t *c, uint8_t axis);
 
-/* Decelerates every axis to rest from the state its commands have reached (see above). */
+/* Stops the move: the master decelerates to rest from the state its commands have reached, each
+ * other axis goes from its own state to where the line puts it then (round(D_i k_m / D_m) steps,
+ * k_m the master's), or, when that is closer than it can stop, stops as soon as it can. */
 void step_coord_stop(step_coord_t *c);
 
 /* Forgets what axis i has not handed out yet and stands it at rest at pos (after a halt). */

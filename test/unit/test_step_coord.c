@@ -434,6 +434,9 @@ static void stop_decelerates_every_axis(void **state)
         assert_int_equal(step_coord_position(&c, i), tgt);
         assert_int_equal(step_coord_busy(&c, i), 0);
     }
+    /* at rest on the line: y = x / 2, z = -x / 4, within a step */
+    assert_true(labs((long)step_coord_position(&c, 1) - step_coord_position(&c, 0) / 2) <= 1);
+    assert_true(labs((long)step_coord_position(&c, 2) + step_coord_position(&c, 0) / 4) <= 1);
     /* halt: an axis forgets the rest of its part at once */
     assert_int_equal(step_coord_plan(&c, 3, p, from, to), MS_OK);
     assert_int_equal(step_coord_next(&c, 1, &cmd), 1);

@@ -24,24 +24,9 @@ static uint8_t planner_busy(void *ctx)
 static uint8_t coord_next(void *ctx, step_cmd_t *c)
 {
     AxisCoordRef *r = static_cast<AxisCoordRef *>(ctx);
-    uint8_t clones = r->clones;
     if (r->repeats != 0xFF)
-        return 0; /* it repeats another axis's commands: fed with them */
-    for (uint8_t i = 0; i < MULTI_AXES; i++)
-        if ((clones & (1U << i)) && !MultiStepEngine::room(i))
-            return 0; /* they step in lockstep: wait for the one behind */
-    if (!step_coord_next(r->coord, r->axis, c))
-        return 0;
-    for (uint8_t i = 0; i < MULTI_AXES; i++) {
-        if (clones & (1U << i)) {
-            /* the same distance: the same constants and commands (step_coord.h), in its own direction */
-            step_cmd_t k = *c;
-            k.flags = (uint8_t)((k.flags & (uint8_t)~STEP_CMD_REVERSE) |
-                                (r->coord->to[i] < r->coord->from[i] ? STEP_CMD_REVERSE : 0));
-            MultiStepEngine::push(i, k);
-        }
-    }
-    return 1;
+        return 0; /* it follows another axis's interrupt: no commands of its own */
+    return step_coord_next(r->coord, r->axis, c);
 }
 static uint8_t coord_busy(void *ctx)
 {
@@ -61,7 +46,7 @@ static int8_t axis_of(const char *word)
 }
 
 MultiAxisConsole::MultiAxisConsole(TrapezoidRamp &x, TrapezoidRamp &y, TrapezoidRamp &z)
-    : coord_named_(0), coord_mask_(0), coord_done_(0), coord_starting_(false), status_pending_(0), queue_(Serial),
+    : coord_named_(0), coord_mask_(0), coord_own_(0), coord_done_(0), coord_starting_(false), status_pending_(0), queue_(Serial),
       serial_(Serial, queue_, 240)
 {
     ramp_[0] = &x;
@@ -130,10 +115,10 @@ void MultiAxisConsole::feed()
     if (coord_starting_) {
         bool all = true;
         for (uint8_t i = 0; i < MULTI_AXES; i++)
-            if ((coord_mask_ & (1U << i)) && !MultiStepEngine::ready_to_start(i, source(i)))
+            if ((coord_own_ & (1U << i)) && !MultiStepEngine::ready_to_start(i, source(i)))
                 all = false;
         if (all) {
-            MultiStepEngine::start_together(coord_mask_);
+            MultiStepEngine::start_together(coord_own_);
             coord_starting_ = false;
         }
     }
@@ -164,15 +149,29 @@ void MultiAxisConsole::report_done(uint8_t axis, int32_t position)
         /* one axis of the coordinated move has ended: the move's DONE once all have */
         coord_end_[axis] = position;
         coord_done_ |= (uint8_t)(1U << axis);
+        for (uint8_t i = 0; i < MULTI_AXES; i++) {
+            if (coord_ctx_[axis].clones & (1U << i)) {
+                /* its followers made as many steps, each in its own direction */
+                coord_end_[i] = follower_position(i, position);
+                MultiStepEngine::set_rest_position(i, coord_end_[i]);
+                coord_done_ |= (uint8_t)(1U << i);
+            }
+        }
+        if (coord_ctx_[axis].clones)
+            MultiStepEngine::unfollow(axis);
         if (coord_done_ != coord_mask_)
             return;
         out.print(F("DONE move"));
         print_coord_positions(out, false);
         out.println();
-        for (uint8_t i = 0; i < MULTI_AXES; i++)
+        for (uint8_t i = 0; i < MULTI_AXES; i++) {
             if (coord_mask_ & (1U << i))
                 step_planner_halt(&planner_[i], coord_end_[i]); /* at rest there, alone again */
+            coord_ctx_[i].repeats = 0xFF;
+            coord_ctx_[i].clones = 0;
+        }
         coord_mask_ = 0;
+        coord_own_ = 0;
         coord_named_ = 0;
         coord_done_ = 0;
         coord_starting_ = false;
@@ -390,12 +389,19 @@ void MultiAxisConsole::handle_move(const char *cursor)
     for (uint8_t i = 0; i < MULTI_AXES; i++)
         if (coord_ctx_[i].repeats != 0xFF)
             coord_ctx_[coord_ctx_[i].repeats].clones |= (uint8_t)(1U << i);
+    coord_own_ = 0; /* the axes of the move with an interrupt of their own */
+    for (uint8_t i = 0; i < MULTI_AXES; i++)
+        if ((mask & (1U << i)) && coord_ctx_[i].repeats == 0xFF)
+            coord_own_ |= (uint8_t)(1U << i);
     for (uint8_t i = 0; i < MULTI_AXES; i++) {
         coord_end_[i] = from[i];
-        if (mask & (1U << i)) {
-            has_next_[i] = false;
+        if (!(mask & (1U << i)))
+            continue;
+        has_next_[i] = false;
+        if (coord_ctx_[i].repeats != 0xFF)
+            MultiStepEngine::follow(coord_ctx_[i].repeats, i, to[i] > from[i]); /* its master pulses it */
+        else
             MultiStepEngine::open_move(i, true);
-        }
     }
     coord_starting_ = true;
     serial_.out().print(F("OK move"));
@@ -462,7 +468,7 @@ void MultiAxisConsole::handle_stop(const char *cursor, bool halt)
             for (uint8_t i = 0; i < MULTI_AXES; i++)
                 back[i] = coord_.to[i] < coord_.from[i];
             step_coord_stop(&coord_);
-            /* an axis repeating the master's commands stops with them, as far as the master */
+            /* a follower stops with its master, as far */
             for (uint8_t i = 0; i < MULTI_AXES; i++) {
                 if (coord_ctx_[i].repeats == m) {
                     int32_t k = coord_.to[m] - coord_.from[m];
@@ -529,6 +535,22 @@ void MultiAxisConsole::handle_set(uint8_t axis, const char *cursor)
     out.println();
 }
 
+int32_t MultiAxisConsole::follower_position(uint8_t axis, int32_t master_pos)
+{
+    uint8_t m = coord_ctx_[axis].repeats;
+    int32_t k = master_pos - coord_.from[m];
+    if (k < 0)
+        k = -k;
+    return coord_.to[axis] < coord_.from[axis] ? coord_.from[axis] - k : coord_.from[axis] + k;
+}
+
+int32_t MultiAxisConsole::position_of(uint8_t axis)
+{
+    if ((coord_mask_ & (1U << axis)) && coord_ctx_[axis].repeats != 0xFF)
+        return follower_position(axis, MultiStepEngine::position(coord_ctx_[axis].repeats));
+    return MultiStepEngine::position(axis);
+}
+
 void MultiAxisConsole::print_status(uint8_t axis)
 {
     Print &out = serial_.out();
@@ -537,7 +559,7 @@ void MultiAxisConsole::print_status(uint8_t axis)
     uint8_t phase = MultiStepEngine::phase(axis);
     out.print(AXIS_NAME[axis]);
     out.print(F(" pos="));
-    out.print(MultiStepEngine::position(axis));
+    out.print(position_of(axis));
     out.print(F(" target="));
     out.print(in_move ? step_coord_target(&coord_, axis)
                       : (has_next_[axis] ? next_target_[axis] : step_planner_target(&planner_[axis])));

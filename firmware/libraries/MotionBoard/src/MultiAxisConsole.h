@@ -39,8 +39,8 @@
 struct AxisCoordRef {
     step_coord_t *coord;
     uint8_t axis;
-    uint8_t repeats; /* the master whose commands this axis repeats (same distance), or 0xFF */
-    uint8_t clones;  /* master: the axes that repeat its commands (bit i: axis i) */
+    uint8_t repeats; /* the master this axis follows (it moves as far: same step times), or 0xFF */
+    uint8_t clones;  /* master: the axes that follow it (bit i: axis i) */
 };
 
 class MultiAxisConsole {
@@ -68,6 +68,8 @@ private:
     void report_done(uint8_t axis, int32_t position);
     void collect_done();
     void print_coord_positions(Print &out, bool with_from);
+    int32_t follower_position(uint8_t axis, int32_t master_pos);
+    int32_t position_of(uint8_t axis);
 
     TrapezoidRamp *ramp_[MULTI_AXES];
     step_planner_t planner_[MULTI_AXES];
@@ -75,6 +77,7 @@ private:
     AxisCoordRef coord_ctx_[MULTI_AXES];
     uint8_t coord_named_;   /* axes named in the coordinated move (reported in OK/DONE) */
     uint8_t coord_mask_;    /* of those, the axes that move (fed from coord_) */
+    uint8_t coord_own_;     /* of those, the axes stepped by their own interrupt (the others follow one) */
     uint8_t coord_done_;    /* axes of the move that have ended */
     bool coord_starting_;   /* held, waiting for every axis's first commands */
     int32_t coord_end_[MULTI_AXES];

@@ -57,14 +57,14 @@
  * stepping cleanly at once (build/bench/bench.md), by one rung of its ladder. Override at compile
  * time, e.g. -DMULTI_MAX_SPS=40000. */
 #ifndef MULTI_MAX_SPS
-#define MULTI_MAX_SPS 30000.0
+#define MULTI_MAX_SPS 40000.0
 #endif
 
 /* The step engine's queues (MultiStepEngine.h): commands each axis's ring holds, and the size of
- * one axis's state (21 bytes of fields + 21 per slot), which MultiStepEngineIsr.S reserves. */
+ * one axis's state (23 bytes of fields + 21 per slot), which MultiStepEngineIsr.S reserves. */
 #ifndef MULTI_SLOTS
 #define MULTI_SLOTS 48
 #endif
-#define MULTI_AXIS_STATE_BYTES (21 + 21 * (MULTI_SLOTS))
+#define MULTI_AXIS_STATE_BYTES (23 + 21 * (MULTI_SLOTS))
 
 #endif

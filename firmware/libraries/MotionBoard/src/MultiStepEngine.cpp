@@ -12,6 +12,7 @@ static_assert(sizeof(AxisState) == MULTI_AXIS_STATE_BYTES, "MultiStepEngineIsr.S
 
 static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, cur) == 4 && offsetof(AxisState, waiting) == 6 &&
                   offsetof(AxisState, late) == 7 && offsetof(AxisState, late_ticks) == 9 &&
+                  offsetof(AxisState, mask_f) == 10 && offsetof(AxisState, mask_l) == 11 &&
                   offsetof(AxisSlot, rate) == 0 && offsetof(AxisSlot, add) == 4 && offsetof(AxisSlot, left) == 8 &&
                   offsetof(AxisSlot, flags) == 10 && offsetof(AxisSlot, ready) == 11 && offsetof(AxisSlot, other) == 12,
               "MultiStepEngineIsr.S reads these offsets");
@@ -70,17 +71,22 @@ inline bool dir_level(uint8_t axis)
     return (MULTI_Z_DIR_PORT & _BV(MULTI_Z_DIR_BIT)) != 0;
 }
 
+/* STEP low: the interrupt's pins (its axis's and its followers'); interrupts are off */
 inline void step_low(uint8_t axis)
 {
-    if (axis == 0)
-        MULTI_X_STEP_PORT &= (uint8_t)~_BV(MULTI_X_STEP_BIT);
-    else if (axis == 1)
-        MULTI_Y_STEP_PORT &= (uint8_t)~_BV(MULTI_Y_STEP_BIT);
-    else
-        MULTI_Z_STEP_PORT &= (uint8_t)~_BV(MULTI_Z_STEP_BIT);
+    AxisState &s = state(axis);
+    PORTF &= (uint8_t)~s.mask_f;
+    PORTL &= (uint8_t)~s.mask_l;
 #if MULTI_TRACE
     MULTI_TRACE_PORT &= (uint8_t)~_BV(MULTI_TRACE_BIT);
 #endif
+}
+
+inline void own_masks(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    s.mask_f = axis == 0 ? _BV(MULTI_X_STEP_BIT) : axis == 1 ? _BV(MULTI_Y_STEP_BIT) : 0;
+    s.mask_l = axis == 2 ? _BV(MULTI_Z_STEP_BIT) : 0;
 }
 
 inline void write_ocr(uint8_t axis, uint16_t v)
@@ -349,6 +355,7 @@ void MultiStepEngine::begin()
             s.cur = &s.slot[0];
             s.pos_rest = 0;
             s.late_ticks = (uint8_t)(MULTI_TICK_HZ / 500000UL);
+            own_masks(a);
             f.next_p_start = 0;
             f.last_forward = 1;
             f.head = 1;
@@ -388,19 +395,6 @@ static void lay_one(uint8_t axis, AxisState &s, AxisFeed &f, const step_cmd_t &c
     f.ready++;
     t.ready = 1; /* one byte, written last: the interrupt sees a complete slot */
     f.head = next_slot(f.head);
-}
-
-bool MultiStepEngine::room(uint8_t axis)
-{
-    AxisState &s = state(axis);
-    AxisFeed &f = s_feed[axis];
-    retire_consumed(s, f);
-    return has_room(s, f);
-}
-
-void MultiStepEngine::push(uint8_t axis, const step_cmd_t &c)
-{
-    lay_one(axis, state(axis), s_feed[axis], c);
 }
 
 uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t max_cmds)
@@ -449,6 +443,33 @@ uint32_t MultiStepEngine::queued_ticks(uint8_t axis)
         s.slot[f.head].ready || (s.running && f.head == cur_index(s)))
         return UINT32_MAX;
     return f.queued_ticks;
+}
+
+void MultiStepEngine::follow(uint8_t master, uint8_t axis, bool forward)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        AxisState &m = state(master), &a = state(axis);
+        write_dir(axis, forward);
+        m.mask_f |= a.mask_f;
+        m.mask_l |= a.mask_l;
+    }
+}
+
+void MultiStepEngine::unfollow(uint8_t master)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        own_masks(master);
+    }
+}
+
+void MultiStepEngine::set_rest_position(uint8_t axis, int32_t pos)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        state(axis).pos_rest = pos;
+    }
 }
 
 bool MultiStepEngine::ready_to_start(uint8_t axis, const AxisSource &src)

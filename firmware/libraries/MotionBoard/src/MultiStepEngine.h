@@ -68,6 +68,8 @@ struct AxisState {
     volatile uint8_t waiting;   /* +6 matches to let pass (a slow interval's wraps) before the step */
     volatile uint16_t late;     /* +7 edges armed in the past (fired 2 us later) */
     uint8_t late_ticks;         /* +9 2 us in ticks */
+    uint8_t mask_f;             /* +10 the STEP bits of PORTF this interrupt pulses: its axis's, and its followers' */
+    uint8_t mask_l;             /* +11 the same in PORTL */
     volatile uint16_t wraps;
     volatile uint8_t running;
     volatile uint8_t finishing; /* the planner has queued the move's last command */
@@ -100,10 +102,13 @@ public:
      * the planner feeds the axis with the shortest queue first. */
     static uint32_t queued_ticks(uint8_t axis);
 
-    /* Whether the axis's queue can take one more command now, and lays one out (after room()):
-     * how the axes of a coordinated move that repeat another's commands are fed. */
-    static bool room(uint8_t axis);
-    static void push(uint8_t axis, const step_cmd_t &c);
+    /* Axis follows master in a coordinated move where both move as far: master's interrupt pulses
+     * both STEP pins at once (X and Y in one instruction), so the pair costs one interrupt and one
+     * plan per step. Writes axis's DIR now (at rest, before the first step). unfollow: each alone. */
+    static void follow(uint8_t master, uint8_t axis, bool forward);
+    static void unfollow(uint8_t master);
+    /* The position of an axis at rest (a follower's, after its master's move). */
+    static void set_rest_position(uint8_t axis, int32_t pos);
 
     /* A held move has enough laid out to start (MULTI_START_SLOTS, or everything its planner has). */
     static bool ready_to_start(uint8_t axis, const AxisSource &src);

@@ -6,6 +6,8 @@
  * registers restored as they were at the interrupt's entry. STEP rises at the same cycle after the
  * compare match whichever path follows. One routine per axis, written once as the macro below:
  * its arguments are the axis's state, pins, compare register and flag, and C path.
+ * STEP: the pins in the state's mask_f (PORTF) and mask_l (PORTL): the axis's own, and those of
+ * the axes that follow it in a coordinated move.
  * Registers: r24, r25, r26, r27, r30, r31 and SREG, saved here; the T flag marks a switch.
  * A port outside the I/O space (Z's PORTL) is read-modify-written through r24/r25: interrupts are
  * off here, and loop() writes it only in atomic blocks.
@@ -38,6 +40,8 @@ multi_axis_z:
 #define WAITING 6
 #define LATE 7
 #define LATE_TICKS 9
+#define MASK_F 10
+#define MASK_L 11
 /* AxisSlot offsets */
 #define S_RATE 0
 #define S_ADD 4
@@ -82,11 +86,19 @@ multi_axis_z:
     breq 1f
     rjmp 9f                      /* counting out a slow interval's wraps: no step at this match */
 1:
-    PIN_HIGH \io, \step_port, \step_bit
+    /* STEP high: the axis's pin and its followers' (one write per port) */
+    push r25
+    lds r25, \st + MASK_F
+    in r24, _SFR_IO_ADDR(PORTF)
+    or r24, r25
+    out _SFR_IO_ADDR(PORTF), r24
+    lds r25, \st + MASK_L
+    lds r24, _SFR_MEM_ADDR(PORTL)
+    or r24, r25
+    sts _SFR_MEM_ADDR(PORTL), r24
 #if MULTI_TRACE
     sbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
 #endif
-    push r25
     push r30
     push r31
     lds r30, \st + CUR
@@ -163,7 +175,16 @@ multi_axis_z:
     adc r24, r25
     std Z + S_RATE + 3, r24
 5:
-    PIN_LOW \io, \step_port, \step_bit
+    lds r25, \st + MASK_F
+    com r25
+    in r24, _SFR_IO_ADDR(PORTF)
+    and r24, r25
+    out _SFR_IO_ADDR(PORTF), r24
+    lds r25, \st + MASK_L
+    com r25
+    lds r24, _SFR_MEM_ADDR(PORTL)
+    and r24, r25
+    sts _SFR_MEM_ADDR(PORTL), r24
     /* a new command may turn: DIR after STEP has fallen */
     brtc 6f
     ldd r25, Z + S_FLAGS
