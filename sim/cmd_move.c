@@ -12,6 +12,10 @@
  *                   the straight line from start to end, in steps (Euclidean in step space)
  * --summary prints one line on stderr: steps per axis, the move's time, the spread of the axes' last
  * edges in ticks and the largest path error.
+ * --path writes one row per tick with an edge instead, all numeric (for plots of the path and speeds):
+ *   t_s, x_pos, y_pos, z_pos (positions after that tick's edges), x_speed_sps, y_speed_sps, z_speed_sps (F over the
+ *   axis's last interval: its mean speed over it, held until its next edge; 0 before its first step),
+ *   path_err_steps.
  */
 #include <math.h>
 #include <stdint.h>
@@ -86,13 +90,14 @@ static const char move_description[] =
     "after every edge of that tick). Limits per axis: --v0 --vmax --accel for all axes, --x-vmax\n"
     "etc. for one (defaults as MultiAxisStepper: v0 0, vmax 20000, accel 50000, F 16 MHz).\n"
     "--summary: one line on stderr (steps per axis, time, last-edge spread in ticks, largest path\n"
-    "error). An axis without a target (or with its start as target) does not move; at least one\n"
+    "error). --path: one row per tick with an edge instead: t_s, the x, y, z positions, each axis's\n"
+    "speed (F over its last interval, held) and path_err_steps. An axis without a target (or with its start as target) does not move; at least one\n"
     "must move.";
 
 int cmd_move(int argc, char **argv)
 {
     int32_t to[AXES] = {0, 0, 0}, from[AXES] = {0, 0, 0};
-    int seen_to[AXES] = {0, 0, 0}, summary = 0;
+    int seen_to[AXES] = {0, 0, 0}, summary = 0, path = 0;
     double v0 = 0.0, vmax = 20000.0, accel = 50000.0;
     double ax_v0[AXES] = {0, 0, 0}, ax_vmax[AXES] = {0, 0, 0}, ax_accel[AXES] = {0, 0, 0};
     int seen_v0[AXES] = {0, 0, 0}, seen_vmax[AXES] = {0, 0, 0}, seen_accel[AXES] = {0, 0, 0};
@@ -120,6 +125,8 @@ int cmd_move(int argc, char **argv)
         {"--tick-hz", CLI_UINT32, &tick_hz, "HZ", "F, timer ticks per second, one timeline for all axes "
                                                   "(default 16000000, as the sketch)", NULL, NULL},
         {"--summary", CLI_FLAG, &summary, NULL, "one summary line on stderr", NULL, NULL},
+        {"--path", CLI_FLAG, &path, NULL, "one row per tick: t_s,x_pos,y_pos,z_pos,x_speed_sps,y_speed_sps,z_speed_sps,"
+                                          "path_err_steps", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
     };
     const cli_spec_t spec = {MOVE_CMD, "--x N [--y N] [--z N] [--from-x N ...] [--vmax V --accel A --v0 V] "
@@ -130,6 +137,7 @@ int cmd_move(int argc, char **argv)
     axis_run_t run[AXES];
     double d[AXES], max_err = 0.0;
     uint64_t last_tick[AXES] = {0, 0, 0};
+    double speed[AXES] = {0, 0, 0};
     motion_status_t st;
     FILE *f;
     int rc, i, any = 0;
@@ -166,7 +174,10 @@ int cmd_move(int argc, char **argv)
     f = cli_open_output(MOVE_CMD, out_path);
     if (f == NULL)
         return CLI_EXIT_RUNTIME;
-    fprintf(f, "t_s,axis,step,position,path_err_steps\n");
+    if (path)
+        fprintf(f, "t_s,x_pos,y_pos,z_pos,x_speed_sps,y_speed_sps,z_speed_sps,path_err_steps\n");
+    else
+        fprintf(f, "t_s,axis,step,position,path_err_steps\n");
     for (i = 0; i < AXES; i++) {
         memset(&run[i], 0, sizeof run[i]);
         step_exec_init(&run[i].x, 0x8000U);
@@ -186,6 +197,8 @@ int cmd_move(int argc, char **argv)
             break;
         for (i = 0; i < AXES; i++) {
             if (run[i].pending && run[i].tick == t) {
+                /* the mean speed over the interval that ends here (from t = 0 for the first step) */
+                speed[i] = (double)tick_hz / (double)(t - (run[i].step > 0 ? last_tick[i] : 0) + (t == 0));
                 run[i].step++;
                 run[i].pos += run[i].dir;
                 last_tick[i] = t;
@@ -198,9 +211,25 @@ int cmd_move(int argc, char **argv)
         err = line_distance(pt, d);
         if (err > max_err)
             max_err = err;
+        if (path) {
+            csv_num(f, (double)t / (double)tick_hz);
+            for (i = 0; i < AXES; i++)
+                fprintf(f, ",%ld", (long)run[i].pos);
+            for (i = 0; i < AXES; i++) {
+                fputc(',', f);
+                csv_num(f, speed[i]);
+            }
+            fputc(',', f);
+            csv_num(f, err);
+            fputc('\n', f);
+        }
         for (i = 0; i < AXES; i++) {
             if (!fired[i])
                 continue;
+            if (path) {
+                advance(&c, (uint8_t)i, &run[i]);
+                continue;
+            }
             csv_num(f, (double)t / (double)tick_hz);
             fprintf(f, ",%s,%lu,%ld,", axis_names[i], (unsigned long)run[i].step, (long)run[i].pos);
             csv_num(f, err);

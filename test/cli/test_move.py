@@ -161,3 +161,31 @@ def test_bad_input_one_line_exit_2(motionsim, args, message):
     r = motionsim("move", *args)
     assert r.rc == 2 and r.out == ""
     assert len(r.err.strip().splitlines()) == 1 and message in r.err, r.err
+
+
+def test_path_rows_agree_with_the_edge_rows(motionsim):
+    """--path: one row per tick with an edge, positions after that tick, each axis's speed F over its last
+    interval (held), and the same path error as the edge rows"""
+    a = motionsim("move", "--x", 3000, "--y", -1200, "--z", 50)
+    b = motionsim("move", "--x", 3000, "--y", -1200, "--z", 50, "--path")
+    assert a.rc == 0 and b.rc == 0
+    lines = b.out.splitlines()
+    assert lines[0] == "t_s,x_pos,y_pos,z_pos,x_speed_sps,y_speed_sps,z_speed_sps,path_err_steps"
+    path = [list(map(float, l.split(","))) for l in lines[1:]]
+    edges = rows_of(a)
+    ticks = sorted({e[0] for e in edges})
+    assert [p[0] for p in path] == ticks
+    pos = {"x": 0, "y": 0, "z": 0}
+    last = {"x": 0.0, "y": 0.0, "z": 0.0}
+    speed = {"x": 0.0, "y": 0.0, "z": 0.0}
+    by_t = {}
+    for t, ax, _, p, err in edges:
+        by_t.setdefault(t, []).append((ax, p, err))
+    for row in path:
+        for ax, p, err in by_t[row[0]]:
+            speed[ax] = F / round((row[0] - last[ax]) * F)
+            last[ax] = row[0]
+            pos[ax] = p
+            assert row[7] == pytest.approx(err, abs=1e-12)
+        assert row[1:4] == [pos["x"], pos["y"], pos["z"]]
+        assert row[4:7] == pytest.approx([speed["x"], speed["y"], speed["z"]], rel=1e-9)
