@@ -53,9 +53,12 @@
 
 #define MULTI_TICK_HZ 16000000UL
 
-/* The fastest vmax `set` accepts per axis (steps/s): below the rate `make bench` shows three axes
- * stepping cleanly at once (build/bench/bench.md), by one rung of its ladder. Override at compile
- * time, e.g. -DMULTI_MAX_SPS=40000. */
+/* The fastest vmax `set` accepts per axis (steps/s): one rung of its ladder below the rate `make bench`
+ * shows three axes stepping cleanly at once in a coordinated move (build/bench/bench.md,
+ * "MultiAxisStepper: several axes at once"). Three axes moving independently at once need three
+ * planners and are clean only up to a lower rate (the bench's "independent x+y+z" rows); above it
+ * the queues can run dry: counted as underruns in `?`. Override at compile time, e.g.
+ * -DMULTI_MAX_SPS=30000. */
 #ifndef MULTI_MAX_SPS
 #define MULTI_MAX_SPS 40000.0
 #endif
