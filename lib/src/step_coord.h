@@ -21,9 +21,10 @@
  * form of s(t) computed independently).
  * Why not Bresenham on the master's steps (Grbl): a slave's step would fall on a master edge, so its
  * intervals jump between multiples of the master's (its instantaneous speed reaching the master's,
- * above its own vmax); here every axis has a smooth ramp of its own and the engine treats an axis of
- * a coordinated move like an independent one (its own queue and compare channel), started on the
- * same tick.
+ * above its own vmax); here every axis has a smooth ramp of its own. On the Mega (MultiStepEngine.h)
+ * each axis of a coordinated move has its own queue and compare channel, all started on one tick; an
+ * axis that moves as far as the master has exactly the master's commands (same constants) and is
+ * pulsed by the master's interrupt instead.
  * Limits: an axis moving far less than the master has a large C_i; it must stay below 2^62 u^2
  * (D_m / D_i below about 0.137 accel_m / (F / 16 MHz)^2 ... e.g. 6,870 at 50,000 steps/s^2): a
  * larger ratio is refused (MS_ERR_COORD_RATIO). A stop (step_coord_stop) brings every axis to rest
