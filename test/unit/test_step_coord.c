@@ -376,6 +376,32 @@ static void path_check_sees_an_uncoordinated_axis(void **state)
     assert_true(off > 100U);
 }
 
+/* MultiAxisStepper pulses an axis that moves as far as the master from the master's interrupt: that is
+ * right only if its commands are the master's, but for the direction */
+static void equal_distance_axes_get_the_masters_commands(void **state)
+{
+    ramp_params_t p[3] = {params(0, 30000, 90000), params(0, 30000, 90000), params(0, 30000, 90000)};
+    step_coord_t c;
+    int32_t from[3] = {100, -5, 7}, to[3] = {20100, -20005, 10007};
+    step_cmd_t a, b;
+    uint32_t n = 0;
+    (void)state;
+    assert_int_equal(step_coord_plan(&c, 3, p, from, to), MS_OK);
+    assert_int_equal(c.master, 0);
+    for (;;) {
+        uint8_t ka = step_coord_next(&c, 0, &a), kb = step_coord_next(&c, 1, &b);
+        assert_int_equal(ka, kb);
+        if (!ka)
+            break;
+        assert_int_equal(a.rate, b.rate);
+        assert_int_equal(a.add, b.add);
+        assert_int_equal(a.count, b.count);
+        assert_int_equal(a.flags ^ b.flags, STEP_CMD_REVERSE);
+        n++;
+    }
+    assert_true(n > 100U);
+}
+
 static void too_unequal_refused(void **state)
 {
     ramp_params_t p[2] = {params(0, 20000, 50000), params(0, 20000, 50000)};
@@ -455,6 +481,7 @@ int main(void)
         cmocka_unit_test(example_moves),
         cmocka_unit_test(random_moves),
         cmocka_unit_test(path_check_sees_an_uncoordinated_axis),
+        cmocka_unit_test(equal_distance_axes_get_the_masters_commands),
         cmocka_unit_test(too_unequal_refused),
         cmocka_unit_test(bad_input_refused),
         cmocka_unit_test(stop_decelerates_every_axis),
