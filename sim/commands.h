@@ -7,5 +7,6 @@ int cmd_ramp(int argc, char **argv);       /* stepper ramps: step tables and --c
 int cmd_filter(int argc, char **argv);     /* acc/dec filters: moving average, two-stage, exponential */
 int cmd_servo(int argc, char **argv);      /* P / PID position loop against the DC-motor plant */
 int cmd_pid_replay(int argc, char **argv); /* replay a PID_v1 reference vector */
+int cmd_move(int argc, char **argv);       /* coordinated move of the X, Y and Z axes */
 
 #endif

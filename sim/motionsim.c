@@ -20,6 +20,7 @@ static const command_t commands[] = {
     {"filter", cmd_filter, "acceleration/deceleration filter response (moving average, two-stage, exponential)"},
     {"servo", cmd_servo, "closed-loop position control (P or PID) of the DC motor + encoder plant"},
     {"pid-replay", cmd_pid_replay, "replay a PID_v1 reference vector through our controller"},
+    {"move", cmd_move, "coordinated move of the X, Y and Z stepper axes: every axis's steps and the path error"},
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
 
@@ -40,7 +41,7 @@ int main(int argc, char **argv)
     if (argc < 2) {
         /* one line, as every other usage error */
         fprintf(stderr, "motionsim: the command is missing: usage: motionsim <command> [options] (commands: ramp, filter, "
-                        "servo, pid-replay; try 'motionsim --help')\n");
+                        "servo, pid-replay, move; try 'motionsim --help')\n");
         return CLI_EXIT_USAGE;
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
@@ -54,6 +55,6 @@ int main(int argc, char **argv)
     for (i = 0; i < N_COMMANDS; i++)
         if (strcmp(argv[1], commands[i].name) == 0)
             return commands[i].run(argc - 1, argv + 1);
-    fprintf(stderr, "motionsim: unknown command '%s' (commands: ramp, filter, servo, pid-replay; try 'motionsim --help')\n", argv[1]);
+    fprintf(stderr, "motionsim: unknown command '%s' (commands: ramp, filter, servo, pid-replay, move; try 'motionsim --help')\n", argv[1]);
     return CLI_EXIT_USAGE;
 }

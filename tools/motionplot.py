@@ -49,7 +49,9 @@ COMPARE_COLUMNS = [("move_time_dev_pct", "move time vs exact (%)"),
 # what a column is, for legends (a legend names the series, never the CSV column)
 SERIES_NAMES = {"speed_sps": "step rate", "accel_sps2": "acceleration", "interval_ticks": "timer period",
                 "u": "input u", "y": "output y", "setpoint": "setpoint", "position_counts": "position",
-                "error_counts": "error", "duty_pct": "duty", "output": "output", "computed": "computed"}
+                "error_counts": "error", "duty_pct": "duty", "output": "output", "computed": "computed",
+                "y_pos": "path (Y against X)", "x_speed_sps": "X step rate", "y_speed_sps": "Y step rate",
+                "z_speed_sps": "Z step rate", "path_err_steps": "distance from the line"}
 # columns that are inputs rather than results: drawn once, not again for each overlay that has the same
 REFERENCE_COLUMNS = ("setpoint", "u")
 # a panel with more rows than this, whose values jump back and forth, also gets its moving mean

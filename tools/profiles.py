@@ -255,6 +255,8 @@ def write_workbook(path, done, source_note=None):
                 # the grid is resampled from the full CSV, not from the sheet's rows
                 charts, what, end_col = ramp_grid_chart(wb, ws, sh, s, full[s["name"]],
                                                         [(o, full[o]) for o, _ in overlays], free_col, bold)
+            elif is_move_path(data) and n > 0:
+                charts, what, end_col = move_grid_chart(wb, ws, sh, s, full[s["name"]], free_col, bold)
             if dt is None:
                 charts += scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first=not charts)
                 what += ("; " if what else "") + "XY scatter per panel at the exact " + \
@@ -374,6 +376,49 @@ def ramp_grid_chart(wb, ws, sh, s, data, overlays, free_col, bold):
     chart.set_legend({"position": "bottom"})
     chart.set_size({"width": 760, "height": 330})
     return [chart], f"line chart of step rate on a {dt:g} s grid (sample-and-hold)", g0 + len(series) + 1
+
+
+MOVE_PATH_COLUMNS = ("t_s", "x_pos", "y_pos", "z_pos", "x_speed_sps", "y_speed_sps", "z_speed_sps")
+
+
+def is_move_path(data):
+    """`motionsim move --path`: one row per tick with an edge of any axis (unevenly spaced)"""
+    return tuple(data.header[:len(MOVE_PATH_COLUMNS)]) == MOVE_PATH_COLUMNS
+
+
+def move_grid_chart(wb, ws, sh, s, data, free_col, bold):
+    """A coordinated move: each moving axis's step rate resampled on a uniform time grid (sample and
+    hold: at grid time t, the axis's speed in the last row at or before t, i.e. over its last interval
+    completed by then), written beside the data and drawn as a line chart."""
+    ts = data.columns["t_s"]
+    axes = [a for a in "xyz" if any(v != 0 for v in data.columns[f"{a}_speed_sps"])]
+    if not axes or not ts[-1] > 0:
+        return [], "", free_col
+    dt, grid = time_grid(ts[-1])
+    g0 = free_col
+    ws.write(0, g0, "t_s (grid)", bold)
+    ws.write_column(1, g0, grid)
+    ws.write_comment(0, g0 + 1,
+                     f"Each axis's step rate on a uniform {dt:g} s grid, sample-and-hold: at grid time t, "
+                     "its speed in the last row at or before t (F over its last interval completed by then).",
+                     {"x_scale": 2, "y_scale": 1.5})
+    chart = wb.add_chart({"type": "line"})
+    for k, a in enumerate(axes):
+        c = g0 + 1 + k
+        ws.write(0, c, f"speed_sps (grid): {a.upper()}", bold)
+        vs = data.columns[f"{a}_speed_sps"]
+        for j, t in enumerate(grid):
+            i = bisect.bisect_right(ts, t) - 1
+            ws.write_number(1 + j, c, vs[i] if i >= 0 else 0.0)
+        chart.add_series({"name": f"{a.upper()} step rate, {s['_label']}", "categories": [sh, 1, g0, len(grid), g0],
+                          "values": [sh, 1, c, len(grid), c], "line": {"width": 1.5}})
+    ws.set_column(g0, g0 + len(axes), 14)
+    chart.set_title({"name": s["title"], "name_font": {"size": 11}})
+    chart.set_x_axis(category_axis(f"time (s), uniform grid every {dt:g} s", len(grid), dt))
+    chart.set_y_axis({"name": "step rate (steps/s)"})
+    chart.set_legend({"position": "bottom"})
+    chart.set_size({"width": 760, "height": 330})
+    return [chart], f"line chart of each axis's step rate on a {dt:g} s grid (sample-and-hold)", g0 + len(axes) + 1
 
 
 def scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first):

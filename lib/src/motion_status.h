@@ -38,6 +38,7 @@ extern "C" {
     X(MS_ERR_ACCEL_PHASE_TOO_LONG, "reaching vmax from rest would take more than 2^34 timer ticks: raise accel or lower vmax") \
     X(MS_ERR_ACCEL_TOO_LOW, "acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz (scales with F^2)") \
     X(MS_ERR_DERIVED_PARAM, "derived here from fmin, fmax, len, hold and flex: set those instead") \
+    X(MS_ERR_COORD_RATIO, "axes too unequal for a coordinated move: an axis moves too few steps for the longest one at this accel") \
     /* acceleration/deceleration filters */                                                    \
     X(MS_ERR_TS_NOT_POSITIVE, "sample time Ts must be greater than 0 s")                       \
     X(MS_ERR_TAU_BELOW_TS, "time constant tau must be at least one sample time Ts")            \

@@ -7,7 +7,7 @@ import pytest
 
 DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data", "pid_v1")
 
-COMMANDS = ["ramp", "filter", "servo", "pid-replay"]
+COMMANDS = ["ramp", "filter", "servo", "pid-replay", "move"]
 
 
 def one_line(text):
@@ -59,6 +59,7 @@ REPEATABLE = {
     "filter": (["--tau", "9", "--tau", "3"], "--tau given twice"),
     "servo": (["--kp", "0.02", "--kp", "0.05"], "--kp given twice"),
     "pid-replay": (["--float", "--float", "x.csv"], "--float given twice"),
+    "move": (["--x", "5", "--x", "6"], "--x given twice"),
 }
 
 
@@ -118,7 +119,8 @@ def test_integer_options_refuse_hex_and_doubles_say_why_they_are_out_of_range(mo
 def test_a_write_error_is_reported_in_one_line(motionsim):
     if not os.path.exists("/dev/full"):
         pytest.skip("no /dev/full")
-    runs = {"ramp": [], "filter": [], "servo": [], "pid-replay": [os.path.join(DATA, "a_p_only.csv")]}
+    runs = {"ramp": [], "filter": [], "servo": [], "pid-replay": [os.path.join(DATA, "a_p_only.csv")],
+            "move": ["--x", "100"]}
     for c, args in runs.items():
         r = motionsim(c, *args, "-o", "/dev/full")
         assert r.rc == 1, (c, r.err)
@@ -130,7 +132,7 @@ def test_a_write_error_stops_a_long_run_at_once(motionsim):
     if not os.path.exists("/dev/full"):
         pytest.skip("no /dev/full")
     runs = {"filter": ["--duration", "20000"], "servo": ["--duration", "3600", "--period-ms", "1", "--latency-us", "500"],
-            "ramp": ["--to", "100000000"]}
+            "ramp": ["--to", "100000000"], "move": ["--x", "100000000", "--y", "50000000"]}
     for c, args in runs.items():
         r = motionsim(c, *args, "-o", "/dev/full", timeout=5)
         assert r.rc == 1, (c, r.err)

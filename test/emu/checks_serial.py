@@ -16,7 +16,7 @@ from checks_selftest import CheckResult
 from emulog import F_CPU
 
 # the `?` reply's first key per family
-QUERY_KEY = {"stepper": "pos", "servo": "setpoint", "filter": "kind"}
+QUERY_KEY = {"stepper": "pos", "servo": "setpoint", "filter": "kind", "multiaxis": "z pos"}  # multiaxis: the last of its three lines
 
 
 def fails_of(log, problems):

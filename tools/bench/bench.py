@@ -19,6 +19,12 @@ plan except those that met another interrupt (at most 3 %, each within STEPPER_O
 errors are taken against the best alignment (the median edge), since the first edge may itself
 have met another interrupt. Late edges are counted and shown. The highest clean rate of each sketch is its ceiling; the planner's
 own cost per command and per step comes from test/emu/step_avr (lib's planner on the AVR).
+MultiAxisStepper (the `// motion-sketch: multiaxis` sketches) is measured in its own section: built with
+MULTI_MAX_SPS lifted and MULTI_TRACE=1 (D40 high while any of its step interrupts runs), it makes the
+same reference move on one, two and three axes at once as a coordinated move (`move x20000 y20000
+z20000`: the axes start on one tick and share one profile), and on three axes as three independent
+moves (`x 20000`, `y 20000`, `z 20000`: three planners), at a ladder of rates; every edge of every
+axis against motionsim (`move`, or `ramp --queue` for an axis alone), the same clean rule.
 Writes build/bench/bench.md (the one home of these figures) and prints it.
 """
 import argparse
@@ -180,6 +186,171 @@ def planner_costs(elf):
     return [l.text for l in log.rx if l.text.startswith("move ")]
 
 
+# ---- MultiAxisStepper ---------------------------------------------------------------------------
+# What MULTI_TRACE cannot see of a step interrupt (MultiStepEngineIsr.S): the chip's interrupt entry (5,
+# not charged by simavr), the vector's and the naked ISR's jumps (3 + 3), push/in/push (5), the waiting
+# test (5), push r25 and the STEP masks written to PORTF and PORTL (14); after TRACE falls, six pops,
+# out and pop (15) and reti (5): 55 cycles, added to every traced interval.
+MULTI_ENTRY_CYCLES = 55
+MULTI_LIFT = "-DMULTI_MAX_SPS=200000 -DMULTI_TRACE=1"
+MULTI_LADDER = {"coordinated": [20000, 30000, 40000, 50000, 60000, 70000],
+                "independent": [5000, 8000, 10000, 12000, 15000, 20000]}
+MULTI_CASES = [("coordinated", "x"), ("coordinated", "xy"), ("coordinated", "xyz"), ("independent", "xyz")]
+
+
+def multi_script(mode, axes, v):
+    a = v * v / 10000.0
+    s = ["wait ^READY ", "timeout 20000"]
+    for ax in "xyz":
+        s += [f"send set {ax} vmax {v:g}", "wait ^(OK|ERR) ", f"send set {ax} accel {a:g}", "wait ^(OK|ERR) "]
+    s += ["send ?", "wait ^z pos=", "mark move"]
+    if mode == "coordinated":
+        s += ["send move " + " ".join(f"{ax}{MOVE}" for ax in axes), "wait ^(OK|ERR) move"]
+    else:
+        for ax in axes:
+            s += [f"send {ax} {MOVE}", f"wait ^(OK|ERR) {ax}"]
+    s += ["send ?", "wait ^z pos=", "timeout 120000"]
+    s += ["wait ^DONE move "] if mode == "coordinated" else [f"wait ^DONE [{axes}] "] * len(axes)
+    s += ["timeout 5000", "send ?", "wait ^z pos="]
+    return "\n".join(s) + "\n"
+
+
+def multi_plan(motionsim, mode, axes, v):
+    a = v * v / 10000.0
+    if mode == "coordinated":
+        args = ["move", "--vmax", f"{v:g}", "--accel", f"{a:g}"] + [x for ax in axes for x in (f"--{ax}", str(MOVE))]
+        r = subprocess.run([motionsim] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        plan = {}
+        for row in r.stdout.splitlines()[1:]:
+            if row:
+                t, ax, _, _, _ = row.split(",")
+                plan.setdefault(ax, []).append(round(float(t) * F_CPU))
+        return plan
+    args = ["ramp", "--algo", "exact", "--tick-hz", str(F_CPU), "--queue", "--to", str(MOVE), "--v0", "0",
+            "--vmax", f"{v:g}", "--accel", f"{a:g}"]
+    r = subprocess.run([motionsim] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    one = [round(float(row.split(",")[2]) * F_CPU) for row in r.stdout.splitlines()[1:] if row]
+    return {ax: one for ax in axes}
+
+
+def run_multi(elf, motionsim, mode, axes, v, pins):
+    log = emulog.run(elf, multi_script(mode, axes, v), pins=pins, timeout=900)
+    res = {"mode": mode, "axes": axes, "rate": v, "problems": []}
+    errs = [l.text for l in log.rx if l.text.startswith("ERR")]
+    if errs:
+        res["problems"].append("refused: " + "; ".join(errs))
+    for c, k, t in log.fails:
+        res["problems"].append(f"harness {k}: {t}")
+    m = log.mark("move") or 0
+    q = {}
+    for ax in "xyz":
+        ls = log.lines_matching(rf"^{ax} pos=", m)
+        if ls:
+            q[ax] = emulog.query_fields(ls[-1].text[2:])
+    res["underruns"] = sum(int(q.get(ax, {}).get("underruns", -1)) for ax in axes)
+    res["late"] = sum(int(q.get(ax, {}).get("late", -1)) for ax in axes)
+    rises = {ax: [c for c in log.rising(ax.upper() + "STEP") if c > m] for ax in axes}
+    res["steps"] = min(len(r) for r in rises.values())
+    tr = log.pins.get("TRACE", [])
+    isr = [b[0] - a[0] + MULTI_ENTRY_CYCLES for a, b in zip(tr, tr[1:]) if a[1] == 1 and b[1] == 0 and a[0] > m]
+    res["isr"] = (min(isr), sum(isr) / len(isr), max(isr)) if isr else (0, 0, 0)
+    first = min(r[0] for r in rises.values() if r) if any(rises.values()) else 0
+    last = max(r[-1] for r in rises.values() if r) if any(rises.values()) else 0
+    total = sum(len(r) for r in rises.values())
+    res["isr_per_step"] = sum(isr) / total if total else 0
+    res["cpu_left"] = 1.0 - sum(isr) / (last - first) if last > first else 0.0
+    if any(len(r) != MOVE for r in rises.values()):
+        res["problems"].append(f"steps {dict((ax, len(r)) for ax, r in rises.items())} of {MOVE}")
+        return res
+    plan = multi_plan(motionsim, mode, axes, v)
+    errs_all = []
+    if mode == "coordinated":
+        # one timeline for all axes: aligned at the median edge of all
+        e = [g - p for ax in axes for g, p in zip(rises[ax], plan[ax])]
+        med = sorted(e)[len(e) // 2]
+        errs_all = [x - med for x in e]
+        res["end_spread"] = max(rises[ax][-1] for ax in axes) - min(rises[ax][-1] for ax in axes)
+    else:
+        for ax in axes:
+            e = [g - p for g, p in zip(rises[ax], plan[ax])]
+            med = sorted(e)[len(e) // 2]
+            errs_all += [x - med for x in e]
+    res["worst"] = max(errs_all, key=abs)
+    res["beyond8"] = sum(1 for x in errs_all if abs(x) > 8)
+    if mode == "coordinated":
+        # one interrupt steps every axis: the single-axis rule
+        clean = (res["underruns"] == 0 and res["beyond8"] <= 0.03 * len(errs_all) and
+                 abs(res["worst"]) <= OTHER_ISR_CYCLES)
+    else:
+        # three interrupts: an edge may also wait for the other two axes' (their longest, measured)
+        res["bound"] = OTHER_ISR_CYCLES + 2 * res["isr"][2]
+        clean = res["underruns"] == 0 and abs(res["worst"]) <= res["bound"]
+    if not clean:
+        res["problems"].append("not clean")
+    return res
+
+
+def fmt_multi(res):
+    name = f"{res['mode']} {'+'.join(res['axes'])}"
+    if "worst" not in res:
+        return (f"| {name} | {res['rate']:,} | {res.get('steps', 0):,} | - | - | - | {res.get('underruns', '-')} | "
+                f"{res.get('late', '-')} | - | - | - | {'; '.join(res['problems'])} |")
+    mn, me, mx = res["isr"]
+    verdict = "clean" if not res["problems"] else "; ".join(res["problems"])
+    spread = f"{res['end_spread']}" if "end_spread" in res else "-"
+    return (f"| {name} | {res['rate']:,} | {res['steps']:,} per axis | {res['worst']:+d} | {res['beyond8']} | {spread} | "
+            f"{res['underruns']} | {res['late']} | {mn} / {me:.0f} / {mx} | {res['isr_per_step']:.0f} | "
+            f"{100 * res['cpu_left']:.0f} % | {verdict} |")
+
+
+def multi_section(motionsim, out_dir, only):
+    env = sketches.Env(source_dir=ROOT)
+    names = [n for n in env.sketch_names() if only in n and env.family(n) == "multiaxis"]
+    if not names:
+        return []
+    fw = os.path.join(out_dir, "firmware-multiaxis")
+    env2 = dict(os.environ, FIRMWARE_DEFINES=MULTI_LIFT, FIRMWARE_OUT=fw)
+    r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh")] + names, env=env2,
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit("bench: building the traced multi-axis sketch failed:\n" + r.stdout[-2000:])
+    pins = {k: v for k, v in sketches.multiaxis_pins(env).items() if k.endswith("STEP")}
+    pins["TRACE"] = "D40"
+    lines = []
+    for n in names:
+        elf = os.path.join(fw, n, n + ".ino.elf")
+        rows, best = [], {}
+        for mode, axes in MULTI_CASES:
+            for v in MULTI_LADDER[mode]:
+                res = run_multi(elf, motionsim, mode, axes, v, pins)
+                rows.append(res)
+                print(fmt_multi(res), flush=True)
+                key = f"{mode} {'+'.join(axes)}"
+                if not res["problems"]:
+                    best[key] = max(best.get(key, 0), v)
+                elif key in best or v >= MULTI_LADDER[mode][2]:
+                    pass
+        lines += [f"## {n}: several axes at once", "",
+                  f"The reference move ({MOVE:,} steps from rest, acceleration vmax^2/10,000 steps/s^2) on each named axis, "
+                  "every axis at the same rate: `coordinated` is one `move` (the axes start on one tick and share one "
+                  "profile; an axis moving as far as the first follows its interrupt), `independent` three separate "
+                  "targets (three planners, three interrupts). Errors in CPU cycles (= ticks at 16 MHz) against "
+                  "motionsim, aligned at the median edge (coordinated: one alignment for all axes); 'beyond 8' counts "
+                  "edges more than 0.5 us off; 'end spread' is how far apart the axes' last edges are. Clean: every step, "
+                  "no underrun; coordinated: the single-axis rule (at most 3 % beyond 8 cycles, each within "
+                  f"{OTHER_ISR_CYCLES}); independent: every edge within {OTHER_ISR_CYCLES} plus twice the longest step "
+                  "interrupt (an edge may wait for the two other axes' interrupts). ISR cycles: each "
+                  f"step interrupt, with the {MULTI_ENTRY_CYCLES} cycles MULTI_TRACE cannot see; per step: interrupt "
+                  "cycles per STEP edge of all axes.", "",
+                  "| move | steps/s per axis | steps | worst vs plan (cycles) | beyond 8 | end spread | underruns | late "
+                  "| ISR cycles min / mean / max | ISR cycles per step | CPU left | verdict |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        lines += [fmt_multi(r) for r in rows]
+        lines += ["", f"Highest clean rate per axis ({n}): " +
+                  (", ".join(f"{k} {v:,} steps/s" for k, v in best.items()) or "none"), ""]
+    return lines
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--motionsim", default=os.path.join(ROOT, "build", "motionsim"))
@@ -189,10 +360,12 @@ def main(argv):
     a = ap.parse_args(argv)
     env = sketches.Env(source_dir=ROOT)
     names = [n for n in env.sketch_names() if a.only in n and env.family(n) == "stepper"]
-    if not names:
+    multi = [n for n in env.sketch_names() if a.only in n and env.family(n) == "multiaxis"]
+    if not names and not multi:
         sys.exit("bench: no stepper sketch to measure")
     fw = os.path.join(a.out, "firmware")
-    build(fw, names)
+    if names:
+        build(fw, names)
     pins = sketches.stepper_pins(env)
     pins["TRACE"] = "D40"
     rows, best = [], {}
@@ -219,6 +392,7 @@ def main(argv):
     lines += [fmt(r) for r in rows]
     lines += ["", "Highest clean rate per sketch: " + (", ".join(f"{k} {v:,} steps/s" for k, v in best.items()) or "none"),
               ""]
+    lines += multi_section(a.motionsim, a.out, a.only)
     pc = planner_costs(a.planner_elf)
     if pc:
         lines += ["Planner on the AVR (lib/src/step_planner.c, test/emu/step_avr): cycles per command and per step of "

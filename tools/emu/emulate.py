@@ -52,7 +52,7 @@ def fmt(v):
     return str(v)
 
 
-QUERY_KEY = {"stepper": "pos", "filter": "kind", "servo": "setpoint"}   # the first field of each `?` reply
+QUERY_KEY = {"stepper": "pos", "filter": "kind", "servo": "setpoint", "multiaxis": "x pos"}   # the first field of each `?` reply
 
 
 def params_before(log, key, cycle, defaults=None):
@@ -323,6 +323,22 @@ def main(argv):
                 continue
             what += " (" + stepper_params_text(q) + ")"
             outputs.append((path, sim if run_motionsim(env, stepper_sim_args(q, fr, to), sim) else None, what))
+    elif fam == "multiaxis":
+        # every STEP edge of every axis in time order, in motionsim move's columns (t from the first
+        # edge; position counted from the pulses and DIR), no overlay: compare with `motionsim move`
+        rows, pos = [], {}
+        events = sorted((c, ax) for ax in "XYZ" for c in log.rising(ax + "STEP"))
+        t0 = events[0][0] if events else 0
+        steps = {}
+        for c, ax in events:
+            fwd = log.level_before(ax + "DIR", c) == 1
+            pos[ax] = pos.get(ax, 0) + (1 if fwd else -1)
+            steps[ax] = steps.get(ax, 0) + 1
+            rows.append(((c - t0) / F_CPU, ax.lower(), steps[ax], pos[ax]))
+        write_csv(base + ".csv", "t_s,axis,step,position", rows)
+        print(f"  {base}.csv: {len(rows)} edges ({', '.join(f'{k.lower()} {v}' for k, v in sorted(steps.items()))}); "
+              "compare with `motionsim move` (docs/multi-axis.md)")
+        a.no_plot = True
     elif fam == "filter":
         rows = []
         for l in log.rx:

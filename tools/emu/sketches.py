@@ -26,10 +26,11 @@ ROOT = emulog.ROOT
 # only the marker; a new family needs its entry here (pins, script) and its checks.
 MARKER = "// motion-sketch: <family>"
 MARKER_RE = re.compile(r"^[ \t]*//[ \t]*motion-sketch:[ \t]*([A-Za-z0-9_-]*)[ \t]*$", re.M)
-FAMILIES = ("stepper", "filter", "servo")
+FAMILIES = ("stepper", "filter", "servo", "multiaxis")
 
 # None: the pins are constants in the sketch's .ino itself
-PIN_HEADERS = {"stepper": "StepperPins.h", "filter": "FilterPins.h", "servo": None}
+PIN_HEADERS = {"stepper": "StepperPins.h", "filter": "FilterPins.h", "servo": None,
+               "multiaxis": "MultiAxisPins.h"}
 
 
 class SketchError(Exception):
@@ -168,6 +169,23 @@ send ?
 wait ^setpoint=
 """
 
+MULTIAXIS_DEFAULT_INPUT = """\
+# {sketch}: X alone, then X, Y and Z together on a straight line, with the default parameters
+wait ^READY [^ ]+$
+send ?
+wait ^z pos
+mark move
+send x 2000
+wait ^OK
+timeout 60000
+wait ^DONE x
+send move x0 y1000 z-500
+wait ^OK move
+wait ^DONE move
+send ?
+wait ^z pos
+"""
+
 STEPPER_DEFAULT_INPUT = """\
 # {sketch}: the lab's move 0 -> 50 steps with the default parameters
 wait ^READY [^ ]+$
@@ -189,6 +207,8 @@ def default_input(env, sketch):
         return FILTER_DEFAULT_INPUT.format(sketch=sketch)
     if fam == "servo":
         return SERVO_DEFAULT_INPUT.format(sketch=sketch)
+    if fam == "multiaxis":
+        return MULTIAXIS_DEFAULT_INPUT.format(sketch=sketch)
     return STEPPER_DEFAULT_INPUT.format(sketch=sketch)
 
 
@@ -199,6 +219,8 @@ def harness_args(env, sketch):
         return {"pins": filter_pins(env)}
     if fam == "servo":
         return {"motor": servo_motor_spec(env, sketch), "pins": servo_pins(env, sketch)}
+    if fam == "multiaxis":
+        return {"pins": multiaxis_pins(env)}
     return {"pins": stepper_pins(env)}
 
 
@@ -214,4 +236,20 @@ def stepper_pins(env):
         pins[name] = f"P{mp.group(1)}{env.header_int('stepper', f'STEPPER_{sig}_BIT')}"
     if env.header_int("stepper", "STEPPER_LED_MIRROR") != 1:
         del pins["LED"]  # the LED mirrors steps only when built with STEPPER_LED_MIRROR = 1
+    return pins
+
+
+MULTIAXIS_AXES = ("X", "Y", "Z")
+
+
+def multiaxis_pins(env):
+    """MultiAxisPins.h names port/bit pairs per axis: MULTI_Y_STEP_PORT PORTF + MULTI_Y_STEP_BIT 6 -> YSTEP PF6"""
+    text = env.header_text("multiaxis")
+    pins = {}
+    for ax in MULTIAXIS_AXES:
+        for sig in ("STEP", "DIR", "ENABLE"):
+            mp = re.search(r"^\s*#\s*define\s+MULTI_" + ax + "_" + sig + r"_PORT\s+PORT([A-L])\b", text, re.M)
+            if not mp:
+                raise SketchError(f"MultiAxisPins.h does not define MULTI_{ax}_{sig}_PORT PORT<x>")
+            pins[ax + sig] = f"P{mp.group(1)}{env.header_int('multiaxis', f'MULTI_{ax}_{sig}_BIT')}"
     return pins

@@ -37,12 +37,15 @@ REPLY_RE = {
     "stepper": r"^(OK|ERR|pos=)",
     "servo": r"^(OK|ERR|setpoint=)",
     "filter": r"^(OK|ERR|kind=)",
+    "multiaxis": r"^(OK|ERR|z pos=)",  # `?`: its last line
 }
 # lines a sketch prints without being asked
 ASYNC_RE = {
     "stepper": re.compile(r"^DONE -?\d+$"),
     "servo": re.compile(r"^t_ms=\d+ "),
     "filter": re.compile(r"^(t_ms,u,y|\d+,-?\d+\.\d+,-?\d+\.\d+)$"),
+    # a DONE of one axis or of a coordinated move; the `?` reply's lines before its last (z)
+    "multiaxis": re.compile(r"^(DONE [xyz] -?\d+|DONE move( [xyz] -?\d+)+|[xy] pos=-?\d+ .*)$"),
 }
 
 # ---- the lines -------------------------------------------------------------------------------
@@ -127,7 +130,27 @@ def filter_command(rng, st):
     return f"every {rng.choice(['10', '100', '1000', '50']) if rng.random() < 0.7 else rand_number(rng)}"
 
 
-COMMANDS = {"stepper": stepper_command, "servo": servo_command, "filter": filter_command}
+def multiaxis_command(rng, st):
+    r = rng.random()
+    ax = rng.choice("xyz")
+    if r < 0.25:
+        return f"{ax} {rng.randint(-60, 60) if rng.random() < 0.8 else rand_number(rng)}"
+    if r < 0.4:
+        words = [f"{a}{rng.randint(-60, 60) if rng.random() < 0.85 else rand_number(rng)}"
+                 for a in rng.sample("xyz", rng.randint(0, 3))]
+        return " ".join(["move"] + words)
+    if r < 0.52:
+        return rng.choice(["stop", "!", f"stop {ax}", f"! {ax}", "stop q"])
+    if r < 0.6:
+        return "?"
+    key = rng.choice(["v0", "vmax", "accel"])
+    val = {"v0": rng.choice(["0", "5", "50"]), "vmax": rng.choice(["100", "1000", "4000"]),
+           "accel": rng.choice(["100", "1000", "5000"])}[key] if rng.random() < 0.5 else rand_number(rng)
+    return f"set {ax if rng.random() < 0.9 else 'w'} {key} {val}"
+
+
+COMMANDS = {"stepper": stepper_command, "servo": servo_command, "filter": filter_command,
+            "multiaxis": multiaxis_command}
 
 
 def mutate(rng, text):
@@ -227,7 +250,7 @@ def script_for(sketch, family, lines):
         if not is_blank(line):
             s.append(f"wait {rx}")
     s.append("mark fuzz-end")
-    if family == "stepper":
+    if family in ("stepper", "multiaxis"):
         s += ["send !", "wait ^OK halt", "run 300"]
     else:
         s += ["run 200"]

@@ -1,0 +1,54 @@
+// motion-sketch: multiaxis
+/* MultiAxisStepper - the X, Y and Z drivers of a RAMPS 1.4, each with the exact constant-acceleration
+ * ramp (every step within one tick of F = 16 MHz of its time), moved one at a time, several at once,
+ * or together on a straight line. Wiring and limits: MotionBoard's MultiAxisPins.h; the rates
+ * measured by `make bench` are in build/bench/bench.md; docs/multi-axis.md explains it all.
+ *
+ * How: the planners (lib/src/step_planner.h for an axis alone, step_coord.h for a coordinated move)
+ * run here in loop() and keep each axis's queue of step commands ahead; Timer1's three compare
+ * interrupts (A: X, B: Y, C: Z, one timeline) only take the next command and make the step
+ * (MultiStepEngine.h). Defaults per axis: v0 = 0, vmax = 10,000 steps/s, accel = 10,000 steps/s^2 (three axes moving
+ * independently at once stay clean at these; build/bench/bench.md has the ceilings).
+ * Serial Monitor at 9600 baud, "Both NL & CR":
+ *   x 20000          move X alone to 20000: "OK x 0 20000", later "DONE x 20000" (y, z likewise)
+ *   move x1000 y500  X and Y together on the line from where they are to (1000, 500): both start
+ *                    and end on one tick: "OK move x 0 1000 y 0 500", later "DONE move x 1000 y 500"
+ *   stop  /  !       decelerate every axis to rest / halt at once (stop x, ! y: one axis)
+ *   ?                one line per axis: position, target, state, limits, underruns= late=
+ *   set y vmax 5000  v0, vmax (up to max_sps) or accel of one axis
+ * The same commands come out of `motionsim move --x 1000 --y 500` (coordinated) and
+ * `motionsim ramp --algo exact --tick-hz 16000000 --queue` (an axis alone).
+ */
+#include <MultiAxisConsole.h>
+
+static TrapezoidRamp xRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
+static TrapezoidRamp yRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
+static TrapezoidRamp zRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
+static MultiAxisConsole console(xRamp, yRamp, zRamp);
+
+/* Timer1's compare interrupts make the steps the planners queued (MultiStepEngine.h): each jumps to
+ * its axis's step routine, which returns from the interrupt itself */
+ISR(TIMER1_COMPA_vect, ISR_NAKED)
+{
+    MultiStepEngine::on_x_timer();
+}
+
+ISR(TIMER1_COMPB_vect, ISR_NAKED)
+{
+    MultiStepEngine::on_y_timer();
+}
+
+ISR(TIMER1_COMPC_vect, ISR_NAKED)
+{
+    MultiStepEngine::on_z_timer();
+}
+
+void setup()
+{
+    console.begin(F("MultiAxisStepper"));
+}
+
+void loop()
+{
+    console.poll();
+}

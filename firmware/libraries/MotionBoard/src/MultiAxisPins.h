@@ -1,0 +1,73 @@
+/* MultiAxisPins.h - the one place for MultiAxisStepper's pins, timer and limits: the X, Y and Z
+ * drivers of a RAMPS 1.4 (all in the Mega's pin header), stepped by Timer1's three compare
+ * channels (MultiStepEngine.h).
+ *
+ *   axis  STEP          DIR           ENABLE (low = on)   compare channel (one timeline, TCNT1)
+ *   X     D54 (A0) PF0  D55 (A1) PF1  D38 PD7             OCR1A, TIMER1_COMPA_vect
+ *   Y     D60 (A6) PF6  D61 (A7) PF7  D56 (A2) PF2        OCR1B, TIMER1_COMPB_vect
+ *   Z     D46 PL3       D48 PL1       D62 (A8) PK0        OCR1C, TIMER1_COMPC_vect
+ *   TRACE D40 PG1       only with MULTI_TRACE = 1: high while any step interrupt runs (`make bench`)
+ * STEP: rising edge = one step, high >= 2 us; DIR: high = forward (position counts up), written
+ * before the first step of a move and only while STEP is low. PORTF and PORTG are in the I/O space
+ * (single-instruction sbi/cbi); PORTL is not, so Z's pins are read-modify-written, only with
+ * interrupts off (in its interrupt, or in an atomic block).
+ * Timer1 runs at F = 16 MHz (prescaler 1, one tick per CPU cycle) in normal mode; the three
+ * channels share TCNT1, so a coordinated move starts every axis on one timeline.
+ */
+#ifndef MULTI_AXIS_PINS_H
+#define MULTI_AXIS_PINS_H
+
+#include <avr/io.h>
+
+#ifndef MULTI_TRACE
+#define MULTI_TRACE 0
+#endif
+
+#define MULTI_X_STEP_PORT PORTF
+#define MULTI_X_STEP_BIT 0 /* D54 */
+#define MULTI_X_DIR_PORT PORTF
+#define MULTI_X_DIR_BIT 1 /* D55 */
+#define MULTI_X_ENABLE_PORT PORTD
+#define MULTI_X_ENABLE_DDR DDRD
+#define MULTI_X_ENABLE_BIT 7 /* D38 */
+
+#define MULTI_Y_STEP_PORT PORTF
+#define MULTI_Y_STEP_BIT 6 /* D60 */
+#define MULTI_Y_DIR_PORT PORTF
+#define MULTI_Y_DIR_BIT 7 /* D61 */
+#define MULTI_Y_ENABLE_PORT PORTF
+#define MULTI_Y_ENABLE_DDR DDRF
+#define MULTI_Y_ENABLE_BIT 2 /* D56 */
+
+#define MULTI_Z_STEP_PORT PORTL
+#define MULTI_Z_STEP_BIT 3 /* D46 */
+#define MULTI_Z_DIR_PORT PORTL
+#define MULTI_Z_DIR_BIT 1 /* D48 */
+#define MULTI_Z_ENABLE_PORT PORTK
+#define MULTI_Z_ENABLE_DDR DDRK
+#define MULTI_Z_ENABLE_BIT 0 /* D62 */
+
+#define MULTI_TRACE_PORT PORTG
+#define MULTI_TRACE_DDR DDRG
+#define MULTI_TRACE_BIT 1 /* D40 */
+
+#define MULTI_TICK_HZ 16000000UL
+
+/* The fastest vmax `set` accepts per axis (steps/s): one rung of its ladder below the rate `make bench`
+ * shows three axes stepping cleanly at once in a coordinated move (build/bench/bench.md,
+ * "MultiAxisStepper: several axes at once"). Three axes moving independently at once need three
+ * planners and are clean only up to a lower rate (the bench's "independent x+y+z" rows); above it
+ * the queues can run dry: counted as underruns in `?`. Override at compile time, e.g.
+ * -DMULTI_MAX_SPS=30000. */
+#ifndef MULTI_MAX_SPS
+#define MULTI_MAX_SPS 40000.0
+#endif
+
+/* The step engine's queues (MultiStepEngine.h): commands each axis's ring holds, and the size of
+ * one axis's state (23 bytes of fields + 21 per slot), which MultiStepEngineIsr.S reserves. */
+#ifndef MULTI_SLOTS
+#define MULTI_SLOTS 48
+#endif
+#define MULTI_AXIS_STATE_BYTES (23 + 21 * (MULTI_SLOTS))
+
+#endif

@@ -1,0 +1,627 @@
+/* MultiStepEngine.cpp - the step interrupts' rarer path (a new command, slow steps, the end, an
+ * underrun, a late edge), each axis's queue on the loop() side, and the timer set-up; see
+ * MultiStepEngine.h. The common path is MultiStepEngineIsr.S. */
+#include "MultiStepEngine.h"
+
+#include <stddef.h>
+#include <util/atomic.h>
+
+/* multi_axis_x, _y, _z are reserved in MultiStepEngineIsr.S (a plain object file, so that the
+ * library links as an archive with LTO) */
+static_assert(sizeof(AxisState) == MULTI_AXIS_STATE_BYTES, "MultiStepEngineIsr.S reserves this size");
+
+static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, cur) == 4 && offsetof(AxisState, waiting) == 6 &&
+                  offsetof(AxisState, late) == 7 && offsetof(AxisState, late_ticks) == 9 &&
+                  offsetof(AxisState, mask_f) == 10 && offsetof(AxisState, mask_l) == 11 &&
+                  offsetof(AxisSlot, rate) == 0 && offsetof(AxisSlot, add) == 4 && offsetof(AxisSlot, left) == 8 &&
+                  offsetof(AxisSlot, flags) == 10 && offsetof(AxisSlot, ready) == 11 && offsetof(AxisSlot, other) == 12,
+              "MultiStepEngineIsr.S reads these offsets");
+
+namespace {
+/* loop()'s side of one axis's queue */
+struct AxisFeed {
+    uint16_t duration[MULTI_SLOTS]; /* ticks of each slot's command (at most 65535: only for the lead) */
+    uint32_t queued_ticks;
+    uint8_t head;  /* the next slot loop() lays out */
+    uint8_t seen;  /* the oldest slot still counted in queued_ticks */
+    uint8_t ready; /* slots laid out and counted */
+    int32_t next_p_start;
+    uint8_t last_forward;
+    uint8_t open; /* a move is being fed (accepted, not yet reported done) */
+    uint8_t held; /* its start waits for start_together */
+    uint8_t every; /* service() calls, for the missed-match check every 8th */
+    uint8_t started; /* the move has stepped (after an underrun it resumes at once) */
+};
+AxisFeed s_feed[MULTI_AXES];
+uint32_t s_lead_ticks;
+
+AxisState &state(uint8_t axis)
+{
+    return axis == 0 ? multi_axis_x : axis == 1 ? multi_axis_y : multi_axis_z;
+}
+
+/* Pin writes: X and Y are in PORTF (I/O space: one instruction each); Z's PORTL is
+ * read-modify-written, so only with interrupts off (every caller here runs with them off). */
+inline void write_dir(uint8_t axis, bool forward)
+{
+    if (axis == 0) {
+        if (forward)
+            MULTI_X_DIR_PORT |= _BV(MULTI_X_DIR_BIT);
+        else
+            MULTI_X_DIR_PORT &= (uint8_t)~_BV(MULTI_X_DIR_BIT);
+    } else if (axis == 1) {
+        if (forward)
+            MULTI_Y_DIR_PORT |= _BV(MULTI_Y_DIR_BIT);
+        else
+            MULTI_Y_DIR_PORT &= (uint8_t)~_BV(MULTI_Y_DIR_BIT);
+    } else {
+        if (forward)
+            MULTI_Z_DIR_PORT |= _BV(MULTI_Z_DIR_BIT);
+        else
+            MULTI_Z_DIR_PORT &= (uint8_t)~_BV(MULTI_Z_DIR_BIT);
+    }
+}
+
+inline bool dir_level(uint8_t axis)
+{
+    if (axis == 0)
+        return (MULTI_X_DIR_PORT & _BV(MULTI_X_DIR_BIT)) != 0;
+    if (axis == 1)
+        return (MULTI_Y_DIR_PORT & _BV(MULTI_Y_DIR_BIT)) != 0;
+    return (MULTI_Z_DIR_PORT & _BV(MULTI_Z_DIR_BIT)) != 0;
+}
+
+/* STEP low: the interrupt's pins (its axis's and its followers'); interrupts are off */
+inline void step_low(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    PORTF &= (uint8_t)~s.mask_f;
+    PORTL &= (uint8_t)~s.mask_l;
+#if MULTI_TRACE
+    MULTI_TRACE_PORT &= (uint8_t)~_BV(MULTI_TRACE_BIT);
+#endif
+}
+
+inline void own_masks(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    s.mask_f = axis == 0 ? _BV(MULTI_X_STEP_BIT) : axis == 1 ? _BV(MULTI_Y_STEP_BIT) : 0;
+    s.mask_l = axis == 2 ? _BV(MULTI_Z_STEP_BIT) : 0;
+}
+
+inline void write_ocr(uint8_t axis, uint16_t v)
+{
+    if (axis == 0)
+        OCR1A = v;
+    else if (axis == 1)
+        OCR1B = v;
+    else
+        OCR1C = v;
+}
+
+inline uint8_t ocf_bit(uint8_t axis)
+{
+    return axis == 0 ? _BV(OCF1A) : axis == 1 ? _BV(OCF1B) : _BV(OCF1C);
+}
+
+inline uint8_t ocie_bit(uint8_t axis)
+{
+    return axis == 0 ? _BV(OCIE1A) : axis == 1 ? _BV(OCIE1B) : _BV(OCIE1C);
+}
+
+uint16_t duration_ticks(const step_cmd_t &c)
+{
+    uint32_t per = (c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16), d;
+    if (per > 0xFFFFUL)
+        return 0xFFFFU;
+    d = per * c.count;
+    return d > 0xFFFFUL ? 0xFFFFU : (uint16_t)d;
+}
+
+inline uint8_t next_slot(uint8_t i)
+{
+    return (uint8_t)((i + 1U) % MULTI_SLOTS);
+}
+
+/* the interrupt's current slot, read twice until both agree (it changes at most once per command) */
+inline AxisSlot *cur_slot(AxisState &s)
+{
+    AxisSlot *a, *b;
+    do {
+        a = s.cur;
+        b = s.cur;
+    } while (a != b);
+    return a;
+}
+
+inline uint8_t cur_index(AxisState &s)
+{
+    return (uint8_t)(cur_slot(s) - s.slot);
+}
+
+void retire_consumed(AxisState &s, AxisFeed &f)
+{
+    uint8_t cur = cur_index(s);
+    while (f.ready > 0 && !s.slot[f.seen].ready && (f.seen != cur || !s.running)) {
+        f.queued_ticks -= f.duration[f.seen];
+        f.seen = next_slot(f.seen);
+        f.ready--;
+    }
+}
+
+/* WIDE, or an interval of 32768 ticks or more at some step (the late test is a signed 16-bit
+ * difference): the C path steps it */
+bool is_slow(const step_cmd_t &c)
+{
+    uint32_t last;
+    if (c.flags & STEP_CMD_WIDE)
+        return true;
+    last = c.rate + (uint32_t)c.add * (uint32_t)(c.count - 1U);
+    return ((c.rate | last) & 0x80000000UL) != 0;
+}
+
+void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
+{
+    bool forward = !(c.flags & STEP_CMD_REVERSE);
+    uint8_t fl = 0;
+    t.rate = c.rate;
+    t.add = c.add;
+    t.left = c.count - 1U; /* the first step is armed when the slot is taken */
+    t.count = c.count;
+    t.cmd_flags = c.flags;
+    t.p_start = f.next_p_start;
+    if (c.add != 0)
+        fl |= _BV(AXIS_SLOT_HAS_ADD);
+    if (is_slow(c))
+        fl |= _BV(AXIS_SLOT_SLOW);
+    if (forward)
+        fl |= _BV(AXIS_SLOT_FORWARD);
+    if ((uint8_t)forward != f.last_forward)
+        fl |= _BV(AXIS_SLOT_TURN);
+    t.flags = fl;
+    f.last_forward = forward;
+    f.next_p_start += forward ? (int32_t)c.count : -(int32_t)c.count;
+}
+
+/* the last step of slot t is made and nothing follows: the move's end or an underrun */
+void stop_after(AxisState &s, const AxisSlot &t)
+{
+    s.pos_rest = t.p_start + ((t.flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)t.count : -(int32_t)t.count);
+    s.running = 0;
+    if (s.finishing) {
+        s.finishing = 0;
+        s.done = 1;
+    } else {
+        s.underruns = s.underruns + 1U;
+    }
+}
+
+/* Arms the next step of slot t by the executor's rule, counting a slow interval's wraps; a first
+ * match already missed counts as passed, a step already due fires 2 us later. `prev` (the edge the
+ * interval starts from) may lie ahead of TCNT1 at a move's start: nothing has elapsed then. */
+void arm_step(uint8_t axis, AxisState &s, AxisSlot &t)
+{
+    uint16_t prev = (uint16_t)(s.acc >> 16), elapsed;
+    uint32_t interval, first;
+    int16_t since;
+    if (t.cmd_flags & STEP_CMD_WIDE) {
+        interval = t.rate;
+        s.acc += t.rate << 16;
+    } else {
+        uint32_t acc0 = s.acc;
+        s.acc += t.rate;
+        t.rate += (uint32_t)t.add;
+        interval = (uint16_t)((s.acc >> 16) - (acc0 >> 16));
+        if (interval == 0)
+            interval = 0x10000UL;
+    }
+    write_ocr(axis, (uint16_t)(s.acc >> 16));
+    s.wraps = (uint16_t)((interval - 1U) >> 16);
+    first = ((interval - 1U) & 0xFFFFUL) + 1U;
+    since = (int16_t)(TCNT1 - prev);
+    elapsed = since > 0 ? (uint16_t)since : 0U;
+    if (elapsed >= first && !(TIFR1 & ocf_bit(axis))) {
+        if (s.wraps != 0) {
+            s.wraps = s.wraps - 1U;
+        } else {
+            write_ocr(axis, TCNT1 + s.late_ticks);
+            s.late = s.late + 1U;
+        }
+    }
+    s.waiting = s.wraps != 0;
+}
+
+/* the C path of one axis (interrupts off): a wrap to count, a slow command's step, or the slot used
+ * up without a ready fast one */
+inline void cold_path(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    AxisSlot *cur = s.cur, *next;
+    if (s.waiting) {
+        s.wraps = s.wraps - 1U;
+        if (s.wraps == 0)
+            s.waiting = 0;
+        return;
+    }
+    /* STEP is high: this match made a step */
+    if ((cur->flags & _BV(AXIS_SLOT_SLOW)) && cur->left != 0) {
+        cur->left = cur->left - 1U;
+        arm_step(axis, s, *cur);
+        step_low(axis);
+        return;
+    }
+    next = cur->other;
+    if (!next->ready) {
+        TIMSK1 &= (uint8_t)~ocie_bit(axis);
+        stop_after(s, *cur);
+        __builtin_avr_delay_cycles(32); /* the STEP pulse: >= 2 us */
+        step_low(axis);
+        return;
+    }
+    next->ready = 0;
+    s.cur = next;
+    arm_step(axis, s, *next);
+    step_low(axis);
+    if (next->flags & _BV(AXIS_SLOT_TURN))
+        write_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
+}
+
+/* takes the first laid-out slot and arms its first step from t = base (interrupts off) */
+void start_axis(uint8_t axis, uint32_t base)
+{
+    AxisState &s = state(axis);
+    AxisSlot *t = s.cur->other;
+    if (!t->ready)
+        return;
+    t->ready = 0;
+    s.cur = t;
+    write_dir(axis, t->flags & _BV(AXIS_SLOT_FORWARD));
+    t->flags &= (uint8_t)~_BV(AXIS_SLOT_TURN); /* DIR is set here, before the first step */
+    s.acc = base;
+    s.waiting = 0;
+    s.wraps = 0;
+    arm_step(axis, s, *t);
+    TIFR1 = ocf_bit(axis);
+    s.running = 1;
+    TIMSK1 |= ocie_bit(axis);
+    s_feed[axis].held = 0;
+    s_feed[axis].started = 1;
+}
+
+/* t = 0 a little ahead of now, half a tick into it (edges at round(F t)) */
+uint32_t base_ahead(uint16_t ticks)
+{
+    return ((uint32_t)(uint16_t)(TCNT1 + ticks) << 16) | 0x8000UL;
+}
+
+/* a compare match that never came (the armed edge well in the past, no match pending): fire now */
+void catch_missed_match(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (s.running && !s.waiting && !(s.cur->flags & _BV(AXIS_SLOT_SLOW)) && !(TIFR1 & ocf_bit(axis))) {
+            uint16_t now = TCNT1;
+            if ((int16_t)(now - (uint16_t)(s.acc >> 16)) > 64) {
+                write_ocr(axis, now + s.late_ticks);
+                s.late = s.late + 1U;
+            }
+        }
+    }
+}
+} // namespace
+
+extern "C" void __vector_multi_cold_x(void) __attribute__((signal, used));
+extern "C" void __vector_multi_cold_y(void) __attribute__((signal, used));
+extern "C" void __vector_multi_cold_z(void) __attribute__((signal, used));
+void __vector_multi_cold_x(void)
+{
+    cold_path(0);
+}
+void __vector_multi_cold_y(void)
+{
+    cold_path(1);
+}
+void __vector_multi_cold_z(void)
+{
+    cold_path(2);
+}
+
+void MultiStepEngine::begin()
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        DDRF |= _BV(MULTI_X_STEP_BIT) | _BV(MULTI_X_DIR_BIT) | _BV(MULTI_Y_STEP_BIT) | _BV(MULTI_Y_DIR_BIT);
+        PORTF = (uint8_t)((PORTF & ~(_BV(MULTI_X_STEP_BIT) | _BV(MULTI_Y_STEP_BIT))) | _BV(MULTI_X_DIR_BIT) |
+                          _BV(MULTI_Y_DIR_BIT));
+        DDRL |= _BV(MULTI_Z_STEP_BIT) | _BV(MULTI_Z_DIR_BIT);
+        PORTL = (uint8_t)((PORTL & ~_BV(MULTI_Z_STEP_BIT)) | _BV(MULTI_Z_DIR_BIT));
+        MULTI_X_ENABLE_DDR |= _BV(MULTI_X_ENABLE_BIT);
+        MULTI_X_ENABLE_PORT &= (uint8_t)~_BV(MULTI_X_ENABLE_BIT);
+        MULTI_Y_ENABLE_DDR |= _BV(MULTI_Y_ENABLE_BIT);
+        MULTI_Y_ENABLE_PORT &= (uint8_t)~_BV(MULTI_Y_ENABLE_BIT);
+        MULTI_Z_ENABLE_DDR |= _BV(MULTI_Z_ENABLE_BIT);
+        MULTI_Z_ENABLE_PORT &= (uint8_t)~_BV(MULTI_Z_ENABLE_BIT);
+#if MULTI_TRACE
+        MULTI_TRACE_DDR |= _BV(MULTI_TRACE_BIT);
+#endif
+        for (uint8_t a = 0; a < MULTI_AXES; a++) {
+            AxisState &s = state(a);
+            AxisFeed &f = s_feed[a];
+            for (uint8_t i = 0; i < MULTI_SLOTS; i++) {
+                s.slot[i].other = &s.slot[next_slot(i)];
+                s.slot[i].ready = 0;
+            }
+            s.cur = &s.slot[0];
+            s.pos_rest = 0;
+            s.late_ticks = (uint8_t)(MULTI_TICK_HZ / 500000UL);
+            own_masks(a);
+            f.next_p_start = 0;
+            f.last_forward = 1;
+            f.head = 1;
+            f.seen = 1;
+            f.ready = 0;
+            f.queued_ticks = 0;
+            f.open = 0;
+            f.held = 0;
+            f.every = 0;
+        }
+        /* the Arduino core leaves Timer1 in 8-bit PWM mode for analogWrite(): take it over */
+        TIMSK1 = 0;
+        TCCR1A = 0;
+        TCCR1C = 0;
+        TCCR1B = _BV(CS10); /* normal mode, prescaler 1 */
+        TIFR1 = _BV(OCF1A) | _BV(OCF1B) | _BV(OCF1C) | _BV(TOV1);
+    }
+    s_lead_ticks = MULTI_TICK_HZ / 1000UL * MULTI_LEAD_MS;
+}
+
+static bool has_room(AxisState &s, AxisFeed &f)
+{
+    return !s.slot[f.head].ready && !(s.running && f.head == cur_index(s)) && f.ready < MULTI_SLOTS - 1U;
+}
+
+static void lay_one(uint8_t axis, AxisState &s, AxisFeed &f, const step_cmd_t &c)
+{
+    AxisSlot &t = s.slot[f.head];
+    if (f.ready == 0 && !s.running) {
+        /* the first command of a run: it starts where the axis stands */
+        f.next_p_start = s.pos_rest;
+        f.last_forward = dir_level(axis);
+    }
+    lay_out(f, t, c);
+    f.duration[f.head] = duration_ticks(c);
+    f.queued_ticks += f.duration[f.head];
+    f.ready++;
+    t.ready = 1; /* one byte, written last: the interrupt sees a complete slot */
+    f.head = next_slot(f.head);
+}
+
+uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t max_cmds)
+{
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    step_cmd_t c;
+    uint8_t laid = 0;
+    if ((++f.every & 7U) == 0)
+        catch_missed_match(axis);
+    retire_consumed(s, f);
+    while (laid < max_cmds && (f.ready < 2U || f.queued_ticks < s_lead_ticks)) {
+        if (!has_room(s, f))
+            break;
+        if (!src.next(src.ctx, &c))
+            break;
+        lay_one(axis, s, f, c);
+        laid++;
+    }
+    /* enough laid out for the first steps (the costliest to plan), or all there is: start */
+    if (f.open && !f.held && !s.running && !s.done && s.cur->other->ready &&
+        (f.started || f.ready >= MULTI_START_SLOTS || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks ||
+         f.ready >= MULTI_SLOTS - 1U))
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+        {
+            start_axis(axis, base_ahead(64));
+        }
+    if (f.open && !f.held && !src.busy(src.ctx) && !s.finishing && !s.done && !cur_slot(s)->other->ready) {
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+        {
+            if (s.running)
+                s.finishing = 1;
+            else
+                s.done = 1; /* nothing was left to step */
+        }
+    }
+    return laid;
+}
+
+uint32_t MultiStepEngine::queued_ticks(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    retire_consumed(s, f);
+    if (!(f.ready < 2U || f.queued_ticks < s_lead_ticks) || f.ready >= MULTI_SLOTS - 1U ||
+        s.slot[f.head].ready || (s.running && f.head == cur_index(s)))
+        return UINT32_MAX;
+    return f.queued_ticks;
+}
+
+void MultiStepEngine::follow(uint8_t master, uint8_t axis, bool forward)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        AxisState &m = state(master), &a = state(axis);
+        write_dir(axis, forward);
+        m.mask_f |= a.mask_f;
+        m.mask_l |= a.mask_l;
+    }
+}
+
+void MultiStepEngine::unfollow(uint8_t master)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        own_masks(master);
+    }
+}
+
+void MultiStepEngine::set_rest_position(uint8_t axis, int32_t pos)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        state(axis).pos_rest = pos;
+    }
+}
+
+bool MultiStepEngine::ready_to_start(uint8_t axis, const AxisSource &src)
+{
+    AxisFeed &f = s_feed[axis];
+    return f.ready >= MULTI_START_SLOTS || f.ready >= MULTI_SLOTS - 1U || !src.busy(src.ctx) ||
+           f.queued_ticks >= s_lead_ticks;
+}
+
+void MultiStepEngine::start_together(uint8_t mask)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        /* far enough ahead for three first steps to be armed (about 150 cycles each) */
+        uint32_t base = base_ahead(1024);
+        for (uint8_t a = 0; a < MULTI_AXES; a++) {
+            if (!(mask & (1U << a)))
+                continue;
+            if (state(a).cur->other->ready)
+                start_axis(a, base);
+            else
+                s_feed[a].held = 0; /* nothing to step: service() marks it done */
+        }
+    }
+}
+
+MultiStepEngine::Continuation MultiStepEngine::extend(uint8_t axis, int32_t &ended_at)
+{
+    AxisState &s = state(axis);
+    Continuation r = CONTINUES;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (s.done) {
+            s.done = 0;
+            s_feed[axis].open = 0;
+            ended_at = s.pos_rest;
+            r = ENDED;
+        } else if (!s_feed[axis].open) {
+            r = AT_REST;
+        } else {
+            s.finishing = 0;
+        }
+    }
+    return r;
+}
+
+void MultiStepEngine::open_move(uint8_t axis, bool held)
+{
+    s_feed[axis].open = 1;
+    s_feed[axis].held = held ? 1 : 0;
+    s_feed[axis].started = 0;
+}
+
+static int32_t position_now(AxisState &s)
+{
+    const AxisSlot *t = s.cur;
+    uint16_t made;
+    if (!s.running)
+        return s.pos_rest;
+    made = t->count - 1U - t->left;
+    return t->p_start + ((t->flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)made : -(int32_t)made);
+}
+
+void MultiStepEngine::halt(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        TIMSK1 &= (uint8_t)~ocie_bit(axis);
+        s.pos_rest = position_now(s);
+        s.running = 0;
+        s.finishing = 0;
+        s.wraps = 0;
+        s.waiting = 0;
+        for (uint8_t i = 0; i < MULTI_SLOTS; i++)
+            s.slot[i].ready = 0;
+        if (f.open)
+            s.done = 1;
+        f.held = 0;
+        step_low(axis);
+    }
+    f.head = next_slot(cur_index(s));
+    f.seen = f.head;
+    f.ready = 0;
+    f.queued_ticks = 0;
+}
+
+bool MultiStepEngine::moving(uint8_t axis)
+{
+    return s_feed[axis].open != 0;
+}
+
+bool MultiStepEngine::held(uint8_t axis)
+{
+    return s_feed[axis].held != 0;
+}
+
+int32_t MultiStepEngine::position(uint8_t axis)
+{
+    int32_t p;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        p = position_now(state(axis));
+    }
+    return p;
+}
+
+uint8_t MultiStepEngine::phase(uint8_t axis)
+{
+    uint8_t ph = 0;
+    AxisState &s = state(axis);
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (s.running)
+            ph = STEP_CMD_PHASE(s.cur->cmd_flags);
+    }
+    return ph;
+}
+
+uint16_t MultiStepEngine::underruns(uint8_t axis)
+{
+    uint16_t n;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        n = state(axis).underruns;
+    }
+    return n;
+}
+
+uint16_t MultiStepEngine::late_edges(uint8_t axis)
+{
+    uint16_t n;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        n = state(axis).late;
+    }
+    return n;
+}
+
+bool MultiStepEngine::take_done(uint8_t axis, int32_t &position)
+{
+    bool done = false;
+    AxisState &s = state(axis);
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (s.done) {
+            s.done = 0;
+            s_feed[axis].open = 0;
+            position = s.pos_rest;
+            done = true;
+        }
+    }
+    return done;
+}

@@ -1,0 +1,147 @@
+/* MultiStepEngine.h - three step interrupts and their queues: X, Y and Z of a RAMPS 1.4 on Timer1's
+ * compare channels A, B and C (pins: MultiAxisPins.h). Each axis has its own ring of step commands
+ * (lib/src/step_queue.h), filled from loop() by its planner (an independent move: step_planner.h;
+ * a coordinated one: step_coord.h), and its own interrupt that executes them.
+ *
+ * Each interrupt is "simple and dumb", as the single-axis engine's: at its compare match it raises
+ * STEP, adds the command's rate to the axis's timeline and its add to the rate (step_exec_next's
+ * arithmetic), arms its OCR1x for the next edge, lowers STEP (>= 2 us later) and, at a new command
+ * that turns, writes DIR. That path is MultiStepEngineIsr.S, one copy per axis; slow steps (an
+ * interval of 32768 ticks or more, WIDE ones counted out in wraps of the 16-bit timer), the end of
+ * a move, an underrun and a late edge take the rarer path in C (MultiStepEngine.cpp).
+ * Why Timer1's three channels: one counter (TCNT1) is one timeline for all axes, so a coordinated
+ * move starts every axis on the same tick (start_together) and their planned edges keep their
+ * relation exactly; one timer's three vectors cost nothing more per step than three timers would.
+ * The interrupts do not nest: an edge due while another axis's interrupt (or the core's millis or
+ * serial interrupt) runs is late by up to that interrupt's length; `make bench` measures it.
+ * loop() calls service() for each axis: it keeps between two commands and MULTI_LEAD_MS of steps
+ * queued ahead, so a stop takes effect within that time. A queue that runs dry during a move is an
+ * underrun: counted (underruns(), `?`), the motion resumes with the next command.
+ */
+#ifndef MULTI_STEP_ENGINE_H
+#define MULTI_STEP_ENGINE_H
+
+#include <Arduino.h>
+#include <stdint.h>
+
+#include <step_queue.h>
+
+#include "MultiAxisPins.h"
+
+#define MULTI_AXES 3U
+
+/* MULTI_SLOTS (MultiAxisPins.h): commands each axis's ring holds (one is the interrupt's current
+ * one); 23 bytes of SRAM each. */
+/* A move starts stepping once this many commands are laid out (or its planner has no more). */
+#ifndef MULTI_START_SLOTS
+#define MULTI_START_SLOTS 24U
+#endif
+/* Steps kept queued ahead of each interrupt, in milliseconds (and at least two commands). Long,
+ * because the end of a deceleration needs one command per step (each about 8,000 cycles of
+ * planning) on every axis of a coordinated move at once: the queues are filled before it comes. */
+#ifndef MULTI_LEAD_MS
+#define MULTI_LEAD_MS 100U
+#endif
+
+/* A command as an interrupt executes it (the first fields at the offsets MultiStepEngineIsr.S
+ * reads, checked in MultiStepEngine.cpp). */
+#define AXIS_SLOT_HAS_ADD 0 /* flags bits */
+#define AXIS_SLOT_SLOW 1    /* WIDE, or an interval of 32768 ticks or more: the C path steps it */
+#define AXIS_SLOT_FORWARD 2 /* DIR level */
+#define AXIS_SLOT_TURN 3    /* DIR changes at this command */
+struct AxisSlot {
+    uint32_t rate;          /* +0  16.16 ticks (WIDE: whole ticks) */
+    int32_t add;            /* +4 */
+    volatile uint16_t left; /* +8  steps not yet armed */
+    uint8_t flags;          /* +10 AXIS_SLOT_* bits */
+    volatile uint8_t ready; /* +11 laid out by loop(), not yet taken by the interrupt */
+    AxisSlot *other;        /* +12 the next slot of the ring */
+    int32_t p_start;        /* position before the command's first step */
+    uint16_t count;
+    uint8_t cmd_flags;      /* the step_cmd_t flags */
+};
+
+/* What one axis's interrupt and loop() share (loop() reads it with interrupts off). */
+struct AxisState {
+    uint32_t acc;               /* +0 the timeline: time of the armed edge, 16.16 ticks */
+    AxisSlot *volatile cur;     /* +4 the slot being stepped */
+    volatile uint8_t waiting;   /* +6 matches to let pass (a slow interval's wraps) before the step */
+    volatile uint16_t late;     /* +7 edges armed in the past (fired 2 us later) */
+    uint8_t late_ticks;         /* +9 2 us in ticks */
+    uint8_t mask_f;             /* +10 the STEP bits of PORTF this interrupt pulses: its axis's, and its followers' */
+    uint8_t mask_l;             /* +11 the same in PORTL */
+    volatile uint16_t wraps;
+    volatile uint8_t running;
+    volatile uint8_t finishing; /* the planner has queued the move's last command */
+    volatile uint8_t done;      /* the move has ended (cleared by take_done) */
+    volatile uint16_t underruns;
+    volatile int32_t pos_rest;  /* position when not stepping */
+    AxisSlot slot[MULTI_SLOTS];
+};
+extern "C" AxisState multi_axis_x, multi_axis_y, multi_axis_z;
+
+/* Where an axis's commands come from: next() hands out one (1) or none (0, for now or for good),
+ * busy() says whether the planner still has some to hand out. */
+struct AxisSource {
+    uint8_t (*next)(void *ctx, step_cmd_t *c);
+    uint8_t (*busy)(void *ctx);
+    void *ctx;
+};
+
+class MultiStepEngine {
+public:
+    /* Pins as outputs (STEP low, DIR high, ENABLE low = on), Timer1 in normal mode at 16 MHz. */
+    static void begin();
+
+    /* loop()'s part for one axis: lays out at most max_cmds commands from src while the queue
+     * needs them, starts the interrupt (unless the move is held for a common start) and marks the
+     * move's end. Returns the number laid out. */
+    static uint8_t service(uint8_t axis, const AxisSource &src, uint8_t max_cmds);
+
+    /* How far ahead the axis's queue reaches (ticks), or UINT32_MAX when it needs nothing now:
+     * the planner feeds the axis with the shortest queue first. */
+    static uint32_t queued_ticks(uint8_t axis);
+
+    /* Axis follows master in a coordinated move where both move as far: master's interrupt pulses
+     * both STEP pins at once (X and Y in one instruction), so the pair costs one interrupt and one
+     * plan per step. Writes axis's DIR now (at rest, before the first step). unfollow: each alone. */
+    static void follow(uint8_t master, uint8_t axis, bool forward);
+    static void unfollow(uint8_t master);
+    /* The position of an axis at rest (a follower's, after its master's move). */
+    static void set_rest_position(uint8_t axis, int32_t pos);
+
+    /* A held move has enough laid out to start (MULTI_START_SLOTS, or everything its planner has). */
+    static bool ready_to_start(uint8_t axis, const AxisSource &src);
+
+    /* Starts the held moves of the axes in mask (bit i: axis i) on one tick of Timer1. */
+    static void start_together(uint8_t mask);
+
+    /* Before a new plan of this axis: the move continues into it (CONTINUES, its end mark
+     * withdrawn), the axis is at rest with no move open (AT_REST), or the move had just ended
+     * (ENDED, with its final position: report it first). */
+    enum Continuation { CONTINUES, AT_REST, ENDED };
+    static Continuation extend(uint8_t axis, int32_t &ended_at);
+
+    /* A move from rest has been planned: feed it and report its end (take_done). held: it waits
+     * for start_together. */
+    static void open_move(uint8_t axis, bool held);
+
+    /* Stops the axis at once: no further step, its queue emptied; take_done reports the position. */
+    static void halt(uint8_t axis);
+
+    static bool moving(uint8_t axis);
+    static bool held(uint8_t axis);
+    static int32_t position(uint8_t axis);
+    static uint8_t phase(uint8_t axis); /* ramp_phase_t of the command being stepped; 0 at rest */
+    static uint16_t underruns(uint8_t axis);
+    static uint16_t late_edges(uint8_t axis);
+    static bool take_done(uint8_t axis, int32_t &position);
+
+    /* The bodies of ISR(TIMER1_COMPx_vect, ISR_NAKED): each jumps to its axis's step routine
+     * (MultiStepEngineIsr.S), which saves what it uses and returns from the interrupt itself. */
+    static inline void on_x_timer() __attribute__((always_inline)) { asm volatile("jmp multi_step_isr_x" ::); }
+    static inline void on_y_timer() __attribute__((always_inline)) { asm volatile("jmp multi_step_isr_y" ::); }
+    static inline void on_z_timer() __attribute__((always_inline)) { asm volatile("jmp multi_step_isr_z" ::); }
+};
+
+#endif
