@@ -68,6 +68,8 @@ OVERRUN = {
     "servo": ("12345", "OK setpoint=12345", "setpoint=", "setpoint=12345 ", re.compile(r"^t_ms=")),
     "stepper": ("set vmax 1234", "OK vmax=1234", "pos=", " vmax=1234 ", None),  # vmax: fmax on SCurveStepper
     "filter": ("u 1.234", "OK u=1.234", "kind=", " u=1.234 ", re.compile(r"^\d+,")),
+    # three state lines per `?` (x, y, z): the first names the value set
+    "multiaxis": ("set x vmax 1234", "OK x vmax=1234", "x pos=", " vmax=1234 ", re.compile(r"^[yz] pos=")),
 }
 
 
@@ -75,7 +77,7 @@ def check_overrun(env, sketch):
     fam = env.family(sketch)
     cmd, ok_reply, key, state_after, other_lines = OVERRUN[fam]
     script = "\n".join([
-        f"wait ^READY {sketch}$", "timeout 3000", "send ?", f"wait ^{key}", "mark flood",
+        f"wait ^READY {sketch}$", "timeout 3000", "send ?", f"wait ^{key}", "run 500", "mark flood",
         f"repeat {FLOOD_LINES // 2} ?\\r\\n{cmd}\\r\\n", "drain", "run 8000", "mark flood-end",
         # the line after a burst whose tail was lost is the one the overrun hit (docs/serial.md)
         "send ?", "run 1000", "mark sync", "send ?", "run 1000",
