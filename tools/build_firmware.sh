@@ -48,7 +48,7 @@ libs=(--library lib)
 for l in firmware/libraries/*/; do [ -d "$l" ] && libs+=(--library "${l%/}"); done
 for l in ${FIRMWARE_EXTRA_LIBS:-}; do libs+=(--library "$l"); done
 
-# Debian's core needs arduino-ctags and DECIMAL_DIG (see TOOLCHAIN notes in README.md).
+# Debian's core needs arduino-ctags and DECIMAL_DIG (its packaged ctags path; the C library's macro).
 # Our own warning flags go in the same property so that the platform's value is not lost.
 props=(
     --build-property "tools.ctags.path=/usr/bin"
@@ -65,13 +65,18 @@ for arg in "${sketches[@]}"; do
     dir=$(sketch_dir "$arg")
     s=$(basename "$arg")
     if [ ! -f "$dir/$s.ino" ]; then
-        echo "build_firmware: no sketch $dir/$s.ino; sketches: $(all_sketches | tr '\n' ' ')" >&2
+        other=("$dir"/*.ino)
+        if [ -d "$dir" ] && [ ${#other[@]} -eq 1 ] && [ -f "${other[0]}" ]; then
+            echo "build_firmware: $dir holds $(basename "${other[0]}"), not $s.ino: rename it to $s.ino (a sketch's .ino must be named like its folder)" >&2
+        else
+            echo "build_firmware: no sketch $dir/$s.ino; sketches: $(all_sketches | tr '\n' ' ')" >&2
+        fi
         failed=1; continue
     fi
     case "$dir" in
         lib/examples/*) ;;
         *) if ! grep -Eq "$MARKER_RE" "$dir/$s.ino"; then
-               echo "build_firmware: $dir/$s.ino has no marker line '// motion-sketch: <family>' (stepper, filter, servo): add it at the top so the tools know what the sketch is" >&2
+               echo "build_firmware: $dir/$s.ino has no marker line '// motion-sketch: <family>' (stepper, multiaxis, filter, servo): add it at the top so the tools know what the sketch is" >&2
                failed=1; continue
            fi ;;
     esac

@@ -1,10 +1,11 @@
 // motion-sketch: stepper
 /* SCurveStepper - the S-curve article's sigmoid S-curve: a table of timer periods from fmin to fmax along a
- * logistic curve, each entry held for `hold` steps, walked backwards to stop. As the seed stresses,
- * the period is changed inside the step timer's own interrupt (Timer1 here), never from another
- * timer. RAMPS 1.4 X axis.
+ * logistic curve, each entry held for `hold` steps, walked backwards to stop. The article changes
+ * the period inside the step timer's own interrupt; here the planner lays the periods out in
+ * loop() as step commands ahead of time, and Timer1's compare interrupt plays them back on the
+ * same timer, so each period still starts exactly where the last one ended. RAMPS 1.4 X axis.
  *
- * Defaults: the seed's shape (hold = 4, flex = 5, the middle of its "ideal 4-6") with a shorter table
+ * Defaults: the article's shape (hold = 4, flex = 5, the middle of its "ideal 4-6") with a shorter table
  * (len = 250, so 1000 steps and about 1.3 s of acceleration) scaled to what the Mega steps
  * comfortably: fmin = 200, fmax = 4000 steps/s on the 2 MHz timer. Serial Monitor at 9600 baud:
  *   20000         move to absolute position 20000: "OK 0 20000", then "DONE 20000"

@@ -12,7 +12,7 @@
  * integer arithmetic only, and each update y += c (u - y) keeps the remainder of its division
  * (error feedback), so rounding never accumulates and never stalls: y stays within one
  * q/65536 of the exact recurrence with gain c, and settles on a constant input exactly.
- * |c - (1 - a)| <= 2^-32 adds at most A N / (e 2^32) (0.4 uV for the seed's 5 V, N = 900).
+ * |c - (1 - a)| <= 2^-32 adds at most A N / (e 2^32) (0.4 uV for the filter note's 5 V, N = 900).
  * AVR cost: one 64-bit multiply, about 870 cycles per sample through accdec_step() (simavr, -Os);
  * exp_filter_gain_q31() about 10,000 cycles (only when tau changes).
  */

@@ -1,6 +1,6 @@
 /* ramp.h - the move planner every stepper sketch and `motionsim ramp` use: give it the start and
  * target positions and an algorithm (simplistic, Leib, exact: ramp_params_t; sigmoid S-curve:
- * a seed-001 table), then ask it step by step for the interval to the next step and the phase.
+ * an S-curve article table), then ask it step by step for the interval to the next step and the phase.
  *
  *   ramp_t r; ramp_step_t s;
  *   if (ramp_plan(&r, RAMP_ALGO_LEIB, &params, from, to) != MS_OK) ... reject, nothing changed

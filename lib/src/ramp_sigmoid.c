@@ -35,7 +35,7 @@ float ramp_sigmoid_exp(float x)
 
 float ramp_sigmoid_freq_hz(const ramp_sigmoid_params_t *p, uint16_t i)
 {
-    /* the seed's order of operations, in float: melo = flexible*(i - len/2)/(len/2) */
+    /* the S-curve article's order of operations, in float: melo = flexible*(i - len/2)/(len/2) */
     float len = (float)p->len;
     float half = len / 2.0f;
     float melo = p->flex * ((float)i - half) / half;

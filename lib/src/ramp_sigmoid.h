@@ -1,15 +1,15 @@
 /* ramp_sigmoid.h - the sigmoid S-curve speed table of the S-curve article (CalculateSModelLine): a logistic
  * curve stretched from fmin to fmax over len entries,
  *   freq[i]   = fmin + (fmax - fmin) / (1 + exp(-flex * (i - len/2) / (len/2))),   i in [0, len)
- *   period[i] = (uint16_t)(timer_hz / freq[i])   (truncated, as the seed does; must fit 16 bits)
- * Each entry is held for `hold` timer periods, i.e. `hold` steps (the seed's ISR loads the next
+ *   period[i] = (uint16_t)(timer_hz / freq[i])   (truncated, as the S-curve article does; must fit 16 bits)
+ * Each entry is held for `hold` timer periods, i.e. `hold` steps (the article's ISR loads the next
  * entry on every 4th interrupt: hold = 4); deceleration walks the table backwards. flex sets the
- * shape: near 0 almost linear in i, 4-6 the seed's "ideal", larger a steeper middle.
+ * shape: near 0 almost linear in i, 4-6 the article's "ideal", larger a steeper middle.
  * Acceleration takes len*hold steps and hold * sum(period)/timer_hz seconds. A move of D steps
  * uses entry min((k-1)/hold, len-1) for step n, k = min(n, D+1-n), so short moves stop climbing
  * the table half-way and the last step always mirrors the first; between the two ramps the
  * speed stays at the last entry (cruise). Units: Hz = steps/s, periods in timer ticks.
- * Float arithmetic as in the seed, with one change: exp() is our own ramp_sigmoid_exp (built from
+ * Float arithmetic as in the article, with one change: exp() is our own ramp_sigmoid_exp (built from
  * +, -, *, / only), because libm's expf and avr-libc's exp differ in the last bit and that moved
  * truncated periods by a tick; now the host and the Mega compute the same table, bit for bit.
  * Cost on the AVR: filling the table ~6,500 cycles per entry (once per parameter change);
@@ -33,11 +33,11 @@ typedef struct {
     float fmin_hz;     /* start/stop frequency, >= timer_hz/65535 */
     float fmax_hz;     /* > fmin, <= timer_hz */
     float flex;        /* > 0 */
-    uint32_t timer_hz; /* timer ticks per second, > 0 (the seed: 10 MHz) */
+    uint32_t timer_hz; /* timer ticks per second, > 0 (the article: 10 MHz) */
 } ramp_sigmoid_params_t;
 
 /* Checks, in this order: finite values, len >= 2, hold >= 1, flex > 0, timer_hz > 0,
- * fmax > fmin, fmin >= timer_hz/65535 (MS_ERR_FMIN_TOO_LOW: the seed's "fre_min can't be less
+ * fmax > fmin, fmin >= timer_hz/65535 (MS_ERR_FMIN_TOO_LOW: the article's "fre_min can't be less
  * than 152" at 10 MHz), and every period[i] within 1..65535 (MS_ERR_PERIOD_OUT_OF_RANGE). */
 motion_status_t ramp_sigmoid_check(const ramp_sigmoid_params_t *p);
 
@@ -45,7 +45,7 @@ motion_status_t ramp_sigmoid_check(const ramp_sigmoid_params_t *p);
  * true value for normal results; +inf above 88.5, 0 below -87. */
 float ramp_sigmoid_exp(float x);
 
-/* freq[i] by the seed's formula, Hz (no checks). */
+/* freq[i] by the article's formula, Hz (no checks). */
 float ramp_sigmoid_freq_hz(const ramp_sigmoid_params_t *p, uint16_t i);
 
 /* period[i] = timer_hz/freq[i] truncated to an integer (no checks; may exceed 16 bits when the

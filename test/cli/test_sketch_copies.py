@@ -149,3 +149,23 @@ def test_a_renamed_copy_is_built_emulated_and_checked_like_its_original(tmp_path
     # the emulator suite's stepper check, as for the original
     res = checks_sketches.check_stepper(env, "LeibRampStepperABC")
     assert res.ok, res.details
+    # and the serial rules' checks, which a copy keeping its original's READY banner must pass too
+    import checks_serial  # test/emu, next to checks_sketches
+    for check in (checks_serial.check_blank_lines, checks_serial.check_overrun):
+        res = check(env, "LeibRampStepperABC")
+        assert res.ok, (check.__name__, res.details)
+
+
+def test_a_folder_copy_with_the_old_ino_name_gets_a_rename_hint(tmp_path):
+    """cp -r LeibRampStepper LeibRampStepperABC alone: both tools say to rename the .ino"""
+    shutil.copytree(os.path.join(ROOT, "firmware", "LeibRampStepper"), tmp_path / "firmware" / "LeibRampStepperABC")
+    p = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh"), "LeibRampStepperABC"],
+                       capture_output=True, text=True, timeout=120,
+                       env=dict(os.environ, FIRMWARE_SRC=str(tmp_path / "firmware"), FIRMWARE_OUT=str(tmp_path / "o")))
+    assert p.returncode != 0
+    assert "holds LeibRampStepper.ino, not LeibRampStepperABC.ino: rename it" in p.stderr, p.stderr
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "emu", "emulate.py"), "--sketch",
+                        "LeibRampStepperABC", "--source-dir", str(tmp_path), "--out", str(tmp_path / "e")],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2
+    assert "holds LeibRampStepper.ino, not LeibRampStepperABC.ino: rename it" in p.stderr, p.stderr

@@ -47,7 +47,7 @@ MOVE = 20000
 # simavr does not charge: 43 cycles in all, added to every traced interval.
 ENTRY_CYCLES = 43
 OTHER_ISR_CYCLES = 260     # the bound checks_sketches uses for edges that meet another interrupt
-LADDER = {"exact": [20000, 50000, 70000, 80000, 90000, 100000],
+LADDER = {"exact": [20000, 50000, 60000, 70000, 80000, 90000, 100000],
           "leib": [5000, 8000, 10000, 12000, 14000],
           "simplistic": [10000, 20000, 30000, 40000, 50000, 60000],
           "sigmoid": [10000, 20000, 30000, 40000, 50000, 60000, 70000]}

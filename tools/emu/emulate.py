@@ -254,6 +254,12 @@ def main(argv):
     env = sketches.Env(source_dir=a.source_dir)
     names = env.sketch_names()
     if not a.sketch or a.sketch not in names:
+        folder = os.path.join(env.source_dir, "firmware", a.sketch or "")
+        inos = sorted(f for f in os.listdir(folder) if f.endswith(".ino")) if a.sketch and os.path.isdir(folder) else []
+        if len(inos) == 1:
+            print(f"make emulate: firmware/{a.sketch} holds {inos[0]}, not {a.sketch}.ino: rename it to {a.sketch}.ino "
+                  "(a sketch's .ino must be named like its folder)", file=sys.stderr)
+            return 2
         what = f"unknown ('{a.sketch}')" if a.sketch else "missing"
         print(f"make emulate: SKETCH=<name> is {what}; sketches: {' '.join(names)}", file=sys.stderr)
         return 2

@@ -12,7 +12,7 @@
  * (phase-correct mode 10, clk/1, TOP = ICR4 = 5000, so OCR4A = y in mV). Timer5 runs free at clk/1
  * and only measures the per-sample cost in CPU cycles (`cost` command). Timer0 stays with the
  * Arduino core (millis). Put an RC low-pass on D6 (e.g. 10 kOhm + 10 uF, 0.1 s) to see the output
- * as a voltage, like the seed's RC circuit.
+ * as a voltage, like the filter note's RC circuit.
  */
 #ifndef FILTER_PINS_H
 #define FILTER_PINS_H

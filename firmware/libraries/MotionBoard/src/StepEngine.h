@@ -5,7 +5,7 @@
  * "Simple and dumb": at each compare match the interrupt raises STEP, adds the command's rate to
  * the timeline and its add to the rate (step_exec_next's arithmetic: no float, no division, no
  * planner call), arms OCR1A for the next edge and lowers STEP; when the command is used up it
- * switches to the next one, which loop() has already laid out in the other of two slots. That
+ * switches to the next slot of the ring, which loop() has already laid out. That
  * path is StepEngineIsr.S (`make bench` measures its cycles); slow steps (an interval of 32768
  * ticks or more, WIDE ones counted out in whole wraps of the 16-bit timer), the move's end, an
  * underrun and a late edge take the rarer path in C (StepEngine.cpp). STEP rises at the same
@@ -14,7 +14,7 @@
  * is counted as late and fires 2 us later instead of a timer wrap later.
  * Timing: F = 16 MHz (prescaler 1: ExactRampStepper) or 2 MHz (prescaler 8: the lab's ramps).
  * An edge is late by the time another interrupt holds the CPU at its compare match (the core's
- * millis and serial interrupts: up to about 130 cycles); `make bench` measures the worst case.
+ * millis and serial interrupts); `make bench` measures the worst case (build/bench/bench.md).
  * The planner runs in loop() (service(), called by the console): it keeps the queue between two
  * commands and STEP_ENGINE_LEAD_MS of steps ahead, so a stop or a new target takes effect within
  * that time. A queue that runs dry during a move is an underrun: counted (underruns(), `?`), and
