@@ -64,8 +64,12 @@ $(EMU_STEP_ELF): test/emu/step_avr/step_planner_avr.c test/emu/avr_uart.h $(EMU_
 
 # The sketches the emulator checks are built by the same script as `make firmware`; its stamp
 # makes `make test` rebuild them when firmware/ or lib/ changed.
-EMU_FW_SRCS := $(shell find firmware lib -type f 2>/dev/null)
-$(BUILD)/emu/firmware.stamp: $(EMU_FW_SRCS) tools/build_firmware.sh
+EMU_FW_SRCS := $(shell find firmware lib -type f 2>/dev/null | LC_ALL=C sort)
+# A renamed or copied file keeps its old time (mv, cp -p): the list of names is a prerequisite too,
+# rewritten only when it changes.
+EMU_FW_LIST := $(BUILD)/emu/firmware.files
+$(shell mkdir -p $(BUILD)/emu && printf '%s\n' $(EMU_FW_SRCS) | cmp -s - $(EMU_FW_LIST) || printf '%s\n' $(EMU_FW_SRCS) > $(EMU_FW_LIST))
+$(BUILD)/emu/firmware.stamp: $(EMU_FW_SRCS) $(EMU_FW_LIST) tools/build_firmware.sh
 	@mkdir -p $(dir $@)
 	@if ls firmware/*/*.ino >/dev/null 2>&1; then bash tools/build_firmware.sh >$(BUILD)/emu/firmware.log 2>&1 || { cat $(BUILD)/emu/firmware.log; exit 1; }; fi
 	@touch $@
