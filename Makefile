@@ -37,6 +37,7 @@ SIM_MODELS := $(sort $(wildcard sim/plant_*.c))
 SIM_MAIN   := $(filter-out $(SIM_MODELS),$(sort $(wildcard sim/*.c)))
 HDRS       := $(wildcard lib/src/*.h sim/*.h)
 
+UNIT_HDRS  := $(wildcard test/unit/*.h)
 UNIT_SRCS  := $(sort $(wildcard test/unit/test_*.c test/unit/test_*.cpp))
 UNIT_NAMES := $(basename $(notdir $(UNIT_SRCS)))
 UNIT_BINS  := $(addprefix $(BUILD)/test/unit/,$(UNIT_NAMES))
@@ -96,16 +97,16 @@ $(BUILD)/motionsim-san: $(SIM_OBJS_SAN) $(BUILD)/libmotion-san.a
 	$(CXX) $(SAN_FLAGS) $(SIM_OBJS_SAN) $(BUILD)/libmotion-san.a -lcjson -lm -o $@
 
 # Unit tests (cmocka), each linked against the same library archive.
-$(BUILD)/test/unit/%: test/unit/%.c $(BUILD)/libmotion.a $(HDRS)
+$(BUILD)/test/unit/%: test/unit/%.c $(BUILD)/libmotion.a $(HDRS) $(UNIT_HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Itest/unit $< $(BUILD)/libmotion.a -lcmocka -lcjson -lm -o $@
-$(BUILD)/test/unit/%: test/unit/%.cpp $(BUILD)/libmotion.a $(HDRS)
+$(BUILD)/test/unit/%: test/unit/%.cpp $(BUILD)/libmotion.a $(HDRS) $(UNIT_HDRS)
 	@mkdir -p $(dir $@)
 	$(CXX) $(HOST_CXXFLAGS) -Itest/unit $< $(BUILD)/libmotion.a -lcmocka -lcjson -lm -o $@
-$(BUILD)/test/unit-san/%: test/unit/%.c $(BUILD)/libmotion-san.a $(HDRS)
+$(BUILD)/test/unit-san/%: test/unit/%.c $(BUILD)/libmotion-san.a $(HDRS) $(UNIT_HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lcjson -lm -o $@
-$(BUILD)/test/unit-san/%: test/unit/%.cpp $(BUILD)/libmotion-san.a $(HDRS)
+$(BUILD)/test/unit-san/%: test/unit/%.cpp $(BUILD)/libmotion-san.a $(HDRS) $(UNIT_HDRS)
 	@mkdir -p $(dir $@)
 	$(CXX) $(HOST_CXXFLAGS) $(SAN_FLAGS) -Itest/unit $< $(BUILD)/libmotion-san.a -lcmocka -lcjson -lm -o $@
 

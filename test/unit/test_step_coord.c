@@ -15,59 +15,22 @@
 #include "step_coord.h"
 #include "step_queue.h"
 
-static uint64_t rng_state = 0x9E3779B97F4A7C15ULL;
-static double urand(double a, double b)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return a + (b - a) * (double)(rng_state >> 11) / 9007199254740992.0;
-}
-static double lrand(double a, double b)
-{
-    return exp(urand(log(a), log(b)));
-}
+#define TEST_RNG_SEED 0x9E3779B97F4A7C15ULL
+#include "closed_form.h" /* the closed form, urand/lrand */
 
-/* ---- the closed form of s(t) -------------------------------------------------------------- */
-typedef struct {
-    long double v0, a, vp, xa, ta, tt, d;
-} profile_t;
+/* ---- the closed form of s(t) (closed_form.h), of the parameters as the planner holds them:
+ * floats, as on the AVR ------------------------------------------------------------------- */
+typedef closed_t profile_t;
 
 static profile_t profile_of(double v0, double vmax, double a, uint32_t d)
 {
-    profile_t c;
-    long double s;
-    /* the planner holds its parameters as floats (as on the AVR) */
-    c.v0 = (float)v0;
-    c.a = (float)a;
-    vmax = (float)vmax;
-    s = ((long double)vmax * vmax - c.v0 * c.v0) / (2.0L * c.a);
-    c.d = d;
-    if (2.0L * s >= (long double)d) {
-        c.xa = d / 2.0L;
-        c.vp = sqrtl(c.v0 * c.v0 + 2.0L * c.a * c.xa);
-    } else {
-        c.xa = s;
-        c.vp = vmax;
-    }
-    c.ta = (c.vp - c.v0) / c.a;
-    c.tt = 2.0L * c.ta + (c.d - 2.0L * c.xa) / c.vp;
-    return c;
-}
-
-static long double accel_time(const profile_t *c, long double x)
-{
-    return (sqrtl(c->v0 * c->v0 + 2.0L * c->a * x) - c->v0) / c->a;
+    return closed_plan((float)v0, (float)vmax, (float)a, d);
 }
 
 /* time at which the profile has covered x master steps */
 static long double time_at(const profile_t *c, long double x)
 {
-    if (x <= c->xa)
-        return accel_time(c, x);
-    if (x <= c->d - c->xa)
-        return c->ta + (x - c->xa) / c->vp;
-    return c->tt - accel_time(c, c->d - x);
+    return closed_time(c, x);
 }
 
 /* s(t) in [0, 1] */

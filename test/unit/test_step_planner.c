@@ -14,59 +14,9 @@
 #include "step_planner.h"
 #include "step_queue.h"
 
+#include "closed_form.h" /* the closed form, urand/lrand */
+
 /* ---- helpers ------------------------------------------------------------------------------ */
-
-static uint64_t rng_state = 88172645463325252ULL;
-static double urand(double a, double b)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return a + (b - a) * (double)(rng_state >> 11) / 9007199254740992.0;
-}
-static double lrand(double a, double b)
-{
-    return exp(urand(log(a), log(b)));
-}
-
-/* The closed form from rest (v0 = start and stop speed), long double, seconds. */
-typedef struct {
-    long double v0, a, vp, xa, ta, tt, d;
-} closed_t;
-
-static closed_t closed_plan(double v0, double vmax, double a, uint32_t d)
-{
-    closed_t c;
-    long double s = ((long double)vmax * vmax - (long double)v0 * v0) / (2.0L * a);
-    c.v0 = v0;
-    c.a = a;
-    c.d = d;
-    if (2.0L * s >= (long double)d) {
-        c.xa = d / 2.0L;
-        c.vp = sqrtl(c.v0 * c.v0 + 2.0L * c.a * c.xa);
-    } else {
-        c.xa = s;
-        c.vp = vmax;
-    }
-    c.ta = (c.vp - c.v0) / c.a;
-    c.tt = 2.0L * c.ta + (c.d - 2.0L * c.xa) / c.vp;
-    return c;
-}
-
-static long double closed_accel_time(const closed_t *c, long double x)
-{
-    return (sqrtl(c->v0 * c->v0 + 2.0L * c->a * x) - c->v0) / c->a;
-}
-
-static long double closed_time(const closed_t *c, uint32_t n)
-{
-    long double x = n;
-    if (x <= c->xa)
-        return closed_accel_time(c, x);
-    if (x <= c->d - c->xa)
-        return c->ta + (x - c->xa) / c->vp;
-    return c->tt - closed_accel_time(c, c->d - x);
-}
 
 /* Runs commands through the executor (the same functions the step interrupt calls). Records the
  * absolute whole-tick time of every step (64-bit) and its direction. */
