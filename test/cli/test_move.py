@@ -6,39 +6,15 @@ speed and uniform deceleration", the lab handout) of the profile whose v0/vmax/a
 of every axis's limits scaled by D_max/D_i; all computed here in Python, independently of lib/.
 """
 import math
+import os
+import sys
 
 import pytest
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "emu"))
+from coord_profile import profile  # noqa: E402  (test/emu: the same reference as the emulator checks)
+
 F = 16_000_000
-
-
-def profile(d_max, v0, vmax, a):
-    """closed form of the master profile: time at x master steps and s at time t (floats as on the Mega)"""
-    import struct
-    f32 = lambda x: struct.unpack("f", struct.pack("f", x))[0]  # noqa: E731
-    v0, vmax, a = f32(v0), f32(vmax), f32(a)
-    s_acc = (vmax * vmax - v0 * v0) / (2 * a)
-    if 2 * s_acc >= d_max:
-        xa, vp = d_max / 2, math.sqrt(v0 * v0 + a * d_max)
-    else:
-        xa, vp = s_acc, vmax
-    ta = (vp - v0) / a
-    tt = 2 * ta + (d_max - 2 * xa) / vp
-
-    def s_at(t):
-        if t <= 0:
-            return 0.0
-        if t >= tt:
-            return 1.0
-        if t <= ta:
-            x = v0 * t + a * t * t / 2
-        elif t <= tt - ta:
-            x = xa + vp * (t - ta)
-        else:
-            u = tt - t
-            x = d_max - (v0 * u + a * u * u / 2)
-        return x / d_max
-    return s_at, tt
 
 
 def limits(d, lim):

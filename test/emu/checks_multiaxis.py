@@ -16,9 +16,9 @@ OTHER_ISR_CYCLES, and are counted in the summary.
 """
 import math
 import re
-import struct
 import subprocess
 
+import coord_profile
 import emulog
 import sketches
 from checks_selftest import CheckResult
@@ -31,39 +31,14 @@ DEFAULTS = (0.0, 10000.0, 10000.0)  # v0, vmax, accel: MultiAxisStepper.ino
 OTHER_ISR_CYCLES = 1000
 
 
-def f32(x):
-    return struct.unpack("f", struct.pack("f", x))[0]
-
-
 def profile_s(d, lim):
     """s(t) of a coordinated move (d: axis -> steps, lim: axis -> (v0, vmax, accel))"""
     dm = max(d.values())
     moving = [k for k in d if d[k] > 0]
-    v0 = f32(min(lim[k][0] * dm / d[k] for k in moving))
-    vmax = f32(min(lim[k][1] * dm / d[k] for k in moving))
-    a = f32(min(lim[k][2] * dm / d[k] for k in moving))
-    s_acc = (vmax * vmax - v0 * v0) / (2 * a)
-    if 2 * s_acc >= dm:
-        xa, vp = dm / 2, math.sqrt(v0 * v0 + a * dm)
-    else:
-        xa, vp = s_acc, vmax
-    ta = (vp - v0) / a
-    tt = 2 * ta + (dm - 2 * xa) / vp
-
-    def s_at(t):
-        if t <= 0:
-            return 0.0
-        if t >= tt:
-            return 1.0
-        if t <= ta:
-            x = v0 * t + a * t * t / 2
-        elif t <= tt - ta:
-            x = xa + vp * (t - ta)
-        else:
-            u = tt - t
-            x = dm - (v0 * u + a * u * u / 2)
-        return x / dm
-    return s_at
+    v0 = min(lim[k][0] * dm / d[k] for k in moving)
+    vmax = min(lim[k][1] * dm / d[k] for k in moving)
+    a = min(lim[k][2] * dm / d[k] for k in moving)
+    return coord_profile.profile(dm, v0, vmax, a)[0]
 
 
 def sim(env, args):
