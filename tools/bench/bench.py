@@ -187,14 +187,17 @@ def planner_costs(elf):
 
 
 # ---- MultiAxisStepper ---------------------------------------------------------------------------
-# What MULTI_TRACE cannot see of a step interrupt (MultiStepEngineIsr.S): the chip's interrupt entry (5,
-# not charged by simavr), the vector's and the naked ISR's jumps (3 + 3), push/in/push (5), the waiting
-# test (5), push r25 and the STEP masks written to PORTF and PORTL (14); after TRACE falls, six pops,
-# out and pop (15) and reti (5): 55 cycles, added to every traced interval.
-MULTI_ENTRY_CYCLES = 55
+# What MULTI_TRACE cannot see of a step interrupt (MultiStepEngineIsr.S), added to every traced interval.
+# Before TRACE rises: the chip's interrupt entry (5, not charged by simavr), the vector's and the naked
+# ISR's jumps (3 + 3), push/in/push (5), then on the common path the mode load and test with the axis's own
+# STEP (X, Y: lds, sbrs, sbi, tst, brne, push r25 = 9; Z, whose PORTL is read-modify-written: 13); with
+# followers (a coordinated move of axes moving as far: mode MASKED) the branch, the mode bits and both
+# ports' masks (26). After TRACE falls: four pops, out and pop (11) and reti (5). Z's 45 is used for every
+# interrupt of an axis stepping alone (X's and Y's are 4 fewer), 58 for a master with followers.
+MULTI_ENTRY_CYCLES = {"alone": 45, "masked": 58}
 MULTI_LIFT = "-DMULTI_MAX_SPS=200000 -DMULTI_TRACE=1"
 MULTI_LADDER = {"coordinated": [20000, 30000, 40000, 50000, 60000, 70000],
-                "independent": [5000, 8000, 10000, 12000, 15000, 20000]}
+                "independent": [5000, 8000, 10000, 12000, 15000, 20000, 25000, 30000]}
 MULTI_CASES = [("coordinated", "x"), ("coordinated", "xy"), ("coordinated", "xyz"), ("independent", "xyz")]
 
 
@@ -252,7 +255,8 @@ def run_multi(elf, motionsim, mode, axes, v, pins):
     rises = {ax: [c for c in log.rising(ax.upper() + "STEP") if c > m] for ax in axes}
     res["steps"] = min(len(r) for r in rises.values())
     tr = log.pins.get("TRACE", [])
-    isr = [b[0] - a[0] + MULTI_ENTRY_CYCLES for a, b in zip(tr, tr[1:]) if a[1] == 1 and b[1] == 0 and a[0] > m]
+    entry = MULTI_ENTRY_CYCLES["masked" if mode == "coordinated" and len(axes) > 1 else "alone"]
+    isr = [b[0] - a[0] + entry for a, b in zip(tr, tr[1:]) if a[1] == 1 and b[1] == 0 and a[0] > m]
     res["isr"] = (min(isr), sum(isr) / len(isr), max(isr)) if isr else (0, 0, 0)
     first = min(r[0] for r in rises.values() if r) if any(rises.values()) else 0
     last = max(r[-1] for r in rises.values() if r) if any(rises.values()) else 0
@@ -340,7 +344,7 @@ def multi_section(motionsim, out_dir, only):
                   "no underrun; coordinated: the single-axis rule (at most 3 % beyond 8 cycles, each within "
                   f"{OTHER_ISR_CYCLES}); independent: every edge within {OTHER_ISR_CYCLES} plus twice the longest step "
                   "interrupt (an edge may wait for the two other axes' interrupts). ISR cycles: each "
-                  f"step interrupt, with the {MULTI_ENTRY_CYCLES} cycles MULTI_TRACE cannot see; per step: interrupt "
+                  f"step interrupt, with the {MULTI_ENTRY_CYCLES['alone']} cycles MULTI_TRACE cannot see ({MULTI_ENTRY_CYCLES['masked']} with followers); per step: interrupt "
                   "cycles per STEP edge of all axes.", "",
                   "| move | steps/s per axis | steps | worst vs plan (cycles) | beyond 8 | end spread | underruns | late "
                   "| ISR cycles min / mean / max | ISR cycles per step | CPU left | verdict |",

@@ -64,10 +64,10 @@
 #endif
 
 /* The step engine's queues (MultiStepEngine.h): commands each axis's ring holds, and the size of
- * one axis's state (23 bytes of fields + 21 per slot), which MultiStepEngineIsr.S reserves. */
+ * one axis's state (34 bytes of fields + 21 per slot), which MultiStepEngineIsr.S reserves. */
 #ifndef MULTI_SLOTS
 #define MULTI_SLOTS 48
 #endif
-#define MULTI_AXIS_STATE_BYTES (23 + 21 * (MULTI_SLOTS))
+#define MULTI_AXIS_STATE_BYTES (34 + 21 * (MULTI_SLOTS))
 
 #endif

@@ -10,9 +10,11 @@
  * library links as an archive with LTO) */
 static_assert(sizeof(AxisState) == MULTI_AXIS_STATE_BYTES, "MultiStepEngineIsr.S reserves this size");
 
-static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, cur) == 4 && offsetof(AxisState, waiting) == 6 &&
-                  offsetof(AxisState, late) == 7 && offsetof(AxisState, late_ticks) == 9 &&
-                  offsetof(AxisState, mask_f) == 10 && offsetof(AxisState, mask_l) == 11 &&
+static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, rate) == 4 && offsetof(AxisState, add) == 8 &&
+                  offsetof(AxisState, left) == 12 && offsetof(AxisState, flags) == 14 &&
+                  offsetof(AxisState, mode) == 15 && offsetof(AxisState, cur) == 16 && offsetof(AxisState, late) == 18 &&
+                  offsetof(AxisState, late_ticks) == 20 && offsetof(AxisState, mask_f) == 21 &&
+                  offsetof(AxisState, mask_l) == 22 &&
                   offsetof(AxisSlot, rate) == 0 && offsetof(AxisSlot, add) == 4 && offsetof(AxisSlot, left) == 8 &&
                   offsetof(AxisSlot, flags) == 10 && offsetof(AxisSlot, ready) == 11 && offsetof(AxisSlot, other) == 12,
               "MultiStepEngineIsr.S reads these offsets");
@@ -174,6 +176,8 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
         fl |= _BV(AXIS_SLOT_HAS_ADD);
     if (is_slow(c))
         fl |= _BV(AXIS_SLOT_SLOW);
+    if (c.flags & STEP_CMD_WIDE)
+        fl |= _BV(AXIS_SLOT_WIDE);
     if (forward)
         fl |= _BV(AXIS_SLOT_FORWARD);
     if ((uint8_t)forward != f.last_forward)
@@ -196,21 +200,45 @@ void stop_after(AxisState &s, const AxisSlot &t)
     }
 }
 
-/* Arms the next step of slot t by the executor's rule, counting a slow interval's wraps; a first
+/* Sets and clears mode bits (interrupts off), keeping OWN_OFF = WAITING or MASKED. */
+inline void change_mode(AxisState &s, uint8_t set, uint8_t clear)
+{
+    uint8_t m = (uint8_t)((s.mode | set) & (uint8_t)~clear) & (uint8_t)~_BV(AXIS_MODE_OWN_OFF);
+    if (m & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_MASKED)))
+        m |= _BV(AXIS_MODE_OWN_OFF);
+    s.mode = m;
+}
+
+/* Makes slot t the interrupt's current command: its fields into the state (interrupts off). */
+__attribute__((always_inline)) inline void load_slot(AxisState &s, AxisSlot &t)
+{
+    t.ready = 0;
+    s.cur = &t;
+    s.rate = t.rate;
+    s.add = t.add;
+    s.left = t.left;
+    s.flags = t.flags;
+    if (t.flags & _BV(AXIS_SLOT_SLOW))
+        change_mode(s, _BV(AXIS_MODE_SLOW), 0);
+    else
+        change_mode(s, 0, _BV(AXIS_MODE_SLOW));
+}
+
+/* Arms the next step of the current command by the executor's rule, counting a slow interval's wraps; a first
  * match already missed counts as passed, a step already due fires 2 us later. `prev` (the edge the
  * interval starts from) may lie ahead of TCNT1 at a move's start: nothing has elapsed then. */
-void arm_step(uint8_t axis, AxisState &s, AxisSlot &t)
+__attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
 {
     uint16_t prev = (uint16_t)(s.acc >> 16), elapsed;
     uint32_t interval, first;
     int16_t since;
-    if (t.cmd_flags & STEP_CMD_WIDE) {
-        interval = t.rate;
-        s.acc += t.rate << 16;
+    if (s.flags & _BV(AXIS_SLOT_WIDE)) {
+        interval = s.rate;
+        s.acc += s.rate << 16;
     } else {
         uint32_t acc0 = s.acc;
-        s.acc += t.rate;
-        t.rate += (uint32_t)t.add;
+        s.acc += s.rate;
+        s.rate += (uint32_t)s.add;
         interval = (uint16_t)((s.acc >> 16) - (acc0 >> 16));
         if (interval == 0)
             interval = 0x10000UL;
@@ -228,25 +256,28 @@ void arm_step(uint8_t axis, AxisState &s, AxisSlot &t)
             s.late = s.late + 1U;
         }
     }
-    s.waiting = s.wraps != 0;
+    if (s.wraps != 0)
+        change_mode(s, _BV(AXIS_MODE_WAITING), 0);
+    else
+        change_mode(s, 0, _BV(AXIS_MODE_WAITING));
 }
 
 /* the C path of one axis (interrupts off): a wrap to count, a slow command's step, or the slot used
  * up without a ready fast one */
-inline void cold_path(uint8_t axis)
+__attribute__((always_inline)) inline void cold_path(uint8_t axis)
 {
     AxisState &s = state(axis);
     AxisSlot *cur = s.cur, *next;
-    if (s.waiting) {
+    if (s.mode & _BV(AXIS_MODE_WAITING)) {
         s.wraps = s.wraps - 1U;
         if (s.wraps == 0)
-            s.waiting = 0;
+            change_mode(s, 0, _BV(AXIS_MODE_WAITING));
         return;
     }
     /* STEP is high: this match made a step */
-    if ((cur->flags & _BV(AXIS_SLOT_SLOW)) && cur->left != 0) {
-        cur->left = cur->left - 1U;
-        arm_step(axis, s, *cur);
+    if ((s.flags & _BV(AXIS_SLOT_SLOW)) && s.left != 0) {
+        s.left = s.left - 1U;
+        arm_step(axis, s);
         step_low(axis);
         return;
     }
@@ -258,9 +289,8 @@ inline void cold_path(uint8_t axis)
         step_low(axis);
         return;
     }
-    next->ready = 0;
-    s.cur = next;
-    arm_step(axis, s, *next);
+    load_slot(s, *next);
+    arm_step(axis, s);
     step_low(axis);
     if (next->flags & _BV(AXIS_SLOT_TURN))
         write_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
@@ -273,14 +303,12 @@ void start_axis(uint8_t axis, uint32_t base)
     AxisSlot *t = s.cur->other;
     if (!t->ready)
         return;
-    t->ready = 0;
-    s.cur = t;
-    write_dir(axis, t->flags & _BV(AXIS_SLOT_FORWARD));
-    t->flags &= (uint8_t)~_BV(AXIS_SLOT_TURN); /* DIR is set here, before the first step */
+    load_slot(s, *t);
+    write_dir(axis, t->flags & _BV(AXIS_SLOT_FORWARD)); /* DIR is set here, before the first step */
     s.acc = base;
-    s.waiting = 0;
+    change_mode(s, 0, _BV(AXIS_MODE_WAITING));
     s.wraps = 0;
-    arm_step(axis, s, *t);
+    arm_step(axis, s);
     TIFR1 = ocf_bit(axis);
     s.running = 1;
     TIMSK1 |= ocie_bit(axis);
@@ -300,7 +328,7 @@ void catch_missed_match(uint8_t axis)
     AxisState &s = state(axis);
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        if (s.running && !s.waiting && !(s.cur->flags & _BV(AXIS_SLOT_SLOW)) && !(TIFR1 & ocf_bit(axis))) {
+        if (s.running && !(s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) && !(TIFR1 & ocf_bit(axis))) {
             uint16_t now = TCNT1;
             if ((int16_t)(now - (uint16_t)(s.acc >> 16)) > 64) {
                 write_ocr(axis, now + s.late_ticks);
@@ -353,6 +381,7 @@ void MultiStepEngine::begin()
                 s.slot[i].ready = 0;
             }
             s.cur = &s.slot[0];
+            s.mode = 0;
             s.pos_rest = 0;
             s.late_ticks = (uint8_t)(MULTI_TICK_HZ / 500000UL);
             own_masks(a);
@@ -453,6 +482,7 @@ void MultiStepEngine::follow(uint8_t master, uint8_t axis, bool forward)
         write_dir(axis, forward);
         m.mask_f |= a.mask_f;
         m.mask_l |= a.mask_l;
+        change_mode(m, _BV(AXIS_MODE_MASKED), 0);
     }
 }
 
@@ -461,6 +491,7 @@ void MultiStepEngine::unfollow(uint8_t master)
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         own_masks(master);
+        change_mode(state(master), 0, _BV(AXIS_MODE_MASKED));
     }
 }
 
@@ -529,7 +560,7 @@ static int32_t position_now(AxisState &s)
     uint16_t made;
     if (!s.running)
         return s.pos_rest;
-    made = t->count - 1U - t->left;
+    made = t->count - 1U - s.left;
     return t->p_start + ((t->flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)made : -(int32_t)made);
 }
 
@@ -544,7 +575,7 @@ void MultiStepEngine::halt(uint8_t axis)
         s.running = 0;
         s.finishing = 0;
         s.wraps = 0;
-        s.waiting = 0;
+        change_mode(s, 0, _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW));
         for (uint8_t i = 0; i < MULTI_SLOTS; i++)
             s.slot[i].ready = 0;
         if (f.open)

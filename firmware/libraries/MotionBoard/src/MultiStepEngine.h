@@ -5,8 +5,9 @@
  *
  * Each interrupt is "simple and dumb", as the single-axis engine's: at its compare match it raises
  * STEP, adds the command's rate to the axis's timeline and its add to the rate (step_exec_next's
- * arithmetic), arms its OCR1x for the next edge, lowers STEP (>= 2 us later) and, at a new command
- * that turns, writes DIR. That path is MultiStepEngineIsr.S, one copy per axis; slow steps (an
+ * arithmetic), arms its OCR1x for the next edge and lowers STEP (>= 2 us later); at a new command
+ * that turns, it writes DIR (while STEP is high, >= 1.5 us after its rising edge, which belongs to
+ * the old direction). That path is MultiStepEngineIsr.S, one copy per axis; slow steps (an
  * interval of 32768 ticks or more, WIDE ones counted out in wraps of the 16-bit timer), the end of
  * a move, an underrun and a late edge take the rarer path in C (MultiStepEngine.cpp).
  * Why Timer1's three channels: one counter (TCNT1) is one timeline for all axes, so a coordinated
@@ -31,7 +32,7 @@
 #define MULTI_AXES 3U
 
 /* MULTI_SLOTS (MultiAxisPins.h): commands each axis's ring holds (one is the interrupt's current
- * one); 23 bytes of SRAM each. */
+ * one); 21 bytes of SRAM each. */
 /* A move starts stepping once this many commands are laid out (or its planner has no more). */
 #ifndef MULTI_START_SLOTS
 #define MULTI_START_SLOTS 24U
@@ -43,16 +44,18 @@
 #define MULTI_LEAD_MS 100U
 #endif
 
-/* A command as an interrupt executes it (the first fields at the offsets MultiStepEngineIsr.S
- * reads, checked in MultiStepEngine.cpp). */
+/* A command as loop() lays it out for an interrupt (the first fields at the offsets
+ * MultiStepEngineIsr.S reads, checked in MultiStepEngine.cpp); the interrupt copies rate, add,
+ * left and flags into its AxisState when it takes the slot. */
 #define AXIS_SLOT_HAS_ADD 0 /* flags bits */
 #define AXIS_SLOT_SLOW 1    /* WIDE, or an interval of 32768 ticks or more: the C path steps it */
 #define AXIS_SLOT_FORWARD 2 /* DIR level */
 #define AXIS_SLOT_TURN 3    /* DIR changes at this command */
+#define AXIS_SLOT_WIDE 4    /* rate in whole ticks (step_queue.h's STEP_CMD_WIDE) */
 struct AxisSlot {
     uint32_t rate;          /* +0  16.16 ticks (WIDE: whole ticks) */
     int32_t add;            /* +4 */
-    volatile uint16_t left; /* +8  steps not yet armed */
+    uint16_t left;          /* +8  its steps after the first */
     uint8_t flags;          /* +10 AXIS_SLOT_* bits */
     volatile uint8_t ready; /* +11 laid out by loop(), not yet taken by the interrupt */
     AxisSlot *other;        /* +12 the next slot of the ring */
@@ -61,15 +64,27 @@ struct AxisSlot {
     uint8_t cmd_flags;      /* the step_cmd_t flags */
 };
 
-/* What one axis's interrupt and loop() share (loop() reads it with interrupts off). */
+/* AxisState.mode: zero on the common path (the axis's own STEP pin, a normal command). */
+#define AXIS_MODE_OWN_OFF 0 /* WAITING or MASKED: the entry does not raise the axis's own STEP */
+#define AXIS_MODE_SLOW 1    /* the current command is slow: the C path steps it */
+#define AXIS_MODE_MASKED 2  /* followers: STEP through mask_f/mask_l (a coordinated move) */
+#define AXIS_MODE_WAITING 3 /* matches to let pass (a slow interval's wraps) before the step: no STEP */
+
+/* What one axis's interrupt and loop() share (loop() reads it with interrupts off). The command
+ * being stepped lives here (rate, add, left, flags), so the interrupt's common path reaches every
+ * field at a fixed address. */
 struct AxisState {
-    uint32_t acc;               /* +0 the timeline: time of the armed edge, 16.16 ticks */
-    AxisSlot *volatile cur;     /* +4 the slot being stepped */
-    volatile uint8_t waiting;   /* +6 matches to let pass (a slow interval's wraps) before the step */
-    volatile uint16_t late;     /* +7 edges armed in the past (fired 2 us later) */
-    uint8_t late_ticks;         /* +9 2 us in ticks */
-    uint8_t mask_f;             /* +10 the STEP bits of PORTF this interrupt pulses: its axis's, and its followers' */
-    uint8_t mask_l;             /* +11 the same in PORTL */
+    uint32_t acc;               /* +0  the timeline: time of the armed edge, 16.16 ticks */
+    uint32_t rate;              /* +4  the current command's next interval (WIDE: whole ticks) */
+    int32_t add;                /* +8 */
+    volatile uint16_t left;     /* +12 its steps not yet armed */
+    uint8_t flags;              /* +14 its AXIS_SLOT_* bits */
+    volatile uint8_t mode;      /* +15 AXIS_MODE_* bits */
+    AxisSlot *volatile cur;     /* +16 the slot being stepped */
+    volatile uint16_t late;     /* +18 edges armed in the past (fired 2 us later) */
+    uint8_t late_ticks;         /* +20 2 us in ticks */
+    uint8_t mask_f;             /* +21 the STEP bits of PORTF this interrupt pulses: its axis's, and its followers' */
+    uint8_t mask_l;             /* +22 the same in PORTL */
     volatile uint16_t wraps;
     volatile uint8_t running;
     volatile uint8_t finishing; /* the planner has queued the move's last command */

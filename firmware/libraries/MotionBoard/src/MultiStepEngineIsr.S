@@ -1,15 +1,21 @@
 /* MultiStepEngineIsr.S - the common path of the three step interrupts (see MultiStepEngine.h): one
- * step of a normal command, i.e. step_exec_next (lib/src/step_queue.h) on the axis's current slot:
- *   acc += rate; OCR1x = acc >> 16; rate += add; left--
- * and, when the slot is used up, the switch to the next slot if loop() has laid it out. Slow
- * commands and a missing next command jump to the axis's C path (MultiStepEngine.cpp) with the
- * registers restored as they were at the interrupt's entry. STEP rises at the same cycle after the
- * compare match whichever path follows. One routine per axis, written once as the macro below:
- * its arguments are the axis's state, pins, compare register and flag, and C path.
- * STEP: the pins in the state's mask_f (PORTF) and mask_l (PORTL): the axis's own, and those of
- * the axes that follow it in a coordinated move.
- * Registers: r24, r25, r26, r27, r30, r31 and SREG, saved here; the T flag marks a switch.
- * A port outside the I/O space (Z's PORTL) is read-modify-written through r24/r25: interrupts are
+ * step of a normal command, i.e. step_exec_next (lib/src/step_queue.h) on the command the axis's
+ * state holds:
+ *   STEP high; left--; acc += rate; OCR1x = acc >> 16; rate += add; STEP low
+ * and, when the command is used up, the switch to the next slot if loop() has laid it out (its
+ * rate, add, left and flags copied into the state; DIR written if it turns, at least 1.5 us after
+ * the last STEP edge of the old direction and long before the first of the new). Slow commands,
+ * wraps to count out and a missing next command jump to the axis's C path (MultiStepEngine.cpp)
+ * with the registers restored as they were at the interrupt's entry.
+ * Cost: the state's mode byte is zero on the common path, so one test chooses it; the axis's own
+ * STEP pin is raised (sbi) at the same cycle after the compare match on every path of an axis
+ * stepping alone; the master of a coordinated move (mode AXIS_MODE_MASKED) raises its STEP and
+ * its followers' through the state's masks, one write per port, at the same cycle on each of its
+ * paths; while wraps are counted out nothing is raised. One routine per axis, written once as the macro below: its
+ * arguments are the axis's state, pins, compare register and flag, and C path.
+ * Registers: r24, r25, r26, r27 (r30, r31 at a switch) and SREG, saved here; the T flag marks a
+ * masked step (every STEP of the masks to lower at the end).
+ * A port outside the I/O space (Z's PORTL) is read-modify-written through r25/r24: interrupts are
  * off here, and loop() writes it only in atomic blocks.
  */
 #include <avr/io.h>
@@ -36,12 +42,16 @@ multi_axis_z:
 
 /* AxisState offsets */
 #define ACC 0
-#define CUR 4
-#define WAITING 6
-#define LATE 7
-#define LATE_TICKS 9
-#define MASK_F 10
-#define MASK_L 11
+#define RATE 4
+#define ADD 8
+#define LEFT 12
+#define FLAGS 14
+#define MODE 15
+#define CUR 16
+#define LATE 18
+#define LATE_TICKS 20
+#define MASK_F 21
+#define MASK_L 22
 /* AxisSlot offsets */
 #define S_RATE 0
 #define S_ADD 4
@@ -53,161 +63,180 @@ multi_axis_z:
 #define F_SLOW 1
 #define F_FORWARD 2
 #define F_TURN 3
+/* mode bits */
+#define M_OWN_OFF 0 /* the axis's own STEP is not raised at the entry (WAITING or MASKED) */
+#define M_SLOW 1
+#define M_MASKED 2
+#define M_WAITING 3
 
-/* a bit of a port: io = 1 for the I/O space (port = I/O address), 0 for a memory address (uses r24) */
-.macro PIN_HIGH io, port, bit
+/* a bit of a port: io = 1 for the I/O space (port = I/O address), 0 for a memory address (uses reg) */
+.macro PIN_HIGH io, port, bit, reg
 .if \io
     sbi \port, \bit
 .else
-    lds r24, \port
-    ori r24, (1 << \bit)
-    sts \port, r24
+    lds \reg, \port
+    ori \reg, (1 << \bit)
+    sts \port, \reg
 .endif
 .endm
-.macro PIN_LOW io, port, bit
+.macro PIN_LOW io, port, bit, reg
 .if \io
     cbi \port, \bit
 .else
-    lds r24, \port
-    andi r24, ~(1 << \bit) & 0xFF
-    sts \port, r24
+    lds \reg, \port
+    andi \reg, ~(1 << \bit) & 0xFF
+    sts \port, \reg
 .endif
+.endm
+
+.macro TRACE_HIGH
+#if MULTI_TRACE
+    sbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
+#endif
+.endm
+.macro TRACE_LOW
+#if MULTI_TRACE
+    cbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
+#endif
+.endm
+
+/* st += src (4 bytes, state fields; lds/sts leave the carry alone) through r24, r25 */
+.macro ADD32_STATE dst, src
+    lds r24, \dst
+    lds r25, \src
+    add r24, r25
+    sts \dst, r24
+    lds r24, \dst + 1
+    lds r25, \src + 1
+    adc r24, r25
+    sts \dst + 1, r24
+    lds r24, \dst + 2
+    lds r25, \src + 2
+    adc r24, r25
+    sts \dst + 2, r24
+    lds r24, \dst + 3
+    lds r25, \src + 3
+    adc r24, r25
+    sts \dst + 3, r24
 .endm
 
 .macro AXIS_ISR name, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold
     .section .text.\name,"ax",@progbits
     .global \name
+    /* out of the common path, placed before the entry so that its short branches reach */
+29:
+    rjmp 30f                     /* to the switch of slots */
+9:
+    pop r25
+    pop r24
+    out _SFR_IO_ADDR(SREG), r24
+    pop r24
+    jmp \cold
+20:
+    /* mode not zero: wraps to count, a slow command, or followers */
+.if \io
+    push r25
+.endif
+    sbrc r24, M_WAITING
+    rjmp 9b                      /* counting out a slow interval's wraps: no step at this match */
+    bst r24, M_SLOW
+    sbrs r24, M_MASKED
+    rjmp 26f
+    /* the axis's own STEP and its followers' together: one write per port */
+    lds r25, \st + MASK_F
+    in r24, _SFR_IO_ADDR(PORTF)
+    or r24, r25
+    out _SFR_IO_ADDR(PORTF), r24
+    lds r25, \st + MASK_L
+    lds r24, _SFR_MEM_ADDR(PORTL)
+    or r24, r25
+    sts _SFR_MEM_ADDR(PORTL), r24
+26:
+    TRACE_HIGH
+    brts 9b                      /* a slow command: the C path steps it (STEP is high) */
+    set                          /* T: lower every STEP of the masks at the end */
+    rjmp 21f
 \name:
     push r24
     in r24, _SFR_IO_ADDR(SREG)
     push r24
-    lds r24, \st + WAITING
+.if \io
+    lds r24, \st + MODE
+    sbrs r24, M_OWN_OFF
+    sbi \step_port, \step_bit    /* STEP high (not while counting out wraps; followers: below) */
     tst r24
-    breq 1f
-    rjmp 9f                      /* counting out a slow interval's wraps: no step at this match */
-1:
-    /* STEP high: the axis's pin and its followers' (one write per port) */
+    brne 20b
     push r25
-    lds r25, \st + MASK_F
-    in r24, _SFR_IO_ADDR(PORTF)
-    or r24, r25
-    out _SFR_IO_ADDR(PORTF), r24
-    lds r25, \st + MASK_L
-    lds r24, _SFR_MEM_ADDR(PORTL)
-    or r24, r25
-    sts _SFR_MEM_ADDR(PORTL), r24
-#if MULTI_TRACE
-    sbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
-#endif
-    push r30
-    push r31
-    lds r30, \st + CUR
-    lds r31, \st + CUR + 1
-    ldd r24, Z + S_FLAGS
-    sbrc r24, F_SLOW
-    rjmp 8f                      /* a slow command: the C path steps it */
-    ldd r24, Z + S_LEFT
-    ldd r25, Z + S_LEFT + 1
-    sbiw r24, 1
-    brcs 2f
-    std Z + S_LEFT + 1, r25
-    std Z + S_LEFT, r24
-    clt
-    rjmp 3f
-2:
-    /* the slot is used up: take the next one if it is ready and not slow */
-    ldd r24, Z + S_OTHER
-    ldd r25, Z + S_OTHER + 1
-    movw r30, r24
-    ldd r24, Z + S_READY
+.else
+    push r25
+    lds r24, \st + MODE
+    sbrc r24, M_OWN_OFF
+    rjmp 19f
+    PIN_HIGH 0, \step_port, \step_bit, r25
+19:
     tst r24
-    brne 4f
-    rjmp 8f                      /* nothing ready: the end, or an underrun */
-4:
-    ldd r24, Z + S_FLAGS
-    sbrc r24, F_SLOW
-    rjmp 8f
-    clr r25
-    std Z + S_READY, r25
-    sts \st + CUR + 1, r31
-    sts \st + CUR, r30
-    set                          /* T: switched (DIR may change below) */
-3:
+    brne 20b
+.endif
+    TRACE_HIGH
+    clt                          /* T clear: only the axis's own STEP to lower */
+21:
+    lds r24, \st + LEFT          /* left-- (a borrow: the command is used up) */
+    lds r25, \st + LEFT + 1
+    sbiw r24, 1
+    brcs 29b
+    sts \st + LEFT + 1, r25
+    sts \st + LEFT, r24
+22:
     push r26
     push r27
-    /* acc += rate, byte by byte (lds/ldd/sts leave the carry alone) */
+    /* acc += rate; the edge, acc >> 16, into r27:r26 and OCR1x (high byte first, through TEMP) */
     lds r24, \st + ACC
-    ldd r25, Z + S_RATE
+    lds r25, \st + RATE
     add r24, r25
     sts \st + ACC, r24
     lds r24, \st + ACC + 1
-    ldd r25, Z + S_RATE + 1
+    lds r25, \st + RATE + 1
     adc r24, r25
     sts \st + ACC + 1, r24
     lds r26, \st + ACC + 2
-    ldd r25, Z + S_RATE + 2
+    lds r25, \st + RATE + 2
     adc r26, r25
     sts \st + ACC + 2, r26
     lds r27, \st + ACC + 3
-    ldd r25, Z + S_RATE + 3
+    lds r25, \st + RATE + 3
     adc r27, r25
     sts \st + ACC + 3, r27
-    sts \ocrh, r27               /* high byte first (through TEMP) */
+    sts \ocrh, r27
     sts \ocrl, r26
-    /* rate += add, when the command has one */
-    ldd r24, Z + S_FLAGS
-    sbrs r24, F_HAS_ADD
-    rjmp 5f
-    ldd r24, Z + S_RATE
-    ldd r25, Z + S_ADD
-    add r24, r25
-    std Z + S_RATE, r24
-    ldd r24, Z + S_RATE + 1
-    ldd r25, Z + S_ADD + 1
-    adc r24, r25
-    std Z + S_RATE + 1, r24
-    ldd r24, Z + S_RATE + 2
-    ldd r25, Z + S_ADD + 2
-    adc r24, r25
-    std Z + S_RATE + 2, r24
-    ldd r24, Z + S_RATE + 3
-    ldd r25, Z + S_ADD + 3
-    adc r24, r25
-    std Z + S_RATE + 3, r24
-5:
-    lds r25, \st + MASK_F
-    com r25
-    in r24, _SFR_IO_ADDR(PORTF)
-    and r24, r25
-    out _SFR_IO_ADDR(PORTF), r24
-    lds r25, \st + MASK_L
-    com r25
-    lds r24, _SFR_MEM_ADDR(PORTL)
-    and r24, r25
-    sts _SFR_MEM_ADDR(PORTL), r24
-    /* a new command may turn: DIR after STEP has fallen */
-    brtc 6f
-    ldd r25, Z + S_FLAGS
-    sbrs r25, F_TURN
-    rjmp 6f
-    sbrc r25, F_FORWARD
-    rjmp 10f
-    PIN_LOW \io, \dir_port, \dir_bit
-    rjmp 6f
-10:
-    PIN_HIGH \io, \dir_port, \dir_bit
-6:
     /* late? edge - TCNT1 <= 0 (TCNT1L first: it latches the high byte) */
     lds r24, _SFR_MEM_ADDR(TCNT1L)
     lds r25, _SFR_MEM_ADDR(TCNT1H)
     sub r26, r24
     sbc r27, r25
     brmi 7f
-    brne 11f
+    breq 7f
+23:
+    /* rate += add, when the command has one */
+    lds r24, \st + FLAGS
+    sbrs r24, F_HAS_ADD
+    rjmp 5f
+    ADD32_STATE \st + RATE, \st + ADD
+5:
+    brts 24f
+    PIN_LOW \io, \step_port, \step_bit, r24
+25:
+    TRACE_LOW
+    pop r27
+    pop r26
+    pop r25
+    pop r24
+    out _SFR_IO_ADDR(SREG), r24
+    pop r24
+    reti
 7:
     /* armed in the past (an overload): unless the match came meanwhile, fire 2 us from now */
     sbic _SFR_IO_ADDR(TIFR1), \ocf
-    rjmp 11f
+    rjmp 23b
     lds r24, _SFR_MEM_ADDR(TCNT1L)
     lds r25, _SFR_MEM_ADDR(TCNT1H)
     lds r26, \st + LATE_TICKS
@@ -221,28 +250,77 @@ multi_axis_z:
     adiw r24, 1
     sts \st + LATE + 1, r25
     sts \st + LATE, r24
-11:
-#if MULTI_TRACE
-    cbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
-#endif
-    pop r27
-    pop r26
+    rjmp 23b
+24:
+    /* a masked step: every STEP of the masks low */
+    lds r25, \st + MASK_F
+    com r25
+    in r24, _SFR_IO_ADDR(PORTF)
+    and r24, r25
+    out _SFR_IO_ADDR(PORTF), r24
+    lds r25, \st + MASK_L
+    com r25
+    lds r24, _SFR_MEM_ADDR(PORTL)
+    and r24, r25
+    sts _SFR_MEM_ADDR(PORTL), r24
+    rjmp 25b
+30:
+    /* the command is used up: take the next slot if it is laid out and not slow */
+    push r30
+    push r31
+    lds r30, \st + CUR
+    lds r31, \st + CUR + 1
+    ldd r24, Z + S_OTHER
+    ldd r25, Z + S_OTHER + 1
+    movw r30, r24
+    ldd r24, Z + S_READY
+    tst r24
+    breq 31f                     /* nothing ready: the end, or an underrun */
+    ldd r24, Z + S_FLAGS
+    sbrc r24, F_SLOW
+    rjmp 31f
+    clr r25
+    std Z + S_READY, r25
+    sts \st + CUR + 1, r31
+    sts \st + CUR, r30
+    sts \st + FLAGS, r24
+    ldd r25, Z + S_LEFT
+    sts \st + LEFT, r25
+    ldd r25, Z + S_LEFT + 1
+    sts \st + LEFT + 1, r25
+    ldd r25, Z + S_RATE
+    sts \st + RATE, r25
+    ldd r25, Z + S_RATE + 1
+    sts \st + RATE + 1, r25
+    ldd r25, Z + S_RATE + 2
+    sts \st + RATE + 2, r25
+    ldd r25, Z + S_RATE + 3
+    sts \st + RATE + 3, r25
+    ldd r25, Z + S_ADD
+    sts \st + ADD, r25
+    ldd r25, Z + S_ADD + 1
+    sts \st + ADD + 1, r25
+    ldd r25, Z + S_ADD + 2
+    sts \st + ADD + 2, r25
+    ldd r25, Z + S_ADD + 3
+    sts \st + ADD + 3, r25
+    /* a command that turns: DIR now (STEP rose for the old direction more than 1.5 us ago) */
+    sbrs r24, F_TURN
+    rjmp 32f
+    sbrc r24, F_FORWARD
+    rjmp 33f
+    PIN_LOW \io, \dir_port, \dir_bit, r24
+    rjmp 32f
+33:
+    PIN_HIGH \io, \dir_port, \dir_bit, r24
+32:
     pop r31
     pop r30
-    pop r25
-    pop r24
-    out _SFR_IO_ADDR(SREG), r24
-    pop r24
-    reti
-8:
+    rjmp 22b
+31:
     pop r31
     pop r30
-    pop r25
-9:
-    pop r24
-    out _SFR_IO_ADDR(SREG), r24
-    pop r24
-    jmp \cold
+    rjmp 9b
 .endm
 
 AXIS_ISR multi_step_isr_x, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, __vector_multi_cold_x
