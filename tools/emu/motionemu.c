@@ -368,6 +368,10 @@ int main(int argc, char **argv)
     for (uint8_t i = 0; i < 8; i++)
         avr_extint_set_strict_lvl_trig(avr, i, 0);
 
+    if (emu_timer_attach(avr)) {
+        fprintf(stderr, "motionemu: this simavr has no 16-bit timers' compare registers where expected\n");
+        return 2;
+    }
     if (emu_uart_attach(avr)) {
         fprintf(stderr, "motionemu: no UART0 in this simavr\n");
         return 2;

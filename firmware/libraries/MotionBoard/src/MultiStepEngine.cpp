@@ -31,7 +31,6 @@ struct AxisFeed {
     uint8_t last_forward;
     uint8_t open; /* a move is being fed (accepted, not yet reported done) */
     uint8_t held; /* its start waits for start_together */
-    uint8_t every; /* service() calls, for the missed-match check every 8th */
     uint8_t started; /* the move has stepped (after an underrun it resumes at once) */
 };
 AxisFeed s_feed[MULTI_AXES];
@@ -99,6 +98,11 @@ inline void write_ocr(uint8_t axis, uint16_t v)
         OCR1B = v;
     else
         OCR1C = v;
+}
+
+inline uint16_t read_ocr(uint8_t axis)
+{
+    return axis == 0 ? OCR1A : axis == 1 ? OCR1B : OCR1C;
 }
 
 inline uint8_t ocf_bit(uint8_t axis)
@@ -322,15 +326,23 @@ uint32_t base_ahead(uint16_t ticks)
     return ((uint32_t)(uint16_t)(TCNT1 + ticks) << 16) | 0x8000UL;
 }
 
-/* a compare match that never came (the armed edge well in the past, no match pending): fire now */
+/* A compare match that never came (seen in the emulator, where a compare register written close to
+ * the timer's wrap can miss its match): the armed edge lies well in the past, no match is pending
+ * and the interrupt has not moved on. Fire it now and count it as late, instead of waiting a whole
+ * wrap. A first look with interrupts on (a torn read only costs the careful look below), so the
+ * check, made on every service() call of every axis, does not delay step edges. */
 void catch_missed_match(uint8_t axis)
 {
     AxisState &s = state(axis);
+    if (!s.running || (s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) || (TIFR1 & ocf_bit(axis)) ||
+        (int16_t)(TCNT1 - (uint16_t)(s.acc >> 16)) <= 64)
+        return;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         if (s.running && !(s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) && !(TIFR1 & ocf_bit(axis))) {
             uint16_t now = TCNT1;
-            if ((int16_t)(now - (uint16_t)(s.acc >> 16)) > 64) {
+            /* and not re-armed by an earlier look (its match still to come) */
+            if ((int16_t)(now - (uint16_t)(s.acc >> 16)) > 64 && (int16_t)(read_ocr(axis) - now) <= 0) {
                 write_ocr(axis, now + s.late_ticks);
                 s.late = s.late + 1U;
             }
@@ -393,7 +405,6 @@ void MultiStepEngine::begin()
             f.queued_ticks = 0;
             f.open = 0;
             f.held = 0;
-            f.every = 0;
         }
         /* the Arduino core leaves Timer1 in 8-bit PWM mode for analogWrite(): take it over */
         TIMSK1 = 0;
@@ -432,8 +443,7 @@ uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t ma
     AxisFeed &f = s_feed[axis];
     step_cmd_t c;
     uint8_t laid = 0;
-    if ((++f.every & 7U) == 0)
-        catch_missed_match(axis);
+    catch_missed_match(axis);
     retire_consumed(s, f);
     while (laid < max_cmds && (f.ready < 2U || f.queued_ticks < s_lead_ticks)) {
         if (!has_room(s, f))

@@ -208,6 +208,12 @@ multi_axis_z:
     sts \st + ACC + 3, r27
     sts \ocrh, r27
     sts \ocrl, r26
+    /* rate += add, when the command has one */
+    lds r24, \st + FLAGS
+    sbrs r24, F_HAS_ADD
+    rjmp 5f
+    ADD32_STATE \st + RATE, \st + ADD
+5:
     /* late? edge - TCNT1 <= 0 (TCNT1L first: it latches the high byte) */
     lds r24, _SFR_MEM_ADDR(TCNT1L)
     lds r25, _SFR_MEM_ADDR(TCNT1H)
@@ -216,12 +222,6 @@ multi_axis_z:
     brmi 7f
     breq 7f
 23:
-    /* rate += add, when the command has one */
-    lds r24, \st + FLAGS
-    sbrs r24, F_HAS_ADD
-    rjmp 5f
-    ADD32_STATE \st + RATE, \st + ADD
-5:
     brts 24f
     PIN_LOW \io, \step_port, \step_bit, r24
 25:
