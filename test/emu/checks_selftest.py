@@ -294,6 +294,32 @@ def check_motor_coupling():
     return CheckResult(not problems, summary, problems)
 
 
+def check_timer_wrap():
+    """A compare register armed late in a timer period for the first ticks of the next one matches
+    there (the ATmega2560's comparators run in hardware; libsimavr 1.6 alone would drop the match of
+    k = 0..3 and fire it one wrap, 65,536 cycles, later: tools/emu/emu_timer.c). From first
+    principles: the write happens at TCNT5 >= 65000, so the ISR's toggle of PF3 comes at most
+    65536 - 65000 + k cycles after the write's toggle, plus the write-to-toggle and ISR entry cycles
+    (bounded here by 100)."""
+    ks = [k for k in (0, 1, 2, 3, 4, 7, 100) for _ in range(8)]
+    phases = [p for _ in (0, 1, 2, 3, 4, 7, 100) for p in range(8)]
+    script = "wait ^READY\n" + "".join(f"send wrap {k} {p}\nwait ^OK wrap {k}$\n" for k, p in zip(ks, phases))
+    log = emulog.run(SELFTEST, script, pins={"WRAP": "D57"})
+    problems = []
+    _fails(log, problems)
+    tg = [c for c, _ in log.pins.get("WRAP", [])]
+    if len(tg) != 2 * len(ks):
+        problems.append(f"PF3 toggled {len(tg)} times, the program toggles it {2 * len(ks)} times")
+    gaps = [b - a for a, b in zip(tg[0::2], tg[1::2])]
+    for k, g in zip(ks, gaps):
+        if not 0 < g <= 65536 - 65000 + k + 100:
+            problems.append(f"OCR5A = {k} armed before the wrap matched {g} cycles after the write "
+                            f"(bound {65536 - 65000 + k + 100})")
+    return CheckResult(not problems, f"OCR5A = k armed at TCNT5 >= 65000, k in {sorted(set(ks))}, each at 8 "
+                                     f"phases of the wrap: matched {min(gaps, default=0)}..{max(gaps, default=0)} "
+                                     "cycles after the write", problems)
+
+
 CHECKS = [
     ("harness self-test: pin edges and timer timing from first principles", check_pins_and_timers),
     ("harness self-test: pin direction (DDR) and level changes at their cycles", check_pin_direction),
@@ -303,4 +329,6 @@ CHECKS = [
     ("harness self-test: PWM duty -> DC-motor plant -> LS7366R count", check_motor_coupling),
     ("harness self-test: reset, watchdog, halt, crash, stack overflow and timeout are failures", check_failure_detection),
     ("harness self-test: ELF and argument validation", check_elf_validation),
+    ("harness self-test: a compare match armed for the first ticks after a timer wrap comes there",
+     check_timer_wrap),
 ]

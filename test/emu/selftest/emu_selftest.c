@@ -15,6 +15,10 @@
  * reset (jumps to 0), wdt (watchdog reset), halt (cli; sleep), wild (writes beyond the SRAM), void
  * (calls into erased flash), recurse (recursion without end), dig1 (OC3C off, PE5 high by PORT, as
  * analogWrite(pin, 255)), rev <0..255> (analogWrite(pin, 0) then (pin, v), as on a motor reversal),
+ * wrap <k> [<n>] (Timer5 normal mode, clk/1: with interrupts off, waits for TCNT5 >= 65000, writes
+ * OCR5A = k, which matches at tick k of the next period, toggles PF3 (D57), waits n nops, then runs
+ * calls and returns (long instructions) across the wrap; the compare ISR toggles PF3 again:
+ * 65536 - TCNT5 + k cycles after the write, plus the ISR's entry, whatever k; replies "OK wrap k"),
  * anything else -> "ERR unknown".
  */
 #include <avr/interrupt.h>
@@ -93,6 +97,17 @@ ISR(TIMER1_COMPA_vect)
     PINF = _BV(PF0);
 }
 
+static void __attribute__((noinline)) call_nothing(void)
+{
+    __asm__ __volatile__("");
+}
+
+ISR(TIMER5_COMPA_vect)
+{
+    PINF = _BV(PF3);
+    TIMSK5 = 0;
+}
+
 #define TOGGLE_1000()                                   \
     do {                                                \
         __asm__ __volatile__("sbi %0, 1" ::"I"(_SFR_IO_ADDR(PINF))); \
@@ -115,7 +130,7 @@ int main(void)
 {
     MCUSR = 0;
     wdt_disable();
-    DDRF = _BV(PF0) | _BV(PF1);
+    DDRF = _BV(PF0) | _BV(PF1) | _BV(PF3);
     DDRB = _BV(PB0) | _BV(PB1) | _BV(PB2) | _BV(PB5); /* CS, SCK, MOSI, OC1A */
     DDRE = _BV(PE5);
     CS_HIGH();
@@ -259,6 +274,29 @@ int main(void)
             while (!(UCSR0A & _BV(TXC0)))
                 ;
             snprintf(buf, sizeof buf, "depth %u", deep(1));
+            println(buf);
+        } else if (!strncmp(line, "wrap ", 5)) {
+            char *end;
+            uint16_t k = (uint16_t)strtoul(line + 5, &end, 10);
+            uint8_t phase = (uint8_t)strtoul(end, 0, 10);
+            TCCR5A = 0;
+            TCCR5B = _BV(CS50); /* normal mode, clk/1 */
+            TIMSK5 = 0;
+            cli();
+            while (TCNT5 < 65000U)
+                ;
+            OCR5A = k;
+            PINF = _BV(PF3);
+            TIFR5 = _BV(OCF5A);
+            TIMSK5 = _BV(OCIE5A);
+            while (phase--)
+                __asm__ __volatile__("nop");
+            sei();
+            /* two wraps of calls and returns (4 and 5 cycles): the wrap falls inside a long instruction */
+            for (uint16_t i = 0; i < 9000U; i++)
+                call_nothing();
+            TIMSK5 = 0;
+            sprintf(buf, "OK wrap %u", k);
             println(buf);
         } else if (!strcmp(line, "dig1")) {
             TCCR3A = _BV(WGM30);   /* analogWrite(pin, 255): OC3C off, PE5 high by PORT */
