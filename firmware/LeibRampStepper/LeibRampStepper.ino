@@ -12,16 +12,27 @@
  * Where the handout's code is in this sketch:
  *   "Pre-computation code", steps 1-5   preComputation() below: once for every move
  *   "On-the-fly step calculation", 6    computeNewSpeed() below: once for every step
- *   moveOneStep(), with dirPin (11)     the step interrupt (StepEngineIsr.S): STEP, and DIR high
- *                                       for forwards (FWDS), low for backwards, before the step
- * Both functions run in loop(), ahead of the motor: the planner (step_planner.h) turns their
- * intervals into step commands, and Timer1's compare interrupt only plays those back, so the
+ *   moveOneStep(), step 11              moveOneStep() below: its two lines set dirPin high for
+ *                                       FWDS, low for BWDS; the engine calls it whenever the
+ *                                       direction is set (a move's first step, a reversal). Delete
+ *                                       them and the motor runs one way only, as the handout says.
+ * The two ramp functions run in loop(), ahead of the motor: the planner turns their intervals into
+ * step commands, and Timer1's compare interrupt only plays those back (the STEP pulses), so the
  * float arithmetic never delays a step. The arithmetic itself is lib's ramp_leib.c, the code
  * `motionsim ramp --algo leib` runs: change it here and the board follows your version.
- * The files behind this sketch: StepperConsole.h (the serial commands), StepEngine.h (the queue
- * and the step interrupt), step_planner.h (moves into step commands), ramp_leib.h (the ramp).
- * Pins, timer and the compile-time options (STEPPER_TIMED_LOOP, STEPPER_LED_MIRROR,
- * STEPPER_TRACE, given to every file through FIRMWARE_DEFINES): MotionBoard's StepperPins.h.
+ *
+ * Following this sketch from setup()/loop() to the STEP pin takes these 5 files:
+ *   1. LeibRampStepper.ino (this file)  setup(), loop(), the three functions of the handout, the ISR
+ *   2. StepperConsole.cpp   begin(): serial, StepEngine::begin, the planner given your functions;
+ *                           poll(): a target line -> step_planner_move(), then StepEngine::service()
+ *   3. step_planner.c       a move into step commands: step_planner_next() asks ramp_next_ticks()
+ *                           for each interval, which is your preComputation()/computeNewSpeed()
+ *   4. StepEngine.cpp       service(): the queue; start_stepping() and the reversals call
+ *                           moveOneStep(); the interrupt's rare path (slow steps, the end)
+ *   5. StepEngineIsr.S      the step interrupt itself: STEP high, the next edge, STEP low
+ * Their headers only declare these; pins, timer and the compile-time options (STEPPER_TIMED_LOOP,
+ * STEPPER_LED_MIRROR, STEPPER_TRACE, given to every file through FIRMWARE_DEFINES) are in
+ * MotionBoard's StepperPins.h: STEP D54, DIR D55, ENABLE D38 (the RAMPS 1.4 X axis).
  */
 #include <StepperConsole.h>
 #include <ramp_leib.h>
@@ -51,12 +62,27 @@ float computeNewSpeed(ramp_leib_t *ramp, ramp_phase_t phase)
     return ramp_leib_update(ramp, phase);
 }
 
+// ---- moveOneStep() (step 11): the direction pin, for the steps that follow ----
+// The engine calls this with direction = FWDS or BWDS before the first step of every move and at
+// every reversal (then inside the step interrupt, after the last step the old way); the STEP pulses
+// themselves come from the step interrupt below, up to thousands a second.
+const uint8_t dirPin = 55;  // RAMPS 1.4 X axis DIR (A1); the driver runs forwards when it is high
+const bool FWDS = true;     // forwards: the position counts up
+const bool BWDS = false;    // backwards
+static_assert(dirPin == STEPPER_DIR_ARDUINO_PIN, "dirPin is the step engine's DIR pin (StepperPins.h)");
+
+void moveOneStep(bool direction)
+{
+    if (direction == FWDS) digitalWrite(dirPin, HIGH);
+    else digitalWrite(dirPin, LOW);
+}
+
 static const ramp_hooks_t labCode = {preComputation, computeNewSpeed, 0, 0};
 static TrapezoidRamp ramp(RAMP_ALGO_LEIB, minSpeed, maxPermisSpeed, maxAccel, STEPPER_MAX_SPS_LEIB,
                           STEPPER_TICK_HZ_LAB, &labCode);
 static StepperConsole console(ramp);
 
-// Timer1's compare interrupt: makes the steps the planner queued (StepEngine.h)
+// Timer1's compare interrupt: makes the steps the planner queued (StepEngineIsr.S)
 #if !STEPPER_TIMED_LOOP
 ISR(TIMER1_COMPA_vect, ISR_NAKED)
 {
@@ -66,6 +92,7 @@ ISR(TIMER1_COMPA_vect, ISR_NAKED)
 
 void setup()
 {
+    StepEngine::set_direction_hook(moveOneStep); // DIR is yours: the engine calls moveOneStep()
     console.begin(F("LeibRampStepper"));
 }
 

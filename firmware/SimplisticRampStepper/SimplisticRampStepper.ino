@@ -14,13 +14,15 @@
  * Where the handout's code is in this sketch:
  *   "Pre-computation code"              preComputation() below: once for every move
  *   "On-the-fly step calculation"       computeNewSpeed() below: once for every step
- *   moveOneStep(), with dirPin          the step interrupt (StepEngineIsr.S): STEP, and DIR high
- *                                       for forwards, low for backwards, before the step
- * Both functions run in loop(), ahead of the motor; Timer1's compare interrupt only plays back
+ *   moveOneStep(), step 11              moveOneStep() below: its two lines set dirPin high for
+ *                                       FWDS, low for BWDS; the engine calls it whenever the
+ *                                       direction is set (a move's first step, a reversal)
+ * The ramp functions run in loop(), ahead of the motor; Timer1's compare interrupt only plays back
  * the step commands the planner made of their intervals. The arithmetic is lib's
  * ramp_simplistic.c, the code `motionsim ramp --algo simplistic` runs; `motionsim ramp --compare`
- * shows how far it is from ideal. The files behind this sketch: StepperConsole.h, StepEngine.h,
- * step_planner.h, ramp_simplistic.h. Pins, timer and compile-time options: StepperPins.h.
+ * shows how far it is from ideal. From setup()/loop() to the STEP pin: this file,
+ * StepperConsole.cpp, step_planner.c, StepEngine.cpp, StepEngineIsr.S (what each does: the list in
+ * LeibRampStepper.ino). Pins, timer and compile-time options: StepperPins.h.
  */
 #include <StepperConsole.h>
 #include <ramp_simplistic.h>
@@ -47,12 +49,26 @@ float computeNewSpeed(ramp_simplistic_t *ramp, ramp_phase_t phase)
     return ramp_simplistic_update(ramp, phase);
 }
 
+// ---- moveOneStep() (step 11): the direction pin, for the steps that follow ----
+// The engine calls this with direction = FWDS or BWDS before the first step of every move and at
+// every reversal (then inside the step interrupt); the STEP pulses come from the step interrupt.
+const uint8_t dirPin = 55;  // RAMPS 1.4 X axis DIR (A1); the driver runs forwards when it is high
+const bool FWDS = true;     // forwards: the position counts up
+const bool BWDS = false;    // backwards
+static_assert(dirPin == STEPPER_DIR_ARDUINO_PIN, "dirPin is the step engine's DIR pin (StepperPins.h)");
+
+void moveOneStep(bool direction)
+{
+    if (direction == FWDS) digitalWrite(dirPin, HIGH);
+    else digitalWrite(dirPin, LOW);
+}
+
 static const ramp_hooks_t labCode = {0, 0, preComputation, computeNewSpeed};
 static TrapezoidRamp ramp(RAMP_ALGO_SIMPLISTIC, minSpeed, maxPermisSpeed, maxAccel, STEPPER_MAX_SPS_SIMPLISTIC,
                           STEPPER_TICK_HZ_LAB, &labCode);
 static StepperConsole console(ramp);
 
-// Timer1's compare interrupt: makes the steps the planner queued (StepEngine.h)
+// Timer1's compare interrupt: makes the steps the planner queued (StepEngineIsr.S)
 #if !STEPPER_TIMED_LOOP
 ISR(TIMER1_COMPA_vect, ISR_NAKED)
 {
@@ -62,6 +78,7 @@ ISR(TIMER1_COMPA_vect, ISR_NAKED)
 
 void setup()
 {
+    StepEngine::set_direction_hook(moveOneStep); // DIR is yours: the engine calls moveOneStep()
     console.begin(F("SimplisticRampStepper"));
 }
 

@@ -112,6 +112,52 @@ def test_stepper_run_one_csv_per_move_with_the_parameters_in_force(built, tmp_pa
         assert lines(out / f"{stem}.motionsim.csv") == want, stem
 
 
+RETARGET_INPUT = """\
+# a new target while moving: 0 -> 1000, and after 600 ms (cruising at vmax 400 steps/s since
+# (400 - 50) / 800 = 0.44 s) 2000, which the move continues to without stopping
+wait ^READY LeibRampStepper$
+timeout 20000
+send set vmax 400
+wait ^OK vmax=
+send set v0 50
+wait ^OK v0=
+send set accel 800
+wait ^OK accel=
+send 1000
+wait ^OK 0 1000$
+run 600
+send 2000
+wait ^OK [0-9]+ 2000$
+wait ^DONE 2000$
+"""
+
+
+def csv_rows(path):
+    return [[float(x) for x in l.split(",")] for l in lines(path)[1:]]
+
+
+def test_stepper_new_target_while_moving_position_overlay_and_acceleration(built, tmp_path):
+    """The plot of a move that took over a moving axis: its position column is where the axis
+    really is (continuing the first move's, ending at the DONE), its motionsim overlay continues
+    at the speed the axis had (vmax, by the ramp's formula above) instead of restarting from rest,
+    and its first acceleration is measured from the previous step, not from the command."""
+    script = tmp_path / "retarget.emu"
+    script.write_text(RETARGET_INPUT)
+    out = tmp_path / "out"
+    p = emulate("--sketch", "LeibRampStepper", "--input", str(script), out=out)
+    assert p.returncode == 0, p.stdout + p.stderr
+    first, second = csv_rows(out / "LeibRampStepper.csv"), csv_rows(out / "LeibRampStepper-2.csv")
+    sim = csv_rows(out / "LeibRampStepper-2.motionsim.csv")
+    ok_from = int(next(l for l in lines(out / "LeibRampStepper.log") if " OK " in l and l.endswith(" 2000")).split()[-2])
+    assert ok_from > first[-1][1] + 1        # steps were queued: the OK's "from" lies ahead of the axis
+    assert [r[1] for r in first] == list(range(1, len(first) + 1))
+    assert [r[1] for r in second] == list(range(len(first) + 1, 2001))   # one step each, to the DONE
+    assert abs(second[0][4] - 400) < 4 and abs(sim[0][4] - 400) < 4      # both still at vmax
+    assert [r[1] for r in sim] == [r[1] for r in second]
+    assert max(abs(a - b) for a, b in zip((r[2] for r in sim), (r[2] for r in second))) < 1e-4
+    assert max(abs(r[5]) for r in second) < 2 * 800                     # no spike: |accel| near 800 at most
+
+
 def test_filter_run(built, tmp_path):
     script = tmp_path / "step.emu"
     script.write_text(FILTER_INPUT)

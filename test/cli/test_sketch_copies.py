@@ -100,6 +100,27 @@ def test_a_servo_sketch_is_followed_end_to_end_in_five_files():
         assert "ServoPins.h" not in includes, name
 
 
+def test_a_lab_stepper_sketch_is_followed_to_the_step_pin_in_five_files():
+    """Issue 11: LeibRampStepper's top comment lists the files from setup()/loop() to the STEP pin;
+    at most 5, each in the tree, and the path they describe is there: the console plans and feeds
+    the engine, the planner calls the sketch's ramp functions through ramp_next_ticks, the engine
+    calls the sketch's moveOneStep through its hook, the assembly routine raises STEP."""
+    name = "LeibRampStepper"
+    text = open(os.path.join(ROOT, "firmware", name, name + ".ino")).read()
+    listed = re.findall(r"^ \*   \d\. (\S+)", text, re.M)
+    assert 1 <= len(listed) <= 5, listed
+    where = {f: p for d in (os.path.join(ROOT, "firmware", name), os.path.join(ROOT, "lib", "src"),
+                            os.path.join(ROOT, "firmware", "libraries", "MotionBoard", "src"))
+             for f in os.listdir(d) for p in [os.path.join(d, f)]}
+    assert all(f in where for f in listed), listed
+    body = {f: open(where[f]).read() for f in listed}
+    assert "StepEngine::service" in body["StepperConsole.cpp"] and "step_planner_move" in body["StepperConsole.cpp"]
+    assert "ramp_next_ticks" in body["step_planner.c"]
+    assert "s_dir_hook(forward)" in body["StepEngine.cpp"]
+    assert "sbi _SFR_IO_ADDR(STEPPER_STEP_PORT)" in body["StepEngineIsr.S"]
+    assert "StepEngine::set_direction_hook(moveOneStep)" in text
+
+
 def test_a_sketch_without_the_marker_is_refused_in_one_line_naming_the_marker(tmp_path):
     env = copy_tree(tmp_path, {"LeibRampStepperABC": "LeibRampStepper"}, bare=["Blink"])
     with pytest.raises(sketches.SketchError) as e:

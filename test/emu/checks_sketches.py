@@ -1016,6 +1016,73 @@ def check_back_to_back(env, sketch):
 
 
 # ----------------------------------------------------------------------------------------------
+# The lab's moveOneStep() (the lab handout, step 11): in LeibRampStepper and SimplisticRampStepper
+# DIR is written by the sketch's moveOneStep(), which the engine calls at a move's first step and
+# at a reversal. The same sketch with its two direction lines replaced by `(void)direction;`
+# (built by tools/emu/emu.mk into build/emu/nodir) must run the motor one way only: DIR never
+# changes after READY, although the moves go both ways and every reply is the same.
+
+DIR_HOOK_SKETCHES = ("LeibRampStepper", "SimplisticRampStepper")
+DIR_HOOK_DONES = ["DONE 100", "DONE 40", "DONE -50", "DONE 0"]
+
+
+def dir_hook_script():
+    s = ["wait ^READY [^ ]+$", "timeout 20000", "send set vmax 400", "wait ^OK vmax=", "send set v0 50",
+         "wait ^OK v0=", "send set accel 4000",
+         "wait ^OK accel=", "send 100", "wait ^OK 0 100$", "wait ^DONE 100$", "send 40", "wait ^OK 100 40$",
+         "wait ^DONE 40$",
+         # a reversal while moving: toward 300, then -50 (decelerate, reverse: the C path's turn)
+         "send 300", "wait ^OK 40 300$", "run 150", "send -50", "wait ^OK -?[0-9]+ -50", "wait ^DONE -50$",
+         "send 0", "wait ^OK -50 0$", "wait ^DONE 0$", "mark end"]
+    return "\n".join(s) + "\n"
+
+
+def check_direction_hook(env, sketch):
+    problems = []
+    src = os.path.join(env.source_dir, "firmware", sketch, f"{sketch}.ino")
+    var_src = os.path.join(env.source_dir, "build", "emu", "nodir-src", sketch, f"{sketch}.ino")
+    var_elf = os.path.join(env.source_dir, "build", "emu", "nodir", sketch, f"{sketch}.ino.elf")
+    if not os.path.isfile(var_elf) or not os.path.isfile(var_src):
+        return CheckResult(False, "no variant build", [f"{var_elf} is missing: make test builds it (tools/emu/emu.mk)"])
+    with open(src) as f:
+        a = f.read().splitlines()
+    with open(var_src) as f:
+        b = f.read().splitlines()
+    differ = [(x.strip(), y.strip()) for x, y in zip(a, b) if x != y]
+    if len(a) != len(b) or len(differ) != 2 or not all("digitalWrite(dirPin" in x for x, _ in differ):
+        problems.append(f"the variant should differ from {sketch}.ino in moveOneStep's two dirPin lines only; "
+                        f"differing lines: {differ[:4]}")
+    pins = sketches.stepper_pins(env)
+    runs = {}
+    for name, elf in (("sketch", env.elf(sketch)), ("without the two lines", var_elf)):
+        log = emulog.run(elf, dir_hook_script(), pins=pins)
+        fails_of(log, problems)
+        ready = log.first("^READY ")
+        end = log.mark("end")
+        if ready is None or end is None:
+            problems.append(f"{name}: the script did not finish")
+            continue
+        dones = [l.text for l in log.lines_matching("^DONE ", ready.cycle)]
+        if dones != DIR_HOOK_DONES:
+            problems.append(f"{name}: DONE lines {dones}, want {DIR_HOOK_DONES}")
+        rises = [c for c in log.rising("STEP") if c > ready.cycle]
+        signed = sum(1 if log.level_before("DIR", c) == 1 else -1 for c in rises)
+        dir_changes = [c for c, _ in log.pins.get("DIR", []) if ready.cycle < c <= end]
+        runs[name] = (len(rises), signed, len(dir_changes))
+    if len(runs) == 2:
+        (n1, s1, d1), (n2, s2, d2) = runs["sketch"], runs["without the two lines"]
+        # the moves: 0 -> 100 -> 40 -> (toward 300) -> -50 -> 0, net zero, both ways
+        if s1 != 0 or d1 < 3:
+            problems.append(f"sketch: {n1} steps counted by DIR end at {s1} (want 0) with {d1} DIR changes (want >= 3)")
+        if d2 != 0:
+            problems.append(f"without the two lines: DIR changed {d2} times after READY: something else drives DIR")
+        if n2 != n1 or s2 != n2:
+            problems.append(f"without the two lines: {n2} steps, {s2} of them forwards; want {n1}, all forwards")
+    summary = ", ".join(f"{k}: {v[0]} steps, net {v[1]:+d} by DIR, {v[2]} DIR changes" for k, v in runs.items())
+    return CheckResult(not problems, summary or "not run", problems)
+
+
+# ----------------------------------------------------------------------------------------------
 
 # ----------------------------------------------------------------------------------------------
 # lib's Arduino example (lib/examples/RampIntervals): a user's own sketch on MotionCore's ramp
@@ -1090,6 +1157,9 @@ def checks_for(env):
                        lambda st=st: check_engine_at_speed(env, st)))
         checks.append((f"{st}: a move right after the last one's DONE waits its whole first interval",
                        lambda st=st: check_back_to_back(env, st)))
+    for st in (n for n in DIR_HOOK_SKETCHES if family.get(n) == "stepper"):
+        checks.append((f"{st}: DIR is moveOneStep()'s: with its two dirPin lines deleted DIR never changes, the "
+                       "motor runs one way", lambda st=st: check_direction_hook(env, st)))
     # the timed-loop build (tools/emu/emu.mk) is of the lab's Leib sketch only: one build of the mode
     if family.get("LeibRampStepper") == "stepper":
         checks.append(("LeibRampStepper built with STEPPER_TIMED_LOOP=1: moves, intervals == motionsim ramp within "

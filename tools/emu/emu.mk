@@ -82,8 +82,23 @@ $(EMU_TIMED_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
 	  FIRMWARE_DEFINES="-DSTEPPER_TIMED_LOOP=1" bash tools/build_firmware.sh LeibRampStepper \
 	  >$(BUILD)/emu/timed.log 2>&1 || { cat $(BUILD)/emu/timed.log; exit 1; }; fi
 
+# The lab sketches with moveOneStep()'s two direction lines (those writing dirPin) replaced by
+# `(void)direction;`: the lab exercise undone. Their emulator check (checks_sketches.py,
+# check_direction_hook) sees DIR never change while the moves go both ways: the sketch's hook, not
+# the engine, drives DIR. The check itself verifies that exactly two lines differ.
+EMU_NODIR_SKETCHES := $(foreach s,LeibRampStepper SimplisticRampStepper,$(if $(wildcard firmware/$(s)/$(s).ino),$(s)))
+EMU_NODIR_STAMP := $(BUILD)/emu/nodir.stamp
+$(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
+	@rm -rf $(BUILD)/emu/nodir-src && mkdir -p $(BUILD)/emu/nodir-src
+	@for s in $(EMU_NODIR_SKETCHES); do mkdir -p $(BUILD)/emu/nodir-src/$$s && \
+	  sed -E 's/^([[:space:]]*).*digitalWrite\(dirPin.*$$/\1(void)direction;/' firmware/$$s/$$s.ino \
+	  > $(BUILD)/emu/nodir-src/$$s/$$s.ino; done
+	@if [ -n "$(EMU_NODIR_SKETCHES)" ]; then FIRMWARE_SRC=$(BUILD)/emu/nodir-src FIRMWARE_OUT=$(BUILD)/emu/nodir \
+	  bash tools/build_firmware.sh $(EMU_NODIR_SKETCHES) >$(BUILD)/emu/nodir.log 2>&1 || { cat $(BUILD)/emu/nodir.log; exit 1; }; fi
+	@touch $@
+
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

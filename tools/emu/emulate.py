@@ -7,7 +7,10 @@ script (default: the sketch family's standard scenario), then writes into the ou
   <S>.log           the harness's event log (every serial line, pin edge, motor sample, cycle-exact)
   <S>.csv           the firmware's behaviour in motionsim's CSV format, from its real pins/port:
                     stepper  step,position,t_s,interval_ticks,speed_sps,accel_sps2  (STEP/DIR edges;
-                             one file per move: <S>.csv, <S>-2.csv, ...)
+                             one file per move: <S>.csv, <S>-2.csv, ...; position is where the
+                             axis is, counted from the pulses and DIR since boot. A new target while
+                             moving: the new file starts after the target's arrival, its first
+                             interval and acceleration continue from the previous step)
                     filter   k,t_s,u,y      (the sketch's serial stream)
                     servo    t_s,setpoint,position_counts,error_counts,duty_pct (encoder count of the
                              emulated motor and the duty measured on the PWM/DIR pins, every 1 ms)
@@ -15,7 +18,10 @@ script (default: the sketch family's standard scenario), then writes into the ou
   <S>.motionsim.csv motionsim for the parameters in force (the sketch's defaults - its own `?` reply
                     at boot, asked in a short run of its own, so the script needs no `?` - replaced
                     by the script's last `?` reply and updated by the `OK key=value` replies before
-                    the move or setpoint), and <S>.png: the firmware's CSV with
+                    the move or setpoint; a new target while moving: `motionsim ramp --queue
+                    --retarget-at` of the whole chain from rest, replanned where the OK's "from"
+                    says, placed on the firmware's first edge, the rows of this move's steps; a move
+                    replaced so: as far as its steps went), and <S>.png: the firmware's CSV with
                     motionsim's overlaid, titled with the move, filter or setpoint and gains it
                     shows (one PNG per move or setpoint). Servo segments after the first get an overlay only when
                     motionsim can start where the firmware was: motor at rest, controller without
@@ -92,38 +98,138 @@ def frame_cycles(log):
 
 # ---- stepper ---------------------------------------------------------------------------------
 
+OK_MOVE_RE = r"^OK (-?\d+) (-?\d+)( \(after DONE (-?\d+)\))?$"
+
+
 def stepper_moves(log):
-    """[(from, to, t0_cycle, [rising edge cycles], ok_cycle)] per 'OK <from> <to>' reply"""
+    """[(from, to, t0_cycle, [rising edge cycles], ok_cycle, continues)] per 'OK <from> <to>' reply.
+    t0: the command's line end has arrived (a move from rest: its first interval counts from there);
+    "OK <a> <b> (after DONE <a>)" starts at that DONE. continues: the move took over a moving axis
+    (a new target while moving, no DONE in between): its first edges are the old plan's queued ones."""
     moves = []
     fc = frame_cycles(log)
-    oks = log.lines_matching(r"^OK -?\d+ -?\d+$")
+    oks = log.lines_matching(OK_MOVE_RE)
     rises = log.rising("STEP")
+    starts, stops, after = [], [], []
     for i, ok in enumerate(oks):
-        a, b = (int(x) for x in ok.text.split()[1:3])
+        m = re.match(OK_MOVE_RE, ok.text)
+        b = int(m.group(2))
         tx = [t for t in log.tx if t.cycle < ok.cycle and t.text.strip() == str(b)]
-        # t = 0: the command's line end has arrived (its last byte, one frame per byte)
         t0 = tx[-1].cycle + (len(tx[-1].text) + 2) * fc if tx else ok.cycle
-        end = oks[i + 1].cycle if i + 1 < len(oks) else None
-        done = log.first(r"^DONE ", ok.cycle, end)
-        stop = done.cycle if done else end
-        edges = [c for c in rises if c >= t0 and (stop is None or c <= stop)]
-        moves.append((a, b, t0, edges, ok.cycle))
+        if m.group(3):
+            d = log.first(r"^DONE " + m.group(4) + "$", ok.cycle)
+            t0 = d.cycle if d else ok.cycle
+        starts.append(t0)
+        after.append(bool(m.group(3)))
+    cont = []
+    for i, ok in enumerate(oks):
+        nxt = oks[i + 1].cycle if i + 1 < len(oks) else None
+        if i + 1 < len(oks) and after[i + 1]:
+            done = log.first(r"^DONE ", ok.cycle)  # this move keeps its DONE, printed after the next OK
+        else:
+            done = log.first(r"^DONE ", ok.cycle, nxt)
+        stops.append(done.cycle if done else nxt)
+        cont.append(i > 0 and not after[i] and log.first(r"^DONE ", oks[i - 1].cycle, ok.cycle) is None)
+    for i, ok in enumerate(oks):
+        a, b = (int(x) for x in re.match(OK_MOVE_RE, ok.text).groups()[:2])
+        # a move replaced by a new target owns its edges up to that target's arrival, the new one after
+        stop = starts[i + 1] if i + 1 < len(oks) and cont[i + 1] else stops[i]
+        edges = [c for c in rises if c >= starts[i] and (stop is None or c < stop)]
+        moves.append((a, b, starts[i], edges, ok.cycle, cont[i]))
     return moves
 
 
-def stepper_rows(a, b, t0, edges, tick_hz, v0):
+def step_positions(log):
+    """{rising edge cycle: position after that step}, counted from 0 at boot by the DIR level at each
+    edge: where the axis really is, whatever a reply's planned "from" says"""
+    pos, out = 0, {}
+    for c in log.rising("STEP"):
+        pos += 1 if log.level_before("DIR", c) == 1 else -1
+        out[c] = pos
+    return out
+
+
+def stepper_rows(t0, edges, positions, tick_hz, v0, before=None):
+    """One row per edge. A move from rest: step 1's interval counts from t0 (the command), its
+    acceleration from v0. A move that took over a moving axis (before = the two edges that preceded
+    it): step 1's interval counts from the previous edge and its acceleration from that edge's speed."""
     cyc_per_tick = F_CPU / tick_hz
     rows = []
     prev_c, prev_dt, prev_v = t0, 0.0, v0
-    d = 1 if b >= a else -1
+    if before and len(before) >= 1:
+        prev_c = before[-1]
+        if len(before) >= 2:
+            prev_dt = (before[-1] - before[-2]) / F_CPU
+            prev_v = 1.0 / prev_dt if prev_dt > 0 else 0.0
     for n, c in enumerate(edges, 1):
         interval = (c - prev_c) / cyc_per_tick
         dt = interval / tick_hz
         speed = tick_hz / interval if interval > 0 else 0.0
         accel = (speed - prev_v) / ((dt + prev_dt) / 2.0) if (dt + prev_dt) > 0 else 0.0
-        rows.append((n, a + d * n, (c - t0) / F_CPU, interval, speed, accel))
+        rows.append((n, positions[c], (c - t0) / F_CPU, interval, speed, accel))
         prev_c, prev_dt, prev_v = c, dt, speed
     return rows
+
+
+def read_rows(path):
+    with open(path) as f:
+        lines = f.read().splitlines()
+    return lines[0], [l.split(",") for l in lines[1:] if l]
+
+
+def chain_overlay(env, q, moves, i, out):
+    """The motionsim overlay of move i, which took over a moving axis: the chain from the last move
+    from rest, replanned at each new target (motionsim ramp --queue --retarget-at N:TARGET, N found
+    so that the plan's "from" is the OK's), the rows of move i's edges, timed like the firmware's
+    (motionsim's edges placed on the firmware's first edge of the chain). None, or why not."""
+    s = i
+    while s > 0 and moves[s][5]:
+        s -= 1
+    a0, b0, _, edges0, _, _ = moves[s]
+    if not edges0:
+        return "the first move of the chain made no step"
+    base = [x for x in stepper_sim_args(q, a0, b0) if x not in ("--queue", "--integer-ticks")] + ["--queue"]
+    pairs = []
+    tmp_cmds = out + ".commands.csv"
+    for j in range(s + 1, i + 1):
+        frm = moves[j][0]
+        args = base + (["--retarget-at", ",".join(f"{n}:{t}" for n, t in pairs)] if pairs else [])
+        p = subprocess.run([env.motionsim, *args, "--commands", tmp_cmds, "-o", os.devnull], capture_output=True,
+                           text=True)
+        if p.returncode != 0:
+            return f"motionsim: {p.stderr.strip()}"
+        _, cmds = read_rows(tmp_cmds)
+        pos, found = a0, None
+        last_n = pairs[-1][0] if pairs else 0
+        for c in cmds:
+            first, count, flags = int(c[1]), int(c[2]), c[5] if len(c) > 5 else ""
+            pos += -count if "reverse" in flags else count
+            if first > last_n and pos == frm:
+                found = first
+                break
+        if found is None:
+            return f"no step command of the plan ends at {frm}, where the new target took over"
+        pairs.append((found, moves[j][1]))
+    os.remove(tmp_cmds)
+    args = base + ["--retarget-at", ",".join(f"{n}:{t}" for n, t in pairs)]
+    p = subprocess.run([env.motionsim, *args, "-o", out], capture_output=True, text=True)
+    if p.returncode != 0:
+        return f"motionsim: {p.stderr.strip()}"
+    header, rows = read_rows(out)
+    # the chain's k-th edge is motionsim's row k: move i's edges are rows [r, r + its edges)
+    first_k = sum(len(moves[j][3]) for j in range(s, i))
+    fw_edges = moves[i][3]
+    mine = rows[first_k:first_k + len(fw_edges)]
+    if not mine:
+        return "motionsim's chain ends before this move's steps"
+    offset = edges0[0] - float(rows[0][2]) * F_CPU  # cycles: motionsim's t = 0 on the firmware's timeline
+    t0 = moves[i][2]
+    with open(out, "w") as f:
+        f.write(header + "\n")
+        for n, r in enumerate(mine, 1):
+            t = (float(r[2]) * F_CPU + offset - t0) / F_CPU
+            f.write(",".join([str(n), r[1], fmt(t)] + r[3:]) + "\n")
+    return None
 
 
 def stepper_sim_args(q, a, b):
@@ -315,20 +421,40 @@ def main(argv):
           f"{log.end.get('t_s', '?')} s emulated in {log.end.get('wall_s', '?')} s")
     outputs = []   # (firmware csv, motionsim csv or None)
     if fam == "stepper":
-        for i, (fr, to, t0, edges, okc) in enumerate(stepper_moves(log)):
-            q = params_before(log, "pos", okc, defaults)  # the parameters in force for this move
+        moves = stepper_moves(log)
+        positions = step_positions(log)
+        rises = log.rising("STEP")
+        for i, (fr, to, t0, edges, okc, continues) in enumerate(moves):
+            chain = i
+            while chain > 0 and moves[chain][5]:
+                chain -= 1
+            # the parameters in force: those of the plan from rest (a new target while moving keeps them)
+            q = params_before(log, "pos", moves[chain][4], defaults)
             path = base + (".csv" if i == 0 else f"-{i + 1}.csv")
             tick = float(q.get("tick_hz", "2000000"))
+            before = [c for c in rises if c < edges[0]][-2:] if continues and edges else None
             write_csv(path, "step,position,t_s,interval_ticks,speed_sps,accel_sps2",
-                      stepper_rows(fr, to, t0, edges, tick, float(q.get("v0", "0"))))
+                      stepper_rows(t0, edges, positions, tick, float(q.get("v0", "0")), before))
             sim = path[:-4] + ".motionsim.csv"
-            what = f"move {fr} -> {to} steps"
+            what = f"move {fr} -> {to} steps" + (" (a new target while moving)" if continues else "")
             if not q:
                 print(f"  no `?` reply before move {fr} -> {to}: no motionsim overlay (send ? first)")
                 outputs.append((path, None, what))
                 continue
             what += " (" + stepper_params_text(q) + ")"
-            outputs.append((path, sim if run_motionsim(env, stepper_sim_args(q, fr, to), sim) else None, what))
+            if continues:
+                why = chain_overlay(env, q, moves, i, sim)
+                if why:
+                    print(f"  {os.path.basename(path)}: no motionsim overlay ({why})")
+                outputs.append((path, None if why else sim, what))
+                continue
+            ok = run_motionsim(env, stepper_sim_args(q, fr, to), sim)
+            if ok and i + 1 < len(moves) and moves[i + 1][5]:
+                # replaced by a new target while moving: the overlay as far as the firmware went
+                header, rows = read_rows(sim)
+                with open(sim, "w") as f:
+                    f.write("\n".join([header] + [",".join(r) for r in rows[:len(edges)]]) + "\n")
+            outputs.append((path, sim if ok else None, what))
     elif fam == "multiaxis":
         # every STEP edge of every axis in time order, in motionsim move's columns (t from the first
         # edge; position counted from the pulses and DIR), no overlay: compare with `motionsim move`

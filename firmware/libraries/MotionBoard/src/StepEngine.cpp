@@ -26,7 +26,8 @@ uint8_t s_seen;                      /* the oldest slot still counted in s_queue
 uint8_t s_ready;                     /* slots laid out and counted */
 uint32_t s_lead_ticks;
 int32_t s_next_p_start;              /* position before the next command to be laid out */
-uint8_t s_last_forward;              /* DIR level of the last command laid out */
+uint8_t s_last_forward;              /* direction of the last command laid out */
+StepEngine::DirectionHook s_dir_hook; /* the sketch's moveOneStep(), or none: write_dir */
 #if STEPPER_TIMED_LOOP
 uint32_t s_deadline_us;
 #endif
@@ -37,6 +38,18 @@ inline void write_dir(bool forward)
         STEPPER_DIR_PORT |= _BV(STEPPER_DIR_BIT);
     else
         STEPPER_DIR_PORT &= (uint8_t)~_BV(STEPPER_DIR_BIT);
+}
+
+/* The direction of the steps that follow: the sketch's hook sets DIR if it registered one (the lab
+ * sketches' moveOneStep()), else the engine does. Called before the first step of a move from rest
+ * (loop() side) and, at a reversal, by the C path of the step interrupt after STEP has fallen: never
+ * on the assembly path, never per step. */
+void set_direction(bool forward)
+{
+    if (s_dir_hook)
+        s_dir_hook(forward);
+    else
+        write_dir(forward);
 }
 
 inline void step_low()
@@ -215,7 +228,7 @@ void __vector_step_engine_cold(void)
     arm_step(*next);
     step_low();
     if (next->flags & _BV(STEP_SLOT_TURN))
-        write_dir(next->flags & _BV(STEP_SLOT_FORWARD));
+        set_direction(next->flags & _BV(STEP_SLOT_FORWARD)); /* a reversal: the assembly path sent it here */
 }
 #endif
 
@@ -264,6 +277,14 @@ void StepEngine::begin(uint32_t tick_hz, uint16_t lead_ms)
     s_lead_ticks = s_tick_hz / 1000UL * lead_ms;
 }
 
+void StepEngine::set_direction_hook(DirectionHook hook)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        s_dir_hook = hook;
+    }
+}
+
 uint32_t StepEngine::tick_hz()
 {
     return s_tick_hz;
@@ -277,7 +298,7 @@ static void start_stepping()
         return;
     t->ready = 0;
     s.cur = t;
-    write_dir(t->flags & _BV(STEP_SLOT_FORWARD));
+    set_direction(t->flags & _BV(STEP_SLOT_FORWARD));
     t->flags &= (uint8_t)~_BV(STEP_SLOT_TURN); /* DIR is set here, before the first step */
 #if STEPPER_TIMED_LOOP
     s.acc = 0x8000UL;
@@ -555,6 +576,6 @@ void StepEngine::poll()
     _delay_us(2);
     step_low();
     if (t->flags & _BV(STEP_SLOT_TURN))
-        write_dir(t->flags & _BV(STEP_SLOT_FORWARD));
+        set_direction(t->flags & _BV(STEP_SLOT_FORWARD));
 #endif
 }

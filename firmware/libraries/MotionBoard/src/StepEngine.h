@@ -8,9 +8,13 @@
  * switches to the next slot of the ring, which loop() has already laid out. That
  * path is StepEngineIsr.S (`make bench` measures its cycles); slow steps (an interval of 32768
  * ticks or more, WIDE ones counted out in whole wraps of the 16-bit timer), the move's end, an
- * underrun and a late edge take the rarer path in C (StepEngine.cpp). STEP rises at the same
- * cycle after the compare match on both paths, stays high >= 2 us, and DIR changes only after it
- * falls. An edge that would already be in the past when armed (only an overload can cause it)
+ * underrun, a late edge and a command that reverses take the rarer path in C (StepEngine.cpp).
+ * STEP rises at the same cycle after the compare match on both paths, stays high >= 2 us, and DIR
+ * changes only after it falls.
+ * DIR: set before the first step of a move from rest (in loop()) and at a reversal (the C path,
+ * after the last step of the old direction), by the sketch's direction hook when it registered
+ * one (set_direction_hook: the lab sketches' moveOneStep(bool direction), whose two lines write
+ * dirPin), otherwise by the engine itself (high = forwards). The assembly path never writes DIR. An edge that would already be in the past when armed (only an overload can cause it)
  * is counted as late and fires 2 us later instead of a timer wrap later.
  * Timing: F = 16 MHz (prescaler 1: ExactRampStepper) or 2 MHz (prescaler 8: the lab's ramps).
  * An edge is late by the time another interrupt holds the CPU at its compare match (the core's
@@ -98,6 +102,16 @@ public:
     /* Pins as outputs (STEP low, DIR high, ENABLE low = on, LED), Timer1 in normal mode at
      * tick_hz: 16000000 or 2000000 (timed-loop mode: always 1000000). */
     static void begin(uint32_t tick_hz, uint16_t lead_ms = STEP_ENGINE_LEAD_MS);
+
+    /* The sketch's function that sets DIR: hook(true) before steps forwards (position counting up),
+     * hook(false) before steps backwards; called once before the first step of every move from rest
+     * and once at every reversal (from the step interrupt's C path, after STEP has fallen, before
+     * the first step the other way), never per step. It runs inside the interrupt then: keep it short
+     * (two digitalWrite()s are). Without a hook (NULL, the default)
+     * the engine writes DIR itself. If the hook leaves DIR alone, the motor turns one way only while
+     * the position still counts both ways: the lab exercise (the lab handout, moveOneStep()). */
+    typedef void (*DirectionHook)(bool forward);
+    static void set_direction_hook(DirectionHook hook);
     static uint32_t tick_hz();
 
     /* loop()'s part: moves commands from the planner into the queue while it needs them, starts

@@ -4,8 +4,10 @@
  * and, when the slot is used up, the switch to the other slot if loop() has filled it. Slow
  * commands and a missing next command jump to the C path (StepEngine.cpp) with the
  * registers restored as they were at the interrupt's entry. STEP rises at the same cycle after
- * the compare match whichever path follows.
- * Registers: r24, r25, r26, r27, r30, r31 and SREG, saved here; the T flag marks a switch.
+ * the compare match whichever path follows. This path never touches DIR: a command that turns
+ * (STEP_SLOT_TURN) is taken by the C path, which sets DIR through the sketch's direction hook
+ * (its moveOneStep(), StepEngine::set_direction_hook) or, without one, by itself.
+ * Registers: r24, r25, r26, r27, r30, r31 and SREG, saved here.
  */
 #include <avr/io.h>
 #include "StepperPins.h"
@@ -24,7 +26,6 @@
 #define S_OTHER 12
 #define F_HAS_ADD 0
 #define F_SLOW 1
-#define F_FORWARD 2
 #define F_TURN 3
 
     .section .text.step_engine_isr,"ax",@progbits
@@ -60,10 +61,9 @@ stepping:
     brcs next_slot
     std Z + S_LEFT + 1, r25
     std Z + S_LEFT, r24
-    clt
     rjmp arm
 next_slot:
-    /* the slot is used up: take the other one if it is ready and not slow */
+    /* the slot is used up: take the other one if it is ready, not slow and keeps the direction */
     ldd r24, Z + S_OTHER
     ldd r25, Z + S_OTHER + 1
     movw r30, r24
@@ -73,13 +73,14 @@ next_slot:
     rjmp to_cold_z               /* nothing ready: the end, or an underrun */
 take_it:
     ldd r24, Z + S_FLAGS
-    sbrc r24, F_SLOW
-    rjmp to_cold_z
+    andi r24, (1 << F_SLOW) | (1 << F_TURN)
+    breq take_fast
+    rjmp to_cold_z               /* slow, or DIR changes: the C path takes it */
+take_fast:
     clr r25
     std Z + S_READY, r25
     sts CUR + 1, r31
     sts CUR, r30
-    set                          /* T: switched (DIR may change below) */
 arm:
     push r26
     push r27
@@ -124,16 +125,6 @@ arm:
     std Z + S_RATE + 3, r24
 no_add:
     cbi _SFR_IO_ADDR(STEPPER_STEP_PORT), STEPPER_STEP_BIT
-    /* a new command may turn: DIR after STEP has fallen */
-    brtc dir_done
-    ldd r24, Z + S_FLAGS
-    sbrs r24, F_TURN
-    rjmp dir_done
-    sbrc r24, F_FORWARD
-    sbi _SFR_IO_ADDR(STEPPER_DIR_PORT), STEPPER_DIR_BIT
-    sbrs r24, F_FORWARD
-    cbi _SFR_IO_ADDR(STEPPER_DIR_PORT), STEPPER_DIR_BIT
-dir_done:
     /* late? edge - TCNT1 <= 0 (TCNT1L first: it latches the high byte) */
     lds r24, _SFR_MEM_ADDR(TCNT1L)
     lds r25, _SFR_MEM_ADDR(TCNT1H)

@@ -56,6 +56,7 @@
 #define STEPPER_DIR_PORT PORTF
 #define STEPPER_DIR_DDR DDRF
 #define STEPPER_DIR_BIT 1 /* D55 */
+#define STEPPER_DIR_ARDUINO_PIN 55 /* the same pin by its Arduino number (the lab sketches' dirPin) */
 #define STEPPER_ENABLE_PORT PORTD
 #define STEPPER_ENABLE_DDR DDRD
 #define STEPPER_ENABLE_BIT 7 /* D38, active low */
