@@ -326,10 +326,10 @@ uint32_t base_ahead(uint16_t ticks)
     return ((uint32_t)(uint16_t)(TCNT1 + ticks) << 16) | 0x8000UL;
 }
 
-/* A compare match that never came (seen in the emulator, where a compare register written close to
- * the timer's wrap can miss its match): the armed edge lies well in the past, no match is pending
- * and the interrupt has not moved on. Fire it now and count it as late, instead of waiting a whole
- * wrap. A first look with interrupts on (a torn read only costs the careful look below), so the
+/* A compare match that never came (libsimavr dropped some, after a timer wrap, until the harness
+ * modelled the chip there: tools/emu/emu_timer.c; kept as a safety net): the armed edge lies well
+ * in the past, no match is pending and the interrupt has not moved on. Fire it now and count it as
+ * late, instead of waiting a whole wrap. A first look with interrupts on (a torn read only costs the careful look below), so the
  * check, made on every service() call of every axis, does not delay step edges. */
 void catch_missed_match(uint8_t axis)
 {

@@ -335,10 +335,10 @@ static void start_stepping()
 }
 
 #if !STEPPER_TIMED_LOOP
-/* A compare match that never came (seen in the emulator, about once in 20,000 edges, when OCR1A
- * is written right at the timer's wrap): the armed edge lies well in the past, no match is
- * pending and the interrupt has not moved on. Fire it now and count it as late, instead of
- * waiting a whole wrap. Checked every 8th call, briefly with interrupts off. */
+/* A compare match that never came (libsimavr dropped some, after a timer wrap, until the harness
+ * modelled the chip there: tools/emu/emu_timer.c; kept as a safety net): the armed edge lies well
+ * in the past, no match is pending and the interrupt has not moved on. Fire it now and count it as
+ * late, instead of waiting a whole wrap. Checked every 8th call, briefly with interrupts off. */
 static void catch_missed_match()
 {
     static uint8_t every;
