@@ -64,10 +64,13 @@
 #endif
 
 /* The step engine's queues (MultiStepEngine.h): commands each axis's ring holds, and the size of
- * one axis's state (34 bytes of fields + 21 per slot), which MultiStepEngineIsr.S reserves. */
+ * one axis's state (34 bytes of fields + 18 per slot), which MultiStepEngineIsr.S reserves. Deep,
+ * because the end of a deceleration is one command per step (each a whole exact plan) on every axis
+ * at once: the queues must hold them before that end comes; three rings of 64 take 3.5 KB of the
+ * 8 KB of SRAM. */
 #ifndef MULTI_SLOTS
-#define MULTI_SLOTS 48
+#define MULTI_SLOTS 64
 #endif
-#define MULTI_AXIS_STATE_BYTES (34 + 21 * (MULTI_SLOTS))
+#define MULTI_AXIS_STATE_BYTES (34 + 18 * (MULTI_SLOTS))
 
 #endif

@@ -173,8 +173,6 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
     t.rate = c.rate;
     t.add = c.add;
     t.left = c.count - 1U; /* the first step is armed when the slot is taken */
-    t.count = c.count;
-    t.cmd_flags = c.flags;
     t.p_start = f.next_p_start;
     if (c.add != 0)
         fl |= _BV(AXIS_SLOT_HAS_ADD);
@@ -182,6 +180,7 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
         fl |= _BV(AXIS_SLOT_SLOW);
     if (c.flags & STEP_CMD_WIDE)
         fl |= _BV(AXIS_SLOT_WIDE);
+    fl |= (uint8_t)(STEP_CMD_PHASE(c.flags) << AXIS_SLOT_PHASE_SHIFT);
     if (forward)
         fl |= _BV(AXIS_SLOT_FORWARD);
     if ((uint8_t)forward != f.last_forward)
@@ -194,7 +193,8 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
 /* the last step of slot t is made and nothing follows: the move's end or an underrun */
 void stop_after(AxisState &s, const AxisSlot &t)
 {
-    s.pos_rest = t.p_start + ((t.flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)t.count : -(int32_t)t.count);
+    int32_t made = (int32_t)t.left + 1;
+    s.pos_rest = t.p_start + ((t.flags & _BV(AXIS_SLOT_FORWARD)) ? made : -made);
     s.running = 0;
     if (s.finishing) {
         s.finishing = 0;
@@ -570,7 +570,7 @@ static int32_t position_now(AxisState &s)
     uint16_t made;
     if (!s.running)
         return s.pos_rest;
-    made = t->count - 1U - s.left;
+    made = t->left - s.left;
     return t->p_start + ((t->flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)made : -(int32_t)made);
 }
 
@@ -626,7 +626,7 @@ uint8_t MultiStepEngine::phase(uint8_t axis)
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         if (s.running)
-            ph = STEP_CMD_PHASE(s.cur->cmd_flags);
+            ph = (uint8_t)((s.cur->flags >> AXIS_SLOT_PHASE_SHIFT) & 3U);
     }
     return ph;
 }

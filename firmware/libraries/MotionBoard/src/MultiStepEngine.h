@@ -32,7 +32,7 @@
 #define MULTI_AXES 3U
 
 /* MULTI_SLOTS (MultiAxisPins.h): commands each axis's ring holds (one is the interrupt's current
- * one); 21 bytes of SRAM each. */
+ * one); 18 bytes of SRAM each. */
 /* A move starts stepping once this many commands are laid out (or its planner has no more). */
 #ifndef MULTI_START_SLOTS
 #define MULTI_START_SLOTS 24U
@@ -52,6 +52,7 @@
 #define AXIS_SLOT_FORWARD 2 /* DIR level */
 #define AXIS_SLOT_TURN 3    /* DIR changes at this command */
 #define AXIS_SLOT_WIDE 4    /* rate in whole ticks (step_queue.h's STEP_CMD_WIDE) */
+#define AXIS_SLOT_PHASE_SHIFT 5 /* bits 5-6: the ramp phase (step_queue.h's STEP_CMD_PHASE), for `?` */
 struct AxisSlot {
     uint32_t rate;          /* +0  16.16 ticks (WIDE: whole ticks) */
     int32_t add;            /* +4 */
@@ -59,9 +60,7 @@ struct AxisSlot {
     uint8_t flags;          /* +10 AXIS_SLOT_* bits */
     volatile uint8_t ready; /* +11 laid out by loop(), not yet taken by the interrupt */
     AxisSlot *other;        /* +12 the next slot of the ring */
-    int32_t p_start;        /* position before the command's first step */
-    uint16_t count;
-    uint8_t cmd_flags;      /* the step_cmd_t flags */
+    int32_t p_start;        /* position before the command's first step (it makes left + 1) */
 };
 
 /* AxisState.mode: zero on the common path (the axis's own STEP pin, a normal command). */
