@@ -338,8 +338,8 @@ def multi_section(motionsim, out_dir, only):
         lines += [f"## {n}: several axes at once", "",
                   f"The reference move ({MOVE:,} steps from rest, acceleration vmax^2/10,000 steps/s^2) on each named axis, "
                   "every axis at the same rate: `coordinated` is one `move` (the axes start on one tick and share one "
-                  "profile; an axis moving as far as the first follows its interrupt), `independent` three separate "
-                  "targets (three planners, three interrupts). Errors in CPU cycles (= ticks at 16 MHz) against "
+                  "profile; an axis moving as far as the first follows its interrupt), `independent` separate "
+                  "targets (a planner and an interrupt each). Errors in CPU cycles (= ticks at 16 MHz) against "
                   "motionsim, aligned at the median edge (coordinated: one alignment for all axes); 'beyond 8' counts "
                   "edges more than 0.5 us off; 'end spread' is how far apart the axes' last edges are. Clean: every step, "
                   "no underrun; coordinated: the single-axis rule (at most 3 % beyond 8 cycles, each within "
