@@ -91,27 +91,57 @@ static uint64_t mulshr16(uint32_t m, uint64_t p)
 }
 
 /* y = sqrt(q / m) (m = 1 or 2), q known exactly modulo 2^64 and approximately as qf: a float
- * estimate corrected once by the exact residual q - m y^2. *inv gets about 1/y (for slopes). */
-static float s_inv; /* 1/y of the last root() (one division serves the correction and the slope) */
+ * estimate corrected once by the exact residual q - m y^2 (once per profile). */
 static uint64_t root(uint64_t q, float qf, uint8_t m)
 {
     float yf = sqrtf(m == 2 ? qf * 0.5f : qf), inv;
     uint64_t y0, sq;
     int64_t r;
     float corr;
-    if (!(yf >= 1.0f)) {
-        s_inv = 0.0f;
+    if (!(yf >= 1.0f))
         return q != 0 ? 1U : 0U;
-    }
     y0 = (uint64_t)yf;
     sq = square64(y0);
     if (m == 2)
         sq <<= 1;
     r = (int64_t)(q - sq);
     inv = 1.0f / yf;
-    s_inv = inv;
     corr = (float)r * inv * (m == 2 ? 0.25f : 0.5f);
     return y0 + (int64_t)(corr >= 0.0f ? corr + 0.5f : corr - 0.5f);
+}
+
+/* The per-command root: y = sqrt(q) as root(q, qf, 1) does, with the cheap conversions where the
+ * values allow them (the same integers either way), and *ih = 0.5/y (float) for the slope. */
+static uint64_t root_ih(uint64_t q, float qf, float *ih)
+{
+    float yf = sqrtf(qf), h, corr;
+    uint64_t y0, sq;
+    int64_t r;
+    u64w_t x;
+    if (!(yf >= 1.0f)) {
+        *ih = 0.0f;
+        return q != 0 ? 1U : 0U;
+    }
+    if (yf < 4294967040.0f) {
+        x.w[0] = (uint32_t)yf;
+        x.w[1] = 0;
+        y0 = x.u;
+        sq = mul32x32(x.w[0], x.w[0]);
+    } else {
+        y0 = (uint64_t)yf;
+        sq = square64(y0);
+    }
+    r = (int64_t)(q - sq);
+    h = 0.5f / yf;
+    *ih = h;
+    x.u = (uint64_t)r;
+    if (x.w[1] + (x.w[0] >> 31) == 0U) /* r fits an int32 */
+        corr = (float)(int32_t)x.w[0] * h;
+    else
+        corr = (float)r * h;
+    if (corr < 2.0e9f && corr > -2.0e9f)
+        return y0 + (uint64_t)(int64_t)(int32_t)corr;
+    return y0 + (uint64_t)(int64_t)corr;
 }
 
 /* a * b exactly, for a signed 32-bit a and an unsigned 32-bit b */
@@ -216,11 +246,154 @@ void step_exact_reset(step_exact_t *e, int32_t pos)
     e->y = 0;
     e->u_now = 0;
     e->moving = 0;
+    e->zfit_c = 0.0f;
 }
 
 static float p16_f(const step_exact_t *e)
 {
     return (float)e->k.p32 * (1.0f / 65536.0f);
+}
+
+/* ---- the span rule ---------------------------------------------------------------------------
+ * A quadratic command over l steps stays within about 0.4 tick of the time law when
+ * (l s)^3 <= FIT_GAIN y^2 at the tighter end of the span (s = C/(2y): the interval in u per step,
+ * y in u). With s put in, that is y^2 >= zfit l^(6/5), zfit = C^(6/5) (8 FIT_GAIN)^(-2/5): a
+ * threshold on the radicand q = y^2, which is linear in the step number. So each span 2^j has a
+ * step from which it fits (accelerating) or up to which it fits (decelerating), found with a few
+ * float operations when the span changes; per command the rule is an integer comparison. */
+
+/* 2^(6j/5): l^(6/5) for l = 2^j */
+static const float span_pow[8] = {1.0f, 2.29739671f, 5.27803164f, 12.1257325f,
+                                  27.857618f, 64.0f, 147.033389f, 337.794025f};
+
+static uint8_t log2u(uint32_t l)
+{
+    uint8_t b = 0;
+    while (l > 1U) {
+        l >>= 1;
+        b++;
+    }
+    return b;
+}
+
+/* x^(1/5) for x >= 1 (Newton's method on the mantissa; only + - * /, the same bits everywhere) */
+static float root5(float x)
+{
+    int ex, j, i;
+    float m = frexpf(x, &ex), t = 1.25f; /* x = m 2^ex */
+    j = ex / 5;
+    m = ldexpf(m, ex - 5 * j); /* 0.5 <= m < 16 */
+    for (i = 0; i < 5; i++) {
+        float t2 = t * t;
+        t = 0.8f * t + 0.2f * m / (t2 * t2);
+    }
+    return ldexpf(t, j);
+}
+
+/* the radicand from which the span 2^j fits */
+static float fit_q(const step_exact_t *e, uint32_t l)
+{
+    return e->zfit * span_pow[log2u(l)];
+}
+
+/* float steps -> uint32, x >= 0 (saturating) */
+static uint32_t steps_u32(float x)
+{
+    if (!(x > 0.0f))
+        return 0;
+    if (x >= 4.0e9f)
+        return UINT32_MAX;
+    return (uint32_t)x;
+}
+
+/* region A accelerating: the step from which the span after e->span fits */
+static uint32_t thr_grow(const step_exact_t *e)
+{
+    float x;
+    uint32_t t;
+    if (e->span >= SEG_MAX)
+        return UINT32_MAX;
+    x = (fit_q(e, e->span * 2U) - e->qbase_f) * e->inv_c;
+    if (!(x > 0.0f))
+        return 0;
+    t = steps_u32(x);
+    return t < UINT32_MAX ? t + 1U : t;
+}
+
+/* region A decelerating (from above vmax): e->span fits while n + span < thr */
+static uint32_t thr_a_down(const step_exact_t *e)
+{
+    return steps_u32((e->qbase_f - fit_q(e, e->span)) * e->inv_c);
+}
+
+/* region D: e->span fits while m (steps left) >= thr */
+static uint32_t thr_d(const step_exact_t *e)
+{
+    uint32_t x = steps_u32((fit_q(e, e->span) - e->qbase_f) * e->inv_c);
+    return x >= UINT32_MAX - SEG_MAX - 1U ? UINT32_MAX : x + 1U + e->span;
+}
+
+static void set_span(step_exact_t *e, uint32_t l)
+{
+    e->span = l;
+    e->cspan = e->k.cu << log2u(l);
+}
+
+/* a_down or D: halves the span until it fits */
+static void shrink_a_down(step_exact_t *e, uint32_t n)
+{
+    while (e->span > 1U && !(n + e->span < e->thr)) {
+        set_span(e, e->span >> 1);
+        e->thr = thr_a_down(e);
+    }
+}
+
+static void shrink_d(step_exact_t *e, uint32_t m)
+{
+    while (e->span > 1U && m < e->thr) {
+        set_span(e, e->span >> 1);
+        e->thr = thr_d(e);
+    }
+}
+
+/* the per-profile values the commands use */
+static void setup_caches(step_exact_t *e)
+{
+    const step_exact_consts_t *k = &e->k;
+    float usf = (float)e->us, p16 = (float)k->p32 * (1.0f / 65536.0f), bt;
+    uint32_t by_time;
+    if (e->zfit_c != k->cu_f) {
+        float g5 = root5(8.0f * FIT_GAIN);
+        e->zfit = k->cu_f * root5(k->cu_f) / (g5 * g5);
+        e->zfit_c = k->cu_f;
+    }
+    e->c256_f = k->cu_f * 256.0f;
+    e->inv_c = 1.0f / k->cu_f;
+    e->q_small = (e->us >> 32) == 0 && (e->up >> 32) == 0;
+    /* region A */
+    e->q = e->us2;
+    e->qbase_f = usf * usf;
+    if (e->a_down) {
+        set_span(e, SEG_MAX);
+        e->thr = thr_a_down(e);
+    } else {
+        /* from rest one step; when already moving, the span that fits there */
+        set_span(e, 1U);
+        e->thr = thr_grow(e);
+        while (e->span < SEG_MAX && e->thr == 0U) {
+            set_span(e, e->span * 2U);
+            e->thr = thr_grow(e);
+        }
+    }
+    /* cruise */
+    e->tc16 = (int64_t)((e->a_down ? e->us - e->up : e->up - e->us) << 8) -
+              (int64_t)((float)e->r1 / k->cu_f * p16);
+    e->tcr16 = 0;
+    e->cfrac = 0;
+    bt = (float)e->max_cmd_ticks * 65536.0f / p16;
+    by_time = bt < (float)CRUISE_MAX ? (uint32_t)bt : CRUISE_MAX;
+    e->ccap = by_time > 0U ? by_time : 1U;
+    e->cstep = mul64x32(k->p32, e->ccap);
 }
 
 /* sets up a profile of d steps in direction dir from speed us (d >= the stopping distance) */
@@ -282,6 +455,7 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
     e->n1 = n1;
     e->r1 = r1;
     e->up = up;
+    setup_caches(e);
 }
 
 motion_status_t step_exact_plan(step_exact_t *e, int32_t to)
@@ -333,27 +507,22 @@ float step_exact_speed_sps(const step_exact_t *e)
 
 /* ---- the time law ---------------------------------------------------------------------------- */
 
-/* region A: y at step n (sqrt(us^2 +- C n)) */
-static uint64_t y_a(const step_exact_t *e, uint32_t n)
+/* y at the end of a command of l steps in region A (down: decelerating) or D (down: m falls), from
+ * the radicand at its start (e->q): *q1 gets the new radicand, *ih 0.5/y. N is the step (A) or the
+ * steps left (D) at the end, for the float radicand when it does not convert exactly. */
+static uint64_t y_next(const step_exact_t *e, uint32_t l, uint8_t down, uint32_t nn, uint64_t *q1, float *ih)
 {
-    uint64_t q;
-    float qf = (float)e->us * (float)e->us;
-    float cn = e->k.cu_f * (float)n;
-    if (e->a_down) {
-        q = e->us2 - mul64x32(e->k.cu, n);
-        qf -= cn;
+    uint64_t cl = l == e->span ? e->cspan : e->k.cu << log2u(l);
+    uint64_t q = down ? e->q - cl : e->q + cl;
+    float qf;
+    if (e->q_small) {
+        qf = (float)q;
     } else {
-        q = e->us2 + mul64x32(e->k.cu, n);
-        qf += cn;
+        float cn = e->k.cu_f * (float)nn;
+        qf = (e->a_down && !e->in_d) ? e->qbase_f - cn : e->qbase_f + cn;
     }
-    return root(q, qf, 1);
-}
-
-/* region D: y at m steps before the end (sqrt(ue^2 + C m)) */
-static uint64_t y_d(const step_exact_t *e, uint32_t m)
-{
-    float qf = (float)e->ue * (float)e->ue + e->k.cu_f * (float)m;
-    return root(e->ue2 + mul64x32(e->k.cu, m), qf, 1);
+    *q1 = q;
+    return root_ih(q, qf, ih);
 }
 
 static int64_t t16_a(const step_exact_t *e, uint64_t y)
@@ -361,24 +530,9 @@ static int64_t t16_a(const step_exact_t *e, uint64_t y)
     return (int64_t)((e->a_down ? e->us - y : y - e->us) << 8);
 }
 
-static int64_t t16_cruise(const step_exact_t *e, uint32_t n)
-{
-    float f1p = (float)e->r1 / e->k.cu_f * p16_f(e);
-    return (int64_t)((e->a_down ? e->us - e->up : e->up - e->us) << 8) + (int64_t)mulshr16(n - e->n1, e->k.p32) -
-           (int64_t)f1p;
-}
-
 static int64_t t16_d(const step_exact_t *e, uint64_t y)
 {
     return e->t_end16 - (int64_t)((y - e->ue) << 8);
-}
-
-/* whether the quadratic over l steps stays within about 0.4 tick: (l s)^3 <= gain y^2
- * (s: interval in u per step, y in u, at the tighter end of the span) */
-static uint8_t span_fits(uint32_t l, float s, float y, float gain)
-{
-    float ls = (float)l * s;
-    return ls * ls * ls <= gain * y * y;
 }
 
 static uint32_t pow2_at_most(uint32_t lim)
@@ -389,51 +543,9 @@ static uint32_t pow2_at_most(uint32_t lim)
     return l;
 }
 
-/* accelerating: the allowed span only grows, so try twice the last one */
-static uint32_t span_growing(step_exact_t *e, float s, float y, uint32_t lim)
-{
-    uint32_t l = e->span, cap = pow2_at_most(lim);
-    if (l > cap)
-        l = cap;
-    if (l < cap && span_fits(l * 2U, s, y, FIT_GAIN))
-        l *= 2U;
-    if (l < 1U)
-        l = 1U;
-    e->span = l;
-    return l;
-}
-
-/* slowing down: the allowed span only shrinks; the bound is taken at the span's end, where y is
- * smallest (y^2 there is y^2 - C l, in region D and in a deceleration to vmax alike) */
-static uint32_t span_shrinking(step_exact_t *e, float y, uint32_t remain)
-{
-    uint32_t l = e->span, cap = pow2_at_most(remain);
-    if (l > cap)
-        l = cap;
-    while (l > 1U) {
-        float q_end = y * y - e->k.cu_f * (float)l;
-        float ye = q_end > 0.0f ? sqrtf(q_end) : 0.0f;
-        if (ye > 0.0f && span_fits(l, e->k.cu_f * 0.5f / ye, ye, FIT_GAIN))
-            break;
-        l >>= 1;
-    }
-    e->span = l;
-    return l;
-}
-
-static uint8_t log2u(uint32_t l)
-{
-    uint8_t b = 0;
-    while (l > 1U) {
-        l >>= 1;
-        b++;
-    }
-    return b;
-}
-
-/* one command of l steps ending at target time t16, intervals from slope s0 to s1 (16.16/step).
- * Returns 0 (nothing changed) when a span of l > 1 would need an interval outside 1..65535 ticks:
- * the caller then emits one step (a single step may be WIDE). */
+/* one command of l = 2^b steps ending at target time t16, intervals from slope s0 to s1 (16.16 per
+ * step). Returns 0 (nothing changed) when a span of l > 1 would need an interval outside
+ * 1..65535 ticks: the caller then emits one step (a single step may be WIDE). */
 static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, float s0, float s1)
 {
     int64_t dt = t16 - e->acc16;
@@ -443,19 +555,36 @@ static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, flo
         uint8_t b = log2u(l);
         float addf = ldexpf(s1 - s0, -(int)b);
         int32_t add;
-        int64_t tri, rate, last;
+        uint32_t tn = l * (l - 1U) / 2U;
+        u64w_t x;
         if (!(addf < 2.0e9f && addf > -2.0e9f))
             return 0;
         add = (int32_t)(addf >= 0.0f ? addf + 0.5f : addf - 0.5f);
-        tri = mul_s32_u32(add, l * (l - 1U) / 2U);
-        rate = (dt - tri + (int64_t)(l >> 1)) >> b;
-        last = rate + mul_s32_u32(add, l - 1U);
-        if (!(rate > 0 && last > 0 && rate <= (int64_t)RATE_LIMIT && last <= (int64_t)RATE_LIMIT))
-            return 0;
-        c->rate = (uint32_t)rate;
-        c->add = add;
-        e->acc16 += (rate << b) + tri;
-        return 1;
+        x.u = (uint64_t)dt;
+        if (x.w[1] == 0U && x.w[0] < 0x40000000UL && add < 0x10000L && add > -0x10000L) {
+            /* all in 32 bits: |tri| < 2^29, the same integers as below */
+            int32_t tri = add * (int32_t)tn;
+            int32_t v = (int32_t)x.w[0] - tri + (int32_t)(l >> 1);
+            int32_t rate = v >> b, last = rate + add * (int32_t)(l - 1U);
+            if (!(rate > 0 && last > 0))
+                return 0;
+            c->rate = (uint32_t)rate;
+            c->add = add;
+            /* acc + rate l + tri = t16 + l/2 - (v mod l) */
+            e->acc16 = t16 + (int32_t)((l >> 1) - ((uint32_t)v & (l - 1U)));
+            return 1;
+        }
+        {
+            int64_t tri = mul_s32_u32(add, tn);
+            int64_t rate = (dt - tri + (int64_t)(l >> 1)) >> b;
+            int64_t last = rate + mul_s32_u32(add, l - 1U);
+            if (!(rate > 0 && last > 0 && rate <= (int64_t)RATE_LIMIT && last <= (int64_t)RATE_LIMIT))
+                return 0;
+            c->rate = (uint32_t)rate;
+            c->add = add;
+            e->acc16 += (rate << b) + tri;
+            return 1;
+        }
     }
     c->count = 1;
     if (dt <= (int64_t)RATE_LIMIT) {
@@ -472,10 +601,64 @@ static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, flo
     return 1;
 }
 
+/* cruise: (n - n1) p32 after l more steps, kept as floor(/2^16) and the fraction */
+static void cruise_advance(const step_exact_t *e, uint32_t l, int64_t *tcr, uint16_t *frac)
+{
+    u64w_t x;
+    x.u = (l == e->ccap ? e->cstep : mul64x32(e->k.p32, l)) + e->cfrac;
+    *frac = (uint16_t)x.w[0];
+    *tcr = e->tcr16 + (int64_t)(x.u >> 16);
+}
+
+/* a flat cruise command of any l > 1 steps to t16: rate = round(dt / l), found from the rate
+ * floor(F/vmax) by at most a couple of corrections (no division); 0 when that does not apply */
+static uint8_t emit_flat(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16)
+{
+    u64w_t p, x;
+    int32_t rem;
+    uint32_t rate, half = l >> 1;
+    uint8_t i;
+    p.u = e->k.p32;
+    if ((p.w[1] >> 16) != 0U)
+        return 0; /* an interval beyond 65535 ticks */
+    rate = (p.w[1] << 16) | (p.w[0] >> 16);
+    {
+        /* l rate (l <= CRUISE_MAX: 16 x 16 bit products) */
+        uint32_t hi = (uint32_t)(uint16_t)p.w[1] * (uint16_t)l, lo = (uint32_t)(uint16_t)(p.w[0] >> 16) * (uint16_t)l;
+        u64w_t lr;
+        lr.w[0] = hi << 16;
+        lr.w[1] = hi >> 16;
+        lr.w[0] += lo;
+        lr.w[1] += lr.w[0] < lo;
+        x.u = (uint64_t)(t16 - e->acc16) - lr.u;
+    }
+    if (x.w[1] + (x.w[0] >> 31) != 0U)
+        return 0;
+    rem = (int32_t)x.w[0]; /* dt - l rate */
+    for (i = 0; i < 3U; i++) {
+        if (rem >= (int32_t)(l - half)) {
+            rem -= (int32_t)l;
+            rate++;
+        } else if (rem < -(int32_t)half) {
+            rem += (int32_t)l;
+            rate--;
+        } else {
+            break;
+        }
+    }
+    if (i == 3U || rate == 0U || rate > (uint32_t)RATE_LIMIT)
+        return 0;
+    c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
+    c->count = (uint16_t)l;
+    c->rate = rate;
+    c->add = 0;
+    e->acc16 = t16 - rem;
+    return 1;
+}
+
 uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
 {
     uint32_t n = e->n, l;
-    const float k16 = 256.0f; /* u per step -> 16.16 per step */
     if (n >= e->d) {
         if (e->d != 0)
             e->moving = 0;
@@ -483,75 +666,102 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
     }
     if (n < e->n1) {
         /* region A */
-        float yf = (float)e->y, s;
-        uint64_t y1;
+        uint64_t y1, q1;
+        float ih, s0;
         uint32_t lim = e->n1 - n;
         if (!e->slope_ok)
-            e->slope = yf > 0.0f ? e->k.cu_f * 0.5f / yf : 0.0f;
-        s = e->slope;
-        if (yf <= 0.0f)
+            e->slope = e->y > 0 ? e->c256_f * 0.5f / (float)e->y : 0.0f;
+        s0 = e->slope;
+        if (e->y == 0) {
             l = 1;
-        else if (e->a_down)
-            l = span_shrinking(e, yf, lim);
-        else
-            l = span_growing(e, s, yf, lim);
+        } else {
+            if (e->a_down)
+                shrink_a_down(e, n);
+            else if (e->span < SEG_MAX && n >= e->thr) {
+                set_span(e, e->span * 2U);
+                e->thr = thr_grow(e);
+            }
+            l = e->span;
+            if (l > lim)
+                l = pow2_at_most(lim);
+        }
         for (;;) {
-            y1 = y_a(e, n + l);
-            e->slope = e->k.cu_f * 0.5f * s_inv;
-            if (emit(e, c, l, t16_a(e, y1), s * k16, e->slope * k16))
+            y1 = y_next(e, l, e->a_down, n + l, &q1, &ih);
+            e->slope = e->c256_f * ih;
+            if (emit(e, c, l, t16_a(e, y1), s0, e->slope))
                 break;
             l = 1;
-            e->span = 1;
+            set_span(e, 1U); /* intervals too long for a span: single steps, growing again */
+            e->thr = e->a_down ? UINT32_MAX : n + 1U;
         }
+        e->q = q1;
         e->slope_ok = 1;
         e->y = y1;
         e->u_now = y1;
     } else if (n < e->n2) {
         /* cruise */
-        float p = p16_f(e);
-        uint32_t lim = e->n2 - n, cap = CRUISE_MAX;
-        uint32_t by_time = (uint32_t)((float)e->max_cmd_ticks * 65536.0f / p);
-        if (by_time < cap)
-            cap = by_time > 0 ? by_time : 1U;
-        l = lim < cap ? lim : cap;
+        uint32_t lim = e->n2 - n;
+        int64_t tcr;
+        uint16_t frac;
+        l = lim < e->ccap ? lim : e->ccap;
         if (n == e->n1)
             l = 1; /* the step that straddles the end of the acceleration */
-        if (l > 1U && (l & (l - 1U)) != 0) {
-            /* quadratic commands need a power of two (shift instead of division); a flat run
-             * may take any count: rate = round(dt / l) by the same rule */
-            uint32_t pw = 1;
-            while (pw * 2U <= l)
-                pw *= 2U;
-            l = pw;
+        cruise_advance(e, l, &tcr, &frac);
+        if (l == 1U || !emit_flat(e, c, l, e->tc16 + tcr)) {
+            if (l > 1U) {
+                /* the general way: a power of two (shift instead of division) */
+                l = pow2_at_most(l < SEG_MAX ? l : SEG_MAX);
+                cruise_advance(e, l, &tcr, &frac);
+            }
+            {
+                float p = (float)e->k.p32 * (1.0f / 65536.0f);
+                if (!emit(e, c, l, e->tc16 + tcr, p, p)) {
+                    l = 1;
+                    cruise_advance(e, 1U, &tcr, &frac);
+                    (void)emit(e, c, 1, e->tc16 + tcr, p, p);
+                }
+            }
         }
-        if (!emit(e, c, l, t16_cruise(e, n + l), p, p)) {
-            l = 1;
-            (void)emit(e, c, 1, t16_cruise(e, n + 1), p, p);
-        }
+        e->tcr16 = tcr;
+        e->cfrac = frac;
         e->u_now = e->up;
         e->y = 0;
         e->slope_ok = 0;
     } else {
         /* region D */
         uint32_t m = e->d - n;
-        float yf, s;
-        uint64_t y1;
+        uint64_t y1, q1;
+        float ih, s0;
         if (e->y == 0 || n == e->n2 || !e->in_d) {
-            e->y = y_d(e, m);
-            e->slope = e->k.cu_f * 0.5f * s_inv;
-            e->span = SEG_MAX; /* the largest span is at the start of the deceleration */
+            float f;
             e->in_d = 1;
+            e->qbase_f = (float)e->ue * (float)e->ue;
+            e->q = e->ue2 + mul64x32(e->k.cu, m);
+            f = e->qbase_f + e->k.cu_f * (float)m;
+            e->y = root_ih(e->q, e->q_small ? (float)e->q : f, &ih);
+            e->slope = e->c256_f * ih;
+            set_span(e, SEG_MAX); /* the largest span is at the start of the deceleration */
+            e->thr = thr_d(e);
         }
-        yf = (float)e->y;
-        s = e->slope;
-        l = n == e->n2 ? 1U : span_shrinking(e, yf, m);
+        s0 = e->slope;
+        if (n == e->n2) {
+            l = 1;
+        } else {
+            shrink_d(e, m);
+            l = e->span;
+            if (l > m)
+                l = pow2_at_most(m);
+        }
         for (;;) {
-            y1 = y_d(e, m - l);
-            e->slope = y1 > 0 ? e->k.cu_f * 0.5f * s_inv : s;
-            if (emit(e, c, l, t16_d(e, y1), s * k16, e->slope * k16))
+            y1 = y_next(e, l, 1, m - l, &q1, &ih);
+            e->slope = y1 > 0 ? e->c256_f * ih : s0;
+            if (emit(e, c, l, t16_d(e, y1), s0, e->slope))
                 break;
             l = 1;
+            set_span(e, 1U); /* spans only shrink here */
+            e->thr = 0;
         }
+        e->q = q1;
         e->y = y1;
         e->u_now = y1;
     }

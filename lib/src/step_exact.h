@@ -66,10 +66,27 @@ typedef struct {
     int64_t acc16;    /* predicted executor time of step n, 2^-16 ticks from the profile start */
     uint64_t y;       /* sqrt(...) at step n in regions A and D (0: not known) */
     uint64_t u_now;   /* speed at step n, u */
-    float slope;      /* interval at step n, u per step (valid when slope_ok) */
-    uint32_t span;    /* steps of the last quadratic command */
+    float slope;      /* interval at step n, 16.16 ticks per step (valid when slope_ok) */
+    uint32_t span;    /* steps the fit allows a quadratic command here (a power of two) */
+    uint32_t thr;     /* where that changes: the step (A accelerating: grow at n >= thr; A
+                         decelerating: shrink unless n + span < thr) or the steps left (D: shrink
+                         while m < thr) */
+    uint64_t q;       /* the radicand of y in regions A and D, exact modulo 2^64 */
+    uint64_t cspan;   /* C span */
+    float qbase_f;    /* us^2 (region A) or ue^2 (region D) as a float */
+    float c256_f;     /* 256 C, for the slopes in 16.16 */
+    float inv_c;      /* 1/C */
+    float zfit;       /* y^2 (u^2) from which one step fits: the span rule's scale (see step_exact.c) */
+    float zfit_c;     /* the C that zfit belongs to (0: none) */
+    /* cruise: T(n) = tc16 + ((n - n1) F/vmax in 2^-16 ticks), that product kept exactly */
+    int64_t tc16;
+    int64_t tcr16;    /* floor((n - n1) p32 / 2^16) */
+    uint64_t cstep;   /* ccap p32 */
+    uint32_t ccap;    /* steps of a full cruise command */
+    uint16_t cfrac;   /* (n - n1) p32 modulo 2^16 */
     uint8_t slope_ok;
     uint8_t in_d;     /* region D has started (its first y is known) */
+    uint8_t q_small;  /* every radicand of the profile is below 2^64 (then it converts exactly) */
     uint8_t moving;   /* u_now is a real speed (not at rest) */
 } step_exact_t;
 
