@@ -561,19 +561,23 @@ static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, flo
             return 0;
         add = (int32_t)(addf >= 0.0f ? addf + 0.5f : addf - 0.5f);
         x.u = (uint64_t)dt;
-        if (x.w[1] == 0U && x.w[0] < 0x40000000UL && add < 0x10000L && add > -0x10000L) {
-            /* all in 32 bits: |tri| < 2^29, the same integers as below */
-            int32_t tri = add * (int32_t)tn;
-            int32_t v = (int32_t)x.w[0] - tri + (int32_t)(l >> 1);
-            int32_t rate = v >> b, last = rate + add * (int32_t)(l - 1U);
-            if (!(rate > 0 && last > 0))
+        if (x.w[1] == 0U && add < 0x10000L && add > -0x10000L) {
+            /* 0 <= dt < 2^32 and |tri| < 2^29: in 32 bits, the same integers as below */
+            int32_t d2 = (int32_t)(l >> 1) - add * (int32_t)tn, dl = add * (int32_t)(l - 1U);
+            uint32_t v = x.w[0] + (uint32_t)d2, rate;
+            if (d2 >= 0 ? v < x.w[0] : v > x.w[0])
+                goto wide; /* v beyond 2^32 (or below 0: then rate <= 0) */
+            rate = v >> b;
+            if (rate == 0U || rate > (uint32_t)RATE_LIMIT ||
+                (dl < 0 ? rate <= (uint32_t)-dl : rate > (uint32_t)RATE_LIMIT - (uint32_t)dl))
                 return 0;
-            c->rate = (uint32_t)rate;
+            c->rate = rate;
             c->add = add;
             /* acc + rate l + tri = t16 + l/2 - (v mod l) */
-            e->acc16 = t16 + (int32_t)((l >> 1) - ((uint32_t)v & (l - 1U)));
+            e->acc16 = t16 + (int32_t)((l >> 1) - (v & (l - 1U)));
             return 1;
         }
+    wide:
         {
             int64_t tri = mul_s32_u32(add, tn);
             int64_t rate = (dt - tri + (int64_t)(l >> 1)) >> b;
