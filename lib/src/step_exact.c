@@ -59,6 +59,23 @@ static uint64_t mul32x32(uint32_t a, uint32_t b)
     return (uint64_t)a * b;
 }
 
+/* a + b and a - b modulo 2^64 by 32-bit halves (avr-gcc calls a library routine for uint64_t) */
+static uint64_t add64(uint64_t a, uint64_t b)
+{
+    return a + b;
+}
+
+static uint64_t sub64(uint64_t a, uint64_t b)
+{
+    return a - b;
+}
+
+/* a^2 for a 32-bit a, by 16 x 16-bit products */
+static uint64_t square32(uint32_t a)
+{
+    return mul32x32(a, a);
+}
+
 /* a * b modulo 2^64 */
 static uint64_t mul64x32(uint64_t a, uint32_t b)
 {
@@ -117,30 +134,29 @@ static uint64_t root_ih(uint64_t q, float qf, float *ih)
     float yf = sqrtf(qf), h, corr;
     uint64_t y0, sq;
     int64_t r;
-    u64w_t x;
+    uint32_t lo;
     if (!(yf >= 1.0f)) {
         *ih = 0.0f;
         return q != 0 ? 1U : 0U;
     }
     if (yf < 4294967040.0f) {
-        x.w[0] = (uint32_t)yf;
-        x.w[1] = 0;
-        y0 = x.u;
-        sq = mul32x32(x.w[0], x.w[0]);
+        lo = (uint32_t)yf;
+        y0 = lo;
+        sq = square32(lo);
     } else {
         y0 = (uint64_t)yf;
         sq = square64(y0);
     }
-    r = (int64_t)(q - sq);
+    r = (int64_t)sub64(q, sq);
     h = 0.5f / yf;
     *ih = h;
-    x.u = (uint64_t)r;
-    if (x.w[1] + (x.w[0] >> 31) == 0U) /* r fits an int32 */
-        corr = (float)(int32_t)x.w[0] * h;
+    if (r == (int32_t)r)
+        corr = (float)(int32_t)r * h;
     else
         corr = (float)r * h;
-    if (corr < 2.0e9f && corr > -2.0e9f)
+    if (corr < 2.0e9f && corr > -2.0e9f) {
         return y0 + (uint64_t)(int64_t)(int32_t)corr;
+    }
     return y0 + (uint64_t)(int64_t)corr;
 }
 
@@ -370,7 +386,9 @@ static void setup_caches(step_exact_t *e)
     e->c256_f = k->cu_f * 256.0f;
     e->inv_c = 1.0f / k->cu_f;
     e->q_small = (e->us >> 32) == 0 && (e->up >> 32) == 0;
-    /* region A */
+    /* region A: T(0) = 0 = acc16 */
+    e->err = 0;
+    e->err_ok = 1;
     e->q = e->us2;
     e->qbase_f = usf * usf;
     if (e->a_down) {
@@ -507,24 +525,6 @@ float step_exact_speed_sps(const step_exact_t *e)
 
 /* ---- the time law ---------------------------------------------------------------------------- */
 
-/* y at the end of a command of l steps in region A (down: decelerating) or D (down: m falls), from
- * the radicand at its start (e->q): *q1 gets the new radicand, *ih 0.5/y. N is the step (A) or the
- * steps left (D) at the end, for the float radicand when it does not convert exactly. */
-static uint64_t y_next(const step_exact_t *e, uint32_t l, uint8_t down, uint32_t nn, uint64_t *q1, float *ih)
-{
-    uint64_t cl = l == e->span ? e->cspan : e->k.cu << log2u(l);
-    uint64_t q = down ? e->q - cl : e->q + cl;
-    float qf;
-    if (e->q_small) {
-        qf = (float)q;
-    } else {
-        float cn = e->k.cu_f * (float)nn;
-        qf = (e->a_down && !e->in_d) ? e->qbase_f - cn : e->qbase_f + cn;
-    }
-    *q1 = q;
-    return root_ih(q, qf, ih);
-}
-
 static int64_t t16_a(const step_exact_t *e, uint64_t y)
 {
     return (int64_t)((e->a_down ? e->us - y : y - e->us) << 8);
@@ -605,6 +605,107 @@ static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, flo
     return 1;
 }
 
+/* emit for a command of 0 <= dt < 2^32 (16.16 ticks) in regions A and D, with the slopes as
+ * integers, all in 32 bits; updates acc16 and err. Returns 1, 0 (the span needs intervals outside
+ * 1..65535 ticks) or 2 (not for this path: the caller uses emit). */
+static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint32_t l, uint32_t dt, uint32_t s1i)
+{
+    int32_t errn;
+    c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
+    c->count = (uint16_t)l;
+    if (l > 1U) {
+        uint8_t b;
+        int32_t add, d2, dl;
+        uint32_t v, rate;
+        if ((s1i | e->slope_i) >= 0x40000000UL)
+            return 2;
+        b = log2u(l);
+        add = ((int32_t)(s1i - e->slope_i) + (int32_t)(l >> 1)) >> b; /* round((s1 - s0) / l) */
+        if (((uint32_t)(add < 0 ? -add : add) >> (30U - 2U * b)) != 0U)
+            return 2; /* |add l^2/2| from 2^29 */
+        d2 = (int32_t)(l >> 1) - add * (int32_t)(l * (l - 1U) / 2U);
+        dl = add * (int32_t)(l - 1U);
+        v = dt + (uint32_t)d2;
+        if (d2 >= 0 ? v < dt : v > dt)
+            return 2; /* beyond 2^32 (or below 0) */
+        rate = v >> b;
+        if (rate == 0U || rate > (uint32_t)RATE_LIMIT ||
+            (dl < 0 ? rate <= (uint32_t)-dl : rate > (uint32_t)RATE_LIMIT - (uint32_t)dl))
+            return 0;
+        c->rate = rate;
+        c->add = add;
+        /* acc + rate l + tri = acc + dt + l/2 - (v mod l) */
+        errn = (int32_t)(l >> 1) - (int32_t)(v & (l - 1U));
+    } else {
+        if (dt > (uint32_t)RATE_LIMIT)
+            return 2;
+        c->rate = dt > 0U ? dt : 1U;
+        c->add = 0;
+        errn = (int32_t)(c->rate - dt);
+    }
+    e->acc16 = (int64_t)add64((uint64_t)e->acc16, (uint64_t)(int64_t)((int64_t)dt + errn));
+    e->err = errn;
+    return 1;
+}
+
+/* the time law at y (region A or D) */
+static int64_t t16_y(const step_exact_t *e, uint64_t y)
+{
+    return e->in_d ? t16_d(e, y) : t16_a(e, y);
+}
+
+/* a float slope (16.16 per step) as an integer, 0x40000000 when not below that */
+static uint32_t slope_int(float s)
+{
+    return s < 1073741824.0f ? (uint32_t)s : 0x40000000UL;
+}
+
+/* one command of l = 2^b steps in region A or D (down: y falls), nn the step (A) or the steps
+ * left (D) at its end: y there exactly, then the quadratic between the slopes. 0: the span needs
+ * intervals outside 1..65535 ticks (nothing changed). */
+static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t down, uint32_t nn)
+{
+    uint64_t cl = l == e->span ? e->cspan : e->k.cu << log2u(l);
+    uint64_t q = down ? sub64(e->q, cl) : add64(e->q, cl), y1;
+    float qf, ih, s1;
+    uint32_t s1i;
+    uint8_t r = 2;
+    uint32_t y0l = (uint32_t)e->y, y1l;
+    if (e->q_small) {
+        qf = (float)q;
+    } else {
+        float cn = e->k.cu_f * (float)nn;
+        qf = e->in_d || !e->a_down ? e->qbase_f + cn : e->qbase_f - cn;
+    }
+    y1 = root_ih(q, qf, &ih);
+    s1 = (y1 > 0U || !e->in_d) ? e->c256_f * ih : e->slope;
+    s1i = slope_int(s1);
+    y1l = (uint32_t)y1;
+    if (e->err_ok && y1 == y1l && e->y == y0l) {
+        uint32_t dy = down ? y0l - y1l : y1l - y0l, t;
+        if (dy < 0x1000000UL) {
+            t = dy << 8;
+            /* dt = t16(y1) - acc16 = 256 dy - err */
+            if (e->err >= 0 ? t >= (uint32_t)e->err : t - (uint32_t)e->err >= t)
+                r = emit32(e, c, l, t - (uint32_t)e->err, s1i);
+        }
+    }
+    if (r == 2) {
+        int64_t t16 = t16_y(e, y1), er;
+        r = emit(e, c, l, t16, e->slope, s1);
+        er = e->acc16 - t16;
+        e->err = (int32_t)er;
+        e->err_ok = er == (int64_t)e->err;
+    }
+    if (!r)
+        return 0;
+    e->q = q;
+    e->y = y1;
+    e->slope = s1;
+    e->slope_i = s1i;
+    return 1;
+}
+
 /* cruise: (n - n1) p32 after l more steps, kept as floor(/2^16) and the fraction */
 static void cruise_advance(const step_exact_t *e, uint32_t l, int64_t *tcr, uint16_t *frac)
 {
@@ -670,12 +771,12 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
     }
     if (n < e->n1) {
         /* region A */
-        uint64_t y1, q1;
-        float ih, s0;
         uint32_t lim = e->n1 - n;
-        if (!e->slope_ok)
+        if (!e->slope_ok) {
             e->slope = e->y > 0 ? e->c256_f * 0.5f / (float)e->y : 0.0f;
-        s0 = e->slope;
+            e->slope_i = slope_int(e->slope);
+            e->slope_ok = 1;
+        }
         if (e->y == 0) {
             l = 1;
         } else {
@@ -689,19 +790,12 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
             if (l > lim)
                 l = pow2_at_most(lim);
         }
-        for (;;) {
-            y1 = y_next(e, l, e->a_down, n + l, &q1, &ih);
-            e->slope = e->c256_f * ih;
-            if (emit(e, c, l, t16_a(e, y1), s0, e->slope))
-                break;
+        while (!ramp_cmd(e, c, l, e->a_down, n + l)) {
             l = 1;
             set_span(e, 1U); /* intervals too long for a span: single steps, growing again */
             e->thr = e->a_down ? UINT32_MAX : n + 1U;
         }
-        e->q = q1;
-        e->slope_ok = 1;
-        e->y = y1;
-        e->u_now = y1;
+        e->u_now = e->y;
     } else if (n < e->n2) {
         /* cruise */
         uint32_t lim = e->n2 - n;
@@ -734,20 +828,22 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
     } else {
         /* region D */
         uint32_t m = e->d - n;
-        uint64_t y1, q1;
-        float ih, s0;
         if (e->y == 0 || n == e->n2 || !e->in_d) {
-            float f;
+            float f, ih;
+            int64_t er;
             e->in_d = 1;
             e->qbase_f = (float)e->ue * (float)e->ue;
             e->q = e->ue2 + mul64x32(e->k.cu, m);
             f = e->qbase_f + e->k.cu_f * (float)m;
             e->y = root_ih(e->q, e->q_small ? (float)e->q : f, &ih);
             e->slope = e->c256_f * ih;
+            e->slope_i = slope_int(e->slope);
+            er = e->acc16 - t16_d(e, e->y);
+            e->err = (int32_t)er;
+            e->err_ok = er == (int64_t)e->err;
             set_span(e, SEG_MAX); /* the largest span is at the start of the deceleration */
             e->thr = thr_d(e);
         }
-        s0 = e->slope;
         if (n == e->n2) {
             l = 1;
         } else {
@@ -756,18 +852,12 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
             if (l > m)
                 l = pow2_at_most(m);
         }
-        for (;;) {
-            y1 = y_next(e, l, 1, m - l, &q1, &ih);
-            e->slope = y1 > 0 ? e->c256_f * ih : s0;
-            if (emit(e, c, l, t16_d(e, y1), s0, e->slope))
-                break;
+        while (!ramp_cmd(e, c, l, 1, m - l)) {
             l = 1;
             set_span(e, 1U); /* spans only shrink here */
             e->thr = 0;
         }
-        e->q = q1;
-        e->y = y1;
-        e->u_now = y1;
+        e->u_now = e->y;
     }
     c->flags = (uint8_t)((c->flags & (uint8_t)~STEP_CMD_PHASE_MASK) |
                          ((uint8_t)(n < e->n1 ? (e->a_down ? RAMP_DECEL : RAMP_ACCEL)

@@ -84,6 +84,9 @@ typedef struct {
     uint64_t cstep;   /* ccap p32 */
     uint32_t ccap;    /* steps of a full cruise command */
     uint16_t cfrac;   /* (n - n1) p32 modulo 2^16 */
+    int32_t err;      /* acc16 - T(n) in 2^-16 ticks, in regions A and D (valid when err_ok) */
+    uint32_t slope_i; /* slope as an integer (valid when below 2^30) */
+    uint8_t err_ok;
     uint8_t slope_ok;
     uint8_t in_d;     /* region D has started (its first y is known) */
     uint8_t q_small;  /* every radicand of the profile is below 2^64 (then it converts exactly) */
