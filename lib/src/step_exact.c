@@ -412,6 +412,12 @@ static void setup_caches(step_exact_t *e)
     by_time = bt < (float)CRUISE_MAX ? (uint32_t)bt : CRUISE_MAX;
     e->ccap = by_time > 0U ? by_time : 1U;
     e->cstep = mul64x32(k->p32, e->ccap);
+    e->crate = (uint32_t)(k->p32 >> 16);
+    e->clr = (uint32_t)mul32x32(e->crate, e->ccap);
+    e->cst_hi = (uint32_t)(e->cstep >> 16);
+    e->cst_lo = (uint16_t)e->cstep;
+    e->cfast = e->ccap > 1U && (k->p32 >> 48) == 0U && (e->cstep >> 48) == 0U &&
+               mul32x32(e->crate, e->ccap) == e->clr;
 }
 
 /* sets up a profile of d steps in direction dir from speed us (d >= the stopping distance) */
@@ -715,31 +721,58 @@ static void cruise_advance(const step_exact_t *e, uint32_t l, int64_t *tcr, uint
     *tcr = e->tcr16 + (int64_t)(x.u >> 16);
 }
 
+/* a full cruise command (ccap steps) in 32 bits, from err = acc16 - T(n): rate = round(dt / l)
+ * from floor(F/vmax) by at most three corrections; 0 when that does not apply (nothing changed) */
+static uint8_t cruise_fast(step_exact_t *e, step_cmd_t *c)
+{
+    uint32_t f = (uint32_t)e->cfrac + e->cst_lo, delta = e->cst_hi + (f >> 16), l = e->ccap, half = l >> 1;
+    uint32_t rate = e->crate, used = e->clr;
+    int32_t rem = (int32_t)(delta - used) - e->err; /* dt - l rate, dt = delta - err (both near l F/vmax) */
+    uint8_t i;
+    for (i = 0; i < 3U; i++) {
+        if (rem >= (int32_t)(l - half)) {
+            rem -= (int32_t)l;
+            rate++;
+            used += l;
+        } else if (rem < -(int32_t)half) {
+            rem += (int32_t)l;
+            rate--;
+            used -= l;
+        } else {
+            break;
+        }
+    }
+    if (i == 3U || rate == 0U || rate > (uint32_t)RATE_LIMIT || (rate > e->crate && used < e->clr))
+        return 0;
+    c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
+    c->count = (uint16_t)l;
+    c->rate = rate;
+    c->add = 0;
+    e->acc16 = (int64_t)((uint64_t)e->acc16 + used);
+    e->err = -rem;
+    e->cfrac = (uint16_t)f;
+    return 1;
+}
+
 /* a flat cruise command of any l > 1 steps to t16: rate = round(dt / l), found from the rate
  * floor(F/vmax) by at most a couple of corrections (no division); 0 when that does not apply */
 static uint8_t emit_flat(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16)
 {
-    u64w_t p, x;
+    int64_t x;
     int32_t rem;
     uint32_t rate, half = l >> 1;
     uint8_t i;
-    p.u = e->k.p32;
-    if ((p.w[1] >> 16) != 0U)
+    if ((e->k.p32 >> 48) != 0U)
         return 0; /* an interval beyond 65535 ticks */
-    rate = (p.w[1] << 16) | (p.w[0] >> 16);
+    rate = (uint32_t)(e->k.p32 >> 16);
     {
-        /* l rate (l <= CRUISE_MAX: 16 x 16 bit products) */
-        uint32_t hi = (uint32_t)(uint16_t)p.w[1] * (uint16_t)l, lo = (uint32_t)(uint16_t)(p.w[0] >> 16) * (uint16_t)l;
-        u64w_t lr;
-        lr.w[0] = hi << 16;
-        lr.w[1] = hi >> 16;
-        lr.w[0] += lo;
-        lr.w[1] += lr.w[0] < lo;
-        x.u = (uint64_t)(t16 - e->acc16) - lr.u;
+        /* l rate (l <= CRUISE_MAX: 16 x 16-bit products) */
+        uint32_t hi = (uint32_t)(uint16_t)(rate >> 16) * (uint16_t)l, lo = (uint32_t)(uint16_t)rate * (uint16_t)l;
+        x = t16 - e->acc16 - (int64_t)(((uint64_t)hi << 16) + lo);
     }
-    if (x.w[1] + (x.w[0] >> 31) != 0U)
+    if (x != (int32_t)x)
         return 0;
-    rem = (int32_t)x.w[0]; /* dt - l rate */
+    rem = (int32_t)x; /* dt - l rate */
     for (i = 0; i < 3U; i++) {
         if (rem >= (int32_t)(l - half)) {
             rem -= (int32_t)l;
@@ -802,29 +835,40 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
         int64_t tcr;
         uint16_t frac;
         l = lim < e->ccap ? lim : e->ccap;
-        if (n == e->n1)
+        if (n == e->n1) {
             l = 1; /* the step that straddles the end of the acceleration */
-        cruise_advance(e, l, &tcr, &frac);
-        if (l == 1U || !emit_flat(e, c, l, e->tc16 + tcr)) {
-            if (l > 1U) {
-                /* the general way: a power of two (shift instead of division) */
-                l = pow2_at_most(l < SEG_MAX ? l : SEG_MAX);
-                cruise_advance(e, l, &tcr, &frac);
-            }
-            {
-                float p = (float)e->k.p32 * (1.0f / 65536.0f);
-                if (!emit(e, c, l, e->tc16 + tcr, p, p)) {
-                    l = 1;
-                    cruise_advance(e, 1U, &tcr, &frac);
-                    (void)emit(e, c, 1, e->tc16 + tcr, p, p);
+            e->err_ok = 0; /* err is region A's */
+            e->u_now = e->up;
+            e->y = 0;
+            e->slope_ok = 0;
+        }
+        if (!(l == e->ccap && e->cfast && e->err_ok && cruise_fast(e, c))) {
+            if (e->err_ok)
+                e->tcr16 = e->acc16 - e->err - e->tc16; /* T(n) = acc16 - err */
+            cruise_advance(e, l, &tcr, &frac);
+            if (l == 1U || !emit_flat(e, c, l, e->tc16 + tcr)) {
+                if (l > 1U) {
+                    /* the general way: a power of two (shift instead of division) */
+                    l = pow2_at_most(l < SEG_MAX ? l : SEG_MAX);
+                    cruise_advance(e, l, &tcr, &frac);
+                }
+                {
+                    float p = (float)e->k.p32 * (1.0f / 65536.0f);
+                    if (!emit(e, c, l, e->tc16 + tcr, p, p)) {
+                        l = 1;
+                        cruise_advance(e, 1U, &tcr, &frac);
+                        (void)emit(e, c, 1, e->tc16 + tcr, p, p);
+                    }
                 }
             }
+            e->tcr16 = tcr;
+            e->cfrac = frac;
+            {
+                int64_t er = e->acc16 - (e->tc16 + tcr);
+                e->err = (int32_t)er;
+                e->err_ok = er == (int64_t)e->err;
+            }
         }
-        e->tcr16 = tcr;
-        e->cfrac = frac;
-        e->u_now = e->up;
-        e->y = 0;
-        e->slope_ok = 0;
     } else {
         /* region D */
         uint32_t m = e->d - n;

@@ -84,6 +84,11 @@ typedef struct {
     uint64_t cstep;   /* ccap p32 */
     uint32_t ccap;    /* steps of a full cruise command */
     uint16_t cfrac;   /* (n - n1) p32 modulo 2^16 */
+    uint32_t crate;   /* floor(F/vmax), 16.16 */
+    uint32_t clr;     /* ccap crate */
+    uint32_t cst_hi;  /* cstep / 2^16 */
+    uint16_t cst_lo;  /* cstep modulo 2^16 */
+    uint8_t cfast;    /* full cruise commands fit 32 bits */
     int32_t err;      /* acc16 - T(n) in 2^-16 ticks, in regions A and D (valid when err_ok) */
     uint32_t slope_i; /* slope as an integer (valid when below 2^30) */
     uint8_t err_ok;
