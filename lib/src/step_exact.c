@@ -2,6 +2,7 @@
 #include "step_exact.h"
 
 #include <math.h>
+#include <string.h>
 
 #define SEG_MAX 128U       /* steps one quadratic command may span */
 #define CRUISE_MAX 4096U   /* steps one cruise command may span (rate rounding <= 2^-17 tick per step) */
@@ -57,6 +58,14 @@ typedef union {
 static uint64_t mul32x32(uint32_t a, uint32_t b)
 {
     return (uint64_t)a * b;
+}
+
+/* the bits of a float: for floats >= 0 their order is that of the floats (a cheap comparison) */
+static uint32_t fbits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
 }
 
 /* a + b and a - b modulo 2^64 by 32-bit halves (avr-gcc calls a library routine for uint64_t) */
@@ -385,7 +394,7 @@ static void setup_caches(step_exact_t *e)
     }
     e->c256_f = k->cu_f * 256.0f;
     e->inv_c = 1.0f / k->cu_f;
-    e->q_small = (e->us >> 32) == 0 && (e->up >> 32) == 0;
+    e->q_small = (e->us >> 31) == 0 && (e->up >> 31) == 0;
     /* region A: T(0) = 0 = acc16 */
     e->err = 0;
     e->err_ok = 1;
@@ -614,23 +623,21 @@ static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, flo
 /* emit for a command of 0 <= dt < 2^32 (16.16 ticks) in regions A and D, with the slopes as
  * integers, all in 32 bits; updates acc16 and err. Returns 1, 0 (the span needs intervals outside
  * 1..65535 ticks) or 2 (not for this path: the caller uses emit). */
-static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint32_t l, uint32_t dt, uint32_t s1i)
+static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t b, uint32_t dt, uint32_t s1i)
 {
     int32_t errn;
     c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
     c->count = (uint16_t)l;
     if (l > 1U) {
-        uint8_t b;
         int32_t add, d2, dl;
         uint32_t v, rate;
         if ((s1i | e->slope_i) >= 0x40000000UL)
             return 2;
-        b = log2u(l);
         add = ((int32_t)(s1i - e->slope_i) + (int32_t)(l >> 1)) >> b; /* round((s1 - s0) / l) */
         if (((uint32_t)(add < 0 ? -add : add) >> (30U - 2U * b)) != 0U)
             return 2; /* |add l^2/2| from 2^29 */
-        d2 = (int32_t)(l >> 1) - add * (int32_t)(l * (l - 1U) / 2U);
-        dl = add * (int32_t)(l - 1U);
+        dl = (int32_t)((uint32_t)add << b) - add;            /* add (l - 1) */
+        d2 = (int32_t)(l >> 1) - (int32_t)((uint32_t)dl << (b - 1U)); /* l/2 - add l (l - 1)/2 */
         v = dt + (uint32_t)d2;
         if (d2 >= 0 ? v < dt : v > dt)
             return 2; /* beyond 2^32 (or below 0) */
@@ -663,7 +670,7 @@ static int64_t t16_y(const step_exact_t *e, uint64_t y)
 /* a float slope (16.16 per step) as an integer, 0x40000000 when not below that */
 static uint32_t slope_int(float s)
 {
-    return s < 1073741824.0f ? (uint32_t)s : 0x40000000UL;
+    return fbits(s) < 0x4E800000UL ? (uint32_t)s : 0x40000000UL; /* s >= 0; 0x4E800000: 2^30 */
 }
 
 /* one command of l = 2^b steps in region A or D (down: y falls), nn the step (A) or the steps
@@ -675,8 +682,39 @@ static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t down
     uint64_t q = down ? sub64(e->q, cl) : add64(e->q, cl), y1;
     float qf, ih, s1;
     uint32_t s1i;
-    uint8_t r = 2;
+    uint8_t r = 2, b = log2u(l);
     uint32_t y0l = (uint32_t)e->y, y1l;
+    if (e->q_small && e->err_ok) {
+        /* y below 2^31, the residual an int32: root_ih's integers, in 32 bits */
+        float yf = sqrtf((float)q);
+        if (fbits(yf) >= 0x3F800000UL) { /* yf >= 1 */
+            uint32_t y0 = (uint32_t)yf;
+            int64_t rr = (int64_t)sub64(q, square32(y0));
+            float corr;
+            ih = 0.5f / yf;
+            corr = (rr == (int32_t)rr ? (float)(int32_t)rr : (float)rr) * ih;
+            if ((fbits(corr) & 0x7FFFFFFFUL) < 0x4E800000UL) { /* |corr| < 2^30 */
+                uint32_t dy, t;
+                y1l = y0 + (uint32_t)(int32_t)corr;
+                s1 = e->c256_f * ih;
+                s1i = slope_int(s1);
+                dy = down ? y0l - y1l : y1l - y0l;
+                t = dy << 8;
+                if (y1l != 0U && dy < 0x1000000UL && (e->err >= 0 ? t >= (uint32_t)e->err : t - (uint32_t)e->err >= t)) {
+                    r = emit32(e, c, l, b, t - (uint32_t)e->err, s1i);
+                    if (r == 0U)
+                        return 0;
+                    if (r == 1U) {
+                        e->q = q;
+                        e->y = y1l;
+                        e->slope = s1;
+                        e->slope_i = s1i;
+                        return 1;
+                    }
+                }
+            }
+        }
+    }
     if (e->q_small) {
         qf = (float)q;
     } else {
@@ -693,7 +731,7 @@ static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t down
             t = dy << 8;
             /* dt = t16(y1) - acc16 = 256 dy - err */
             if (e->err >= 0 ? t >= (uint32_t)e->err : t - (uint32_t)e->err >= t)
-                r = emit32(e, c, l, t - (uint32_t)e->err, s1i);
+                r = emit32(e, c, l, b, t - (uint32_t)e->err, s1i);
         }
     }
     if (r == 2) {

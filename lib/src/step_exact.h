@@ -94,7 +94,7 @@ typedef struct {
     uint8_t err_ok;
     uint8_t slope_ok;
     uint8_t in_d;     /* region D has started (its first y is known) */
-    uint8_t q_small;  /* every radicand of the profile is below 2^64 (then it converts exactly) */
+    uint8_t q_small;  /* every y of the profile is below 2^31 (the radicand converts exactly) */
     uint8_t moving;   /* u_now is a real speed (not at rest) */
 } step_exact_t;
 
