@@ -4,9 +4,12 @@
 #include <math.h>
 #include <string.h>
 
-#define SEG_MAX 128U       /* steps one quadratic command may span */
+#define SEG_B 7U           /* a quadratic command spans at most 2^SEG_B steps */
 #define CRUISE_MAX 4096U   /* steps one cruise command may span (rate rounding <= 2^-17 tick per step) */
-#define FIT_GAIN 4000.0f   /* (L s)^3 <= FIT_GAIN y^2 keeps the quadratic within about 0.4 tick (test_step_planner) */
+/* (L s)^3 <= FIT_GAIN y^2 keeps a quadratic command within 0.0234 FIT_GAIN u (0.64 tick) of the
+ * time law (the span rule below); every other rounding stays far below the rest of the tick */
+#define FIT_GAIN 7000.0f
+#define FIT_K 0.0126102817f /* (8 FIT_GAIN)^(-2/5) */
 #define RATE_LIMIT 0xFFFF0000ULL /* largest normal rate (16.16): 65535 ticks */
 
 /* ---- exact fixed-point helpers ------------------------------------------------------------ */
@@ -66,23 +69,6 @@ static uint32_t fbits(float f)
     uint32_t u;
     memcpy(&u, &f, sizeof u);
     return u;
-}
-
-/* a + b and a - b modulo 2^64 by 32-bit halves (avr-gcc calls a library routine for uint64_t) */
-static uint64_t add64(uint64_t a, uint64_t b)
-{
-    return a + b;
-}
-
-static uint64_t sub64(uint64_t a, uint64_t b)
-{
-    return a - b;
-}
-
-/* a^2 for a 32-bit a, by 16 x 16-bit products */
-static uint64_t square32(uint32_t a)
-{
-    return mul32x32(a, a);
 }
 
 /* a * b modulo 2^64 */
@@ -151,12 +137,12 @@ static uint64_t root_ih(uint64_t q, float qf, float *ih)
     if (yf < 4294967040.0f) {
         lo = (uint32_t)yf;
         y0 = lo;
-        sq = square32(lo);
+        sq = mul32x32(lo, lo);
     } else {
         y0 = (uint64_t)yf;
         sq = square64(y0);
     }
-    r = (int64_t)sub64(q, sq);
+    r = (int64_t)(q - sq);
     h = 0.5f / yf;
     *ih = h;
     if (r == (int32_t)r)
@@ -216,8 +202,8 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     motion_status_t st = ramp_params_check(p);
     step_exact_consts_t k;
     float a, vmax, v0;
-    int ev, e0, ea;
-    uint32_t mv, m0, ma;
+    int ev, e0;
+    uint32_t mv, m0;
     uint64_t f = p ? p->tick_hz : 0;
     if (e == 0)
         return MS_ERR_NULL;
@@ -238,9 +224,6 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     if (!(vmax / a * (float)f <= 17179869184.0f))
         return MS_ERR_ACCEL_PHASE_TOO_LONG;
     mv = float_mant(vmax, &ev);
-    (void)ea;
-    ma = float_mant(a, &ea);
-    (void)ma;
     k.tick_hz = (uint32_t)f;
     k.cu = ratio64(2U * f * f, a, 16);          /* 2 F^2 / a, u^2 */
     k.vu = ratio64((uint64_t)mv * f, a, ev + 8);  /* vmax F / a, u */
@@ -260,6 +243,13 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     return MS_OK;
 }
 
+/* flags */
+#define F_ERR 0x01U    /* err holds acc16 - T(n) */
+#define F_SMALL 0x02U  /* every y of the profile is below 2^31 (then its radicand converts exactly) */
+#define F_CFAST 0x04U  /* a full cruise command fits 32 bits */
+#define F_SLOPE 0x08U  /* slope_i is that of step n */
+#define F_IN_D 0x10U   /* region D has started (its first y is known) */
+
 void step_exact_reset(step_exact_t *e, int32_t pos)
 {
     e->pos = pos;
@@ -269,9 +259,15 @@ void step_exact_reset(step_exact_t *e, int32_t pos)
     e->n1 = e->n2 = 0;
     e->acc16 = 0;
     e->y = 0;
-    e->u_now = 0;
     e->moving = 0;
-    e->zfit_c = 0.0f;
+}
+
+/* the speed after the last emitted step, u (0 at rest) */
+static uint64_t speed_u(const step_exact_t *e)
+{
+    if (!e->moving)
+        return 0;
+    return e->y != 0 ? e->y : e->up; /* y is 0 in the cruise */
 }
 
 static float p16_f(const step_exact_t *e)
@@ -280,48 +276,43 @@ static float p16_f(const step_exact_t *e)
 }
 
 /* ---- the span rule ---------------------------------------------------------------------------
- * A quadratic command over l steps stays within about 0.4 tick of the time law when
- * (l s)^3 <= FIT_GAIN y^2 at the tighter end of the span (s = C/(2y): the interval in u per step,
- * y in u). With s put in, that is y^2 >= zfit l^(6/5), zfit = C^(6/5) (8 FIT_GAIN)^(-2/5): a
- * threshold on the radicand q = y^2, which is linear in the step number. So each span 2^j has a
- * step from which it fits (accelerating) or up to which it fits (decelerating), found with a few
- * float operations when the span changes; per command the rule is an integer comparison. */
+ * The quadratic of a command (rate, add) follows the time law T = +-(y - y_0) between two exact
+ * points l steps apart, with the slopes of both ends; it deviates from it by at most about
+ * 0.008 |T^(3)| l^3 = 0.0234 (l s)^3 / y^2 u (s = C/(2y): the interval in u per step; y in u, at
+ * the end of the span where y is smallest). So l fits when (l s)^3 <= FIT_GAIN y^2; with s put in,
+ * when y^2 >= zfit l^(6/5), zfit = C^(6/5) (8 FIT_GAIN)^(-2/5): a threshold on the radicand q = y^2,
+ * which is linear in the step number. Each span 2^j thus has a step from which it fits
+ * (accelerating) or up to which it fits (decelerating), found with a few float operations when the
+ * span changes; per command the rule is an integer comparison. */
 
 /* 2^(6j/5): l^(6/5) for l = 2^j */
-static const float span_pow[8] = {1.0f, 2.29739671f, 5.27803164f, 12.1257325f,
-                                  27.857618f, 64.0f, 147.033389f, 337.794025f};
+static const float span_pow[SEG_B + 1U] = {1.0f, 2.29739671f, 5.27803164f, 12.1257325f,
+                                           27.857618f, 64.0f, 147.033389f, 337.794025f};
 
-static uint8_t log2u(uint32_t l)
-{
-    uint8_t b = 0;
-    while (l > 1U) {
-        l >>= 1;
-        b++;
-    }
-    return b;
-}
-
-/* x^(1/5) for x >= 1 (Newton's method on the mantissa; only + - * /, the same bits everywhere) */
+/* x^(1/5) for x >= 1, to a few 1e-4 (Newton's method on the mantissa; + - * / only: the same
+ * bits everywhere) */
 static float root5(float x)
 {
     int ex, j, i;
-    float m = frexpf(x, &ex), t = 1.25f; /* x = m 2^ex */
+    float m = frexpf(x, &ex), t; /* x = m 2^ex */
     j = ex / 5;
     m = ldexpf(m, ex - 5 * j); /* 0.5 <= m < 16 */
-    for (i = 0; i < 5; i++) {
+    t = 0.7f + 0.07f * m;
+    for (i = 0; i < 4; i++) {
         float t2 = t * t;
         t = 0.8f * t + 0.2f * m / (t2 * t2);
     }
     return ldexpf(t, j);
 }
 
-/* the radicand from which the span 2^j fits */
-static float fit_q(const step_exact_t *e, uint32_t l)
+/* the radicand at the start (A) or the end (D) as a float */
+static float qbase_f(const step_exact_t *e)
 {
-    return e->zfit * span_pow[log2u(l)];
+    float u = (float)((e->flags & F_IN_D) ? e->k.u0 : e->us);
+    return u * u;
 }
 
-/* float steps -> uint32, x >= 0 (saturating) */
+/* float steps -> uint32, saturating */
 static uint32_t steps_u32(float x)
 {
     if (!(x > 0.0f))
@@ -331,124 +322,59 @@ static uint32_t steps_u32(float x)
     return (uint32_t)x;
 }
 
-/* region A accelerating: the step from which the span after e->span fits */
+/* region A accelerating: the step from which the next span fits */
 static uint32_t thr_grow(const step_exact_t *e)
 {
     float x;
     uint32_t t;
-    if (e->span >= SEG_MAX)
+    if (e->span_b >= SEG_B)
         return UINT32_MAX;
-    x = (fit_q(e, e->span * 2U) - e->qbase_f) * e->inv_c;
+    x = (e->zfit * span_pow[e->span_b + 1U] - qbase_f(e)) / e->k.cu_f;
     if (!(x > 0.0f))
         return 0;
     t = steps_u32(x);
     return t < UINT32_MAX ? t + 1U : t;
 }
 
-/* region A decelerating (from above vmax): e->span fits while n + span < thr */
+/* region A decelerating (from above vmax): the span fits while n + span < thr */
 static uint32_t thr_a_down(const step_exact_t *e)
 {
-    return steps_u32((e->qbase_f - fit_q(e, e->span)) * e->inv_c);
+    return steps_u32((qbase_f(e) - e->zfit * span_pow[e->span_b]) / e->k.cu_f);
 }
 
-/* region D: e->span fits while m (steps left) >= thr */
+/* region D: the span fits while m (steps left) >= thr */
 static uint32_t thr_d(const step_exact_t *e)
 {
-    uint32_t x = steps_u32((fit_q(e, e->span) - e->qbase_f) * e->inv_c);
-    return x >= UINT32_MAX - SEG_MAX - 1U ? UINT32_MAX : x + 1U + e->span;
+    uint32_t x = steps_u32((e->zfit * span_pow[e->span_b] - qbase_f(e)) / e->k.cu_f);
+    return x >= UINT32_MAX - (1UL << SEG_B) - 1U ? UINT32_MAX : x + 1U + (1UL << e->span_b);
 }
 
-static void set_span(step_exact_t *e, uint32_t l)
+/* the largest b with 2^b <= lim (lim >= 1), at most SEG_B */
+static uint8_t b_at_most(uint32_t lim)
 {
-    e->span = l;
-    e->cspan = e->k.cu << log2u(l);
+    uint8_t b = SEG_B;
+    while ((1UL << b) > lim)
+        b--;
+    return b;
 }
 
-/* a_down or D: halves the span until it fits */
-static void shrink_a_down(step_exact_t *e, uint32_t n)
-{
-    while (e->span > 1U && !(n + e->span < e->thr)) {
-        set_span(e, e->span >> 1);
-        e->thr = thr_a_down(e);
-    }
-}
-
-static void shrink_d(step_exact_t *e, uint32_t m)
-{
-    while (e->span > 1U && m < e->thr) {
-        set_span(e, e->span >> 1);
-        e->thr = thr_d(e);
-    }
-}
-
-/* the per-profile values the commands use */
-static void setup_caches(step_exact_t *e)
-{
-    const step_exact_consts_t *k = &e->k;
-    float usf = (float)e->us, p16 = (float)k->p32 * (1.0f / 65536.0f), bt;
-    uint32_t by_time;
-    if (e->zfit_c != k->cu_f) {
-        float g5 = root5(8.0f * FIT_GAIN);
-        e->zfit = k->cu_f * root5(k->cu_f) / (g5 * g5);
-        e->zfit_c = k->cu_f;
-    }
-    e->c256_f = k->cu_f * 256.0f;
-    e->inv_c = 1.0f / k->cu_f;
-    e->q_small = (e->us >> 31) == 0 && (e->up >> 31) == 0;
-    /* region A: T(0) = 0 = acc16 */
-    e->err = 0;
-    e->err_ok = 1;
-    e->q = e->us2;
-    e->qbase_f = usf * usf;
-    if (e->a_down) {
-        set_span(e, SEG_MAX);
-        e->thr = thr_a_down(e);
-    } else {
-        /* from rest one step; when already moving, the span that fits there */
-        set_span(e, 1U);
-        e->thr = thr_grow(e);
-        while (e->span < SEG_MAX && e->thr == 0U) {
-            set_span(e, e->span * 2U);
-            e->thr = thr_grow(e);
-        }
-    }
-    /* cruise */
-    e->tc16 = (int64_t)((e->a_down ? e->us - e->up : e->up - e->us) << 8) -
-              (int64_t)((float)e->r1 / k->cu_f * p16);
-    e->tcr16 = 0;
-    e->cfrac = 0;
-    bt = (float)e->max_cmd_ticks * 65536.0f / p16;
-    by_time = bt < (float)CRUISE_MAX ? (uint32_t)bt : CRUISE_MAX;
-    e->ccap = by_time > 0U ? by_time : 1U;
-    e->cstep = mul64x32(k->p32, e->ccap);
-    e->crate = (uint32_t)(k->p32 >> 16);
-    e->clr = (uint32_t)mul32x32(e->crate, e->ccap);
-    e->cst_hi = (uint32_t)(e->cstep >> 16);
-    e->cst_lo = (uint16_t)e->cstep;
-    e->cfast = e->ccap > 1U && (k->p32 >> 48) == 0U && (e->cstep >> 48) == 0U &&
-               mul32x32(e->crate, e->ccap) == e->clr;
-}
+/* ---- setting up a profile ------------------------------------------------------------------ */
 
 /* sets up a profile of d steps in direction dir from speed us (d >= the stopping distance) */
 static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
 {
     const step_exact_consts_t *k = &e->k;
     uint64_t ue = k->u0, vu = k->vu, r1 = 0, r3 = 0, up;
-    uint32_t n1, n3;
+    uint32_t n1, n3, by_time;
     uint8_t trapezoid;
+    float p16 = p16_f(e), bt;
     e->dir = dir;
     e->d = d;
     e->n = 0;
     e->acc16 = 0;
     e->us = us;
-    e->ue = ue;
-    e->us2 = square64(us);
-    e->ue2 = square64(ue);
     e->y = us;
     e->a_down = us > vu;
-    e->span = e->a_down ? SEG_MAX : 1U;
-    e->slope_ok = 0;
-    e->in_d = 0;
     if (e->a_down) {
         n1 = steps_between(k, us, vu, &r1);
         n3 = steps_between(k, vu, ue, &r3);
@@ -473,7 +399,7 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
         m = d - n3 - n1;
         f = ((float)r1 + (float)r3) / k->cu_f;
         e->t_end16 = (int64_t)((e->a_down ? us - up : up - us) << 8) + (int64_t)mulshr16(m, k->p32) -
-                     (int64_t)(f * p16_f(e)) + (int64_t)((up - ue) << 8);
+                     (int64_t)(f * p16) + (int64_t)((up - ue) << 8);
     } else {
         float qf = (float)k->cu * (float)d + (float)us * (float)us + (float)ue * (float)ue;
         up = root(mul64x32(k->cu, d) + square64(us) + square64(ue), qf, 2);
@@ -486,9 +412,41 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
         e->t_end16 = (int64_t)(((up - us) + (up - ue)) << 8);
     }
     e->n1 = n1;
-    e->r1 = r1;
     e->up = up;
-    setup_caches(e);
+    e->flags = F_ERR; /* T(0) = 0 = acc16 */
+    if ((us >> 31) == 0 && (up >> 31) == 0)
+        e->flags |= F_SMALL;
+    e->err = 0;
+    e->zfit = k->cu_f * root5(k->cu_f) * FIT_K;
+    e->c256_f = k->cu_f * 256.0f;
+    /* region A */
+    e->q = square64(us);
+    if (e->a_down) {
+        e->span_b = SEG_B;
+        e->thr = thr_a_down(e);
+    } else {
+        /* from rest one step; when already moving, the span that fits there */
+        e->span_b = 0;
+        e->thr = thr_grow(e);
+        while (e->span_b < SEG_B && e->thr == 0U) {
+            e->span_b++;
+            e->thr = thr_grow(e);
+        }
+    }
+    /* cruise: T(n) = +-((up - us) << 8) - f1p + (n - n1) F/vmax */
+    e->f1p = (float)r1 / k->cu_f * p16;
+    bt = (float)e->max_cmd_ticks * 65536.0f / p16;
+    by_time = bt < (float)CRUISE_MAX ? (uint32_t)bt : CRUISE_MAX;
+    e->ccap = (uint16_t)(by_time > 0U ? by_time : 1U);
+    {
+        uint64_t cstep = mul64x32(k->p32, e->ccap); /* below max_cmd_ticks 2^32 */
+        uint64_t clr = mul32x32((uint32_t)(k->p32 >> 16), e->ccap);
+        e->cst_hi = (uint32_t)(cstep >> 16);
+        e->cst_lo = (uint16_t)cstep;
+        e->clr = (uint32_t)clr;
+        if (e->ccap > 1U && (k->p32 >> 48) == 0U && (cstep >> 48) == 0U && (clr >> 32) == 0U)
+            e->flags |= F_CFAST;
+    }
 }
 
 motion_status_t step_exact_plan(step_exact_t *e, int32_t to)
@@ -498,7 +456,7 @@ motion_status_t step_exact_plan(step_exact_t *e, int32_t to)
     if (e->moving) {
         if (dir != e->dir || step_exact_stop_steps(e) > d)
             return MS_ERR_BUSY;
-        setup_profile(e, dir, d, e->u_now);
+        setup_profile(e, dir, d, speed_u(e));
     } else {
         setup_profile(e, dir, d, e->k.u0);
     }
@@ -507,11 +465,11 @@ motion_status_t step_exact_plan(step_exact_t *e, int32_t to)
 
 uint32_t step_exact_stop_steps(const step_exact_t *e)
 {
-    uint64_t r;
+    uint64_t r, u = speed_u(e);
     uint32_t n;
-    if (!e->moving || e->u_now <= e->k.u0)
+    if (u <= e->k.u0)
         return 0;
-    n = steps_between(&e->k, e->u_now, e->k.u0, &r);
+    n = steps_between(&e->k, u, e->k.u0, &r);
     return n + (r > 0 && n < UINT32_MAX ? 1U : 0U);
 }
 
@@ -527,7 +485,7 @@ void step_exact_stop(step_exact_t *e)
         e->moving = 0;
         return;
     }
-    setup_profile(e, e->dir, ds, e->u_now);
+    setup_profile(e, e->dir, ds, speed_u(e));
 }
 
 float step_exact_speed_sps(const step_exact_t *e)
@@ -535,99 +493,78 @@ float step_exact_speed_sps(const step_exact_t *e)
     /* v = U a / F = U 2F / (C) (U in u, C in u^2): v = 2 F U / (256 C / 256) */
     if (!e->moving)
         return 0.0f;
-    return 2.0f * (float)e->k.tick_hz * (float)e->u_now * 256.0f / e->k.cu_f;
+    return 2.0f * (float)e->k.tick_hz * (float)speed_u(e) * 256.0f / e->k.cu_f;
 }
 
-/* ---- the time law ---------------------------------------------------------------------------- */
+/* ---- emitting commands ------------------------------------------------------------------------ */
 
-static int64_t t16_a(const step_exact_t *e, uint64_t y)
+static int64_t t16_y(const step_exact_t *e, uint64_t y)
 {
+    if (e->flags & F_IN_D)
+        return e->t_end16 - (int64_t)((y - e->k.u0) << 8);
     return (int64_t)((e->a_down ? e->us - y : y - e->us) << 8);
 }
 
-static int64_t t16_d(const step_exact_t *e, uint64_t y)
+/* the slope at step n as a float, 16.16 per step */
+static float slope_f(const step_exact_t *e)
 {
-    return e->t_end16 - (int64_t)((y - e->ue) << 8);
+    if (e->slope_i < 0x40000000UL)
+        return (float)e->slope_i;
+    return e->y > 0 ? e->c256_f * 0.5f / (float)e->y : 0.0f;
 }
 
-static uint32_t pow2_at_most(uint32_t lim)
+/* a float slope (>= 0) as an integer, 0x40000000 when not below that */
+static uint32_t slope_int(float s)
 {
-    uint32_t l = SEG_MAX;
-    while (l > lim)
-        l >>= 1;
-    return l;
+    return fbits(s) < 0x4E800000UL ? (uint32_t)s : 0x40000000UL; /* 0x4E800000: 2^30 */
 }
 
-/* one command of l = 2^b steps ending at target time t16, intervals from slope s0 to s1 (16.16 per
- * step). Returns 0 (nothing changed) when a span of l > 1 would need an interval outside
- * 1..65535 ticks: the caller then emits one step (a single step may be WIDE). */
-static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, float s0, float s1)
+/* one command of 2^b steps ending at target time t16, intervals from slope s0 to s1 (16.16 per
+ * step), in 64 bits. Returns 0 (nothing changed) when a span of l > 1 would need an interval
+ * outside 1..65535 ticks: the caller then emits one step (a single step may be WIDE). */
+static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint8_t b, int64_t t16, float s0, float s1)
 {
+    uint32_t l = 1UL << b;
     int64_t dt = t16 - e->acc16;
     c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
     c->count = (uint16_t)l;
+    c->add = 0;
     if (l > 1U) {
-        uint8_t b = log2u(l);
         float addf = ldexpf(s1 - s0, -(int)b);
         int32_t add;
-        uint32_t tn = l * (l - 1U) / 2U;
-        u64w_t x;
+        int64_t tri, rate, last;
         if (!(addf < 2.0e9f && addf > -2.0e9f))
             return 0;
         add = (int32_t)(addf >= 0.0f ? addf + 0.5f : addf - 0.5f);
-        x.u = (uint64_t)dt;
-        if (x.w[1] == 0U && add < 0x10000L && add > -0x10000L) {
-            /* 0 <= dt < 2^32 and |tri| < 2^29: in 32 bits, the same integers as below */
-            int32_t d2 = (int32_t)(l >> 1) - add * (int32_t)tn, dl = add * (int32_t)(l - 1U);
-            uint32_t v = x.w[0] + (uint32_t)d2, rate;
-            if (d2 >= 0 ? v < x.w[0] : v > x.w[0])
-                goto wide; /* v beyond 2^32 (or below 0: then rate <= 0) */
-            rate = v >> b;
-            if (rate == 0U || rate > (uint32_t)RATE_LIMIT ||
-                (dl < 0 ? rate <= (uint32_t)-dl : rate > (uint32_t)RATE_LIMIT - (uint32_t)dl))
-                return 0;
-            c->rate = rate;
-            c->add = add;
-            /* acc + rate l + tri = t16 + l/2 - (v mod l) */
-            e->acc16 = t16 + (int32_t)((l >> 1) - (v & (l - 1U)));
-            return 1;
-        }
-    wide:
-        {
-            int64_t tri = mul_s32_u32(add, tn);
-            int64_t rate = (dt - tri + (int64_t)(l >> 1)) >> b;
-            int64_t last = rate + mul_s32_u32(add, l - 1U);
-            if (!(rate > 0 && last > 0 && rate <= (int64_t)RATE_LIMIT && last <= (int64_t)RATE_LIMIT))
-                return 0;
-            c->rate = (uint32_t)rate;
-            c->add = add;
-            e->acc16 += (rate << b) + tri;
-            return 1;
-        }
-    }
-    c->count = 1;
-    if (dt <= (int64_t)RATE_LIMIT) {
+        tri = mul_s32_u32(add, l * (l - 1U) / 2U);
+        rate = (dt - tri + (int64_t)(l >> 1)) >> b;
+        last = rate + mul_s32_u32(add, l - 1U);
+        if (!(rate > 0 && last > 0 && rate <= (int64_t)RATE_LIMIT && last <= (int64_t)RATE_LIMIT))
+            return 0;
+        c->rate = (uint32_t)rate;
+        c->add = add;
+        e->acc16 += (rate << b) + tri;
+    } else if (dt <= (int64_t)RATE_LIMIT) {
         c->rate = (uint32_t)(dt > 0 ? dt : 1);
-        c->add = 0;
         e->acc16 += (int64_t)c->rate;
     } else {
         uint32_t w = (uint32_t)((dt + 0x8000) >> 16);
         c->flags |= STEP_CMD_WIDE;
         c->rate = w;
-        c->add = 0;
         e->acc16 += (int64_t)w << 16;
     }
     return 1;
 }
 
-/* emit for a command of 0 <= dt < 2^32 (16.16 ticks) in regions A and D, with the slopes as
- * integers, all in 32 bits; updates acc16 and err. Returns 1, 0 (the span needs intervals outside
- * 1..65535 ticks) or 2 (not for this path: the caller uses emit). */
-static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t b, uint32_t dt, uint32_t s1i)
+/* the same for 0 <= dt < 2^32 (16.16 ticks) with the slopes as integers, all in 32 bits; updates
+ * acc16 and err. Returns 1, 0 (as emit) or 2 (not for this path: the caller uses emit). */
+static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint8_t b, uint32_t dt, uint32_t s1i)
 {
+    uint32_t l = 1UL << b;
     int32_t errn;
     c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
     c->count = (uint16_t)l;
+    c->add = 0;
     if (l > 1U) {
         int32_t add, d2, dl;
         uint32_t v, rate;
@@ -636,7 +573,7 @@ static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t b, uin
         add = ((int32_t)(s1i - e->slope_i) + (int32_t)(l >> 1)) >> b; /* round((s1 - s0) / l) */
         if (((uint32_t)(add < 0 ? -add : add) >> (30U - 2U * b)) != 0U)
             return 2; /* |add l^2/2| from 2^29 */
-        dl = (int32_t)((uint32_t)add << b) - add;            /* add (l - 1) */
+        dl = (int32_t)((uint32_t)add << b) - add;                      /* add (l - 1) */
         d2 = (int32_t)(l >> 1) - (int32_t)((uint32_t)dl << (b - 1U)); /* l/2 - add l (l - 1)/2 */
         v = dt + (uint32_t)d2;
         if (d2 >= 0 ? v < dt : v > dt)
@@ -653,43 +590,28 @@ static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t b, uin
         if (dt > (uint32_t)RATE_LIMIT)
             return 2;
         c->rate = dt > 0U ? dt : 1U;
-        c->add = 0;
         errn = (int32_t)(c->rate - dt);
     }
-    e->acc16 = (int64_t)add64((uint64_t)e->acc16, (uint64_t)(int64_t)((int64_t)dt + errn));
+    e->acc16 += (int64_t)dt + errn;
     e->err = errn;
     return 1;
 }
 
-/* the time law at y (region A or D) */
-static int64_t t16_y(const step_exact_t *e, uint64_t y)
+/* one command of 2^b steps in region A or D (down: y falls), nn the step (A) or the steps left (D)
+ * at its end: y there exactly, then the quadratic between the slopes. 0: the span needs intervals
+ * outside 1..65535 ticks (nothing changed). */
+static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint8_t b, uint8_t down, uint32_t nn)
 {
-    return e->in_d ? t16_d(e, y) : t16_a(e, y);
-}
-
-/* a float slope (16.16 per step) as an integer, 0x40000000 when not below that */
-static uint32_t slope_int(float s)
-{
-    return fbits(s) < 0x4E800000UL ? (uint32_t)s : 0x40000000UL; /* s >= 0; 0x4E800000: 2^30 */
-}
-
-/* one command of l = 2^b steps in region A or D (down: y falls), nn the step (A) or the steps
- * left (D) at its end: y there exactly, then the quadratic between the slopes. 0: the span needs
- * intervals outside 1..65535 ticks (nothing changed). */
-static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t down, uint32_t nn)
-{
-    uint64_t cl = l == e->span ? e->cspan : e->k.cu << log2u(l);
-    uint64_t q = down ? sub64(e->q, cl) : add64(e->q, cl), y1;
+    uint64_t cl = e->k.cu << b, q = down ? e->q - cl : e->q + cl, y1;
     float qf, ih, s1;
     uint32_t s1i;
-    uint8_t r = 2, b = log2u(l);
-    uint32_t y0l = (uint32_t)e->y, y1l;
-    if (e->q_small && e->err_ok) {
-        /* y below 2^31, the residual an int32: root_ih's integers, in 32 bits */
+    uint8_t r = 2;
+    if ((e->flags & (F_SMALL | F_ERR)) == (F_SMALL | F_ERR)) {
+        /* y below 2^31: root_ih's integers, with the cheap conversions, and the time in 32 bits */
         float yf = sqrtf((float)q);
         if (fbits(yf) >= 0x3F800000UL) { /* yf >= 1 */
-            uint32_t y0 = (uint32_t)yf;
-            int64_t rr = (int64_t)sub64(q, square32(y0));
+            uint32_t y0 = (uint32_t)yf, y0l = (uint32_t)e->y, y1l;
+            int64_t rr = (int64_t)(q - mul32x32(y0, y0));
             float corr;
             ih = 0.5f / yf;
             corr = (rr == (int32_t)rr ? (float)(int32_t)rr : (float)rr) * ih;
@@ -700,14 +622,15 @@ static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t down
                 s1i = slope_int(s1);
                 dy = down ? y0l - y1l : y1l - y0l;
                 t = dy << 8;
-                if (y1l != 0U && dy < 0x1000000UL && (e->err >= 0 ? t >= (uint32_t)e->err : t - (uint32_t)e->err >= t)) {
-                    r = emit32(e, c, l, b, t - (uint32_t)e->err, s1i);
+                /* dt = T(y1) - acc16 = 256 dy - err */
+                if (y1l != 0U && dy < 0x1000000UL &&
+                    (e->err >= 0 ? t >= (uint32_t)e->err : t - (uint32_t)e->err >= t)) {
+                    r = emit32(e, c, b, t - (uint32_t)e->err, s1i);
                     if (r == 0U)
                         return 0;
                     if (r == 1U) {
                         e->q = q;
                         e->y = y1l;
-                        e->slope = s1;
                         e->slope_i = s1i;
                         return 1;
                     }
@@ -715,56 +638,36 @@ static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint32_t l, uint8_t down
             }
         }
     }
-    if (e->q_small) {
+    /* the general way (the same y, in 64 bits) */
+    if (e->flags & F_SMALL) {
         qf = (float)q;
     } else {
         float cn = e->k.cu_f * (float)nn;
-        qf = e->in_d || !e->a_down ? e->qbase_f + cn : e->qbase_f - cn;
+        qf = ((e->flags & F_IN_D) || !e->a_down) ? qbase_f(e) + cn : qbase_f(e) - cn;
     }
     y1 = root_ih(q, qf, &ih);
-    s1 = (y1 > 0U || !e->in_d) ? e->c256_f * ih : e->slope;
+    s1 = (y1 > 0U || !(e->flags & F_IN_D)) ? e->c256_f * ih : slope_f(e);
     s1i = slope_int(s1);
-    y1l = (uint32_t)y1;
-    if (e->err_ok && y1 == y1l && e->y == y0l) {
-        uint32_t dy = down ? y0l - y1l : y1l - y0l, t;
-        if (dy < 0x1000000UL) {
-            t = dy << 8;
-            /* dt = t16(y1) - acc16 = 256 dy - err */
-            if (e->err >= 0 ? t >= (uint32_t)e->err : t - (uint32_t)e->err >= t)
-                r = emit32(e, c, l, b, t - (uint32_t)e->err, s1i);
-        }
-    }
-    if (r == 2) {
+    {
         int64_t t16 = t16_y(e, y1), er;
-        r = emit(e, c, l, t16, e->slope, s1);
+        if (!emit(e, c, b, t16, slope_f(e), s1))
+            return 0;
         er = e->acc16 - t16;
         e->err = (int32_t)er;
-        e->err_ok = er == (int64_t)e->err;
+        e->flags = (uint8_t)((e->flags & ~F_ERR) | (er == (int64_t)e->err ? F_ERR : 0U));
     }
-    if (!r)
-        return 0;
     e->q = q;
     e->y = y1;
-    e->slope = s1;
     e->slope_i = s1i;
     return 1;
 }
 
-/* cruise: (n - n1) p32 after l more steps, kept as floor(/2^16) and the fraction */
-static void cruise_advance(const step_exact_t *e, uint32_t l, int64_t *tcr, uint16_t *frac)
-{
-    u64w_t x;
-    x.u = (l == e->ccap ? e->cstep : mul64x32(e->k.p32, l)) + e->cfrac;
-    *frac = (uint16_t)x.w[0];
-    *tcr = e->tcr16 + (int64_t)(x.u >> 16);
-}
-
-/* a full cruise command (ccap steps) in 32 bits, from err = acc16 - T(n): rate = round(dt / l)
- * from floor(F/vmax) by at most three corrections; 0 when that does not apply (nothing changed) */
+/* a full cruise command (ccap steps) in 32 bits from err = acc16 - T(n): rate = round(dt / l) from
+ * floor(F/vmax) by at most three corrections; 0 when that does not apply (nothing changed) */
 static uint8_t cruise_fast(step_exact_t *e, step_cmd_t *c)
 {
     uint32_t f = (uint32_t)e->cfrac + e->cst_lo, delta = e->cst_hi + (f >> 16), l = e->ccap, half = l >> 1;
-    uint32_t rate = e->crate, used = e->clr;
+    uint32_t rate0 = (uint32_t)(e->k.p32 >> 16), rate = rate0, used = e->clr;
     int32_t rem = (int32_t)(delta - used) - e->err; /* dt - l rate, dt = delta - err (both near l F/vmax) */
     uint8_t i;
     for (i = 0; i < 3U; i++) {
@@ -780,20 +683,20 @@ static uint8_t cruise_fast(step_exact_t *e, step_cmd_t *c)
             break;
         }
     }
-    if (i == 3U || rate == 0U || rate > (uint32_t)RATE_LIMIT || (rate > e->crate && used < e->clr))
+    if (i == 3U || rate == 0U || rate > (uint32_t)RATE_LIMIT || (rate > rate0 && used < e->clr))
         return 0;
     c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
     c->count = (uint16_t)l;
     c->rate = rate;
     c->add = 0;
-    e->acc16 = (int64_t)((uint64_t)e->acc16 + used);
+    e->acc16 += used;
     e->err = -rem;
     e->cfrac = (uint16_t)f;
     return 1;
 }
 
-/* a flat cruise command of any l > 1 steps to t16: rate = round(dt / l), found from the rate
- * floor(F/vmax) by at most a couple of corrections (no division); 0 when that does not apply */
+/* a flat cruise command of l > 1 steps (l <= CRUISE_MAX) to t16: rate = round(dt / l), found from
+ * floor(F/vmax) by at most three corrections (no division); 0 when that does not apply */
 static uint8_t emit_flat(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16)
 {
     int64_t x;
@@ -803,11 +706,7 @@ static uint8_t emit_flat(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16
     if ((e->k.p32 >> 48) != 0U)
         return 0; /* an interval beyond 65535 ticks */
     rate = (uint32_t)(e->k.p32 >> 16);
-    {
-        /* l rate (l <= CRUISE_MAX: 16 x 16-bit products) */
-        uint32_t hi = (uint32_t)(uint16_t)(rate >> 16) * (uint16_t)l, lo = (uint32_t)(uint16_t)rate * (uint16_t)l;
-        x = t16 - e->acc16 - (int64_t)(((uint64_t)hi << 16) + lo);
-    }
+    x = t16 - e->acc16 - (int64_t)mul32x32(rate, l);
     if (x != (int32_t)x)
         return 0;
     rem = (int32_t)x; /* dt - l rate */
@@ -832,6 +731,45 @@ static uint8_t emit_flat(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16
     return 1;
 }
 
+/* a cruise command from step n; returns its steps. T(n) = acc16 - err from step n1 + 1 on. */
+static uint32_t cruise_cmd(step_exact_t *e, step_cmd_t *c, uint32_t n)
+{
+    uint32_t lim = e->n2 - n, l = lim < e->ccap ? lim : e->ccap;
+    int64_t t0;
+    uint64_t x;
+    if (n == e->n1) {
+        /* the step that straddles the end of region A; T(n1) = +-(up - us) - (x1 - n1) F/vmax */
+        l = 1;
+        e->cfrac = 0;
+        t0 = (int64_t)((e->a_down ? e->us - e->up : e->up - e->us) << 8) - (int64_t)e->f1p;
+        e->y = 0;
+        e->flags &= (uint8_t)~F_SLOPE;
+    } else {
+        if (l == e->ccap && (e->flags & F_CFAST) && cruise_fast(e, c))
+            return l;
+        t0 = e->acc16 - e->err;
+    }
+    x = mul64x32(e->k.p32, l) + e->cfrac;
+    if (l == 1U || !emit_flat(e, c, l, t0 + (int64_t)(x >> 16))) {
+        float p = p16_f(e);
+        if (l > 1U) {
+            /* the general way: a power of two (shift instead of division) */
+            uint8_t b = b_at_most(l);
+            l = 1UL << b;
+            x = mul64x32(e->k.p32, l) + e->cfrac;
+            if (!emit(e, c, b, t0 + (int64_t)(x >> 16), p, p))
+                l = 1;
+        }
+        if (l == 1U) {
+            x = e->k.p32 + e->cfrac;
+            (void)emit(e, c, 0, t0 + (int64_t)(x >> 16), p, p);
+        }
+    }
+    e->cfrac = (uint16_t)x;
+    e->err = (int32_t)(e->acc16 - (t0 + (int64_t)(x >> 16))); /* within half a tick */
+    return l;
+}
+
 uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
 {
     uint32_t n = e->n, l;
@@ -843,103 +781,62 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
     if (n < e->n1) {
         /* region A */
         uint32_t lim = e->n1 - n;
-        if (!e->slope_ok) {
-            e->slope = e->y > 0 ? e->c256_f * 0.5f / (float)e->y : 0.0f;
-            e->slope_i = slope_int(e->slope);
-            e->slope_ok = 1;
+        uint8_t b = 0;
+        if (!(e->flags & F_SLOPE)) {
+            e->slope_i = slope_int(e->y > 0 ? e->c256_f * 0.5f / (float)e->y : 0.0f);
+            e->flags |= F_SLOPE;
         }
-        if (e->y == 0) {
-            l = 1;
-        } else {
-            if (e->a_down)
-                shrink_a_down(e, n);
-            else if (e->span < SEG_MAX && n >= e->thr) {
-                set_span(e, e->span * 2U);
+        if (e->y != 0) {
+            if (e->a_down) {
+                while (e->span_b > 0U && !(n + (1UL << e->span_b) < e->thr)) {
+                    e->span_b--;
+                    e->thr = thr_a_down(e);
+                }
+            } else if (e->span_b < SEG_B && n >= e->thr) {
+                e->span_b++;
                 e->thr = thr_grow(e);
             }
-            l = e->span;
-            if (l > lim)
-                l = pow2_at_most(lim);
+            b = (1UL << e->span_b) > lim ? b_at_most(lim) : e->span_b;
         }
-        while (!ramp_cmd(e, c, l, e->a_down, n + l)) {
-            l = 1;
-            set_span(e, 1U); /* intervals too long for a span: single steps, growing again */
+        while (!ramp_cmd(e, c, b, e->a_down, n + (1UL << b))) {
+            b = 0;
+            e->span_b = 0; /* intervals too long for a span: single steps, growing again */
             e->thr = e->a_down ? UINT32_MAX : n + 1U;
         }
-        e->u_now = e->y;
+        l = 1UL << b;
     } else if (n < e->n2) {
-        /* cruise */
-        uint32_t lim = e->n2 - n;
-        int64_t tcr;
-        uint16_t frac;
-        l = lim < e->ccap ? lim : e->ccap;
-        if (n == e->n1) {
-            l = 1; /* the step that straddles the end of the acceleration */
-            e->err_ok = 0; /* err is region A's */
-            e->u_now = e->up;
-            e->y = 0;
-            e->slope_ok = 0;
-        }
-        if (!(l == e->ccap && e->cfast && e->err_ok && cruise_fast(e, c))) {
-            if (e->err_ok)
-                e->tcr16 = e->acc16 - e->err - e->tc16; /* T(n) = acc16 - err */
-            cruise_advance(e, l, &tcr, &frac);
-            if (l == 1U || !emit_flat(e, c, l, e->tc16 + tcr)) {
-                if (l > 1U) {
-                    /* the general way: a power of two (shift instead of division) */
-                    l = pow2_at_most(l < SEG_MAX ? l : SEG_MAX);
-                    cruise_advance(e, l, &tcr, &frac);
-                }
-                {
-                    float p = (float)e->k.p32 * (1.0f / 65536.0f);
-                    if (!emit(e, c, l, e->tc16 + tcr, p, p)) {
-                        l = 1;
-                        cruise_advance(e, 1U, &tcr, &frac);
-                        (void)emit(e, c, 1, e->tc16 + tcr, p, p);
-                    }
-                }
-            }
-            e->tcr16 = tcr;
-            e->cfrac = frac;
-            {
-                int64_t er = e->acc16 - (e->tc16 + tcr);
-                e->err = (int32_t)er;
-                e->err_ok = er == (int64_t)e->err;
-            }
-        }
+        l = cruise_cmd(e, c, n);
     } else {
         /* region D */
         uint32_t m = e->d - n;
-        if (e->y == 0 || n == e->n2 || !e->in_d) {
-            float f, ih;
+        uint8_t b = 0;
+        if (n == e->n2 || !(e->flags & F_IN_D)) {
+            float ih, f;
             int64_t er;
-            e->in_d = 1;
-            e->qbase_f = (float)e->ue * (float)e->ue;
-            e->q = e->ue2 + mul64x32(e->k.cu, m);
-            f = e->qbase_f + e->k.cu_f * (float)m;
-            e->y = root_ih(e->q, e->q_small ? (float)e->q : f, &ih);
-            e->slope = e->c256_f * ih;
-            e->slope_i = slope_int(e->slope);
-            er = e->acc16 - t16_d(e, e->y);
+            e->flags |= F_IN_D;
+            e->q = square64(e->k.u0) + mul64x32(e->k.cu, m);
+            f = qbase_f(e) + e->k.cu_f * (float)m;
+            e->y = root_ih(e->q, (e->flags & F_SMALL) ? (float)e->q : f, &ih);
+            e->slope_i = slope_int(e->c256_f * ih);
+            er = e->acc16 - t16_y(e, e->y);
             e->err = (int32_t)er;
-            e->err_ok = er == (int64_t)e->err;
-            set_span(e, SEG_MAX); /* the largest span is at the start of the deceleration */
+            e->flags = (uint8_t)((e->flags & ~F_ERR) | (er == (int64_t)e->err ? F_ERR : 0U));
+            e->span_b = SEG_B; /* the largest span is at the start of the deceleration */
             e->thr = thr_d(e);
         }
-        if (n == e->n2) {
-            l = 1;
-        } else {
-            shrink_d(e, m);
-            l = e->span;
-            if (l > m)
-                l = pow2_at_most(m);
+        if (n != e->n2) {
+            while (e->span_b > 0U && m < e->thr) {
+                e->span_b--;
+                e->thr = thr_d(e);
+            }
+            b = (1UL << e->span_b) > m ? b_at_most(m) : e->span_b;
         }
-        while (!ramp_cmd(e, c, l, 1, m - l)) {
-            l = 1;
-            set_span(e, 1U); /* spans only shrink here */
+        while (!ramp_cmd(e, c, b, 1, m - (1UL << b))) {
+            b = 0;
+            e->span_b = 0; /* spans only shrink here */
             e->thr = 0;
         }
-        e->u_now = e->y;
+        l = 1UL << b;
     }
     c->flags = (uint8_t)((c->flags & (uint8_t)~STEP_CMD_PHASE_MASK) |
                          ((uint8_t)(n < e->n1 ? (e->a_down ? RAMP_DECEL : RAMP_ACCEL)
@@ -948,9 +845,7 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
     e->n = n + l;
     e->pos = ramp_position_after(e->pos, e->dir, l);
     e->moving = 1;
-    if (e->n >= e->d) {
+    if (e->n >= e->d)
         e->moving = 0;
-        e->u_now = 0;
-    }
     return 1;
 }

@@ -59,43 +59,27 @@ typedef struct {
     uint32_t n1;      /* steps 1..n1: region A (to the peak); n1 < n <= n2: cruise; after: decel */
     uint32_t n2;
     uint8_t a_down;   /* region A decelerates (u_s above vmax) */
-    uint64_t us, up, ue; /* speeds, u */
-    uint64_t us2, ue2;   /* their squares modulo 2^64 */
-    uint64_t r1;      /* C x1 - C n1: residual of the end of region A */
+    uint8_t moving;   /* the speed after step n is a real speed (not at rest) */
+    uint8_t flags;    /* step_exact.c's F_* */
+    uint8_t span_b;   /* the fit allows a quadratic command of 2^span_b steps here */
+    uint64_t us, up;  /* speeds at the start and at the peak, u (at the end: k.u0) */
     int64_t t_end16;  /* T_end, 2^-16 ticks */
     int64_t acc16;    /* predicted executor time of step n, 2^-16 ticks from the profile start */
-    uint64_t y;       /* sqrt(...) at step n in regions A and D (0: not known) */
-    uint64_t u_now;   /* speed at step n, u */
-    float slope;      /* interval at step n, 16.16 ticks per step (valid when slope_ok) */
-    uint32_t span;    /* steps the fit allows a quadratic command here (a power of two) */
-    uint32_t thr;     /* where that changes: the step (A accelerating: grow at n >= thr; A
+    uint64_t y;       /* sqrt(...) at step n in regions A and D (the speed there, u); 0 in the cruise */
+    uint64_t q;       /* its radicand, exact modulo 2^64 */
+    uint32_t thr;     /* where the span changes: the step (A accelerating: grow at n >= thr; A
                          decelerating: shrink unless n + span < thr) or the steps left (D: shrink
                          while m < thr) */
-    uint64_t q;       /* the radicand of y in regions A and D, exact modulo 2^64 */
-    uint64_t cspan;   /* C span */
-    float qbase_f;    /* us^2 (region A) or ue^2 (region D) as a float */
-    float c256_f;     /* 256 C, for the slopes in 16.16 */
-    float inv_c;      /* 1/C */
-    float zfit;       /* y^2 (u^2) from which one step fits: the span rule's scale (see step_exact.c) */
-    float zfit_c;     /* the C that zfit belongs to (0: none) */
-    /* cruise: T(n) = tc16 + ((n - n1) F/vmax in 2^-16 ticks), that product kept exactly */
-    int64_t tc16;
-    int64_t tcr16;    /* floor((n - n1) p32 / 2^16) */
-    uint64_t cstep;   /* ccap p32 */
-    uint32_t ccap;    /* steps of a full cruise command */
-    uint16_t cfrac;   /* (n - n1) p32 modulo 2^16 */
-    uint32_t crate;   /* floor(F/vmax), 16.16 */
-    uint32_t clr;     /* ccap crate */
-    uint32_t cst_hi;  /* cstep / 2^16 */
-    uint16_t cst_lo;  /* cstep modulo 2^16 */
-    uint8_t cfast;    /* full cruise commands fit 32 bits */
-    int32_t err;      /* acc16 - T(n) in 2^-16 ticks, in regions A and D (valid when err_ok) */
-    uint32_t slope_i; /* slope as an integer (valid when below 2^30) */
-    uint8_t err_ok;
-    uint8_t slope_ok;
-    uint8_t in_d;     /* region D has started (its first y is known) */
-    uint8_t q_small;  /* every y of the profile is below 2^31 (the radicand converts exactly) */
-    uint8_t moving;   /* u_now is a real speed (not at rest) */
+    int32_t err;      /* acc16 - T(n), 2^-16 ticks (the cruise: always; A and D: when F_ERR) */
+    uint32_t slope_i; /* the interval at step n, 16.16 ticks per step (0x40000000: that or more) */
+    float c256_f;     /* 256 C */
+    float zfit;       /* the span rule's scale: y^2 (u^2) from which one step fits (step_exact.c) */
+    float f1p;        /* (x1 - n1) F/vmax, 2^-16 ticks: where the cruise's line starts */
+    uint32_t clr;     /* ccap floor(F/vmax), 16.16 */
+    uint32_t cst_hi;  /* ccap F/vmax in 2^-16 ticks, and the fraction below */
+    uint16_t cst_lo;
+    uint16_t ccap;    /* steps of a full cruise command */
+    uint16_t cfrac;   /* (n - n1) F/vmax below 2^-16 ticks, in 2^-32 ticks */
 } step_exact_t;
 
 /* Converts and checks a parameter set (ramp_params_check, then the limits above). On error
