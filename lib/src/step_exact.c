@@ -6,10 +6,11 @@
 
 #define SEG_B 7U           /* a quadratic command spans at most 2^SEG_B steps */
 #define CRUISE_MAX 4096U   /* steps one cruise command may span (rate rounding <= 2^-17 tick per step) */
-/* (L s)^3 <= FIT_GAIN y^2 keeps a quadratic command within 0.0234 FIT_GAIN u (0.64 tick) of the
- * time law (the span rule below); every other rounding stays far below the rest of the tick */
-#define FIT_GAIN 7000.0f
-#define FIT_K 0.0126102817f /* (8 FIT_GAIN)^(-2/5) */
+/* (L s)^3 <= FIT_GAIN y^2 keeps a quadratic command within 0.0234 FIT_GAIN u (0.37 tick) of the
+ * time law (the span rule below). Not more: an edge may come at most half a tick early (the
+ * timeline starts half a tick in), or step_coord's path bound, D s(T + 1 tick), fails. */
+#define FIT_GAIN 4000.0f
+#define FIT_K 0.0157739336f /* (8 FIT_GAIN)^(-2/5) */
 #define RATE_LIMIT 0xFFFF0000ULL /* largest normal rate (16.16): 65535 ticks */
 
 /* ---- exact fixed-point helpers ------------------------------------------------------------ */
