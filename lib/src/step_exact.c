@@ -323,14 +323,16 @@ static uint32_t steps_u32(float x)
     return (uint32_t)x;
 }
 
+/* The thresholds, ic = 1/C (one division for a run of span changes). */
+
 /* region A accelerating: the step from which the next span fits */
-static uint32_t thr_grow(const step_exact_t *e)
+static uint32_t thr_grow(const step_exact_t *e, float ic)
 {
     float x;
     uint32_t t;
     if (e->span_b >= SEG_B)
         return UINT32_MAX;
-    x = (e->zfit * span_pow[e->span_b + 1U] - qbase_f(e)) / e->k.cu_f;
+    x = (e->zfit * span_pow[e->span_b + 1U] - qbase_f(e)) * ic;
     if (!(x > 0.0f))
         return 0;
     t = steps_u32(x);
@@ -338,15 +340,15 @@ static uint32_t thr_grow(const step_exact_t *e)
 }
 
 /* region A decelerating (from above vmax): the span fits while n + span < thr */
-static uint32_t thr_a_down(const step_exact_t *e)
+static uint32_t thr_a_down(const step_exact_t *e, float ic)
 {
-    return steps_u32((qbase_f(e) - e->zfit * span_pow[e->span_b]) / e->k.cu_f);
+    return steps_u32((qbase_f(e) - e->zfit * span_pow[e->span_b]) * ic);
 }
 
 /* region D: the span fits while m (steps left) >= thr */
-static uint32_t thr_d(const step_exact_t *e)
+static uint32_t thr_d(const step_exact_t *e, float ic)
 {
-    uint32_t x = steps_u32((e->zfit * span_pow[e->span_b] - qbase_f(e)) / e->k.cu_f);
+    uint32_t x = steps_u32((e->zfit * span_pow[e->span_b] - qbase_f(e)) * ic);
     return x >= UINT32_MAX - (1UL << SEG_B) - 1U ? UINT32_MAX : x + 1U + (1UL << e->span_b);
 }
 
@@ -368,7 +370,7 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
     uint64_t ue = k->u0, vu = k->vu, r1 = 0, r3 = 0, up;
     uint32_t n1, n3, by_time;
     uint8_t trapezoid;
-    float p16 = p16_f(e), bt;
+    float p16 = p16_f(e), bt, ic;
     e->dir = dir;
     e->d = d;
     e->n = 0;
@@ -422,16 +424,17 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
     e->c256_f = k->cu_f * 256.0f;
     /* region A */
     e->q = square64(us);
+    ic = 1.0f / k->cu_f;
     if (e->a_down) {
         e->span_b = SEG_B;
-        e->thr = thr_a_down(e);
+        e->thr = thr_a_down(e, ic);
     } else {
         /* from rest one step; when already moving, the span that fits there */
         e->span_b = 0;
-        e->thr = thr_grow(e);
+        e->thr = thr_grow(e, ic);
         while (e->span_b < SEG_B && e->thr == 0U) {
             e->span_b++;
-            e->thr = thr_grow(e);
+            e->thr = thr_grow(e, ic);
         }
     }
     /* cruise: T(n) = +-((up - us) << 8) - f1p + (n - n1) F/vmax */
@@ -603,52 +606,53 @@ static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint8_t b, uint32_t dt, ui
  * outside 1..65535 ticks (nothing changed). */
 static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint8_t b, uint8_t down, uint32_t nn)
 {
-    uint64_t cl = e->k.cu << b, q = down ? e->q - cl : e->q + cl, y1;
-    float qf, ih, s1;
-    uint32_t s1i;
-    uint8_t r = 2;
-    if ((e->flags & (F_SMALL | F_ERR)) == (F_SMALL | F_ERR)) {
-        /* y below 2^31: root_ih's integers, with the cheap conversions, and the time in 32 bits */
+    uint64_t cl = e->k.cu << b, q = down ? e->q - cl : e->q + cl, y1 = 0;
+    float ih, s1 = 0.0f;
+    uint32_t s1i = 0;
+    uint8_t have = 0;
+    if (e->flags & F_SMALL) {
+        /* y below 2^31: root_ih's integers with the cheap conversions, and the time in 32 bits */
         float yf = sqrtf((float)q);
         if (fbits(yf) >= 0x3F800000UL) { /* yf >= 1 */
-            uint32_t y0 = (uint32_t)yf, y0l = (uint32_t)e->y, y1l;
+            uint32_t y0 = (uint32_t)yf, y1l;
             int64_t rr = (int64_t)(q - mul32x32(y0, y0));
             float corr;
             ih = 0.5f / yf;
             corr = (rr == (int32_t)rr ? (float)(int32_t)rr : (float)rr) * ih;
             if ((fbits(corr) & 0x7FFFFFFFUL) < 0x4E800000UL) { /* |corr| < 2^30 */
-                uint32_t dy, t;
+                uint32_t dy, t, y0l = (uint32_t)e->y;
                 y1l = y0 + (uint32_t)(int32_t)corr;
-                s1 = e->c256_f * ih;
+                y1 = y1l;
+                s1 = (y1l != 0U || !(e->flags & F_IN_D)) ? e->c256_f * ih : slope_f(e);
                 s1i = slope_int(s1);
+                have = 1;
                 dy = down ? y0l - y1l : y1l - y0l;
                 t = dy << 8;
                 /* dt = T(y1) - acc16 = 256 dy - err */
-                if (y1l != 0U && dy < 0x1000000UL &&
+                if ((e->flags & F_ERR) && y1l != 0U && dy < 0x1000000UL &&
                     (e->err >= 0 ? t >= (uint32_t)e->err : t - (uint32_t)e->err >= t)) {
-                    r = emit32(e, c, b, t - (uint32_t)e->err, s1i);
+                    uint8_t r = emit32(e, c, b, t - (uint32_t)e->err, s1i);
                     if (r == 0U)
                         return 0;
-                    if (r == 1U) {
-                        e->q = q;
-                        e->y = y1l;
-                        e->slope_i = s1i;
-                        return 1;
-                    }
+                    if (r == 1U)
+                        goto done;
                 }
             }
         }
     }
-    /* the general way (the same y, in 64 bits) */
-    if (e->flags & F_SMALL) {
-        qf = (float)q;
-    } else {
-        float cn = e->k.cu_f * (float)nn;
-        qf = ((e->flags & F_IN_D) || !e->a_down) ? qbase_f(e) + cn : qbase_f(e) - cn;
+    if (!have) {
+        /* the general way (the same y, in 64 bits) */
+        float qf;
+        if (e->flags & F_SMALL) {
+            qf = (float)q;
+        } else {
+            float cn = e->k.cu_f * (float)nn;
+            qf = ((e->flags & F_IN_D) || !e->a_down) ? qbase_f(e) + cn : qbase_f(e) - cn;
+        }
+        y1 = root_ih(q, qf, &ih);
+        s1 = (y1 > 0U || !(e->flags & F_IN_D)) ? e->c256_f * ih : slope_f(e);
+        s1i = slope_int(s1);
     }
-    y1 = root_ih(q, qf, &ih);
-    s1 = (y1 > 0U || !(e->flags & F_IN_D)) ? e->c256_f * ih : slope_f(e);
-    s1i = slope_int(s1);
     {
         int64_t t16 = t16_y(e, y1), er;
         if (!emit(e, c, b, t16, slope_f(e), s1))
@@ -657,6 +661,7 @@ static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint8_t b, uint8_t down,
         e->err = (int32_t)er;
         e->flags = (uint8_t)((e->flags & ~F_ERR) | (er == (int64_t)e->err ? F_ERR : 0U));
     }
+done:
     e->q = q;
     e->y = y1;
     e->slope_i = s1i;
@@ -774,6 +779,7 @@ static uint32_t cruise_cmd(step_exact_t *e, step_cmd_t *c, uint32_t n)
 uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
 {
     uint32_t n = e->n, l;
+    uint8_t phase;
     if (n >= e->d) {
         if (e->d != 0)
             e->moving = 0;
@@ -789,13 +795,16 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
         }
         if (e->y != 0) {
             if (e->a_down) {
-                while (e->span_b > 0U && !(n + (1UL << e->span_b) < e->thr)) {
-                    e->span_b--;
-                    e->thr = thr_a_down(e);
+                if (e->span_b > 0U && !(n + (1UL << e->span_b) < e->thr)) {
+                    float ic = 1.0f / e->k.cu_f;
+                    do {
+                        e->span_b--;
+                        e->thr = thr_a_down(e, ic);
+                    } while (e->span_b > 0U && !(n + (1UL << e->span_b) < e->thr));
                 }
             } else if (e->span_b < SEG_B && n >= e->thr) {
                 e->span_b++;
-                e->thr = thr_grow(e);
+                e->thr = thr_grow(e, 1.0f / e->k.cu_f);
             }
             b = (1UL << e->span_b) > lim ? b_at_most(lim) : e->span_b;
         }
@@ -805,8 +814,10 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
             e->thr = e->a_down ? UINT32_MAX : n + 1U;
         }
         l = 1UL << b;
+        phase = e->a_down ? RAMP_DECEL : RAMP_ACCEL;
     } else if (n < e->n2) {
         l = cruise_cmd(e, c, n);
+        phase = RAMP_CRUISE;
     } else {
         /* region D */
         uint32_t m = e->d - n;
@@ -823,12 +834,15 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
             e->err = (int32_t)er;
             e->flags = (uint8_t)((e->flags & ~F_ERR) | (er == (int64_t)e->err ? F_ERR : 0U));
             e->span_b = SEG_B; /* the largest span is at the start of the deceleration */
-            e->thr = thr_d(e);
+            e->thr = thr_d(e, 1.0f / e->k.cu_f);
         }
         if (n != e->n2) {
-            while (e->span_b > 0U && m < e->thr) {
-                e->span_b--;
-                e->thr = thr_d(e);
+            if (e->span_b > 0U && m < e->thr) {
+                float ic = 1.0f / e->k.cu_f;
+                do {
+                    e->span_b--;
+                    e->thr = thr_d(e, ic);
+                } while (e->span_b > 0U && m < e->thr);
             }
             b = (1UL << e->span_b) > m ? b_at_most(m) : e->span_b;
         }
@@ -838,11 +852,9 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
             e->thr = 0;
         }
         l = 1UL << b;
+        phase = RAMP_DECEL;
     }
-    c->flags = (uint8_t)((c->flags & (uint8_t)~STEP_CMD_PHASE_MASK) |
-                         ((uint8_t)(n < e->n1 ? (e->a_down ? RAMP_DECEL : RAMP_ACCEL)
-                                              : (n < e->n2 ? RAMP_CRUISE : RAMP_DECEL))
-                          << STEP_CMD_PHASE_SHIFT));
+    c->flags |= (uint8_t)(phase << STEP_CMD_PHASE_SHIFT); /* the emitters leave the phase bits 0 */
     e->n = n + l;
     e->pos = ramp_position_after(e->pos, e->dir, l);
     e->moving = 1;
