@@ -123,8 +123,8 @@ static uint64_t root(uint64_t q, float qf, uint8_t m)
     return y0 + (int64_t)(corr >= 0.0f ? corr + 0.5f : corr - 0.5f);
 }
 
-/* The per-command root: y = sqrt(q) as root(q, qf, 1) does, with the cheap conversions where the
- * values allow them (the same integers either way), and *ih = 0.5/y (float) for the slope. */
+/* The per-command root: y = sqrt(q), the float estimate corrected once by the exact residual
+ * (the correction truncated: y within about one u), and *ih = 0.5/y (float) for the slope. */
 static uint64_t root_ih(uint64_t q, float qf, float *ih)
 {
     float yf = sqrtf(qf), h, corr;

@@ -14,16 +14,26 @@
  * How: the constants are exact 64-bit fixed point (1/256 tick) computed from the float parameters'
  * mantissas; each square root is a float estimate corrected once by its exact 64-bit residual
  * (Q - y^2 modulo 2^64), so no error accumulates, however long the move. Between exact points
- * the commands follow the time law as quadratics (rate + add per step, 16.16 ticks), over
- * 1 to 128 steps chosen so that the interpolation stays within about 0.4 tick; the executor's
- * time is predicted exactly, so the next command absorbs every rounding. Every step edge
- * floor(acc) is within 1 tick of round(F t_n) (test_step_planner: thousands of random moves).
+ * the commands follow the time law as quadratics (rate + add per step, 16.16 ticks), the slopes of
+ * both ends, over 2^j steps (1 to 128). The span rule, (l s)^3 <= 4000 y^2 at the tighter end
+ * (s the interval, y the time to stop, both in 1/256 tick), keeps the interpolation within 0.37
+ * tick, so an edge is never half a tick early (step_coord's path bound needs that); with s = C/(2y)
+ * it is a threshold on y^2, which is linear in the step number, so each span's first step
+ * (accelerating: spans only grow) or last step (decelerating: they only shrink) is worked out when
+ * the span changes, and a command only compares integers. The cruise goes in commands of
+ * max_cmd_ticks (at most 4096 steps, any count), rate = round(dt / count) found from floor(F/vmax)
+ * without a division. The executor's time is predicted exactly, so the next command absorbs every
+ * rounding. Every step edge floor(acc) is within 1 tick of round(F t_n) (test_step_planner:
+ * thousands of random moves).
  * Limits (step_exact_set_params refuses others, each with its own status): tick_hz <= 2^25;
  * accel >= 8 steps/s^2 at 16 MHz (8 (F/16 MHz)^2 in general, and >= 0.5: C below 2^46 ticks^2);
  * vmax/accel (the time to reach vmax from rest) at most 2^34 ticks (1073 s at 16 MHz); parameters
  * that overflow a float are refused as not finite.
- * Cost on the AVR: one square root, about a dozen 64-bit operations and a few float divisions
- * per command (`make bench` measures it); the cruise needs no square root.
+ * Cost on the AVR: an accelerating or decelerating command takes one square root, one float
+ * division and a few float multiplications and conversions; the rest is 32-bit integer work while
+ * the time to stop stays below 2^23 ticks and the command below 65536 ticks (64-bit otherwise). A
+ * cruise command is 32-bit integer work only; the first command of a deceleration and a change of
+ * span add a few float operations (`make bench` measures it all).
  */
 #ifndef STEP_EXACT_H
 #define STEP_EXACT_H
