@@ -286,6 +286,10 @@ static float p16_f(const step_exact_t *e)
  * (accelerating) or up to which it fits (decelerating), found with a few float operations when the
  * span changes; per command the rule is an integer comparison. */
 
+/* 2^j, for j up to SEG_B (a lookup: the AVR shifts one bit at a time) */
+static const uint8_t pow2_8[SEG_B + 1U] = {1, 2, 4, 8, 16, 32, 64, 128};
+#define SPAN(b) ((uint32_t)pow2_8[b])
+
 /* 2^(6j/5): l^(6/5) for l = 2^j */
 static const float span_pow[SEG_B + 1U] = {1.0f, 2.29739671f, 5.27803164f, 12.1257325f,
                                            27.857618f, 64.0f, 147.033389f, 337.794025f};
@@ -349,14 +353,14 @@ static uint32_t thr_a_down(const step_exact_t *e, float ic)
 static uint32_t thr_d(const step_exact_t *e, float ic)
 {
     uint32_t x = steps_u32((e->zfit * span_pow[e->span_b] - qbase_f(e)) * ic);
-    return x >= UINT32_MAX - (1UL << SEG_B) - 1U ? UINT32_MAX : x + 1U + (1UL << e->span_b);
+    return x >= UINT32_MAX - (1UL << SEG_B) - 1U ? UINT32_MAX : x + 1U + SPAN(e->span_b);
 }
 
 /* the largest b with 2^b <= lim (lim >= 1), at most SEG_B */
 static uint8_t b_at_most(uint32_t lim)
 {
     uint8_t b = SEG_B;
-    while ((1UL << b) > lim)
+    while (SPAN(b) > lim)
         b--;
     return b;
 }
@@ -528,7 +532,7 @@ static uint32_t slope_int(float s)
  * outside 1..65535 ticks: the caller then emits one step (a single step may be WIDE). */
 static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint8_t b, int64_t t16, float s0, float s1)
 {
-    uint32_t l = 1UL << b;
+    uint32_t l = SPAN(b);
     int64_t dt = t16 - e->acc16;
     c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
     c->count = (uint16_t)l;
@@ -564,7 +568,7 @@ static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint8_t b, int64_t t16, floa
  * acc16 and err. Returns 1, 0 (as emit) or 2 (not for this path: the caller uses emit). */
 static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint8_t b, uint32_t dt, uint32_t s1i)
 {
-    uint32_t l = 1UL << b;
+    uint32_t l = SPAN(b);
     int32_t errn;
     c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
     c->count = (uint16_t)l;
@@ -761,7 +765,7 @@ static uint32_t cruise_cmd(step_exact_t *e, step_cmd_t *c, uint32_t n)
         if (l > 1U) {
             /* the general way: a power of two (shift instead of division) */
             uint8_t b = b_at_most(l);
-            l = 1UL << b;
+            l = SPAN(b);
             x = mul64x32(e->k.p32, l) + e->cfrac;
             if (!emit(e, c, b, t0 + (int64_t)(x >> 16), p, p))
                 l = 1;
@@ -795,25 +799,25 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
         }
         if (e->y != 0) {
             if (e->a_down) {
-                if (e->span_b > 0U && !(n + (1UL << e->span_b) < e->thr)) {
+                if (e->span_b > 0U && !(n + SPAN(e->span_b) < e->thr)) {
                     float ic = 1.0f / e->k.cu_f;
                     do {
                         e->span_b--;
                         e->thr = thr_a_down(e, ic);
-                    } while (e->span_b > 0U && !(n + (1UL << e->span_b) < e->thr));
+                    } while (e->span_b > 0U && !(n + SPAN(e->span_b) < e->thr));
                 }
             } else if (e->span_b < SEG_B && n >= e->thr) {
                 e->span_b++;
                 e->thr = thr_grow(e, 1.0f / e->k.cu_f);
             }
-            b = (1UL << e->span_b) > lim ? b_at_most(lim) : e->span_b;
+            b = SPAN(e->span_b) > lim ? b_at_most(lim) : e->span_b;
         }
-        while (!ramp_cmd(e, c, b, e->a_down, n + (1UL << b))) {
+        while (!ramp_cmd(e, c, b, e->a_down, n + SPAN(b))) {
             b = 0;
             e->span_b = 0; /* intervals too long for a span: single steps, growing again */
             e->thr = e->a_down ? UINT32_MAX : n + 1U;
         }
-        l = 1UL << b;
+        l = SPAN(b);
         phase = e->a_down ? RAMP_DECEL : RAMP_ACCEL;
     } else if (n < e->n2) {
         l = cruise_cmd(e, c, n);
@@ -844,14 +848,14 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
                     e->thr = thr_d(e, ic);
                 } while (e->span_b > 0U && m < e->thr);
             }
-            b = (1UL << e->span_b) > m ? b_at_most(m) : e->span_b;
+            b = SPAN(e->span_b) > m ? b_at_most(m) : e->span_b;
         }
-        while (!ramp_cmd(e, c, b, 1, m - (1UL << b))) {
+        while (!ramp_cmd(e, c, b, 1, m - SPAN(b))) {
             b = 0;
             e->span_b = 0; /* spans only shrink here */
             e->thr = 0;
         }
-        l = 1UL << b;
+        l = SPAN(b);
         phase = RAMP_DECEL;
     }
     c->flags |= (uint8_t)(phase << STEP_CMD_PHASE_SHIFT); /* the emitters leave the phase bits 0 */
