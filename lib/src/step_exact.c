@@ -124,7 +124,7 @@ static uint64_t root(uint64_t q, float qf, uint8_t m)
 }
 
 /* The per-command root: y = sqrt(q), the float estimate corrected once by the exact residual
- * (the correction truncated: y within about one u), and *ih = 0.5/y (float) for the slope. */
+ * (the correction truncated: y within about one u), and *ih = 128/y (float): the slope is C *ih. */
 static uint64_t root_ih(uint64_t q, float qf, float *ih)
 {
     float yf = sqrtf(qf), h, corr;
@@ -144,8 +144,9 @@ static uint64_t root_ih(uint64_t q, float qf, float *ih)
         sq = square64(y0);
     }
     r = (int64_t)(q - sq);
-    h = 0.5f / yf;
+    h = 128.0f / yf;
     *ih = h;
+    h *= 0.00390625f; /* 0.5/y (exactly: a power of two) */
     if (r == (int32_t)r)
         corr = (float)(int32_t)r * h;
     else
@@ -294,16 +295,16 @@ static const uint8_t pow2_8[SEG_B + 1U] = {1, 2, 4, 8, 16, 32, 64, 128};
 static const float span_pow[SEG_B + 1U] = {1.0f, 2.29739671f, 5.27803164f, 12.1257325f,
                                            27.857618f, 64.0f, 147.033389f, 337.794025f};
 
-/* x^(1/5) for x >= 1, to a few 1e-4 (Newton's method on the mantissa; + - * / only: the same
- * bits everywhere) */
+/* x^(1/5) for x >= 1, to about 3e-5 (Newton's method on the mantissa from a two-piece line;
+ * + - * / only: the same bits everywhere) */
 static float root5(float x)
 {
     int ex, j, i;
     float m = frexpf(x, &ex), t; /* x = m 2^ex */
     j = ex / 5;
     m = ldexpf(m, ex - 5 * j); /* 0.5 <= m < 16 */
-    t = 0.7f + 0.07f * m;
-    for (i = 0; i < 4; i++) {
+    t = m < 4.0f ? 0.84f + 0.1334f * m : 1.2f + 0.03584f * m; /* within 4.2 % */
+    for (i = 0; i < 2; i++) {
         float t2 = t * t;
         t = 0.8f * t + 0.2f * m / (t2 * t2);
     }
@@ -425,7 +426,6 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
         e->flags |= F_SMALL;
     e->err = 0;
     e->zfit = k->cu_f * root5(k->cu_f) * FIT_K;
-    e->c256_f = k->cu_f * 256.0f;
     /* region A */
     e->q = square64(us);
     ic = 1.0f / k->cu_f;
@@ -442,7 +442,7 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
         }
     }
     /* cruise: T(n) = +-((up - us) << 8) - f1p + (n - n1) F/vmax */
-    e->f1p = (float)r1 / k->cu_f * p16;
+    e->f1p = (float)r1 * ic * p16;
     bt = (float)e->max_cmd_ticks * 65536.0f / p16;
     by_time = bt < (float)CRUISE_MAX ? (uint32_t)bt : CRUISE_MAX;
     e->ccap = (uint16_t)(by_time > 0U ? by_time : 1U);
@@ -518,7 +518,7 @@ static float slope_f(const step_exact_t *e)
 {
     if (e->slope_i < 0x40000000UL)
         return (float)e->slope_i;
-    return e->y > 0 ? e->c256_f * 0.5f / (float)e->y : 0.0f;
+    return e->y > 0 ? e->k.cu_f * 128.0f / (float)e->y : 0.0f;
 }
 
 /* a float slope (>= 0) as an integer, 0x40000000 when not below that */
@@ -621,13 +621,14 @@ static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint8_t b, uint8_t down,
             uint32_t y0 = (uint32_t)yf, y1l;
             int64_t rr = (int64_t)(q - mul32x32(y0, y0));
             float corr;
-            ih = 0.5f / yf;
-            corr = (rr == (int32_t)rr ? (float)(int32_t)rr : (float)rr) * ih;
-            if ((fbits(corr) & 0x7FFFFFFFUL) < 0x4E800000UL) { /* |corr| < 2^30 */
+            ih = 128.0f / yf;
+            corr = (rr == (int32_t)rr ? (float)(int32_t)rr : (float)rr) * ih; /* 256 times the correction */
+            if ((fbits(corr) & 0x7FFFFFFFUL) < 0x4F000000UL) { /* |corr| < 2^31 */
                 uint32_t dy, t, y0l = (uint32_t)e->y;
-                y1l = y0 + (uint32_t)(int32_t)corr;
+                int32_t ci = (int32_t)corr;
+                y1l = y0 + (ci >= 0 ? (uint32_t)ci >> 8 : 0U - ((uint32_t)-ci >> 8)); /* truncated, as root_ih */
                 y1 = y1l;
-                s1 = (y1l != 0U || !(e->flags & F_IN_D)) ? e->c256_f * ih : slope_f(e);
+                s1 = (y1l != 0U || !(e->flags & F_IN_D)) ? e->k.cu_f * ih : slope_f(e);
                 s1i = slope_int(s1);
                 have = 1;
                 dy = down ? y0l - y1l : y1l - y0l;
@@ -654,7 +655,7 @@ static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint8_t b, uint8_t down,
             qf = ((e->flags & F_IN_D) || !e->a_down) ? qbase_f(e) + cn : qbase_f(e) - cn;
         }
         y1 = root_ih(q, qf, &ih);
-        s1 = (y1 > 0U || !(e->flags & F_IN_D)) ? e->c256_f * ih : slope_f(e);
+        s1 = (y1 > 0U || !(e->flags & F_IN_D)) ? e->k.cu_f * ih : slope_f(e);
         s1i = slope_int(s1);
     }
     {
@@ -794,7 +795,7 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
         uint32_t lim = e->n1 - n;
         uint8_t b = 0;
         if (!(e->flags & F_SLOPE)) {
-            e->slope_i = slope_int(e->y > 0 ? e->c256_f * 0.5f / (float)e->y : 0.0f);
+            e->slope_i = slope_int(e->y > 0 ? e->k.cu_f * 128.0f / (float)e->y : 0.0f);
             e->flags |= F_SLOPE;
         }
         if (e->y != 0) {
@@ -833,7 +834,7 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
             e->q = square64(e->k.u0) + mul64x32(e->k.cu, m);
             f = qbase_f(e) + e->k.cu_f * (float)m;
             e->y = root_ih(e->q, (e->flags & F_SMALL) ? (float)e->q : f, &ih);
-            e->slope_i = slope_int(e->c256_f * ih);
+            e->slope_i = slope_int(e->k.cu_f * ih);
             er = e->acc16 - t16_y(e, e->y);
             e->err = (int32_t)er;
             e->flags = (uint8_t)((e->flags & ~F_ERR) | (er == (int64_t)e->err ? F_ERR : 0U));

@@ -82,7 +82,6 @@ typedef struct {
                          while m < thr) */
     int32_t err;      /* acc16 - T(n), 2^-16 ticks (the cruise: always; A and D: when F_ERR) */
     uint32_t slope_i; /* the interval at step n, 16.16 ticks per step (0x40000000: that or more) */
-    float c256_f;     /* 256 C */
     float zfit;       /* the span rule's scale: y^2 (u^2) from which one step fits (step_exact.c) */
     float f1p;        /* (x1 - n1) F/vmax, 2^-16 ticks: where the cruise's line starts */
     uint32_t clr;     /* ccap floor(F/vmax), 16.16 */
