@@ -2,10 +2,15 @@
 #include "step_exact.h"
 
 #include <math.h>
+#include <string.h>
 
-#define SEG_MAX 128U       /* steps one quadratic command may span */
+#define SEG_B 7U           /* a quadratic command spans at most 2^SEG_B steps */
 #define CRUISE_MAX 4096U   /* steps one cruise command may span (rate rounding <= 2^-17 tick per step) */
-#define FIT_GAIN 4000.0f   /* (L s)^3 <= FIT_GAIN y^2 keeps the quadratic within about 0.4 tick (test_step_planner) */
+/* (L s)^3 <= FIT_GAIN y^2 keeps a quadratic command within 0.0234 FIT_GAIN u (0.37 tick) of the
+ * time law (the span rule below). Not more: an edge may come at most half a tick early (the
+ * timeline starts half a tick in), or step_coord's path bound, D s(T + 1 tick), fails. */
+#define FIT_GAIN 4000.0f
+#define FIT_K 0.0157739336f /* (8 FIT_GAIN)^(-2/5) */
 #define RATE_LIMIT 0xFFFF0000ULL /* largest normal rate (16.16): 65535 ticks */
 
 /* ---- exact fixed-point helpers ------------------------------------------------------------ */
@@ -59,6 +64,14 @@ static uint64_t mul32x32(uint32_t a, uint32_t b)
     return (uint64_t)a * b;
 }
 
+/* the bits of a float: for floats >= 0 their order is that of the floats (a cheap comparison) */
+static uint32_t fbits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
 /* a * b modulo 2^64 */
 static uint64_t mul64x32(uint64_t a, uint32_t b)
 {
@@ -91,27 +104,57 @@ static uint64_t mulshr16(uint32_t m, uint64_t p)
 }
 
 /* y = sqrt(q / m) (m = 1 or 2), q known exactly modulo 2^64 and approximately as qf: a float
- * estimate corrected once by the exact residual q - m y^2. *inv gets about 1/y (for slopes). */
-static float s_inv; /* 1/y of the last root() (one division serves the correction and the slope) */
+ * estimate corrected once by the exact residual q - m y^2 (once per profile). */
 static uint64_t root(uint64_t q, float qf, uint8_t m)
 {
     float yf = sqrtf(m == 2 ? qf * 0.5f : qf), inv;
     uint64_t y0, sq;
     int64_t r;
     float corr;
-    if (!(yf >= 1.0f)) {
-        s_inv = 0.0f;
+    if (!(yf >= 1.0f))
         return q != 0 ? 1U : 0U;
-    }
     y0 = (uint64_t)yf;
     sq = square64(y0);
     if (m == 2)
         sq <<= 1;
     r = (int64_t)(q - sq);
     inv = 1.0f / yf;
-    s_inv = inv;
     corr = (float)r * inv * (m == 2 ? 0.25f : 0.5f);
     return y0 + (int64_t)(corr >= 0.0f ? corr + 0.5f : corr - 0.5f);
+}
+
+/* The per-command root: y = sqrt(q), the float estimate corrected once by the exact residual
+ * (the correction truncated: y within about one u), and *ih = 128/y (float): the slope is C *ih. */
+static uint64_t root_ih(uint64_t q, float qf, float *ih)
+{
+    float yf = sqrtf(qf), h, corr;
+    uint64_t y0, sq;
+    int64_t r;
+    uint32_t lo;
+    if (!(yf >= 1.0f)) {
+        *ih = 0.0f;
+        return q != 0 ? 1U : 0U;
+    }
+    if (yf < 4294967040.0f) {
+        lo = (uint32_t)yf;
+        y0 = lo;
+        sq = mul32x32(lo, lo);
+    } else {
+        y0 = (uint64_t)yf;
+        sq = square64(y0);
+    }
+    r = (int64_t)(q - sq);
+    h = 128.0f / yf;
+    *ih = h;
+    h *= 0.00390625f; /* 0.5/y (exactly: a power of two) */
+    if (r == (int32_t)r)
+        corr = (float)(int32_t)r * h;
+    else
+        corr = (float)r * h;
+    if (corr < 2.0e9f && corr > -2.0e9f) {
+        return y0 + (uint64_t)(int64_t)(int32_t)corr;
+    }
+    return y0 + (uint64_t)(int64_t)corr;
 }
 
 /* a * b exactly, for a signed 32-bit a and an unsigned 32-bit b */
@@ -161,8 +204,8 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     motion_status_t st = ramp_params_check(p);
     step_exact_consts_t k;
     float a, vmax, v0;
-    int ev, e0, ea;
-    uint32_t mv, m0, ma;
+    int ev, e0;
+    uint32_t mv, m0;
     uint64_t f = p ? p->tick_hz : 0;
     if (e == 0)
         return MS_ERR_NULL;
@@ -183,9 +226,6 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     if (!(vmax / a * (float)f <= 17179869184.0f))
         return MS_ERR_ACCEL_PHASE_TOO_LONG;
     mv = float_mant(vmax, &ev);
-    (void)ea;
-    ma = float_mant(a, &ea);
-    (void)ma;
     k.tick_hz = (uint32_t)f;
     k.cu = ratio64(2U * f * f, a, 16);          /* 2 F^2 / a, u^2 */
     k.vu = ratio64((uint64_t)mv * f, a, ev + 8);  /* vmax F / a, u */
@@ -205,6 +245,13 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     return MS_OK;
 }
 
+/* flags */
+#define F_ERR 0x01U    /* err holds acc16 - T(n) */
+#define F_SMALL 0x02U  /* every y of the profile is below 2^31 (then its radicand converts exactly) */
+#define F_CFAST 0x04U  /* a full cruise command fits 32 bits */
+#define F_SLOPE 0x08U  /* slope_i is that of step n */
+#define F_IN_D 0x10U   /* region D has started (its first y is known) */
+
 void step_exact_reset(step_exact_t *e, int32_t pos)
 {
     e->pos = pos;
@@ -214,8 +261,15 @@ void step_exact_reset(step_exact_t *e, int32_t pos)
     e->n1 = e->n2 = 0;
     e->acc16 = 0;
     e->y = 0;
-    e->u_now = 0;
     e->moving = 0;
+}
+
+/* the speed after the last emitted step, u (0 at rest) */
+static uint64_t speed_u(const step_exact_t *e)
+{
+    if (!e->moving)
+        return 0;
+    return e->y != 0 ? e->y : e->up; /* y is 0 in the cruise */
 }
 
 static float p16_f(const step_exact_t *e)
@@ -223,26 +277,112 @@ static float p16_f(const step_exact_t *e)
     return (float)e->k.p32 * (1.0f / 65536.0f);
 }
 
+/* ---- the span rule ---------------------------------------------------------------------------
+ * The quadratic of a command (rate, add) follows the time law T = +-(y - y_0) between two exact
+ * points l steps apart, with the slopes of both ends; it deviates from it by at most about
+ * 0.008 |T^(3)| l^3 = 0.0234 (l s)^3 / y^2 u (s = C/(2y): the interval in u per step; y in u, at
+ * the end of the span where y is smallest). So l fits when (l s)^3 <= FIT_GAIN y^2; with s put in,
+ * when y^2 >= zfit l^(6/5), zfit = C^(6/5) (8 FIT_GAIN)^(-2/5): a threshold on the radicand q = y^2,
+ * which is linear in the step number. Each span 2^j thus has a step from which it fits
+ * (accelerating) or up to which it fits (decelerating), found with a few float operations when the
+ * span changes; per command the rule is an integer comparison. */
+
+/* 2^j, for j up to SEG_B (a lookup: the AVR shifts one bit at a time) */
+static const uint8_t pow2_8[SEG_B + 1U] = {1, 2, 4, 8, 16, 32, 64, 128};
+#define SPAN(b) ((uint32_t)pow2_8[b])
+
+/* 2^(6j/5): l^(6/5) for l = 2^j */
+static const float span_pow[SEG_B + 1U] = {1.0f, 2.29739671f, 5.27803164f, 12.1257325f,
+                                           27.857618f, 64.0f, 147.033389f, 337.794025f};
+
+/* x^(1/5) for x >= 1, to about 3e-5 (Newton's method on the mantissa from a two-piece line;
+ * + - * / only: the same bits everywhere) */
+static float root5(float x)
+{
+    int ex, j, i;
+    float m = frexpf(x, &ex), t; /* x = m 2^ex */
+    j = ex / 5;
+    m = ldexpf(m, ex - 5 * j); /* 0.5 <= m < 16 */
+    t = m < 4.0f ? 0.84f + 0.1334f * m : 1.2f + 0.03584f * m; /* within 4.2 % */
+    for (i = 0; i < 2; i++) {
+        float t2 = t * t;
+        t = 0.8f * t + 0.2f * m / (t2 * t2);
+    }
+    return ldexpf(t, j);
+}
+
+/* the radicand at the start (A) or the end (D) as a float */
+static float qbase_f(const step_exact_t *e)
+{
+    float u = (float)((e->flags & F_IN_D) ? e->k.u0 : e->us);
+    return u * u;
+}
+
+/* float steps -> uint32, saturating */
+static uint32_t steps_u32(float x)
+{
+    if (!(x > 0.0f))
+        return 0;
+    if (x >= 4.0e9f)
+        return UINT32_MAX;
+    return (uint32_t)x;
+}
+
+/* The thresholds, ic = 1/C (one division for a run of span changes). */
+
+/* region A accelerating: the step from which the next span fits */
+static uint32_t thr_grow(const step_exact_t *e, float ic)
+{
+    float x;
+    uint32_t t;
+    if (e->span_b >= SEG_B)
+        return UINT32_MAX;
+    x = (e->zfit * span_pow[e->span_b + 1U] - qbase_f(e)) * ic;
+    if (!(x > 0.0f))
+        return 0;
+    t = steps_u32(x);
+    return t < UINT32_MAX ? t + 1U : t;
+}
+
+/* region A decelerating (from above vmax): the span fits while n + span < thr */
+static uint32_t thr_a_down(const step_exact_t *e, float ic)
+{
+    return steps_u32((qbase_f(e) - e->zfit * span_pow[e->span_b]) * ic);
+}
+
+/* region D: the span fits while m (steps left) >= thr */
+static uint32_t thr_d(const step_exact_t *e, float ic)
+{
+    uint32_t x = steps_u32((e->zfit * span_pow[e->span_b] - qbase_f(e)) * ic);
+    return x >= UINT32_MAX - (1UL << SEG_B) - 1U ? UINT32_MAX : x + 1U + SPAN(e->span_b);
+}
+
+/* the largest b with 2^b <= lim (lim >= 1), at most SEG_B */
+static uint8_t b_at_most(uint32_t lim)
+{
+    uint8_t b = SEG_B;
+    while (SPAN(b) > lim)
+        b--;
+    return b;
+}
+
+/* ---- setting up a profile ------------------------------------------------------------------ */
+
 /* sets up a profile of d steps in direction dir from speed us (d >= the stopping distance) */
 static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
 {
     const step_exact_consts_t *k = &e->k;
     uint64_t ue = k->u0, vu = k->vu, r1 = 0, r3 = 0, up;
-    uint32_t n1, n3;
+    uint32_t n1, n3, by_time;
     uint8_t trapezoid;
+    float p16 = p16_f(e), bt, ic;
     e->dir = dir;
     e->d = d;
     e->n = 0;
     e->acc16 = 0;
     e->us = us;
-    e->ue = ue;
-    e->us2 = square64(us);
-    e->ue2 = square64(ue);
     e->y = us;
     e->a_down = us > vu;
-    e->span = e->a_down ? SEG_MAX : 1U;
-    e->slope_ok = 0;
-    e->in_d = 0;
     if (e->a_down) {
         n1 = steps_between(k, us, vu, &r1);
         n3 = steps_between(k, vu, ue, &r3);
@@ -267,7 +407,7 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
         m = d - n3 - n1;
         f = ((float)r1 + (float)r3) / k->cu_f;
         e->t_end16 = (int64_t)((e->a_down ? us - up : up - us) << 8) + (int64_t)mulshr16(m, k->p32) -
-                     (int64_t)(f * p16_f(e)) + (int64_t)((up - ue) << 8);
+                     (int64_t)(f * p16) + (int64_t)((up - ue) << 8);
     } else {
         float qf = (float)k->cu * (float)d + (float)us * (float)us + (float)ue * (float)ue;
         up = root(mul64x32(k->cu, d) + square64(us) + square64(ue), qf, 2);
@@ -280,8 +420,41 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
         e->t_end16 = (int64_t)(((up - us) + (up - ue)) << 8);
     }
     e->n1 = n1;
-    e->r1 = r1;
     e->up = up;
+    e->flags = F_ERR; /* T(0) = 0 = acc16 */
+    if ((us >> 31) == 0 && (up >> 31) == 0)
+        e->flags |= F_SMALL;
+    e->err = 0;
+    e->zfit = k->cu_f * root5(k->cu_f) * FIT_K;
+    /* region A */
+    e->q = square64(us);
+    ic = 1.0f / k->cu_f;
+    if (e->a_down) {
+        e->span_b = SEG_B;
+        e->thr = thr_a_down(e, ic);
+    } else {
+        /* from rest one step; when already moving, the span that fits there */
+        e->span_b = 0;
+        e->thr = thr_grow(e, ic);
+        while (e->span_b < SEG_B && e->thr == 0U) {
+            e->span_b++;
+            e->thr = thr_grow(e, ic);
+        }
+    }
+    /* cruise: T(n) = +-((up - us) << 8) - f1p + (n - n1) F/vmax */
+    e->f1p = (float)r1 * ic * p16;
+    bt = (float)e->max_cmd_ticks * 65536.0f / p16;
+    by_time = bt < (float)CRUISE_MAX ? (uint32_t)bt : CRUISE_MAX;
+    e->ccap = (uint16_t)(by_time > 0U ? by_time : 1U);
+    {
+        uint64_t cstep = mul64x32(k->p32, e->ccap); /* below max_cmd_ticks 2^32 */
+        uint64_t clr = mul32x32((uint32_t)(k->p32 >> 16), e->ccap);
+        e->cst_hi = (uint32_t)(cstep >> 16);
+        e->cst_lo = (uint16_t)cstep;
+        e->clr = (uint32_t)clr;
+        if (e->ccap > 1U && (k->p32 >> 48) == 0U && (cstep >> 48) == 0U && (clr >> 32) == 0U)
+            e->flags |= F_CFAST;
+    }
 }
 
 motion_status_t step_exact_plan(step_exact_t *e, int32_t to)
@@ -291,7 +464,7 @@ motion_status_t step_exact_plan(step_exact_t *e, int32_t to)
     if (e->moving) {
         if (dir != e->dir || step_exact_stop_steps(e) > d)
             return MS_ERR_BUSY;
-        setup_profile(e, dir, d, e->u_now);
+        setup_profile(e, dir, d, speed_u(e));
     } else {
         setup_profile(e, dir, d, e->k.u0);
     }
@@ -300,11 +473,11 @@ motion_status_t step_exact_plan(step_exact_t *e, int32_t to)
 
 uint32_t step_exact_stop_steps(const step_exact_t *e)
 {
-    uint64_t r;
+    uint64_t r, u = speed_u(e);
     uint32_t n;
-    if (!e->moving || e->u_now <= e->k.u0)
+    if (u <= e->k.u0)
         return 0;
-    n = steps_between(&e->k, e->u_now, e->k.u0, &r);
+    n = steps_between(&e->k, u, e->k.u0, &r);
     return n + (r > 0 && n < UINT32_MAX ? 1U : 0U);
 }
 
@@ -320,7 +493,7 @@ void step_exact_stop(step_exact_t *e)
         e->moving = 0;
         return;
     }
-    setup_profile(e, e->dir, ds, e->u_now);
+    setup_profile(e, e->dir, ds, speed_u(e));
 }
 
 float step_exact_speed_sps(const step_exact_t *e)
@@ -328,119 +501,43 @@ float step_exact_speed_sps(const step_exact_t *e)
     /* v = U a / F = U 2F / (C) (U in u, C in u^2): v = 2 F U / (256 C / 256) */
     if (!e->moving)
         return 0.0f;
-    return 2.0f * (float)e->k.tick_hz * (float)e->u_now * 256.0f / e->k.cu_f;
+    return 2.0f * (float)e->k.tick_hz * (float)speed_u(e) * 256.0f / e->k.cu_f;
 }
 
-/* ---- the time law ---------------------------------------------------------------------------- */
+/* ---- emitting commands ------------------------------------------------------------------------ */
 
-/* region A: y at step n (sqrt(us^2 +- C n)) */
-static uint64_t y_a(const step_exact_t *e, uint32_t n)
+static int64_t t16_y(const step_exact_t *e, uint64_t y)
 {
-    uint64_t q;
-    float qf = (float)e->us * (float)e->us;
-    float cn = e->k.cu_f * (float)n;
-    if (e->a_down) {
-        q = e->us2 - mul64x32(e->k.cu, n);
-        qf -= cn;
-    } else {
-        q = e->us2 + mul64x32(e->k.cu, n);
-        qf += cn;
-    }
-    return root(q, qf, 1);
-}
-
-/* region D: y at m steps before the end (sqrt(ue^2 + C m)) */
-static uint64_t y_d(const step_exact_t *e, uint32_t m)
-{
-    float qf = (float)e->ue * (float)e->ue + e->k.cu_f * (float)m;
-    return root(e->ue2 + mul64x32(e->k.cu, m), qf, 1);
-}
-
-static int64_t t16_a(const step_exact_t *e, uint64_t y)
-{
+    if (e->flags & F_IN_D)
+        return e->t_end16 - (int64_t)((y - e->k.u0) << 8);
     return (int64_t)((e->a_down ? e->us - y : y - e->us) << 8);
 }
 
-static int64_t t16_cruise(const step_exact_t *e, uint32_t n)
+/* the slope at step n as a float, 16.16 per step */
+static float slope_f(const step_exact_t *e)
 {
-    float f1p = (float)e->r1 / e->k.cu_f * p16_f(e);
-    return (int64_t)((e->a_down ? e->us - e->up : e->up - e->us) << 8) + (int64_t)mulshr16(n - e->n1, e->k.p32) -
-           (int64_t)f1p;
+    if (e->slope_i < 0x40000000UL)
+        return (float)e->slope_i;
+    return e->y > 0 ? e->k.cu_f * 128.0f / (float)e->y : 0.0f;
 }
 
-static int64_t t16_d(const step_exact_t *e, uint64_t y)
+/* a float slope (>= 0) as an integer, 0x40000000 when not below that */
+static uint32_t slope_int(float s)
 {
-    return e->t_end16 - (int64_t)((y - e->ue) << 8);
+    return fbits(s) < 0x4E800000UL ? (uint32_t)s : 0x40000000UL; /* 0x4E800000: 2^30 */
 }
 
-/* whether the quadratic over l steps stays within about 0.4 tick: (l s)^3 <= gain y^2
- * (s: interval in u per step, y in u, at the tighter end of the span) */
-static uint8_t span_fits(uint32_t l, float s, float y, float gain)
+/* one command of 2^b steps ending at target time t16, intervals from slope s0 to s1 (16.16 per
+ * step), in 64 bits. Returns 0 (nothing changed) when a span of l > 1 would need an interval
+ * outside 1..65535 ticks: the caller then emits one step (a single step may be WIDE). */
+static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint8_t b, int64_t t16, float s0, float s1)
 {
-    float ls = (float)l * s;
-    return ls * ls * ls <= gain * y * y;
-}
-
-static uint32_t pow2_at_most(uint32_t lim)
-{
-    uint32_t l = SEG_MAX;
-    while (l > lim)
-        l >>= 1;
-    return l;
-}
-
-/* accelerating: the allowed span only grows, so try twice the last one */
-static uint32_t span_growing(step_exact_t *e, float s, float y, uint32_t lim)
-{
-    uint32_t l = e->span, cap = pow2_at_most(lim);
-    if (l > cap)
-        l = cap;
-    if (l < cap && span_fits(l * 2U, s, y, FIT_GAIN))
-        l *= 2U;
-    if (l < 1U)
-        l = 1U;
-    e->span = l;
-    return l;
-}
-
-/* slowing down: the allowed span only shrinks; the bound is taken at the span's end, where y is
- * smallest (y^2 there is y^2 - C l, in region D and in a deceleration to vmax alike) */
-static uint32_t span_shrinking(step_exact_t *e, float y, uint32_t remain)
-{
-    uint32_t l = e->span, cap = pow2_at_most(remain);
-    if (l > cap)
-        l = cap;
-    while (l > 1U) {
-        float q_end = y * y - e->k.cu_f * (float)l;
-        float ye = q_end > 0.0f ? sqrtf(q_end) : 0.0f;
-        if (ye > 0.0f && span_fits(l, e->k.cu_f * 0.5f / ye, ye, FIT_GAIN))
-            break;
-        l >>= 1;
-    }
-    e->span = l;
-    return l;
-}
-
-static uint8_t log2u(uint32_t l)
-{
-    uint8_t b = 0;
-    while (l > 1U) {
-        l >>= 1;
-        b++;
-    }
-    return b;
-}
-
-/* one command of l steps ending at target time t16, intervals from slope s0 to s1 (16.16/step).
- * Returns 0 (nothing changed) when a span of l > 1 would need an interval outside 1..65535 ticks:
- * the caller then emits one step (a single step may be WIDE). */
-static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, float s0, float s1)
-{
+    uint32_t l = SPAN(b);
     int64_t dt = t16 - e->acc16;
     c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
     c->count = (uint16_t)l;
+    c->add = 0;
     if (l > 1U) {
-        uint8_t b = log2u(l);
         float addf = ldexpf(s1 - s0, -(int)b);
         int32_t add;
         int64_t tri, rate, last;
@@ -455,27 +552,239 @@ static uint8_t emit(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16, flo
         c->rate = (uint32_t)rate;
         c->add = add;
         e->acc16 += (rate << b) + tri;
-        return 1;
-    }
-    c->count = 1;
-    if (dt <= (int64_t)RATE_LIMIT) {
+    } else if (dt <= (int64_t)RATE_LIMIT) {
         c->rate = (uint32_t)(dt > 0 ? dt : 1);
-        c->add = 0;
         e->acc16 += (int64_t)c->rate;
     } else {
         uint32_t w = (uint32_t)((dt + 0x8000) >> 16);
         c->flags |= STEP_CMD_WIDE;
         c->rate = w;
-        c->add = 0;
         e->acc16 += (int64_t)w << 16;
     }
     return 1;
 }
 
+/* the same for 0 <= dt < 2^32 (16.16 ticks) with the slopes as integers, all in 32 bits; updates
+ * acc16 and err. Returns 1, 0 (as emit) or 2 (not for this path: the caller uses emit). */
+static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint8_t b, uint32_t dt, uint32_t s1i)
+{
+    uint32_t l = SPAN(b);
+    int32_t errn;
+    c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
+    c->count = (uint16_t)l;
+    c->add = 0;
+    if (l > 1U) {
+        int32_t add, d2, dl;
+        uint32_t v, rate;
+        if ((s1i | e->slope_i) >= 0x40000000UL)
+            return 2;
+        add = ((int32_t)(s1i - e->slope_i) + (int32_t)(l >> 1)) >> b; /* round((s1 - s0) / l) */
+        if (((uint32_t)(add < 0 ? -add : add) >> (30U - 2U * b)) != 0U)
+            return 2; /* |add l^2/2| from 2^29 */
+        dl = (int32_t)((uint32_t)add << b) - add;                      /* add (l - 1) */
+        d2 = (int32_t)(l >> 1) - (int32_t)((uint32_t)dl << (b - 1U)); /* l/2 - add l (l - 1)/2 */
+        v = dt + (uint32_t)d2;
+        if (d2 >= 0 ? v < dt : v > dt)
+            return 2; /* beyond 2^32 (or below 0) */
+        rate = v >> b;
+        if (rate == 0U || rate > (uint32_t)RATE_LIMIT ||
+            (dl < 0 ? rate <= (uint32_t)-dl : rate > (uint32_t)RATE_LIMIT - (uint32_t)dl))
+            return 0;
+        c->rate = rate;
+        c->add = add;
+        /* acc + rate l + tri = acc + dt + l/2 - (v mod l) */
+        errn = (int32_t)(l >> 1) - (int32_t)(v & (l - 1U));
+    } else {
+        if (dt > (uint32_t)RATE_LIMIT)
+            return 2;
+        c->rate = dt > 0U ? dt : 1U;
+        errn = (int32_t)(c->rate - dt);
+    }
+    e->acc16 += (int64_t)dt + errn;
+    e->err = errn;
+    return 1;
+}
+
+/* one command of 2^b steps in region A or D (down: y falls), nn the step (A) or the steps left (D)
+ * at its end: y there exactly, then the quadratic between the slopes. 0: the span needs intervals
+ * outside 1..65535 ticks (nothing changed). */
+static uint8_t ramp_cmd(step_exact_t *e, step_cmd_t *c, uint8_t b, uint8_t down, uint32_t nn)
+{
+    uint64_t cl = e->k.cu << b, q = down ? e->q - cl : e->q + cl, y1 = 0;
+    float ih, s1 = 0.0f;
+    uint32_t s1i = 0;
+    uint8_t have = 0;
+    if (e->flags & F_SMALL) {
+        /* y below 2^31: root_ih's integers with the cheap conversions, and the time in 32 bits */
+        float yf = sqrtf((float)q);
+        if (fbits(yf) >= 0x3F800000UL) { /* yf >= 1 */
+            uint32_t y0 = (uint32_t)yf, y1l;
+            int64_t rr = (int64_t)(q - mul32x32(y0, y0));
+            float corr;
+            ih = 128.0f / yf;
+            corr = (rr == (int32_t)rr ? (float)(int32_t)rr : (float)rr) * ih; /* 256 times the correction */
+            if ((fbits(corr) & 0x7FFFFFFFUL) < 0x4F000000UL) { /* |corr| < 2^31 */
+                uint32_t dy, t, y0l = (uint32_t)e->y;
+                int32_t ci = (int32_t)corr;
+                y1l = y0 + (ci >= 0 ? (uint32_t)ci >> 8 : 0U - ((uint32_t)-ci >> 8)); /* truncated, as root_ih */
+                y1 = y1l;
+                s1 = (y1l != 0U || !(e->flags & F_IN_D)) ? e->k.cu_f * ih : slope_f(e);
+                s1i = slope_int(s1);
+                have = 1;
+                dy = down ? y0l - y1l : y1l - y0l;
+                t = dy << 8;
+                /* dt = T(y1) - acc16 = 256 dy - err */
+                if ((e->flags & F_ERR) && y1l != 0U && dy < 0x1000000UL &&
+                    (e->err >= 0 ? t >= (uint32_t)e->err : t - (uint32_t)e->err >= t)) {
+                    uint8_t r = emit32(e, c, b, t - (uint32_t)e->err, s1i);
+                    if (r == 0U)
+                        return 0;
+                    if (r == 1U)
+                        goto done;
+                }
+            }
+        }
+    }
+    if (!have) {
+        /* the general way (the same y, in 64 bits) */
+        float qf;
+        if (e->flags & F_SMALL) {
+            qf = (float)q;
+        } else {
+            float cn = e->k.cu_f * (float)nn;
+            qf = ((e->flags & F_IN_D) || !e->a_down) ? qbase_f(e) + cn : qbase_f(e) - cn;
+        }
+        y1 = root_ih(q, qf, &ih);
+        s1 = (y1 > 0U || !(e->flags & F_IN_D)) ? e->k.cu_f * ih : slope_f(e);
+        s1i = slope_int(s1);
+    }
+    {
+        int64_t t16 = t16_y(e, y1), er;
+        if (!emit(e, c, b, t16, slope_f(e), s1))
+            return 0;
+        er = e->acc16 - t16;
+        e->err = (int32_t)er;
+        e->flags = (uint8_t)((e->flags & ~F_ERR) | (er == (int64_t)e->err ? F_ERR : 0U));
+    }
+done:
+    e->q = q;
+    e->y = y1;
+    e->slope_i = s1i;
+    return 1;
+}
+
+/* a full cruise command (ccap steps) in 32 bits from err = acc16 - T(n): rate = round(dt / l) from
+ * floor(F/vmax) by at most three corrections; 0 when that does not apply (nothing changed) */
+static uint8_t cruise_fast(step_exact_t *e, step_cmd_t *c)
+{
+    uint32_t f = (uint32_t)e->cfrac + e->cst_lo, delta = e->cst_hi + (f >> 16), l = e->ccap, half = l >> 1;
+    uint32_t rate0 = (uint32_t)(e->k.p32 >> 16), rate = rate0, used = e->clr;
+    int32_t rem = (int32_t)(delta - used) - e->err; /* dt - l rate, dt = delta - err (both near l F/vmax) */
+    uint8_t i;
+    for (i = 0; i < 3U; i++) {
+        if (rem >= (int32_t)(l - half)) {
+            rem -= (int32_t)l;
+            rate++;
+            used += l;
+        } else if (rem < -(int32_t)half) {
+            rem += (int32_t)l;
+            rate--;
+            used -= l;
+        } else {
+            break;
+        }
+    }
+    if (i == 3U || rate == 0U || rate > (uint32_t)RATE_LIMIT || (rate > rate0 && used < e->clr))
+        return 0;
+    c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
+    c->count = (uint16_t)l;
+    c->rate = rate;
+    c->add = 0;
+    e->acc16 += used;
+    e->err = -rem;
+    e->cfrac = (uint16_t)f;
+    return 1;
+}
+
+/* a flat cruise command of l > 1 steps (l <= CRUISE_MAX) to t16: rate = round(dt / l), found from
+ * floor(F/vmax) by at most three corrections (no division); 0 when that does not apply */
+static uint8_t emit_flat(step_exact_t *e, step_cmd_t *c, uint32_t l, int64_t t16)
+{
+    int64_t x;
+    int32_t rem;
+    uint32_t rate, half = l >> 1;
+    uint8_t i;
+    if ((e->k.p32 >> 48) != 0U)
+        return 0; /* an interval beyond 65535 ticks */
+    rate = (uint32_t)(e->k.p32 >> 16);
+    x = t16 - e->acc16 - (int64_t)mul32x32(rate, l);
+    if (x != (int32_t)x)
+        return 0;
+    rem = (int32_t)x; /* dt - l rate */
+    for (i = 0; i < 3U; i++) {
+        if (rem >= (int32_t)(l - half)) {
+            rem -= (int32_t)l;
+            rate++;
+        } else if (rem < -(int32_t)half) {
+            rem += (int32_t)l;
+            rate--;
+        } else {
+            break;
+        }
+    }
+    if (i == 3U || rate == 0U || rate > (uint32_t)RATE_LIMIT)
+        return 0;
+    c->flags = e->dir < 0 ? STEP_CMD_REVERSE : 0;
+    c->count = (uint16_t)l;
+    c->rate = rate;
+    c->add = 0;
+    e->acc16 = t16 - rem;
+    return 1;
+}
+
+/* a cruise command from step n; returns its steps. T(n) = acc16 - err from step n1 + 1 on. */
+static uint32_t cruise_cmd(step_exact_t *e, step_cmd_t *c, uint32_t n)
+{
+    uint32_t lim = e->n2 - n, l = lim < e->ccap ? lim : e->ccap;
+    int64_t t0;
+    uint64_t x;
+    if (n == e->n1) {
+        /* the step that straddles the end of region A; T(n1) = +-(up - us) - (x1 - n1) F/vmax */
+        l = 1;
+        e->cfrac = 0;
+        t0 = (int64_t)((e->a_down ? e->us - e->up : e->up - e->us) << 8) - (int64_t)e->f1p;
+        e->y = 0;
+        e->flags &= (uint8_t)~F_SLOPE;
+    } else {
+        if (l == e->ccap && (e->flags & F_CFAST) && cruise_fast(e, c))
+            return l;
+        t0 = e->acc16 - e->err;
+    }
+    x = mul64x32(e->k.p32, l) + e->cfrac;
+    if (l == 1U || !emit_flat(e, c, l, t0 + (int64_t)(x >> 16))) {
+        float p = p16_f(e);
+        if (l > 1U) {
+            /* the general way: a power of two (shift instead of division) */
+            uint8_t b = b_at_most(l);
+            l = SPAN(b);
+            x = mul64x32(e->k.p32, l) + e->cfrac;
+            if (!emit(e, c, b, t0 + (int64_t)(x >> 16), p, p))
+                l = 1;
+        }
+        if (l == 1U) {
+            x = e->k.p32 + e->cfrac;
+            (void)emit(e, c, 0, t0 + (int64_t)(x >> 16), p, p);
+        }
+    }
+    e->cfrac = (uint16_t)x;
+    e->err = (int32_t)(e->acc16 - (t0 + (int64_t)(x >> 16))); /* within half a tick */
+    return l;
+}
+
 uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
 {
     uint32_t n = e->n, l;
-    const float k16 = 256.0f; /* u per step -> 16.16 per step */
+    uint8_t phase;
     if (n >= e->d) {
         if (e->d != 0)
             e->moving = 0;
@@ -483,88 +792,78 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
     }
     if (n < e->n1) {
         /* region A */
-        float yf = (float)e->y, s;
-        uint64_t y1;
         uint32_t lim = e->n1 - n;
-        if (!e->slope_ok)
-            e->slope = yf > 0.0f ? e->k.cu_f * 0.5f / yf : 0.0f;
-        s = e->slope;
-        if (yf <= 0.0f)
-            l = 1;
-        else if (e->a_down)
-            l = span_shrinking(e, yf, lim);
-        else
-            l = span_growing(e, s, yf, lim);
-        for (;;) {
-            y1 = y_a(e, n + l);
-            e->slope = e->k.cu_f * 0.5f * s_inv;
-            if (emit(e, c, l, t16_a(e, y1), s * k16, e->slope * k16))
-                break;
-            l = 1;
-            e->span = 1;
+        uint8_t b = 0;
+        if (!(e->flags & F_SLOPE)) {
+            e->slope_i = slope_int(e->y > 0 ? e->k.cu_f * 128.0f / (float)e->y : 0.0f);
+            e->flags |= F_SLOPE;
         }
-        e->slope_ok = 1;
-        e->y = y1;
-        e->u_now = y1;
+        if (e->y != 0) {
+            if (e->a_down) {
+                if (e->span_b > 0U && !(n + SPAN(e->span_b) < e->thr)) {
+                    float ic = 1.0f / e->k.cu_f;
+                    do {
+                        e->span_b--;
+                        e->thr = thr_a_down(e, ic);
+                    } while (e->span_b > 0U && !(n + SPAN(e->span_b) < e->thr));
+                }
+            } else if (e->span_b < SEG_B && n >= e->thr) {
+                e->span_b++;
+                e->thr = thr_grow(e, 1.0f / e->k.cu_f);
+            }
+            b = SPAN(e->span_b) > lim ? b_at_most(lim) : e->span_b;
+        }
+        while (!ramp_cmd(e, c, b, e->a_down, n + SPAN(b))) {
+            b = 0;
+            e->span_b = 0; /* intervals too long for a span: single steps, growing again */
+            e->thr = e->a_down ? UINT32_MAX : n + 1U;
+        }
+        l = SPAN(b);
+        phase = e->a_down ? RAMP_DECEL : RAMP_ACCEL;
     } else if (n < e->n2) {
-        /* cruise */
-        float p = p16_f(e);
-        uint32_t lim = e->n2 - n, cap = CRUISE_MAX;
-        uint32_t by_time = (uint32_t)((float)e->max_cmd_ticks * 65536.0f / p);
-        if (by_time < cap)
-            cap = by_time > 0 ? by_time : 1U;
-        l = lim < cap ? lim : cap;
-        if (n == e->n1)
-            l = 1; /* the step that straddles the end of the acceleration */
-        if (l > 1U && (l & (l - 1U)) != 0) {
-            /* quadratic commands need a power of two (shift instead of division); a flat run
-             * may take any count: rate = round(dt / l) by the same rule */
-            uint32_t pw = 1;
-            while (pw * 2U <= l)
-                pw *= 2U;
-            l = pw;
-        }
-        if (!emit(e, c, l, t16_cruise(e, n + l), p, p)) {
-            l = 1;
-            (void)emit(e, c, 1, t16_cruise(e, n + 1), p, p);
-        }
-        e->u_now = e->up;
-        e->y = 0;
-        e->slope_ok = 0;
+        l = cruise_cmd(e, c, n);
+        phase = RAMP_CRUISE;
     } else {
         /* region D */
         uint32_t m = e->d - n;
-        float yf, s;
-        uint64_t y1;
-        if (e->y == 0 || n == e->n2 || !e->in_d) {
-            e->y = y_d(e, m);
-            e->slope = e->k.cu_f * 0.5f * s_inv;
-            e->span = SEG_MAX; /* the largest span is at the start of the deceleration */
-            e->in_d = 1;
+        uint8_t b = 0;
+        if (n == e->n2 || !(e->flags & F_IN_D)) {
+            float ih, f;
+            int64_t er;
+            e->flags |= F_IN_D;
+            e->q = square64(e->k.u0) + mul64x32(e->k.cu, m);
+            f = qbase_f(e) + e->k.cu_f * (float)m;
+            e->y = root_ih(e->q, (e->flags & F_SMALL) ? (float)e->q : f, &ih);
+            e->slope_i = slope_int(e->k.cu_f * ih);
+            er = e->acc16 - t16_y(e, e->y);
+            e->err = (int32_t)er;
+            e->flags = (uint8_t)((e->flags & ~F_ERR) | (er == (int64_t)e->err ? F_ERR : 0U));
+            e->span_b = SEG_B; /* the largest span is at the start of the deceleration */
+            e->thr = thr_d(e, 1.0f / e->k.cu_f);
         }
-        yf = (float)e->y;
-        s = e->slope;
-        l = n == e->n2 ? 1U : span_shrinking(e, yf, m);
-        for (;;) {
-            y1 = y_d(e, m - l);
-            e->slope = y1 > 0 ? e->k.cu_f * 0.5f * s_inv : s;
-            if (emit(e, c, l, t16_d(e, y1), s * k16, e->slope * k16))
-                break;
-            l = 1;
+        if (n != e->n2) {
+            if (e->span_b > 0U && m < e->thr) {
+                float ic = 1.0f / e->k.cu_f;
+                do {
+                    e->span_b--;
+                    e->thr = thr_d(e, ic);
+                } while (e->span_b > 0U && m < e->thr);
+            }
+            b = SPAN(e->span_b) > m ? b_at_most(m) : e->span_b;
         }
-        e->y = y1;
-        e->u_now = y1;
+        while (!ramp_cmd(e, c, b, 1, m - SPAN(b))) {
+            b = 0;
+            e->span_b = 0; /* spans only shrink here */
+            e->thr = 0;
+        }
+        l = SPAN(b);
+        phase = RAMP_DECEL;
     }
-    c->flags = (uint8_t)((c->flags & (uint8_t)~STEP_CMD_PHASE_MASK) |
-                         ((uint8_t)(n < e->n1 ? (e->a_down ? RAMP_DECEL : RAMP_ACCEL)
-                                              : (n < e->n2 ? RAMP_CRUISE : RAMP_DECEL))
-                          << STEP_CMD_PHASE_SHIFT));
+    c->flags |= (uint8_t)(phase << STEP_CMD_PHASE_SHIFT); /* the emitters leave the phase bits 0 */
     e->n = n + l;
     e->pos = ramp_position_after(e->pos, e->dir, l);
     e->moving = 1;
-    if (e->n >= e->d) {
+    if (e->n >= e->d)
         e->moving = 0;
-        e->u_now = 0;
-    }
     return 1;
 }

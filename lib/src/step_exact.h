@@ -14,16 +14,26 @@
  * How: the constants are exact 64-bit fixed point (1/256 tick) computed from the float parameters'
  * mantissas; each square root is a float estimate corrected once by its exact 64-bit residual
  * (Q - y^2 modulo 2^64), so no error accumulates, however long the move. Between exact points
- * the commands follow the time law as quadratics (rate + add per step, 16.16 ticks), over
- * 1 to 128 steps chosen so that the interpolation stays within about 0.4 tick; the executor's
- * time is predicted exactly, so the next command absorbs every rounding. Every step edge
- * floor(acc) is within 1 tick of round(F t_n) (test_step_planner: thousands of random moves).
+ * the commands follow the time law as quadratics (rate + add per step, 16.16 ticks), the slopes of
+ * both ends, over 2^j steps (1 to 128). The span rule, (l s)^3 <= 4000 y^2 at the tighter end
+ * (s the interval, y the time to stop, both in 1/256 tick), keeps the interpolation within 0.37
+ * tick, so an edge is never half a tick early (step_coord's path bound needs that); with s = C/(2y)
+ * it is a threshold on y^2, which is linear in the step number, so each span's first step
+ * (accelerating: spans only grow) or last step (decelerating: they only shrink) is worked out when
+ * the span changes, and a command only compares integers. The cruise goes in commands of
+ * max_cmd_ticks (at most 4096 steps, any count), rate = round(dt / count) found from floor(F/vmax)
+ * without a division. The executor's time is predicted exactly, so the next command absorbs every
+ * rounding. Every step edge floor(acc) is within 1 tick of round(F t_n) (test_step_planner:
+ * thousands of random moves).
  * Limits (step_exact_set_params refuses others, each with its own status): tick_hz <= 2^25;
  * accel >= 8 steps/s^2 at 16 MHz (8 (F/16 MHz)^2 in general, and >= 0.5: C below 2^46 ticks^2);
  * vmax/accel (the time to reach vmax from rest) at most 2^34 ticks (1073 s at 16 MHz); parameters
  * that overflow a float are refused as not finite.
- * Cost on the AVR: one square root, about a dozen 64-bit operations and a few float divisions
- * per command (`make bench` measures it); the cruise needs no square root.
+ * Cost on the AVR: an accelerating or decelerating command takes one square root, one float
+ * division and a few float multiplications and conversions; the rest is 32-bit integer work while
+ * the time to stop stays below 2^23 ticks and the command below 65536 ticks (64-bit otherwise). A
+ * cruise command is 32-bit integer work only; the first command of a deceleration and a change of
+ * span add a few float operations (`make bench` measures it all).
  */
 #ifndef STEP_EXACT_H
 #define STEP_EXACT_H
@@ -59,18 +69,26 @@ typedef struct {
     uint32_t n1;      /* steps 1..n1: region A (to the peak); n1 < n <= n2: cruise; after: decel */
     uint32_t n2;
     uint8_t a_down;   /* region A decelerates (u_s above vmax) */
-    uint64_t us, up, ue; /* speeds, u */
-    uint64_t us2, ue2;   /* their squares modulo 2^64 */
-    uint64_t r1;      /* C x1 - C n1: residual of the end of region A */
+    uint8_t moving;   /* the speed after step n is a real speed (not at rest) */
+    uint8_t flags;    /* step_exact.c's F_* */
+    uint8_t span_b;   /* the fit allows a quadratic command of 2^span_b steps here */
+    uint64_t us, up;  /* speeds at the start and at the peak, u (at the end: k.u0) */
     int64_t t_end16;  /* T_end, 2^-16 ticks */
     int64_t acc16;    /* predicted executor time of step n, 2^-16 ticks from the profile start */
-    uint64_t y;       /* sqrt(...) at step n in regions A and D (0: not known) */
-    uint64_t u_now;   /* speed at step n, u */
-    float slope;      /* interval at step n, u per step (valid when slope_ok) */
-    uint32_t span;    /* steps of the last quadratic command */
-    uint8_t slope_ok;
-    uint8_t in_d;     /* region D has started (its first y is known) */
-    uint8_t moving;   /* u_now is a real speed (not at rest) */
+    uint64_t y;       /* sqrt(...) at step n in regions A and D (the speed there, u); 0 in the cruise */
+    uint64_t q;       /* its radicand, exact modulo 2^64 */
+    uint32_t thr;     /* where the span changes: the step (A accelerating: grow at n >= thr; A
+                         decelerating: shrink unless n + span < thr) or the steps left (D: shrink
+                         while m < thr) */
+    int32_t err;      /* acc16 - T(n), 2^-16 ticks (the cruise: always; A and D: when F_ERR) */
+    uint32_t slope_i; /* the interval at step n, 16.16 ticks per step (0x40000000: that or more) */
+    float zfit;       /* the span rule's scale: y^2 (u^2) from which one step fits (step_exact.c) */
+    float f1p;        /* (x1 - n1) F/vmax, 2^-16 ticks: where the cruise's line starts */
+    uint32_t clr;     /* ccap floor(F/vmax), 16.16 */
+    uint32_t cst_hi;  /* ccap F/vmax in 2^-16 ticks, and the fraction below */
+    uint16_t cst_lo;
+    uint16_t ccap;    /* steps of a full cruise command */
+    uint16_t cfrac;   /* (n - n1) F/vmax below 2^-16 ticks, in 2^-32 ticks */
 } step_exact_t;
 
 /* Converts and checks a parameter set (ramp_params_check, then the limits above). On error

@@ -212,6 +212,57 @@ static void exact_random_moves_every_step(void **state)
     assert_true(worst <= 1U);
 }
 
+/* The timeline itself (before the executor's flooring): every edge of a normal command lies less
+ * than half a tick from the closed form (F t_n, on a timeline that starts half a tick in). Half a
+ * tick is what an edge may be early for step_coord's path bound, D s(T + 1 tick); the span rule
+ * (step_exact.c's FIT_GAIN) keeps the quadratics well inside it. */
+static void exact_timeline_within_half_a_tick(void **state)
+{
+    uint64_t saved = rng_state;
+    long double worst = 0.0L;
+    uint32_t i;
+    (void)state;
+    rng_state = 0x9E3779B97F4A7C15ULL;
+    for (i = 0; i < 1500U; i++) {
+        uint32_t f = (i % 3U) == 0 ? 2000000U : 16000000U;
+        double a = lrand(50, 3e6);
+        double vmax = lrand(20, 160000);
+        double v0 = (i % 4U) == 0 ? 0.0 : vmax * urand(0, 0.6);
+        uint32_t d = (uint32_t)lrand(1, 60000), n = 0;
+        ramp_params_t p = {(float)v0, (float)vmax, (float)a, f};
+        step_planner_t pl;
+        step_cmd_t c;
+        closed_t cf;
+        uint64_t abs16 = 0x8000U;
+        if (step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0) != MS_OK)
+            continue;
+        assert_int_equal(step_planner_move(&pl, (int32_t)d), MS_OK);
+        cf = closed_plan((float)v0, (float)vmax, (float)a, d);
+        while (step_planner_next(&pl, &c)) {
+            uint32_t rate = c.rate, k;
+            for (k = 0; k < c.count; k++) {
+                long double err;
+                n++;
+                if (c.flags & STEP_CMD_WIDE) {
+                    abs16 += (uint64_t)rate << 16; /* whole ticks: rounded by design */
+                    continue;
+                }
+                abs16 += rate;
+                rate += (uint32_t)c.add;
+                err = (long double)abs16 / 65536.0L - (closed_time(&cf, n) * f + 0.5L);
+                if (fabsl(err) > worst)
+                    worst = fabsl(err);
+                if (fabsl(err) >= 0.5L)
+                    fail_msg("v0 %g vmax %g a %g F %u D %u: step %u %.3Lf ticks from the closed form", v0, vmax, a, f, d,
+                             n, err);
+            }
+        }
+        assert_int_equal(n, d);
+    }
+    rng_state = saved;
+    assert_true(worst > 0.0L);
+}
+
 /* 2^31 - 1 steps: every acceleration and deceleration step, and the cruise at every command's end
  * and at random steps in between (no drift over 2 billion steps). */
 static void exact_longest_move_no_drift(void **state)
@@ -706,6 +757,7 @@ int main(void)
         cmocka_unit_test(executor_follows_its_formula),
         cmocka_unit_test(exact_reference_moves_every_step),
         cmocka_unit_test(exact_random_moves_every_step),
+        cmocka_unit_test(exact_timeline_within_half_a_tick),
         cmocka_unit_test(exact_longest_move_no_drift),
         cmocka_unit_test(stepwise_random_moves_exact_ticks),
         cmocka_unit_test(stepwise_longest_moves_no_drift),
