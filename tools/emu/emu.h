@@ -72,8 +72,8 @@ typedef struct emu_line {
 
 int emu_uart_attach(avr_t *avr);
 
-/* emu_timer.c: simavr's 16-bit timers keep a compare match due right after a wrap (see the file);
- * -1 when this simavr lacks the registers. */
+/* emu_timer.c: simavr's timers keep a compare match due right after a wrap, and a TIFRn write clears
+ * only the flags written as 1 (see the file); -1 when this simavr lacks the registers. */
 int emu_timer_attach(avr_t *avr);
 /* queue bytes to send to the firmware; they arrive one frame time apart */
 void emu_uart_send(const uint8_t *bytes, size_t n);

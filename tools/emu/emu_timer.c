@@ -1,19 +1,21 @@
-/* emu_timer.c - keeps simavr's 16-bit timers from losing the compare match of a register armed for
- * the first few ticks after the timer's next wrap.
+/* emu_timer.c - two corrections to libsimavr 1.6's timers, where it differs from the ATmega2560 and
+ * the step engines meet the difference (a step one timer wrap, 65,536 ticks = 4.1 ms, late):
  *
- * Why: libsimavr 1.6 schedules a channel's compare event when OCRnx is written (if its time lies
- * ahead in the current timer period) or at the overflow, for the period that starts then. At the
- * overflow it keeps only events still ahead of the moment it runs, and it runs between
- * instructions, up to a few cycles after the wrap: a compare register written before the wrap with
- * a value of 0..3 or so (its match due right after the wrap) is dropped, and the channel next
- * matches one wrap (65,536 ticks at 16 MHz, 4.1 ms) later. The real ATmega2560 has no such loss: its
- * comparators run in hardware. The step engines meet it about once in 16,000 edges (an edge whose
- * tick lands at the start of a timer period): an edge one wrap late.
- * How: the write handler of every OCRnxL (the byte whose write takes the 16-bit value) of Timers 1,
- * 3, 4 and 5 is wrapped. Due events are processed first (so the timer's period is current), then
- * simavr's own handler runs; if the new match lies within the first 16 cycles of the next period,
- * the compare interrupt is also raised at exactly that cycle here (raising it twice at one cycle sets
- * one flag). A later write to the register withdraws that event.
+ * 1. A compare match right after a wrap. simavr schedules a channel's compare event when OCRnx is
+ *    written (if its time lies ahead in the current timer period) or at the overflow, for the
+ *    period that starts then. At the overflow it keeps only events still ahead of the moment it
+ *    runs, and it runs between instructions, up to a few cycles after the wrap: a compare register
+ *    written before the wrap with a value of 0..3 or so is dropped until the next wrap. The chip's
+ *    comparators run in hardware and lose nothing. Fix: the write handler of every OCRnxL (the byte
+ *    whose write takes the 16-bit value) of Timers 1, 3, 4 and 5 is wrapped: due events are
+ *    processed first (so the timer's period is current), then simavr's own handler runs; if the new
+ *    match lies within the first 16 cycles of the next period, the compare interrupt is also raised
+ *    at exactly that cycle here (raising it twice at one cycle sets one flag). A later write to the
+ *    register withdraws that event.
+ * 2. Writing TIFRn. On the chip a 1 clears that flag and a 0 leaves it alone (datasheet, "TIFRn");
+ *    simavr clears every pending flag of the timer whatever the value, so a sketch that clears one
+ *    channel's flag (TIFR1 = _BV(OCF1B)) loses another channel's pending match. Fix: the flags the
+ *    written value leaves alone are raised again right after simavr's handler.
  */
 #include <stdint.h>
 
@@ -58,8 +60,50 @@ static void ocr_write(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *pa
     }
 }
 
+/* TIFR0..TIFR5 (data addresses) */
+static const uint16_t tifr[] = {0x35, 0x36, 0x37, 0x38, 0x39, 0x3A};
+#define N_TIFR (sizeof tifr / sizeof tifr[0])
+
+static struct {
+    avr_io_write_t c;
+    void *param; /* simavr's avr_timer_t */
+} simavr_tifr[N_TIFR];
+
+/* the vector's flag is set and the written value leaves it alone */
+static int kept(struct avr_t *avr, const avr_int_vector_t *vec, uint8_t v)
+{
+    return vec->raised.reg != 0 && avr_regbit_get(avr, vec->raised) && !(v & (vec->raised.mask << vec->raised.bit));
+}
+
+static void tifr_write(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
+{
+    uintptr_t i = (uintptr_t)param;
+    avr_timer_t *t = simavr_tifr[i].param;
+    int keep_ov = kept(avr, &t->overflow, v), keep_ic = kept(avr, &t->icr, v);
+    int keep_comp[AVR_TIMER_COMP_COUNT];
+    for (int c = 0; c < AVR_TIMER_COMP_COUNT; c++)
+        keep_comp[c] = kept(avr, &t->comp[c].interrupt, v);
+    simavr_tifr[i].c(avr, addr, v, simavr_tifr[i].param);
+    if (keep_ov)
+        avr_raise_interrupt(avr, &t->overflow);
+    if (keep_ic)
+        avr_raise_interrupt(avr, &t->icr);
+    for (int c = 0; c < AVR_TIMER_COMP_COUNT; c++)
+        if (keep_comp[c])
+            avr_raise_interrupt(avr, &t->comp[c].interrupt);
+}
+
 int emu_timer_attach(avr_t *avr)
 {
+    for (uintptr_t i = 0; i < N_TIFR; i++) {
+        uint16_t io = (uint16_t)(tifr[i] - 0x20);
+        if (avr->io[io].w.c == 0 || avr->io[io].w.param == 0)
+            return -1;
+        simavr_tifr[i].c = avr->io[io].w.c;
+        simavr_tifr[i].param = avr->io[io].w.param;
+        avr->io[io].w.c = tifr_write;
+        avr->io[io].w.param = (void *)i;
+    }
     for (uintptr_t i = 0; i < N_OCR; i++) {
         uint16_t io = (uint16_t)(ocr_low[i] - 0x20); /* simavr's io[] index: data address - 0x20 */
         if (io >= MAX_IOs || avr->io[io].w.c == 0 || avr->io[io].w.param == 0)
