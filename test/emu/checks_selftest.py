@@ -320,6 +320,26 @@ def check_timer_wrap():
                                      "cycles after the write", problems)
 
 
+def check_tifr_write():
+    """Writing TIFRn clears the flags written as 1 and leaves the others pending (ATmega2560
+    datasheet, TIFRn: a flag is cleared by writing a logic one to it): with OCF5A and OCF5B both
+    pending, TIFR5 = OCF5B, then interrupts on, the compare A interrupt runs at once (libsimavr 1.6
+    alone clears every pending flag of the timer: tools/emu/emu_timer.c)."""
+    log = emulog.run(SELFTEST, "wait ^READY\nsend tifr\nwait ^OK tifr$\n", pins={"WRAP": "D57"})
+    problems = []
+    _fails(log, problems)
+    tg = [c for c, _ in log.pins.get("WRAP", [])]
+    if len(tg) != 2:
+        problems.append(f"PF3 toggled {len(tg)} times: the compare A interrupt, still pending after "
+                        "TIFR5 = OCF5B, should toggle it once more")
+    elif not 0 < tg[1] - tg[0] <= 100:
+        problems.append(f"the pending compare A interrupt ran {tg[1] - tg[0]} cycles after interrupts were on "
+                        "(bound 100)")
+    gap = tg[1] - tg[0] if len(tg) == 2 else None
+    return CheckResult(not problems, f"TIFR5 = OCF5B with OCF5A and OCF5B pending: compare A's interrupt ran "
+                                     f"{gap} cycles after sei", problems)
+
+
 CHECKS = [
     ("harness self-test: pin edges and timer timing from first principles", check_pins_and_timers),
     ("harness self-test: pin direction (DDR) and level changes at their cycles", check_pin_direction),
@@ -331,4 +351,5 @@ CHECKS = [
     ("harness self-test: ELF and argument validation", check_elf_validation),
     ("harness self-test: a compare match armed for the first ticks after a timer wrap comes there",
      check_timer_wrap),
+    ("harness self-test: a TIFRn write clears only the flags written as 1", check_tifr_write),
 ]

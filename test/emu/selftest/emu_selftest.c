@@ -19,6 +19,8 @@
  * OCR5A = k, which matches at tick k of the next period, toggles PF3 (D57), waits n nops, then runs
  * calls and returns (long instructions) across the wrap; the compare ISR toggles PF3 again:
  * 65536 - TCNT5 + k cycles after the write, plus the ISR's entry, whatever k; replies "OK wrap k"),
+ * tifr (Timer5, interrupts off, OCIE5A on: OCR5A and OCR5B match, both flags set, then TIFR5 = OCF5B,
+ * which clears only OCF5B; PF3 toggled, interrupts on: the compare A ISR toggles PF3 at once),
  * anything else -> "ERR unknown".
  */
 #include <avr/interrupt.h>
@@ -298,6 +300,22 @@ int main(void)
             TIMSK5 = 0;
             sprintf(buf, "OK wrap %u", k);
             println(buf);
+        } else if (!strcmp(line, "tifr")) {
+            TCCR5A = 0;
+            TCCR5B = _BV(CS50); /* normal mode, clk/1 */
+            TIMSK5 = 0;
+            cli();
+            OCR5A = TCNT5 + 200U;
+            OCR5B = TCNT5 + 300U;
+            TIFR5 = _BV(OCF5A) | _BV(OCF5B);
+            TIMSK5 = _BV(OCIE5A);
+            __builtin_avr_delay_cycles(1000); /* both match: both flags set, compare A's interrupt pending */
+            TIFR5 = _BV(OCF5B);               /* clears OCF5B only */
+            PINF = _BV(PF3);
+            sei();
+            __builtin_avr_delay_cycles(1000);
+            TIMSK5 = 0;
+            println("OK tifr");
         } else if (!strcmp(line, "dig1")) {
             TCCR3A = _BV(WGM30);   /* analogWrite(pin, 255): OC3C off, PE5 high by PORT */
             PORTE |= _BV(PE5);
