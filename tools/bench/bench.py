@@ -189,12 +189,13 @@ def planner_costs(elf):
 # ---- MultiAxisStepper ---------------------------------------------------------------------------
 # What MULTI_TRACE cannot see of a step interrupt (MultiStepEngineIsr.S), added to every traced interval.
 # Before TRACE rises: the chip's interrupt entry (5, not charged by simavr), the vector's and the naked
-# ISR's jumps (3 + 3), push/in/push (5), then on the common path the mode load and test with the axis's own
-# STEP (X, Y: lds, sbrs, sbi, tst, brne, push r25 = 9; Z, whose PORTL is read-modify-written: 13); with
-# followers (a coordinated move of axes moving as far: mode MASKED) the branch, the mode bits and both
-# ports' masks (26). After TRACE falls: four pops, out and pop (11) and reti (5). Z's 45 is used for every
-# interrupt of an axis stepping alone (X's and Y's are 4 fewer), 58 for a master with followers.
-MULTI_ENTRY_CYCLES = {"alone": 45, "masked": 58}
+# ISR's jumps (3 + 3), r24, SREG and r25 into GPIOR0..2 (4), then on the common path the mode load and
+# test with the axis's own STEP (X, Y: lds, sbrs, sbi, tst, brne = 7; Z, whose PORTL is
+# read-modify-written: 11); with followers (a coordinated move of axes moving as far: mode MASKED) the
+# branch, the mode bits and both ports' masks (24). After TRACE falls: two pops, the GPIORs back and
+# reti (13). Z's 39 is used for every interrupt of an axis stepping alone (X's and Y's are 4 fewer), 52
+# for a master with followers.
+MULTI_ENTRY_CYCLES = {"alone": 39, "masked": 52}
 MULTI_LIFT = "-DMULTI_MAX_SPS=200000 -DMULTI_TRACE=1"
 MULTI_LADDER = {"coordinated": [20000, 30000, 40000, 50000, 60000, 70000],
                 "independent": [5000, 8000, 10000, 12000, 15000, 18000, 20000, 25000, 30000]}

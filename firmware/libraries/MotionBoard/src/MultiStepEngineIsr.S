@@ -13,8 +13,10 @@
  * its followers' through the state's masks, one write per port, at the same cycle on each of its
  * paths; while wraps are counted out nothing is raised. One routine per axis, written once as the macro below: its
  * arguments are the axis's state, pins, compare register and flag, and C path.
- * Registers: r24, r25, r26, r27 (r30, r31 at a switch) and SREG, saved here; the T flag marks a
- * masked step (every STEP of the masks to lower at the end).
+ * Registers: r24, r25 and SREG kept in GPIOR0..2 while the interrupt runs (one cycle each way
+ * instead of a push and a pop; the three step interrupts do not nest and no other code of the sketch
+ * uses the GPIORs), r26, r27 (r30, r31 at a switch) pushed. The path for a master with followers is a
+ * second copy of the step (STEP_BODY m = 1), so the common path has no branch for it at the end.
  * A port outside the I/O space (Z's PORTL) is read-modify-written through r25/r24: interrupts are
  * off here, and loop() writes it only in atomic blocks.
  */
@@ -120,73 +122,26 @@ multi_axis_z:
     sts \dst + 3, r24
 .endm
 
-.macro AXIS_ISR name, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold
-    .section .text.\name,"ax",@progbits
-    .global \name
-    /* out of the common path, placed before the entry so that its short branches reach */
-29:
-    rjmp 30f                     /* to the switch of slots */
-9:
-    pop r25
-    pop r24
-    out _SFR_IO_ADDR(SREG), r24
-    pop r24
-    jmp \cold
-20:
-    /* mode not zero: wraps to count, a slow command, or followers */
-.if \io
-    push r25
+/* One copy of the step path: m = 0 for an axis stepping alone (its own STEP lowered by cbi at the
+ * end), m = 1 for a master with followers (every STEP of the masks lowered). The switch of slots
+ * (m = 1: before the step, reached through a jump next to the branch; m = 0: before the entry),
+ * then the step, then the rarer late edge. */
+.macro STEP_BODY name, m, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf
+.if \m
+    rjmp .L\name\()_left\m
+.L\name\()_switch\m:
+    SWITCH_SLOT \name, \m, \st, \io, \dir_port, \dir_bit
+.L\name\()_tramp\m:
+    rjmp .L\name\()_switch\m
 .endif
-    sbrc r24, M_WAITING
-    rjmp 9b                      /* counting out a slow interval's wraps: no step at this match */
-    bst r24, M_SLOW
-    sbrs r24, M_MASKED
-    rjmp 26f
-    /* the axis's own STEP and its followers' together: one write per port */
-    lds r25, \st + MASK_F
-    in r24, _SFR_IO_ADDR(PORTF)
-    or r24, r25
-    out _SFR_IO_ADDR(PORTF), r24
-    lds r25, \st + MASK_L
-    lds r24, _SFR_MEM_ADDR(PORTL)
-    or r24, r25
-    sts _SFR_MEM_ADDR(PORTL), r24
-26:
-    TRACE_HIGH
-    brts 9b                      /* a slow command: the C path steps it (STEP is high) */
-    set                          /* T: lower every STEP of the masks at the end */
-    rjmp 21f
-\name:
-    push r24
-    in r24, _SFR_IO_ADDR(SREG)
-    push r24
-.if \io
-    lds r24, \st + MODE
-    sbrs r24, M_OWN_OFF
-    sbi \step_port, \step_bit    /* STEP high (not while counting out wraps; followers: below) */
-    tst r24
-    brne 20b
-    push r25
-.else
-    push r25
-    lds r24, \st + MODE
-    sbrc r24, M_OWN_OFF
-    rjmp 19f
-    PIN_HIGH 0, \step_port, \step_bit, r25
-19:
-    tst r24
-    brne 20b
-.endif
-    TRACE_HIGH
-    clt                          /* T clear: only the axis's own STEP to lower */
-21:
+.L\name\()_left\m:
     lds r24, \st + LEFT          /* left-- (a borrow: the command is used up) */
     lds r25, \st + LEFT + 1
     sbiw r24, 1
-    brcs 29b
+    brcs .L\name\()_tramp\m
     sts \st + LEFT + 1, r25
     sts \st + LEFT, r24
-22:
+.L\name\()_acc\m:
     push r26
     push r27
     /* acc += rate; the edge, acc >> 16, into r27:r26 and OCR1x (high byte first, through TEMP) */
@@ -211,32 +166,44 @@ multi_axis_z:
     /* rate += add, when the command has one */
     lds r24, \st + FLAGS
     sbrs r24, F_HAS_ADD
-    rjmp 5f
+    rjmp .L\name\()_late\m
     ADD32_STATE \st + RATE, \st + ADD
-5:
+.L\name\()_late\m:
     /* late? edge - TCNT1 <= 0 (TCNT1L first: it latches the high byte) */
     lds r24, _SFR_MEM_ADDR(TCNT1L)
     lds r25, _SFR_MEM_ADDR(TCNT1H)
     sub r26, r24
     sbc r27, r25
-    brmi 7f
-    breq 7f
-23:
-    brts 24f
+    brmi .L\name\()_rearm\m
+    breq .L\name\()_rearm\m
+.L\name\()_low\m:
+.if \m
+    /* every STEP of the masks low */
+    lds r25, \st + MASK_F
+    com r25
+    in r24, _SFR_IO_ADDR(PORTF)
+    and r24, r25
+    out _SFR_IO_ADDR(PORTF), r24
+    lds r25, \st + MASK_L
+    com r25
+    lds r24, _SFR_MEM_ADDR(PORTL)
+    and r24, r25
+    sts _SFR_MEM_ADDR(PORTL), r24
+.else
     PIN_LOW \io, \step_port, \step_bit, r24
-25:
+.endif
     TRACE_LOW
     pop r27
     pop r26
-    pop r25
-    pop r24
+    in r25, _SFR_IO_ADDR(GPIOR2)
+    in r24, _SFR_IO_ADDR(GPIOR1)
     out _SFR_IO_ADDR(SREG), r24
-    pop r24
+    in r24, _SFR_IO_ADDR(GPIOR0)
     reti
-7:
+.L\name\()_rearm\m:
     /* armed in the past (an overload): unless the match came meanwhile, fire 2 us from now */
     sbic _SFR_IO_ADDR(TIFR1), \ocf
-    rjmp 23b
+    rjmp .L\name\()_low\m
     lds r24, _SFR_MEM_ADDR(TCNT1L)
     lds r25, _SFR_MEM_ADDR(TCNT1H)
     lds r26, \st + LATE_TICKS
@@ -250,22 +217,13 @@ multi_axis_z:
     adiw r24, 1
     sts \st + LATE + 1, r25
     sts \st + LATE, r24
-    rjmp 23b
-24:
-    /* a masked step: every STEP of the masks low */
-    lds r25, \st + MASK_F
-    com r25
-    in r24, _SFR_IO_ADDR(PORTF)
-    and r24, r25
-    out _SFR_IO_ADDR(PORTF), r24
-    lds r25, \st + MASK_L
-    com r25
-    lds r24, _SFR_MEM_ADDR(PORTL)
-    and r24, r25
-    sts _SFR_MEM_ADDR(PORTL), r24
-    rjmp 25b
-30:
-    /* the command is used up: take the next slot if it is laid out and not slow */
+    rjmp .L\name\()_low\m
+.endm
+
+/* The command is used up: take the next slot if it is laid out and not slow (its rate, add, left and
+ * flags into the state, DIR written if it turns: STEP rose for the old direction more than 1.5 us
+ * ago), then make its first step; otherwise the C path (the end, an underrun, a slow command). */
+.macro SWITCH_SLOT name, m, st, io, dir_port, dir_bit
     push r30
     push r31
     lds r30, \st + CUR
@@ -275,10 +233,10 @@ multi_axis_z:
     movw r30, r24
     ldd r24, Z + S_READY
     tst r24
-    breq 31f                     /* nothing ready: the end, or an underrun */
+    breq .L\name\()_none\m
     ldd r24, Z + S_FLAGS
     sbrc r24, F_SLOW
-    rjmp 31f
+    rjmp .L\name\()_none\m
     clr r25
     std Z + S_READY, r25
     sts \st + CUR + 1, r31
@@ -304,23 +262,79 @@ multi_axis_z:
     sts \st + ADD + 2, r25
     ldd r25, Z + S_ADD + 3
     sts \st + ADD + 3, r25
-    /* a command that turns: DIR now (STEP rose for the old direction more than 1.5 us ago) */
     sbrs r24, F_TURN
-    rjmp 32f
+    rjmp .L\name\()_dirset\m
     sbrc r24, F_FORWARD
-    rjmp 33f
+    rjmp .L\name\()_fwd\m
     PIN_LOW \io, \dir_port, \dir_bit, r24
-    rjmp 32f
-33:
+    rjmp .L\name\()_dirset\m
+.L\name\()_fwd\m:
     PIN_HIGH \io, \dir_port, \dir_bit, r24
-32:
+.L\name\()_dirset\m:
     pop r31
     pop r30
-    rjmp 22b
-31:
+    rjmp .L\name\()_acc\m
+.L\name\()_none\m:
     pop r31
     pop r30
-    rjmp 9b
+    rjmp .L\name\()_cold
+.endm
+
+.macro AXIS_ISR name, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold
+    .section .text.\name,"ax",@progbits
+    .global \name
+    /* out of the common path, placed before the entry so that its short branches reach */
+.L\name\()_switch0:
+    SWITCH_SLOT \name, 0, \st, \io, \dir_port, \dir_bit
+.L\name\()_cold:
+    /* the registers as at the entry, then the C path */
+    in r25, _SFR_IO_ADDR(GPIOR2)
+    in r24, _SFR_IO_ADDR(GPIOR1)
+    out _SFR_IO_ADDR(SREG), r24
+    in r24, _SFR_IO_ADDR(GPIOR0)
+    jmp \cold
+.L\name\()_other:
+    /* mode not zero: wraps to count, a slow command, or followers */
+    sbrc r24, M_WAITING
+    rjmp .L\name\()_cold         /* counting out a slow interval's wraps: no step at this match */
+    bst r24, M_SLOW
+    sbrs r24, M_MASKED
+    rjmp .L\name\()_trace
+    /* the axis's own STEP and its followers' together: one write per port */
+    lds r25, \st + MASK_F
+    in r24, _SFR_IO_ADDR(PORTF)
+    or r24, r25
+    out _SFR_IO_ADDR(PORTF), r24
+    lds r25, \st + MASK_L
+    lds r24, _SFR_MEM_ADDR(PORTL)
+    or r24, r25
+    sts _SFR_MEM_ADDR(PORTL), r24
+.L\name\()_trace:
+    TRACE_HIGH
+    brts .L\name\()_cold         /* a slow command: the C path steps it (STEP is high) */
+    rjmp .L\name\()_left1
+.L\name\()_tramp0:
+    rjmp .L\name\()_switch0
+\name:
+    out _SFR_IO_ADDR(GPIOR0), r24
+    in r24, _SFR_IO_ADDR(SREG)
+    out _SFR_IO_ADDR(GPIOR1), r24
+    out _SFR_IO_ADDR(GPIOR2), r25
+    lds r24, \st + MODE
+.if \io
+    sbrs r24, M_OWN_OFF
+    sbi \step_port, \step_bit    /* STEP high (not while counting out wraps; followers: below) */
+.else
+    sbrc r24, M_OWN_OFF
+    rjmp .L\name\()_test
+    PIN_HIGH 0, \step_port, \step_bit, r25
+.L\name\()_test:
+.endif
+    tst r24
+    brne .L\name\()_other
+    TRACE_HIGH
+    STEP_BODY \name, 0, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf
+    STEP_BODY \name, 1, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf
 .endm
 
 AXIS_ISR multi_step_isr_x, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, __vector_multi_cold_x
