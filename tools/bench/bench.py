@@ -197,8 +197,8 @@ def planner_costs(elf):
 # for a master with followers.
 MULTI_ENTRY_CYCLES = {"alone": 39, "masked": 52}
 MULTI_LIFT = "-DMULTI_MAX_SPS=200000 -DMULTI_TRACE=1"
-MULTI_LADDER = {"coordinated": [20000, 30000, 40000, 50000, 60000, 70000],
-                "independent": [5000, 8000, 10000, 12000, 15000, 18000, 20000, 25000, 30000]}
+MULTI_LADDER = {"coordinated": [20000, 30000, 40000, 50000, 60000, 70000, 80000, 90000, 100000],
+                "independent": [5000, 10000, 15000, 20000, 25000, 30000, 35000, 40000, 45000, 50000]}
 MULTI_CASES = [("coordinated", "x"), ("coordinated", "xy"), ("coordinated", "xyz"), ("independent", "xy"),
                ("independent", "xyz")]
 
@@ -214,9 +214,12 @@ def multi_script(mode, axes, v):
     else:
         for ax in axes:
             s += [f"send {ax} {MOVE}", f"wait ^(OK|ERR) {ax}"]
-    s += ["send ?", "wait ^z pos=", "timeout 120000"]
+    # `?` during the move; its three lines may come before or after the DONE of a fast move, so the
+    # script waits for the DONE(s) only, then asks again and lets the reply arrive (three lines take
+    # about half a second at 9600 baud): the last `x/y/z pos=` lines are the final state
+    s += ["send ?", "timeout 120000"]
     s += ["wait ^DONE move "] if mode == "coordinated" else [f"wait ^DONE [{axes}] "] * len(axes)
-    s += ["timeout 5000", "send ?", "wait ^z pos="]
+    s += ["run 1500", "send ?", "run 1500"]
     return "\n".join(s) + "\n"
 
 

@@ -60,7 +60,7 @@
  * the queues can run dry: counted as underruns in `?`. Override at compile time, e.g.
  * -DMULTI_MAX_SPS=30000. */
 #ifndef MULTI_MAX_SPS
-#define MULTI_MAX_SPS 40000.0
+#define MULTI_MAX_SPS 60000.0
 #endif
 
 /* The step engine's queues (MultiStepEngine.h): commands each axis's ring holds, and the size of
