@@ -15,8 +15,10 @@ the core's millis/serial interrupt) runs is late by up to that interrupt's lengt
 OTHER_ISR_CYCLES, and are counted in the summary.
 """
 import math
+import os
 import re
 import subprocess
+import sys
 
 import coord_profile
 import emulog
@@ -319,6 +321,32 @@ def check_stop(env, sketch):
                        "to -10000", problems)
 
 
+# Issue 13's number, in make test's short form (make bench measures the whole ladder): three
+# independent moves at once, every axis accelerating to 30,000 steps/s (the reference move: 20,000
+# steps, acceleration vmax^2/10,000), with a `?` during the move; every step, no underrun, no late
+# edge, every edge on its own plan (motionsim ramp --queue) within 1 tick or late behind another
+# interrupt by at most OTHER_ISR_CYCLES.
+THREE_AXES_SPS = 30000
+
+
+def check_three_axes_at_speed(env, sketch):
+    sys.path.insert(0, os.path.join(env.source_dir, "tools", "bench"))
+    import bench  # tools/bench/bench.py: the same run as `make bench`
+    pins = {k: v for k, v in sketches.multiaxis_pins(env).items() if k.endswith("STEP")}
+    res = bench.run_multi(env.elf(sketch), env.motionsim, "independent", AXES, THREE_AXES_SPS, pins)
+    problems = [p for p in res["problems"] if p != "not clean"]
+    if res.get("underruns") != 0:
+        problems.append(f"underruns: {res.get('underruns')}")
+    if res.get("late") != 0:
+        problems.append(f"late edges: {res.get('late')}")
+    if "worst" in res and not -1 <= res["worst"] <= OTHER_ISR_CYCLES:
+        problems.append(f"an edge {res['worst']:+d} cycles from its plan (bound -1..{OTHER_ISR_CYCLES})")
+    summary = (f"x, y, z each to {THREE_AXES_SPS:,} steps/s at once: {res.get('steps', 0):,} steps per axis, "
+               f"underruns {res.get('underruns')}, late {res.get('late')}, worst edge {res.get('worst', '-')} "
+               f"cycles from its plan, {res.get('beyond8', '-')} edges beyond 8 cycles")
+    return CheckResult(not problems, summary, problems)
+
+
 def checks_for(env):
     checks = []
     for n in env.sketch_names():
@@ -334,4 +362,6 @@ def checks_for(env):
                        lambda n=n: check_bad_input(env, n)))
         checks.append((f"{n}: stop, stop <axis>: one DONE per move, where the pulses end",
                        lambda n=n: check_stop(env, n)))
+        checks.append((f"{n}: three independent axes at {THREE_AXES_SPS:,} steps/s each: every step, no underrun",
+                       lambda n=n: check_three_axes_at_speed(env, n)))
     return checks
