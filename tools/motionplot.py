@@ -15,6 +15,7 @@ as bars, one panel per numeric column; text anywhere else is an error. A header 
 (a zero-step move) is valid and gets empty axes marked "0 rows"; a file that is not UTF-8 text
 (or holds NUL bytes) is refused as "not a text CSV file".
 """
+import bisect
 import csv
 import io
 import math
@@ -158,15 +159,42 @@ def series_label(column, label, n_columns):
 
 
 def same_series(xa, ya, xb, yb):
-    """True if two series agree wherever both have points (the shorter is a prefix of the longer):
-    e.g. the same setpoint over 3 s and over 5 s."""
-    m = min(len(xa), len(xb))
-    if m == 0:
+    """True if two series agree in value wherever both are defined: over the x range they share,
+    every point of each equals the other's value there (between two of its points, either one:
+    a setpoint that steps between them). E.g. the same setpoint over 3 s and over 5 s, or sampled
+    every 1 ms by the emulator and every 20 ms by motionsim. Series whose x values are not sorted
+    must be identical where both have points (the shorter a prefix of the longer)."""
+    a = [(x, y) for x, y in zip(xa, ya) if not math.isnan(x)]
+    b = [(x, y) for x, y in zip(xb, yb) if not math.isnan(x)]
+    if not a or not b:
         return False
 
-    def eq(a, b):
-        return a == b or (math.isnan(a) and math.isnan(b))
-    return all(eq(a, b) for a, b in zip(xa[:m], xb[:m])) and all(eq(a, b) for a, b in zip(ya[:m], yb[:m]))
+    def eq(p, q):
+        return p == q or (math.isnan(p) and math.isnan(q))
+
+    def ascending(pts):
+        return all(p[0] <= q[0] for p, q in zip(pts, pts[1:]))
+    if not (ascending(a) and ascending(b)):
+        m = min(len(xa), len(xb))
+        return all(eq(p, q) for p, q in zip(xa[:m], xb[:m])) and all(eq(p, q) for p, q in zip(ya[:m], yb[:m]))
+    lo, hi = max(a[0][0], b[0][0]), min(a[-1][0], b[-1][0])
+    if lo > hi:
+        return False
+
+    def agrees(pts, other):
+        ox = [x for x, _ in other]
+        for x, y in pts:
+            if x < lo or x > hi:
+                continue
+            i = bisect.bisect_left(ox, x)
+            if i < len(ox) and ox[i] == x:
+                near = [v for u, v in other[i:bisect.bisect_right(ox, x)]]
+            else:
+                near = [other[j][1] for j in (i - 1, i) if 0 <= j < len(other)]
+            if not any(eq(y, v) for v in near):
+                return False
+        return True
+    return agrees(a, b) and agrees(b, a)
 
 
 def is_jumpy(ys):
@@ -200,7 +228,8 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
     (e.g. the exact ramp under the Leib ramp, or the simulator under the firmware).
     label: what `data` is, for the legends (e.g. "Leib", "firmware (emulated)"); legends name the
     series (series_label), never the CSV columns. A reference column (the setpoint, the filter's
-    input) that an overlay has identical to an earlier line is not drawn twice. A long series that
+    input) that an overlay has equal in value to an earlier line of the same column wherever both
+    are defined (same_series: also when sampled at other times) is not drawn twice. A long series that
     jumps back and forth at every point (an S-curve's acceleration) is drawn thin and pale with its
     moving mean over it.
     panels: [(y columns, y label[, x column[, x label]])] (see panel_spec); x: the default x column.
@@ -219,7 +248,7 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
     for i, (ax, (ycols, ylabel, px, xlabel)) in enumerate(zip(axes[:, 0], specs)):
         if px not in data.columns:
             raise ValueError(f"{data.path}: no column {px!r} (columns: {', '.join(data.header)})")
-        drawn = []   # (x values, y values) already on this panel
+        drawn = []   # (column, x values, y values) already on this panel
         n_lines = 0
         for y in ycols:
             if y not in data.columns:
@@ -231,7 +260,8 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
                 if y not in d.columns:
                     continue
                 xs, ys = d.columns[px], d.columns[y]
-                if j > 0 and y in REFERENCE_COLUMNS and any(same_series(xs, ys, a, b) for a, b in drawn):
+                if j > 0 and y in REFERENCE_COLUMNS and any(c == y and same_series(xs, ys, a, b)
+                                                            for c, a, b in drawn):
                     continue
                 text = series_label(y, dlabel if (j > 0 or overlays or label) else None, len(ycols))
                 if y in REFERENCE_COLUMNS and len(ycols) > 1 and j == 0:
@@ -243,7 +273,7 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
                             label=f"{text} (moving mean of {w} steps; raw pale)")
                 else:
                     ax.plot(xs, ys, style, linewidth=1.4 if j == 0 else 1.1, label=text)
-                drawn.append((xs, ys))
+                drawn.append((y, xs, ys))
                 n_lines += 1
         if len(data) == 0:
             ax.text(0.5, 0.5, "0 rows", transform=ax.transAxes, ha="center", va="center", color="grey")

@@ -59,6 +59,43 @@ def test_servo_setpoint_is_drawn_once_and_gains_name_the_lines(tmp_path, motions
     no_column_names(legends)
 
 
+def servo_csv_every_ms(path, setpoints, seconds=3.0):
+    """A servo CSV as `make emulate` writes it: one row per 1 ms; setpoints: [(from t, counts)]"""
+    rows = ["t_s,setpoint,position_counts,error_counts,duty_pct"]
+    for k in range(int(seconds * 1000)):
+        t = k / 1000.0
+        sp = [c for t0, c in setpoints if t >= t0][-1]
+        rows.append(f"{t},{sp},{min(sp, k)},{sp - min(sp, k)},5")
+    path.write_text("\n".join(rows) + "\n")
+    return motionplot.CsvData(str(path))
+
+
+@pytest.mark.parametrize("fw_setpoint, drawn", [(1000, 1), (500, 2)])
+def test_a_setpoint_sampled_at_other_times_is_drawn_once_if_equal(tmp_path, motionsim, fw_setpoint, drawn):
+    """`make emulate`'s servo plot: the firmware sampled every 1 ms, motionsim every 20 ms (from
+    another t = 0). The same setpoint (1000 counts in both) is drawn once; another setpoint is
+    a second line."""
+    fw = servo_csv_every_ms(tmp_path / "fw.csv", [(0.0, fw_setpoint)])
+    ms = sim(motionsim, tmp_path / "ms.csv", "servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "1000",
+             "--duration", "2.9")
+    ms.columns["t_s"] = [t + 0.0047 for t in ms.columns["t_s"]]   # motionsim's t = 0 at the firmware's first read
+    legends = motionplot.plot(fw, str(tmp_path / "s.png"), label="firmware (emulated)",
+                              overlays=[("motionsim", ms)])
+    assert sum("setpoint" in t for t in legends[0]) == drawn, legends[0]
+
+
+def test_a_setpoint_that_steps_is_the_same_series_whatever_the_sampling():
+    """1000 counts until 1 s, then 500: sampled every 1 ms and every 20 ms from 0.0047 s, both are
+    that setpoint (the step falls between two 20 ms samples); a step at another time is not."""
+    fine_t = [k / 1000.0 for k in range(2000)]
+    coarse_t = [0.0047 + k * 0.02 for k in range(99)]
+
+    def sp(t, at=1.0):
+        return 1000.0 if t < at else 500.0
+    assert motionplot.same_series(fine_t, [sp(t) for t in fine_t], coarse_t, [sp(t) for t in coarse_t])
+    assert not motionplot.same_series(fine_t, [sp(t) for t in fine_t], coarse_t, [sp(t, 1.5) for t in coarse_t])
+
+
 def test_filter_plot_is_one_useful_panel(tmp_path, motionsim):
     ma = sim(motionsim, tmp_path / "ma.csv", "filter", "--kind", "ma", "--tau", "9", "--ts", "0.01", "--input",
              "step:5", "--duration", "20")
@@ -114,15 +151,38 @@ def test_workbook_from_ones_own_csv_files(tmp_path, motionsim):
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     wb = load_workbook(book)
-    assert wb.sheetnames == ["index", "Move", "Move.motionsim", "long"]
+    # the motionsim file is an overlay, not a sheet of its own
+    assert wb.sheetnames == ["index", "Move", "long"]
     assert isinstance(wb["Move"]._charts[0], LineChart) and isinstance(wb["long"]._charts[0], LineChart)
-    # the motionsim file is drawn over the firmware's: a scatter series reads its sheet
+    # the motionsim file is drawn over the firmware's: a scatter series reads its columns, in Move's sheet
+    head = [c.value for c in wb["Move"][1]]
+    assert "t_s (motionsim)" in head and "speed_sps (motionsim)" in head, head
     refs = [s.xVal.numRef.f for c in wb["Move"]._charts[1:] for s in c.series if s.xVal is not None]
-    assert any(f.startswith("'Move.motionsim'!") for f in refs), refs
+    col = chr(ord("A") + head.index("t_s (motionsim)"))
+    assert any(f.startswith(f"Move!${col}$") for f in refs), refs
     # 12001 rows: the sheet holds at most 250, the index says so
     assert wb["long"].max_row <= 251
     assert any("every 49th row" in str(c.value) for row in wb["index"].iter_rows() for c in row)
     assert book.stat().st_size < 200_000
+
+
+def test_workbook_of_an_emulated_servo_run_draws_the_setpoint_once(tmp_path, motionsim):
+    """`make emulate`'s servo files: the firmware every 1 ms, motionsim every 20 ms, the same
+    setpoint. One sheet (the motionsim file joins it), the setpoint once, motionsim's position dashed."""
+    from openpyxl import load_workbook
+    servo_csv_every_ms(tmp_path / "Servo.csv", [(0.0, 1000)])
+    sim(motionsim, tmp_path / "Servo.motionsim.csv", "servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "1000",
+        "--duration", "2.9")
+    book = tmp_path / "emu.xlsx"
+    r = subprocess.run([os.path.join(ROOT, "tools", "workbook"), str(tmp_path / "Servo.csv"),
+                        str(tmp_path / "Servo.motionsim.csv"), "-o", str(book)], capture_output=True, text=True,
+                       timeout=300)
+    assert r.returncode == 0, r.stderr
+    wb = load_workbook(book)
+    assert wb.sheetnames == ["index", "Servo"]
+    names = [s.tx.strRef.f if s.tx.strRef is not None else s.tx.v for s in wb["Servo"]._charts[0].series]
+    assert sum("setpoint" in n for n in names) == 1, names
+    assert "position, motionsim" in names, names
 
 
 @pytest.mark.parametrize("args, why", [(["nope.csv", "-o", "b.xlsx"], "nope.csv"),
