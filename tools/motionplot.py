@@ -223,6 +223,27 @@ def moving_mean(ys, window):
     return out[h:] + [out[-1]] * h if len(out) > h else out
 
 
+def default_title(data):
+    """What the CSV shows, said by its own rows: a ramp's move ("move 0 -> 50 steps, 5.47 s", from
+    the first step's position and the direction of the last), a servo run's setpoint ("setpoint 1000
+    counts, 3 s"), then the file's name; for any other file its name."""
+    name = os.path.basename(data.path)
+    cols = data.columns
+    if len(data) == 0 or data.labels is not None:
+        return name
+    if tuple(data.header[:6]) == KNOWN[0][0]:
+        pos = [p for p in cols["position"] if not math.isnan(p)]
+        if pos and all(b - a in (1, -1) for a, b in zip(pos, pos[1:])) and \
+                len({b - a for a, b in zip(pos, pos[1:])}) <= 1:
+            sign = -1 if len(pos) > 1 and pos[1] < pos[0] else 1
+            return f"move {pos[0] - sign:g} -> {pos[-1]:g} steps, {cols['t_s'][-1]:.3g} s ({name})"
+    if tuple(data.header[:5]) == KNOWN[2][0]:
+        sps = {v for v in cols["setpoint"] if not math.isnan(v)}
+        if len(sps) == 1:
+            return f"setpoint {sps.pop():g} counts, {cols['t_s'][-1] - cols['t_s'][0]:.3g} s ({name})"
+    return name
+
+
 def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None):
     """Plots `data` into out_png. overlays: [(label, CsvData)] drawn dashed on the same panels
     (e.g. the exact ramp under the Leib ramp, or the simulator under the firmware).
@@ -234,11 +255,16 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
     moving mean over it.
     panels: [(y columns, y label[, x column[, x label]])] (see panel_spec); x: the default x column.
     A file with a label column is drawn as bars (plot_bars); a file with a header and no rows
-    gets its usual (empty) axes with the note "0 rows". Returns the legend texts, one list per panel."""
+    gets its usual (empty) axes with the note "0 rows". Without a title, default_title says what the
+    rows show (a ramp's move, a servo's setpoint); without a label but with overlays, `data` is
+    named by its file (e.g. "table" for table.csv), as an overlay given without LABEL= is.
+    Returns the legend texts, one list per panel."""
     if data.labels is not None:
         cols = [(y, p[1]) for p in panels for y in p[0]] if panels else None
         plot_bars(data, out_png, title=title, columns=cols)
         return []
+    if label is None and overlays:
+        label = os.path.splitext(os.path.basename(data.path))[0]
     dx, dpanels = default_layout(data.header)
     x = x or dx
     specs = [panel_spec(p, x) for p in (panels or dpanels)]
@@ -284,7 +310,7 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
         legends.append([ln.get_label() for ln in ax.get_lines() if not ln.get_label().startswith("_")])
         if not shared or i == len(specs) - 1:
             ax.set_xlabel(xlabel)
-    fig.suptitle(textwrap.fill(title or os.path.basename(data.path), 100))
+    fig.suptitle(textwrap.fill(title or default_title(data), 100))
     fig.tight_layout()
     fig.savefig(out_png, dpi=110)
     plt.close(fig)

@@ -208,3 +208,21 @@ def test_no_seed_wording_in_titles_help_or_output(tmp_path):
         texts.append(f.read())          # the default emulator scripts are copied into build/emulate
     for t in texts:
         assert not re.search(r"\bseed\b", t, re.I), t[:200]
+
+
+@pytest.mark.parametrize("frm,to", [(0, 50), (10, -5)])
+def test_a_ramp_plot_is_titled_by_its_move_and_names_its_file_by_default(tmp_path, motionsim, frm, to):
+    """README's step 3 without --title: the title says the move motionsim was asked for (from the
+    CSV's positions), and with an overlay the file's series is named by the file, not "step rate"."""
+    args = ["--from", str(frm), "--to", str(to), "--v0", "1", "--vmax", "20", "--accel", "10", "--tick-hz", "1000"]
+    table = sim(motionsim, tmp_path / "table.csv", "ramp", "--algo", "simplistic", *args)
+    leib = sim(motionsim, tmp_path / "leib.csv", "ramp", "--algo", "leib", *args)
+    assert motionplot.default_title(table).startswith(f"move {frm} -> {to} steps, ")
+    legends = motionplot.plot(table, str(tmp_path / "r.png"), overlays=[("Leib", leib)])
+    assert legends == [["table", "Leib"], ["table", "Leib"]]
+
+
+def test_a_servo_plot_is_titled_by_its_setpoint(tmp_path, motionsim):
+    run = sim(motionsim, tmp_path / "p.csv", "servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "750",
+              "--duration", "2")
+    assert motionplot.default_title(run).startswith("setpoint 750 counts, ")
