@@ -244,6 +244,42 @@ def default_title(data):
     return name
 
 
+def legend_hides_data(ax, legend, renderer):
+    """True if a line of the panel (any segment, not only its points) runs under the legend's box."""
+    from matplotlib.path import Path
+    box = legend.get_window_extent(renderer)
+    for line in ax.get_lines():
+        xy = [p for p in line.get_xydata() if not (math.isnan(p[0]) or math.isnan(p[1]))]
+        if not xy:
+            continue
+        disp = ax.transData.transform(xy)
+        if len(disp) == 1:
+            if box.contains(*disp[0]):
+                return True
+        elif Path(disp).intersects_bbox(box, filled=False):
+            return True
+    return False
+
+
+def place_legends(fig, axes):
+    """Each panel's legend where matplotlib finds room ("best"); a legend that would still hide
+    data (a panel filled edge to edge, e.g. a square wave and its filtered outputs) goes outside
+    the panel, to its right, and the figure is widened by the legend's width."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    widest = 0.0
+    for ax in axes:
+        leg = ax.get_legend()
+        if leg is None or not legend_hides_data(ax, leg, renderer):
+            continue
+        leg.remove()
+        leg = ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize="small")
+        widest = max(widest, leg.get_window_extent(renderer).width / fig.dpi)
+    if widest:
+        w, h = fig.get_size_inches()
+        fig.set_size_inches(w + widest + 0.2, h)
+
+
 def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None):
     """Plots `data` into out_png. overlays: [(label, CsvData)] drawn dashed on the same panels
     (e.g. the exact ramp under the Leib ramp, or the simulator under the firmware).
@@ -311,6 +347,8 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
         if not shared or i == len(specs) - 1:
             ax.set_xlabel(xlabel)
     fig.suptitle(textwrap.fill(title or default_title(data), 100))
+    fig.tight_layout()
+    place_legends(fig, axes[:, 0])
     fig.tight_layout()
     fig.savefig(out_png, dpi=110)
     plt.close(fig)

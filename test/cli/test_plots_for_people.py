@@ -226,3 +226,35 @@ def test_a_servo_plot_is_titled_by_its_setpoint(tmp_path, motionsim):
     run = sim(motionsim, tmp_path / "p.csv", "servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "750",
               "--duration", "2")
     assert motionplot.default_title(run).startswith("setpoint 750 counts, ")
+
+
+def legend_covers_a_line(ax, renderer):
+    """Independent of motionplot: does any drawn segment cross the legend's box?"""
+    from matplotlib.path import Path
+    box = ax.get_legend().get_window_extent(renderer)
+    for line in ax.get_lines():
+        xy = [p for p in line.get_xydata() if p[0] == p[0] and p[1] == p[1]]
+        if len(xy) > 1 and Path(ax.transData.transform(xy)).intersects_bbox(box, filled=False):
+            return True
+    return False
+
+
+@pytest.mark.parametrize("name", ["filter_ma_square", "filter_ma2_square", "filter_ma_step", "ramp_leib_0_50"])
+def test_no_legend_hides_data(tmp_path, motionsim, monkeypatch, name):
+    """The square-wave filter plots fill their panel edge to edge; the legend must not sit over a line
+    (checked on the drawn figure: no line segment crosses the legend's box)."""
+    items = {s["name"]: s for s in profiles.load_scenarios()}
+    s = items[name]
+    data = sim(motionsim, tmp_path / f"{name}.csv", *s["args"])
+    overlays = []
+    for o in s.get("overlay", []):
+        overlays.append((profiles.scenario_label(items[o]), sim(motionsim, tmp_path / f"{o}.csv", *items[o]["args"])))
+    figs = []
+    monkeypatch.setattr(motionplot.plt, "close", lambda fig: figs.append(fig))
+    motionplot.plot(data, str(tmp_path / "p.png"), title=s["title"], overlays=overlays, label=profiles.scenario_label(s))
+    fig = figs[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        if ax.get_legend() is not None:
+            assert not legend_covers_a_line(ax, renderer), (name, ax.get_ylabel())
