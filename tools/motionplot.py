@@ -265,8 +265,7 @@ def place_legends(fig, axes):
     """Each panel's legend where matplotlib finds room ("best"); a legend that would still hide
     data (a panel filled edge to edge, e.g. a square wave and its filtered outputs) goes outside
     the panel, to its right, and the figure is widened by the legend's width."""
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
+    renderer = fig.canvas.get_renderer()   # no full draw: the legends' "best" places are found on demand
     widest = 0.0
     for ax in axes:
         leg = ax.get_legend()
