@@ -15,6 +15,7 @@ as bars, one panel per numeric column; text anywhere else is an error. A header 
 (a zero-step move) is valid and gets empty axes marked "0 rows"; a file that is not UTF-8 text
 (or holds NUL bytes) is refused as "not a text CSV file".
 """
+import bisect
 import csv
 import io
 import math
@@ -158,15 +159,42 @@ def series_label(column, label, n_columns):
 
 
 def same_series(xa, ya, xb, yb):
-    """True if two series agree wherever both have points (the shorter is a prefix of the longer):
-    e.g. the same setpoint over 3 s and over 5 s."""
-    m = min(len(xa), len(xb))
-    if m == 0:
+    """True if two series agree in value wherever both are defined: over the x range they share,
+    every point of each equals the other's value there (between two of its points, either one:
+    a setpoint that steps between them). E.g. the same setpoint over 3 s and over 5 s, or sampled
+    every 1 ms by the emulator and every 20 ms by motionsim. Series whose x values are not sorted
+    must be identical where both have points (the shorter a prefix of the longer)."""
+    a = [(x, y) for x, y in zip(xa, ya) if not math.isnan(x)]
+    b = [(x, y) for x, y in zip(xb, yb) if not math.isnan(x)]
+    if not a or not b:
         return False
 
-    def eq(a, b):
-        return a == b or (math.isnan(a) and math.isnan(b))
-    return all(eq(a, b) for a, b in zip(xa[:m], xb[:m])) and all(eq(a, b) for a, b in zip(ya[:m], yb[:m]))
+    def eq(p, q):
+        return p == q or (math.isnan(p) and math.isnan(q))
+
+    def ascending(pts):
+        return all(p[0] <= q[0] for p, q in zip(pts, pts[1:]))
+    if not (ascending(a) and ascending(b)):
+        m = min(len(xa), len(xb))
+        return all(eq(p, q) for p, q in zip(xa[:m], xb[:m])) and all(eq(p, q) for p, q in zip(ya[:m], yb[:m]))
+    lo, hi = max(a[0][0], b[0][0]), min(a[-1][0], b[-1][0])
+    if lo > hi:
+        return False
+
+    def agrees(pts, other):
+        ox = [x for x, _ in other]
+        for x, y in pts:
+            if x < lo or x > hi:
+                continue
+            i = bisect.bisect_left(ox, x)
+            if i < len(ox) and ox[i] == x:
+                near = [v for u, v in other[i:bisect.bisect_right(ox, x)]]
+            else:
+                near = [other[j][1] for j in (i - 1, i) if 0 <= j < len(other)]
+            if not any(eq(y, v) for v in near):
+                return False
+        return True
+    return agrees(a, b) and agrees(b, a)
 
 
 def is_jumpy(ys):
@@ -195,21 +223,83 @@ def moving_mean(ys, window):
     return out[h:] + [out[-1]] * h if len(out) > h else out
 
 
+def default_title(data):
+    """What the CSV shows, said by its own rows: a ramp's move ("move 0 -> 50 steps, 5.47 s", from
+    the first step's position and the direction of the last), a servo run's setpoint ("setpoint 1000
+    counts, 3 s"), then the file's name; for any other file its name."""
+    name = os.path.basename(data.path)
+    cols = data.columns
+    if len(data) == 0 or data.labels is not None:
+        return name
+    if tuple(data.header[:6]) == KNOWN[0][0]:
+        pos = [p for p in cols["position"] if not math.isnan(p)]
+        if pos and all(b - a in (1, -1) for a, b in zip(pos, pos[1:])) and \
+                len({b - a for a, b in zip(pos, pos[1:])}) <= 1:
+            sign = -1 if len(pos) > 1 and pos[1] < pos[0] else 1
+            return f"move {pos[0] - sign:g} -> {pos[-1]:g} steps, {cols['t_s'][-1]:.3g} s ({name})"
+    if tuple(data.header[:5]) == KNOWN[2][0]:
+        sps = {v for v in cols["setpoint"] if not math.isnan(v)}
+        if len(sps) == 1:
+            return f"setpoint {sps.pop():g} counts, {cols['t_s'][-1] - cols['t_s'][0]:.3g} s ({name})"
+    return name
+
+
+def legend_hides_data(ax, legend, renderer):
+    """True if a line of the panel (any segment, not only its points) runs under the legend's box."""
+    from matplotlib.path import Path
+    box = legend.get_window_extent(renderer)
+    for line in ax.get_lines():
+        xy = [p for p in line.get_xydata() if not (math.isnan(p[0]) or math.isnan(p[1]))]
+        if not xy:
+            continue
+        disp = ax.transData.transform(xy)
+        if len(disp) == 1:
+            if box.contains(*disp[0]):
+                return True
+        elif Path(disp).intersects_bbox(box, filled=False):
+            return True
+    return False
+
+
+def place_legends(fig, axes):
+    """Each panel's legend where matplotlib finds room ("best"); a legend that would still hide
+    data (a panel filled edge to edge, e.g. a square wave and its filtered outputs) goes outside
+    the panel, to its right, and the figure is widened by the legend's width."""
+    renderer = fig.canvas.get_renderer()   # no full draw: the legends' "best" places are found on demand
+    widest = 0.0
+    for ax in axes:
+        leg = ax.get_legend()
+        if leg is None or not legend_hides_data(ax, leg, renderer):
+            continue
+        leg.remove()
+        leg = ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize="small")
+        widest = max(widest, leg.get_window_extent(renderer).width / fig.dpi)
+    if widest:
+        w, h = fig.get_size_inches()
+        fig.set_size_inches(w + widest + 0.2, h)
+
+
 def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None):
     """Plots `data` into out_png. overlays: [(label, CsvData)] drawn dashed on the same panels
     (e.g. the exact ramp under the Leib ramp, or the simulator under the firmware).
     label: what `data` is, for the legends (e.g. "Leib", "firmware (emulated)"); legends name the
     series (series_label), never the CSV columns. A reference column (the setpoint, the filter's
-    input) that an overlay has identical to an earlier line is not drawn twice. A long series that
+    input) that an overlay has equal in value to an earlier line of the same column wherever both
+    are defined (same_series: also when sampled at other times) is not drawn twice. A long series that
     jumps back and forth at every point (an S-curve's acceleration) is drawn thin and pale with its
     moving mean over it.
     panels: [(y columns, y label[, x column[, x label]])] (see panel_spec); x: the default x column.
     A file with a label column is drawn as bars (plot_bars); a file with a header and no rows
-    gets its usual (empty) axes with the note "0 rows". Returns the legend texts, one list per panel."""
+    gets its usual (empty) axes with the note "0 rows". Without a title, default_title says what the
+    rows show (a ramp's move, a servo's setpoint); without a label but with overlays, `data` is
+    named by its file (e.g. "table" for table.csv), as an overlay given without LABEL= is.
+    Returns the legend texts, one list per panel."""
     if data.labels is not None:
         cols = [(y, p[1]) for p in panels for y in p[0]] if panels else None
         plot_bars(data, out_png, title=title, columns=cols)
         return []
+    if label is None and overlays:
+        label = os.path.splitext(os.path.basename(data.path))[0]
     dx, dpanels = default_layout(data.header)
     x = x or dx
     specs = [panel_spec(p, x) for p in (panels or dpanels)]
@@ -219,7 +309,7 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
     for i, (ax, (ycols, ylabel, px, xlabel)) in enumerate(zip(axes[:, 0], specs)):
         if px not in data.columns:
             raise ValueError(f"{data.path}: no column {px!r} (columns: {', '.join(data.header)})")
-        drawn = []   # (x values, y values) already on this panel
+        drawn = []   # (column, x values, y values) already on this panel
         n_lines = 0
         for y in ycols:
             if y not in data.columns:
@@ -231,7 +321,8 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
                 if y not in d.columns:
                     continue
                 xs, ys = d.columns[px], d.columns[y]
-                if j > 0 and y in REFERENCE_COLUMNS and any(same_series(xs, ys, a, b) for a, b in drawn):
+                if j > 0 and y in REFERENCE_COLUMNS and any(c == y and same_series(xs, ys, a, b)
+                                                            for c, a, b in drawn):
                     continue
                 text = series_label(y, dlabel if (j > 0 or overlays or label) else None, len(ycols))
                 if y in REFERENCE_COLUMNS and len(ycols) > 1 and j == 0:
@@ -243,7 +334,7 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
                             label=f"{text} (moving mean of {w} steps; raw pale)")
                 else:
                     ax.plot(xs, ys, style, linewidth=1.4 if j == 0 else 1.1, label=text)
-                drawn.append((xs, ys))
+                drawn.append((y, xs, ys))
                 n_lines += 1
         if len(data) == 0:
             ax.text(0.5, 0.5, "0 rows", transform=ax.transAxes, ha="center", va="center", color="grey")
@@ -254,7 +345,9 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
         legends.append([ln.get_label() for ln in ax.get_lines() if not ln.get_label().startswith("_")])
         if not shared or i == len(specs) - 1:
             ax.set_xlabel(xlabel)
-    fig.suptitle(textwrap.fill(title or os.path.basename(data.path), 100))
+    fig.suptitle(textwrap.fill(title or default_title(data), 100))
+    fig.tight_layout()
+    place_legends(fig, axes[:, 0])
     fig.tight_layout()
     fig.savefig(out_png, dpi=110)
     plt.close(fig)

@@ -7,8 +7,11 @@ Without -o the PNG goes beside the CSV (FILE.png). The columns to plot are chose
 CSV's header (ramp, filter, servo and pid-replay files each get their usual plot); --x/--y
 override that. --overlay draws another CSV's same columns dashed on the same axes, e.g. the
 exact ramp under the Leib ramp, or motionsim under the firmware's emulated output. Legends name
-what each line is: --label names FILE.csv's data (e.g. "Leib"), LABEL each overlay's (e.g.
-"exact"); the setpoint or filter input that an overlay repeats is drawn once.
+what each line is: --label names FILE.csv's data (e.g. "Leib"; default with overlays: the file's
+name without .csv), LABEL each overlay's (e.g. "exact"); the setpoint or filter input that an
+overlay repeats is drawn once. A motionsim CSV holds the rows only, not the algorithm or gains
+that made them: say those with --label. Without --title the title says what the rows show: a
+ramp's move ("move 0 -> 50 steps, 5.47 s (leib.csv)"), a servo run's setpoint, else the file name.
 A CSV with a header and no rows (e.g. a zero-step move) is plotted as empty axes marked "0 rows"
 (exit 0); a file that is not CSV text, a malformed row or a missing file is one line on stderr,
 exit 2.
@@ -25,10 +28,11 @@ def main(argv):
     ap = argparse.ArgumentParser(prog="tools/plot", description="Plot a motionsim CSV file to PNG.")
     ap.add_argument("csv", help="CSV file written by motionsim or the emulator harness")
     ap.add_argument("-o", "--output", help="PNG file to write (default: beside the CSV)")
-    ap.add_argument("--title", help="plot title (default: the file name)")
+    ap.add_argument("--title", help="plot title (default: the move or setpoint the rows show, and the file name)")
     ap.add_argument("--x", help="column for the x axis")
     ap.add_argument("--y", help="comma-separated columns for a single panel")
-    ap.add_argument("--label", help="what FILE.csv is, for the legends (e.g. Leib, 'P, Kp = 0.02')")
+    ap.add_argument("--label", help="what FILE.csv is, for the legends (e.g. Leib, 'P, Kp = 0.02'; "
+                    "default with overlays: the file's name)")
     ap.add_argument("--overlay", action="append", default=[], metavar="LABEL=CSV",
                     help="draw another CSV's columns dashed on the same axes (repeatable)")
     a = ap.parse_args(argv)

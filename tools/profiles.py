@@ -204,7 +204,11 @@ def write_workbook(path, done, source_note=None):
       a ramp: a line chart of the step rate on a uniform grid ('t_s (grid)', 'speed_sps (grid)'
           and 'speed_sps (grid, <overlay>)', sample-and-hold, see held_step_rate), then an XY
           scatter per panel at the exact step times (overlays drawn from their own sheets);
-      a label table (ramp --compare): a column chart per deviation."""
+      a label table (ramp --compare): a column chart per deviation.
+    A scenario with "sheet": False gets no sheet of its own (and no index row): it is only an
+    overlay (tools/workbook: X.motionsim.csv given with X.csv). Where it is not on the time base
+    of the sheet it is drawn over, its columns are written into that sheet (after its own, headed
+    '<column> (<overlay>)') and the sheet's charts are XY scatters that read them."""
     import xlsxwriter  # in .venv (requirements.txt)
 
     wb = xlsxwriter.Workbook(path, {"strings_to_numbers": False, "nan_inf_to_errors": True})
@@ -227,10 +231,11 @@ def write_workbook(path, done, source_note=None):
     for sc, _ in done:
         sc["_overlay_labels"] = {o: labels.get(o, o) for o in sc.get("overlay", [])}
     for s, data in done:
-        sheets[s["name"]] = sheet_name(s["name"], used)
+        if s.get("sheet", True):
+            sheets[s["name"]] = sheet_name(s["name"], used)
     by_name = {s["name"]: (s, data) for s, data in done}
 
-    for row, (s, data) in enumerate(done, start=1):
+    for row, (s, data) in enumerate([(s, d) for s, d in done if s["name"] in sheets], start=1):
         sh = sheets[s["name"]]
         ws = wb.add_worksheet(sh)
         ws.write_row(0, 0, data.header, bold)
@@ -247,7 +252,14 @@ def write_workbook(path, done, source_note=None):
             specs = [motionplot.panel_spec(p, x) for p in panels]
             overlays = [(o, by_name[o][1]) for o in s.get("overlay", []) if o in by_name]
             dt = uniform_spacing(data.columns[x]) if all(px == x for _, _, px, _ in specs) else None
+            inline = [(o, od) for o, od in overlays if o not in sheets]
+            if dt is not None and any(not same_time_base(data, od, x, dt) for _, od in inline):
+                dt = None   # an overlay without a sheet on other times: XY scatters read it from this sheet
             charts, what, end_col = [], "", free_col
+            inline_cols = {}
+            if dt is None and inline:
+                free_col, inline_cols = write_inline_overlays(ws, s, specs, inline, free_col, bold)
+                end_col = free_col
             if dt is not None:
                 charts, what, end_col = uniform_line_charts(wb, ws, sh, s, data, specs, overlays, col_of,
                                                             free_col, dt, bold)
@@ -258,7 +270,8 @@ def write_workbook(path, done, source_note=None):
             elif is_move_path(data) and n > 0:
                 charts, what, end_col = move_grid_chart(wb, ws, sh, s, full[s["name"]], free_col, bold)
             if dt is None:
-                charts += scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first=not charts)
+                charts += scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first=not charts,
+                                         inline_cols=inline_cols)
                 what += ("; " if what else "") + "XY scatter per panel at the exact " + \
                     ("step times" if is_ramp(data) else "x values")
             for i, chart in enumerate(charts):
@@ -271,6 +284,43 @@ def write_workbook(path, done, source_note=None):
         index.write(row, 5, "all" if data.every == 1 else
                     f"every {data.every}th row ({len(data)}); the full table: {s['name']}.csv")
     wb.close()
+
+
+def own_series_label(y, s, ycols):
+    """The legend of a sheet's own column: as in the PNGs (motionplot.plot), a reference column
+    (the setpoint, the filter's input) among others is just what it is, the same for every data set."""
+    if y in motionplot.REFERENCE_COLUMNS and len(ycols) > 1:
+        return motionplot.SERIES_NAMES.get(y, y)
+    return motionplot.series_label(y, s["_label"], len(ycols))
+
+
+def same_time_base(data, od, x, dt):
+    """True if the overlay's x column runs on data's times (its first rows equal data's within 1 ppm
+    of dt): uniform_line_charts then copies it beside data's columns."""
+    ox = od.columns.get(x)
+    m = min(len(data), len(od)) if ox is not None else 0
+    return m > 0 and all(abs(a - b) <= 1e-6 * dt for a, b in zip(data.columns[x][:m], ox[:m]))
+
+
+def write_inline_overlays(ws, s, specs, inline, free_col, bold):
+    """The columns of overlays without a sheet of their own that the panels draw (x and y), written
+    into this sheet from free_col on, '<column> (<overlay>)'. Returns (the next free column,
+    {overlay: {column: (sheet column, rows)}})."""
+    cols = {}
+    for oname, od in inline:
+        label = s["_overlay_labels"].get(oname, oname)
+        cols[oname] = {}
+        wanted = []
+        for ycols, _, px, _ in specs:
+            for c in [px] + list(ycols):
+                if c in od.columns and c not in wanted:
+                    wanted.append(c)
+        for c in wanted:
+            ws.write(0, free_col, f"{c} ({label})", bold)
+            ws.write_column(1, free_col, od.columns[c])
+            cols[oname][c] = (free_col, len(od))
+            free_col += 1
+    return free_col + 1, cols
 
 
 def write_compare_charts(wb, ws, sh, s, data, col_of):
@@ -304,7 +354,7 @@ def uniform_line_charts(wb, ws, sh, s, data, specs, overlays, col_of, free_col, 
     for p_i, (ycols, ylabel, px, xlabel) in enumerate(specs):
         chart = wb.add_chart({"type": "line"})
         for y in ycols:
-            chart.add_series({"name": motionplot.series_label(y, s["_label"], len(ycols)),
+            chart.add_series({"name": own_series_label(y, s, ycols),
                               "categories": [sh, 1, col_of[px], n, col_of[px]],
                               "values": [sh, 1, col_of[y], n, col_of[y]], "line": {"width": 1.5}})
         for oname, od in overlays:
@@ -317,7 +367,8 @@ def uniform_line_charts(wb, ws, sh, s, data, specs, overlays, col_of, free_col, 
             for y in ycols:
                 if y not in od.columns:
                     continue
-                if y in motionplot.REFERENCE_COLUMNS and od.columns[y][:m] == data.columns[y][:m]:
+                if y in motionplot.REFERENCE_COLUMNS and motionplot.same_series(
+                        od.columns[px][:m], od.columns[y][:m], xs[:m], data.columns[y][:m]):
                     continue   # the same setpoint / input: drawn once
                 ws.write(0, free_col, f"{y} ({oname})", bold)
                 ws.write_column(1, free_col, od.columns[y][:m])
@@ -421,26 +472,35 @@ def move_grid_chart(wb, ws, sh, s, data, free_col, bold):
     return [chart], f"line chart of each axis's step rate on a {dt:g} s grid (sample-and-hold)", g0 + len(axes) + 1
 
 
-def scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first):
+def scatter_charts(wb, sh, s, data, specs, overlays, col_of, sheets, first, inline_cols=None):
     """An XY scatter with straight lines per panel: x to scale whatever its spacing. Overlays are
-    drawn dashed from their own sheets."""
+    drawn dashed from their own sheets, or (inline_cols, see write_inline_overlays) from the
+    columns written into this sheet. A reference column (the setpoint) equal in value to the
+    data's wherever both are defined is drawn once (motionplot.same_series)."""
+    inline_cols = inline_cols or {}
     n = len(data)
     charts = []
     for p_i, (ycols, ylabel, px, xlabel) in enumerate(specs):
         chart = wb.add_chart({"type": "scatter", "subtype": "straight"})
         for y in ycols:
-            chart.add_series({"name": motionplot.series_label(y, s["_label"], len(ycols)), "categories": [sh, 1, col_of[px], n, col_of[px]],
+            chart.add_series({"name": own_series_label(y, s, ycols), "categories": [sh, 1, col_of[px], n, col_of[px]],
                               "values": [sh, 1, col_of[y], n, col_of[y]], "line": {"width": 1.5}})
         for oname, od in overlays:
-            ocol = {h: i for i, h in enumerate(od.header)}
+            if oname in inline_cols:
+                osh, loc = sh, {c: ci for c, (ci, _) in inline_cols[oname].items()}
+            elif oname in sheets:
+                osh, loc = sheets[oname], {h: i for i, h in enumerate(od.header)}
+            else:
+                continue
             for y in ycols:
-                if y in ocol and px in ocol:
-                    if y in motionplot.REFERENCE_COLUMNS and od.columns[y] == data.columns[y]:
+                if y in loc and px in loc:
+                    if y in motionplot.REFERENCE_COLUMNS and motionplot.same_series(
+                            od.columns[px], od.columns[y], data.columns[px], data.columns[y]):
                         continue
                     chart.add_series({"name": motionplot.series_label(y, s["_overlay_labels"].get(oname, oname),
                                                                       len(ycols)),
-                                      "categories": [sheets[oname], 1, ocol[px], len(od), ocol[px]],
-                                      "values": [sheets[oname], 1, ocol[y], len(od), ocol[y]],
+                                      "categories": [osh, 1, loc[px], len(od), loc[px]],
+                                      "values": [osh, 1, loc[y], len(od), loc[y]],
                                       "line": {"width": 1.0, "dash_type": "dash"}})
         title = s["title"] if first and p_i == 0 else f"{ylabel} by {xlabel}"
         chart.set_title({"name": title, "name_font": {"size": 11}})

@@ -8,7 +8,9 @@ or any table of numbers under a header) becomes one sheet with its charts, laid 
 `make profiles`' profiles.xlsx: line charts over evenly spaced times, a ramp's step rate on a
 uniform time grid plus XY scatters at the exact step times, bars for a table with a label column.
 An index sheet lists the files. A file X.motionsim.csv given with X.csv (what `make emulate`
-writes) is drawn dashed over X's charts. A sheet holds at most 250 rows of a long CSV (every k-th
+writes) is drawn dashed over X's charts and gets no sheet of its own: where its times differ from
+X's (the emulated servo is sampled every 1 ms, motionsim every 20 ms) its columns join X's sheet
+and X's charts are XY scatters; a setpoint equal in both is drawn once. A sheet holds at most 250 rows of a long CSV (every k-th
 row, said on the index sheet; the CSV file keeps the full table), so a workbook stays small.
 Exit status 0; a missing or malformed CSV is one line on stderr and exit 2.
 """
@@ -50,13 +52,17 @@ def main(argv):
         if stem + ".motionsim" in stems:
             s["overlay"] = [stem + ".motionsim"]
             s["title"] = f"{stem}: the firmware in the emulator, motionsim dashed"
+            other = next(p for p, st, _ in done if st == stem + ".motionsim")
+            s["source"] += f" (dashed over it: {os.path.abspath(other)})"
+        if stem.endswith(".motionsim") and stem[:-len(".motionsim")] in stems:
+            s["sheet"] = False   # already drawn over its firmware file's sheet, whose columns it joins
         items.append((s, data))
     try:
         profiles.write_workbook(a.output, items, source_note="file")
     except OSError as e:
         print(f"workbook: cannot write {a.output}: {e.strerror}", file=sys.stderr)
         return 2
-    print(f"{a.output}: {len(items)} sheet(s) with charts, and an index")
+    print(f"{a.output}: {sum(1 for s, _ in items if s.get('sheet', True))} sheet(s) with charts, and an index")
     return 0
 
 

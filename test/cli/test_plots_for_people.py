@@ -59,6 +59,43 @@ def test_servo_setpoint_is_drawn_once_and_gains_name_the_lines(tmp_path, motions
     no_column_names(legends)
 
 
+def servo_csv_every_ms(path, setpoints, seconds=3.0):
+    """A servo CSV as `make emulate` writes it: one row per 1 ms; setpoints: [(from t, counts)]"""
+    rows = ["t_s,setpoint,position_counts,error_counts,duty_pct"]
+    for k in range(int(seconds * 1000)):
+        t = k / 1000.0
+        sp = [c for t0, c in setpoints if t >= t0][-1]
+        rows.append(f"{t},{sp},{min(sp, k)},{sp - min(sp, k)},5")
+    path.write_text("\n".join(rows) + "\n")
+    return motionplot.CsvData(str(path))
+
+
+@pytest.mark.parametrize("fw_setpoint, drawn", [(1000, 1), (500, 2)])
+def test_a_setpoint_sampled_at_other_times_is_drawn_once_if_equal(tmp_path, motionsim, fw_setpoint, drawn):
+    """`make emulate`'s servo plot: the firmware sampled every 1 ms, motionsim every 20 ms (from
+    another t = 0). The same setpoint (1000 counts in both) is drawn once; another setpoint is
+    a second line."""
+    fw = servo_csv_every_ms(tmp_path / "fw.csv", [(0.0, fw_setpoint)])
+    ms = sim(motionsim, tmp_path / "ms.csv", "servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "1000",
+             "--duration", "2.9")
+    ms.columns["t_s"] = [t + 0.0047 for t in ms.columns["t_s"]]   # motionsim's t = 0 at the firmware's first read
+    legends = motionplot.plot(fw, str(tmp_path / "s.png"), label="firmware (emulated)",
+                              overlays=[("motionsim", ms)])
+    assert sum("setpoint" in t for t in legends[0]) == drawn, legends[0]
+
+
+def test_a_setpoint_that_steps_is_the_same_series_whatever_the_sampling():
+    """1000 counts until 1 s, then 500: sampled every 1 ms and every 20 ms from 0.0047 s, both are
+    that setpoint (the step falls between two 20 ms samples); a step at another time is not."""
+    fine_t = [k / 1000.0 for k in range(2000)]
+    coarse_t = [0.0047 + k * 0.02 for k in range(99)]
+
+    def sp(t, at=1.0):
+        return 1000.0 if t < at else 500.0
+    assert motionplot.same_series(fine_t, [sp(t) for t in fine_t], coarse_t, [sp(t) for t in coarse_t])
+    assert not motionplot.same_series(fine_t, [sp(t) for t in fine_t], coarse_t, [sp(t, 1.5) for t in coarse_t])
+
+
 def test_filter_plot_is_one_useful_panel(tmp_path, motionsim):
     ma = sim(motionsim, tmp_path / "ma.csv", "filter", "--kind", "ma", "--tau", "9", "--ts", "0.01", "--input",
              "step:5", "--duration", "20")
@@ -114,15 +151,38 @@ def test_workbook_from_ones_own_csv_files(tmp_path, motionsim):
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     wb = load_workbook(book)
-    assert wb.sheetnames == ["index", "Move", "Move.motionsim", "long"]
+    # the motionsim file is an overlay, not a sheet of its own
+    assert wb.sheetnames == ["index", "Move", "long"]
     assert isinstance(wb["Move"]._charts[0], LineChart) and isinstance(wb["long"]._charts[0], LineChart)
-    # the motionsim file is drawn over the firmware's: a scatter series reads its sheet
+    # the motionsim file is drawn over the firmware's: a scatter series reads its columns, in Move's sheet
+    head = [c.value for c in wb["Move"][1]]
+    assert "t_s (motionsim)" in head and "speed_sps (motionsim)" in head, head
     refs = [s.xVal.numRef.f for c in wb["Move"]._charts[1:] for s in c.series if s.xVal is not None]
-    assert any(f.startswith("'Move.motionsim'!") for f in refs), refs
+    col = chr(ord("A") + head.index("t_s (motionsim)"))
+    assert any(f.startswith(f"Move!${col}$") for f in refs), refs
     # 12001 rows: the sheet holds at most 250, the index says so
     assert wb["long"].max_row <= 251
     assert any("every 49th row" in str(c.value) for row in wb["index"].iter_rows() for c in row)
     assert book.stat().st_size < 200_000
+
+
+def test_workbook_of_an_emulated_servo_run_draws_the_setpoint_once(tmp_path, motionsim):
+    """`make emulate`'s servo files: the firmware every 1 ms, motionsim every 20 ms, the same
+    setpoint. One sheet (the motionsim file joins it), the setpoint once, motionsim's position dashed."""
+    from openpyxl import load_workbook
+    servo_csv_every_ms(tmp_path / "Servo.csv", [(0.0, 1000)])
+    sim(motionsim, tmp_path / "Servo.motionsim.csv", "servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "1000",
+        "--duration", "2.9")
+    book = tmp_path / "emu.xlsx"
+    r = subprocess.run([os.path.join(ROOT, "tools", "workbook"), str(tmp_path / "Servo.csv"),
+                        str(tmp_path / "Servo.motionsim.csv"), "-o", str(book)], capture_output=True, text=True,
+                       timeout=300)
+    assert r.returncode == 0, r.stderr
+    wb = load_workbook(book)
+    assert wb.sheetnames == ["index", "Servo"]
+    names = [s.tx.strRef.f if s.tx.strRef is not None else s.tx.v for s in wb["Servo"]._charts[0].series]
+    assert sum("setpoint" in n for n in names) == 1, names
+    assert "position, motionsim" in names, names
 
 
 @pytest.mark.parametrize("args, why", [(["nope.csv", "-o", "b.xlsx"], "nope.csv"),
@@ -148,3 +208,53 @@ def test_no_seed_wording_in_titles_help_or_output(tmp_path):
         texts.append(f.read())          # the default emulator scripts are copied into build/emulate
     for t in texts:
         assert not re.search(r"\bseed\b", t, re.I), t[:200]
+
+
+@pytest.mark.parametrize("frm,to", [(0, 50), (10, -5)])
+def test_a_ramp_plot_is_titled_by_its_move_and_names_its_file_by_default(tmp_path, motionsim, frm, to):
+    """README's step 3 without --title: the title says the move motionsim was asked for (from the
+    CSV's positions), and with an overlay the file's series is named by the file, not "step rate"."""
+    args = ["--from", str(frm), "--to", str(to), "--v0", "1", "--vmax", "20", "--accel", "10", "--tick-hz", "1000"]
+    table = sim(motionsim, tmp_path / "table.csv", "ramp", "--algo", "simplistic", *args)
+    leib = sim(motionsim, tmp_path / "leib.csv", "ramp", "--algo", "leib", *args)
+    assert motionplot.default_title(table).startswith(f"move {frm} -> {to} steps, ")
+    legends = motionplot.plot(table, str(tmp_path / "r.png"), overlays=[("Leib", leib)])
+    assert legends == [["table", "Leib"], ["table", "Leib"]]
+
+
+def test_a_servo_plot_is_titled_by_its_setpoint(tmp_path, motionsim):
+    run = sim(motionsim, tmp_path / "p.csv", "servo", "--ctrl", "p", "--kp", "0.02", "--setpoint", "750",
+              "--duration", "2")
+    assert motionplot.default_title(run).startswith("setpoint 750 counts, ")
+
+
+def legend_covers_a_line(ax, renderer):
+    """Independent of motionplot: does any drawn segment cross the legend's box?"""
+    from matplotlib.path import Path
+    box = ax.get_legend().get_window_extent(renderer)
+    for line in ax.get_lines():
+        xy = [p for p in line.get_xydata() if p[0] == p[0] and p[1] == p[1]]
+        if len(xy) > 1 and Path(ax.transData.transform(xy)).intersects_bbox(box, filled=False):
+            return True
+    return False
+
+
+@pytest.mark.parametrize("name", ["filter_ma_square", "filter_ma2_square", "filter_ma_step", "ramp_leib_0_50"])
+def test_no_legend_hides_data(tmp_path, motionsim, monkeypatch, name):
+    """The square-wave filter plots fill their panel edge to edge; the legend must not sit over a line
+    (checked on the drawn figure: no line segment crosses the legend's box)."""
+    items = {s["name"]: s for s in profiles.load_scenarios()}
+    s = items[name]
+    data = sim(motionsim, tmp_path / f"{name}.csv", *s["args"])
+    overlays = []
+    for o in s.get("overlay", []):
+        overlays.append((profiles.scenario_label(items[o]), sim(motionsim, tmp_path / f"{o}.csv", *items[o]["args"])))
+    figs = []
+    monkeypatch.setattr(motionplot.plt, "close", lambda fig: figs.append(fig))
+    motionplot.plot(data, str(tmp_path / "p.png"), title=s["title"], overlays=overlays, label=profiles.scenario_label(s))
+    fig = figs[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        if ax.get_legend() is not None:
+            assert not legend_covers_a_line(ax, renderer), (name, ax.get_ylabel())

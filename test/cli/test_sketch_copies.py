@@ -5,7 +5,10 @@ test/emu/checks_sketches.py, tools/emu/emulate.py).
 A copy of LeibRampStepper under the lab's XXX naming (LeibRampStepperABC) in a temporary tree is
 recognised as a stepper, gets the stepper checks, is built, emulated with a motionsim overlay and
 passes the stepper check its original passes; a sketch without the marker is refused in one line
-that names the marker, by each tool.
+that names the marker, by each tool. Edited copies (LeibRampStepperABC with maxPermisSpeed 15,
+ProportionalClosedLoopABC with Kp 0.05, PIDClosedLoopABC with Kp 0.05 and Ki 0.01) pass their
+emulator checks, which take the parameters from the copy's own `?` reply; the originals' names
+keep their defaults checked against the documentation.
 """
 import os
 import re
@@ -190,3 +193,78 @@ def test_a_folder_copy_with_the_old_ino_name_gets_a_rename_hint(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 2
     assert "holds LeibRampStepper.ino, not LeibRampStepperABC.ino: rename it" in p.stderr, p.stderr
+
+
+# ---- edited copies (the handout's XXX naming, with the student's own values) -------------------
+# Each edit is one line of the sketch; the expected values are the edit itself (what the student
+# typed), which the sketch must report in its `?` reply and the checks must plan motionsim with.
+EDITS = {
+    "LeibRampStepperABC": ("LeibRampStepper", "const float maxPermisSpeed = 20.0;",
+                           "const float maxPermisSpeed = 15.0;"),
+    "ProportionalClosedLoopABC": ("ProportionalClosedLoop", "float Kp = 0.02; ", "float Kp = 0.05; "),
+    "PIDClosedLoopABC": ("PIDClosedLoop", "double Kp = 0.02, Ki = 0, Kd = 0;", "double Kp = 0.05, Ki = 0.01, Kd = 0;"),
+    # an original's name with an edited value: its defaults are still checked against the documentation
+    "LeibRampStepper": ("LeibRampStepper", "const float maxPermisSpeed = 20.0;", "const float maxPermisSpeed = 15.0;"),
+    "ProportionalClosedLoop": ("ProportionalClosedLoop", "float Kp = 0.02; ", "float Kp = 0.05; "),
+}
+
+
+@pytest.fixture(scope="module")
+def edited(tmp_path_factory):
+    """A tree with the EDITS built (one build_firmware.sh run): its sketches.Env."""
+    tmp = tmp_path_factory.mktemp("edited")
+    env = copy_tree(tmp, {new: orig for new, (orig, _, _) in EDITS.items()})
+    for new, (_, old, repl) in EDITS.items():
+        ino = tmp / "firmware" / new / f"{new}.ino"
+        text = ino.read_text()
+        assert text.count(old) == 1, (new, old)
+        ino.write_text(text.replace(old, repl))
+    p = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh"), *EDITS], capture_output=True,
+                       text=True, timeout=900, env=dict(os.environ, FIRMWARE_SRC=str(tmp / "firmware"),
+                                                        FIRMWARE_OUT=str(tmp / "build" / "firmware")))
+    assert p.returncode == 0, p.stdout + p.stderr
+    return env
+
+
+def test_an_edited_stepper_copy_passes_its_checks_with_its_own_parameters(edited):
+    """LeibRampStepperABC with maxPermisSpeed = 15: the check takes vmax 15 from the copy's `?` and
+    plans motionsim with it (the handout's 20 would be wrong for this copy)."""
+    res = checks_sketches.check_stepper(edited, "LeibRampStepperABC")
+    assert res.ok, res.details
+    assert "vmax=15" in res.summary, res.summary
+
+
+def test_an_edited_original_still_has_its_defaults_checked(edited):
+    """The sketches as shipped must report the handout's v0 1, vmax 20, accel 10 and Kp 0.02."""
+    res = checks_sketches.check_stepper(edited, "LeibRampStepper")
+    assert not res.ok
+    assert any("reports {'vmax': '15'}" in d and "'vmax': 20" in d for d in res.details), res.details
+    res = checks_sketches.check_servo_defaults(edited, "ProportionalClosedLoop")
+    assert not res.ok
+    assert any("kp" in d and "0.02" in d for d in res.details), res.details
+
+
+@pytest.mark.parametrize("sketch,gains", [("ProportionalClosedLoopABC", {"kp": 0.05}),
+                                          ("PIDClosedLoopABC", {"kp": 0.05, "ki": 0.01, "kd": 0.0})])
+def test_an_edited_servo_copy_passes_its_checks_with_its_own_gains(edited, sketch, gains):
+    res = checks_sketches.check_servo_defaults(edited, sketch)
+    assert res.ok, res.details
+    for k, v in gains.items():
+        assert f"{k}={v:g}" in res.summary, res.summary
+
+
+def test_a_servo_check_that_does_not_settle_says_unsettled_and_does_not_crash(edited, monkeypatch):
+    """motionsim run with the handout's Kp 0.02 against the copy's Kp 0.05 (what the check did
+    before it read the copy's gains): the traces part, the firmware never settles into motionsim's
+    band; the check fails and says "unsettled" rather than crashing on a missing settling time."""
+    real = checks_sketches.motionsim
+
+    def handout_gains(env, *args):
+        args = list(args)
+        if "--kp" in args:
+            args[args.index("--kp") + 1] = "0.02"
+        return real(env, *args)
+    monkeypatch.setattr(checks_sketches, "motionsim", handout_gains)
+    res = checks_sketches.check_servo_defaults(edited, "ProportionalClosedLoopABC")
+    assert not res.ok
+    assert "unsettled" in res.summary and any("unsettled" in d for d in res.details), (res.summary, res.details)

@@ -494,7 +494,22 @@ SERVO_PWM_PERIOD_MS = 510 * 64 / 16000.0   # analogWrite on Timer3: phase correc
 SERVO_REACT_MAX_MS = 20.0 + 1.0 + 2 * SERVO_PWM_PERIOD_MS + 1.0
 
 
+# The gains the servo sketches as shipped report at boot: the lab handout's Kp = 0.02 % duty per
+# count; PIDClosedLoop starts as the same proportional loop, Ki = Kd = 0 (docs/servo.md). A copy's
+# come from its own `?` reply.
+SERVO_HANDOUT_GAINS = {"ProportionalClosedLoop": {"kp": 0.02}, "PIDClosedLoop": {"kp": 0.02, "ki": 0.0, "kd": 0.0}}
+SERVO_GAIN_KEYS = ("kp", "ki", "kd")
+
+
+def seconds_or_unsettled(t):
+    return "unsettled" if t is None else f"{t:.2f} s"
+
+
 def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts=None, must_reach=False):
+    """gains: (key, value) pairs sent over serial first (none: the sketch's defaults). motionsim runs
+    with the gains the sketch's own `?` reply reports just before the setpoint (the gains in force,
+    printed to 6 decimals), which must be those sent; the servo sketches as shipped must report
+    the handout's gains (SERVO_HANDOUT_GAINS) when none are sent."""
     gains_cmds = "\n".join(f"send {k} {v}\nwait ^OK {k}=" for k, v in gains)
     script = SERVO_SCRIPT.format(sketch=sketch, gains=gains_cmds, setpoint=setpoint, run_ms=run_ms)
     cs_pin = f"D{env.header_int('servo', 'SERVO_PIN_ENCODER_CS', sketch)}"
@@ -504,10 +519,24 @@ def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts
     if problems:
         return CheckResult(False, "emulation failed", problems)
     g = dict(gains)
+    ok = log.first(rf"^OK setpoint={setpoint}$")
+    q0, _ = query_reply(log, "setpoint", 0, ok.cycle if ok else None)
+    if not q0 or "kp" not in q0:
+        return CheckResult(False, "no `?` reply", [f"no `?` reply with kp= before the setpoint: {q0}"])
+    in_force = {k: q0[k] for k in SERVO_GAIN_KEYS if k in q0}
+    if ("ki" in in_force) != (ctrl == "pid"):
+        problems.append(f"`?` reports {in_force}: not the gains of a {ctrl.upper()} sketch")
+    want = {k: float(v) for k, v in g.items()}
+    if not gains and is_original(sketch):
+        want = dict(SERVO_HANDOUT_GAINS.get(sketch, {}))
+    wrong = {k: in_force.get(k) for k, v in want.items()
+             if in_force.get(k) is None or abs(float(in_force[k]) - v) > 5e-7 + 1e-6 * abs(v)}
+    if wrong:
+        problems.append(f"`?` before the setpoint reports {wrong}, want {want}"
+                        + (" (the lab handout's gains)" if not gains else " (the gains sent)"))
     args = ["servo", "--ctrl", ctrl, "--setpoint", str(setpoint), "--duration", str(run_ms / 1000.0 - 0.1)]
-    for k in ("kp", "ki", "kd"):
-        if k in g:
-            args += [f"--{k}", str(g[k])]
+    for k, v in in_force.items():
+        args += [f"--{k}", v]
     out, _ = motionsim(env, *args)
     sim = [r.split(",") for r in out.splitlines()[1:] if r]
     sim_t = [float(r[0]) for r in sim]
@@ -517,7 +546,6 @@ def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts
     # and the loop's own work), its OCR value reaches the pin at the end of the running PWM period,
     # the pin's duty is averaged over one PWM period and sampled every 1 ms. A firmware that sits on
     # a new setpoint for a control period or more fails here.
-    ok = log.first(rf"^OK setpoint={setpoint}$")
     fc = emulate.frame_cycles(log)
     tx = next((t for t in log.tx if t.text == str(setpoint)), None)
     if tx is None or ok is None:
@@ -567,16 +595,20 @@ def check_servo(env, sketch, ctrl, gains, setpoint=1000, run_ms=3000, tol_counts
     st_sim = settle_time(sim_t, sim_p, sim_final, band)
     if abs(fw_final - sim_final) > tol:
         problems.append(f"final position {fw_final} vs motionsim {sim_final}")
-    if st_fw is None or st_sim is None or abs(st_fw - st_sim) > 0.1:
-        problems.append(f"2 % settling time {st_fw} s vs motionsim {st_sim} s (tolerance 0.1 s)")
+    if (st_fw is None) != (st_sim is None) or (st_fw is not None and abs(st_fw - st_sim) > 0.1):
+        problems.append(f"2 % settling time {seconds_or_unsettled(st_fw)} vs motionsim {seconds_or_unsettled(st_sim)} "
+                        "(tolerance 0.1 s)")
     if must_reach and abs(fw_final - setpoint) > band:
         problems.append(f"the setpoint {setpoint} is not reached: final position {fw_final} (band {band:.0f})")
     q, _ = query_reply(log, "setpoint", ok.cycle + 1)
     if not q or int(q.get("setpoint", "0")) != setpoint or abs(int(q.get("position", "0")) - fw_final) > 2:
         problems.append(f"`?` after the run should report setpoint={setpoint} position~{fw_final}: {q}")
-    summary = (f"setpoint {setpoint}, gains {dict(gains) or 'default'}: final {fw_final} counts (motionsim "
-               f"{sim_final}), settling (2 %) {st_fw:.2f} s (motionsim {st_sim:.2f} s), trace within "
-               f"{worst:.1f} counts of motionsim (tolerance {tol:.0f}); first duty change {react_ms:.1f} ms after the "
+    gains_text = " ".join(f"{k}={v}" for k, v in in_force.items())
+    summary = (f"setpoint {setpoint}, gains {'sent' if gains else 'at boot'} as `?` reports them: {gains_text}: "
+               f"final {fw_final} counts (motionsim {sim_final}), settling (2 %) {seconds_or_unsettled(st_fw)} "
+               f"(motionsim {seconds_or_unsettled(st_sim)}), trace within "
+               f"{'-' if worst is None else f'{worst:.1f}'} counts of motionsim (tolerance {tol:.0f}); "
+               f"first duty change {react_ms:.1f} ms after the "
                f"setpoint arrived (bound {SERVO_REACT_MAX_MS:.1f}); {log.end.get('speed')} real time")
     return CheckResult(not problems, summary, problems)
 
@@ -641,6 +673,16 @@ STEPPER_DEFAULTS = {"trapezoid": {"v0": 1, "vmax": 20, "accel": 10},
                     "exact": {"v0": 0, "vmax": 20000, "accel": 50000},
                     "sigmoid": {"v0": 200, "vmax": 4000, "flex": 5, "len": 250, "hold": 4}}
 STEPPER_BUSY_TARGET = {"sigmoid": 1000, "trapezoid": 50, "exact": 20000}
+# The sketches as shipped, whose boot `?` must report the documented defaults above (by their
+# ramp shape) or, for the servo sketches, the lab handout's gains. Any other sketch of the family
+# is a student's copy (the handout's XXX naming, e.g. LeibRampStepperABC), perhaps with edited
+# values: its expectations come from its own `?` reply at boot (docs/emulator.md).
+ORIGINAL_SKETCHES = ("LeibRampStepper", "SimplisticRampStepper", "ExactRampStepper", "SCurveStepper",
+                     "ProportionalClosedLoop", "PIDClosedLoop")
+
+
+def is_original(sketch):
+    return sketch in ORIGINAL_SKETCHES
 
 
 def ramp_shape(algo):
@@ -707,16 +749,28 @@ def check_stepper(env, sketch, elf=None, bound_ticks=None, mode="timer"):
     worst_all = 0.0
     ticks_seen = set()
     cpt = None
+    # the parameters at boot: an original sketch's documented defaults; a copy's own `?` reply
+    shape = ramp_shape(algo)
+    boot_line = log.first("^pos=")
+    boot_q = emulog.query_fields(boot_line.text) if boot_line else {}
+    if is_original(sketch):
+        boot_want = dict(STEPPER_DEFAULTS[shape])
+    else:
+        boot_want = {k: boot_q.get(k) for k in STEPPER_DEFAULTS[shape]}
+        missing = [k for k, v in boot_want.items() if v is None]
+        if missing:
+            problems.append(f"`?` at boot does not report {', '.join(missing)}: {boot_q}")
+            return CheckResult(False, f"algo={algo}: no parameters", problems)
     for a, b, label in STEPPER_MOVES:
         m = log.mark(f"move {a} {b}")
         if m is None:
             problems.append(f"{label}: not reached")
             break
         q = emulog.query_fields(log.lines_matching("^pos=", 0, m)[-1].text)
-        # the parameters in force: the documented defaults, then the values `set` sent
-        want_q = dict(STEPPER_DEFAULTS[ramp_shape(algo)])
+        # the parameters in force: the defaults at boot, then the values `set` sent
+        want_q = dict(boot_want)
         if a != 0:
-            want_q.update(STEPPER_FAST[ramp_shape(algo)])
+            want_q.update(STEPPER_FAST[shape])
         wrong = {k: q.get(k) for k, v in want_q.items() if q.get(k) is None or float(q[k]) != float(v)}
         if wrong:
             problems.append(f"{label}: `?` before the move reports {wrong}, want {want_q}")
@@ -823,8 +877,10 @@ def check_stepper(env, sketch, elf=None, bound_ticks=None, mode="timer"):
         problems.append(f"{len(rises)} STEP rising edges in the whole run, want exactly {want_total} (the moves' steps)")
     ticks = ", ".join(sorted(ticks_seen)) or "?"
     drive = [p for p in problems if "output" in p or "ENABLE" in p or "direction" in p]
-    summary = (f"algo={algo} tick_hz={ticks} (1 tick = {cpt:g} cycles); `?` parameters = defaults, then the values "
-               f"set; {len(rises)} STEP pulses in the run; "
+    defaults = ("the documented defaults" if is_original(sketch) else
+                "the copy's own (" + " ".join(f"{k}={v}" for k, v in boot_want.items()) + ")")
+    summary = (f"algo={algo} tick_hz={ticks} (1 tick = {cpt:g} cycles); `?` parameters = {defaults} at boot, then "
+               f"the values set; {len(rises)} STEP pulses in the run; "
                + ("" if drive else "STEP/DIR/ENABLE outputs (DDR set) and ENABLE driven low from step 1 to the last "
                   "of every move; ") if cpt else f"algo={algo}; ") + "; ".join(figures)
     return CheckResult(not problems, summary, problems)

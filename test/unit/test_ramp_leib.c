@@ -118,10 +118,10 @@ static void update_is_the_lab_formula_in_float(void **state)
     free(iv);
 }
 
-/* The published accuracy of "Leib with 1.5 q^2 (the lab's version)": error of step 1 -50 %; max interval error
+/* The published accuracy of "Leib with 1.5 q^2 (the lab's version)" (docs/ramps.md): error of step 1 -50 %; max interval error
  * steps 11-100 5.8 %, steps 101-1000 0.59 %, beyond 1000 0.059 % (from rest). Checked to the
  * precision the table gives; deceleration (mirrored) must do no worse. */
-static void accuracy_matches_anchors_table(void **state)
+static void interval_errors_by_step_band_match_the_published_figures(void **state)
 {
     ramp_params_t p = {0.0, 1000.0, 100.0, 1000000};
     const uint32_t d = 20000; /* S = 5000: steps 1..5000 accelerate */
@@ -298,7 +298,7 @@ int main(void)
         cmocka_unit_test(lab_precomputation),
         cmocka_unit_test(short_move_recomputes_peak_speed),
         cmocka_unit_test(update_is_the_lab_formula_in_float),
-        cmocka_unit_test(accuracy_matches_anchors_table),
+        cmocka_unit_test(interval_errors_by_step_band_match_the_published_figures),
         cmocka_unit_test(deceleration_mirrors_acceleration),
         cmocka_unit_test(tiny_and_negative_moves),
         cmocka_unit_test(bad_parameters_are_rejected),
