@@ -53,14 +53,15 @@
 
 #define MULTI_TICK_HZ 16000000UL
 
-/* The fastest vmax `set` accepts per axis (steps/s): one rung of its ladder below the rate `make bench`
- * shows three axes stepping cleanly at once in a coordinated move (build/bench/bench.md,
- * "MultiAxisStepper: several axes at once"). Three axes moving independently at once need three
- * planners and are clean only up to a lower rate (the bench's "independent x+y+z" rows); above it
- * the queues can run dry: counted as underruns in `?`. Override at compile time, e.g.
- * -DMULTI_MAX_SPS=30000. */
+/* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which every case `make bench`
+ * measures is clean (build/bench/bench.md, "MultiAxisStepper: several axes at once"): three
+ * independent moves at once and a coordinated move of unequal axes, each axis with its own plan and
+ * interrupt, are the slowest cases; a diagonal (axes moving as far, one plan, one interrupt) and one
+ * or two axes alone are clean well above it. Above this rate the queues can run dry (counted as
+ * underruns in `?`) and a coordinated move can leave its line. Override at compile time, e.g.
+ * -DMULTI_MAX_SPS=50000 for a machine that only moves diagonals or two axes at a time. */
 #ifndef MULTI_MAX_SPS
-#define MULTI_MAX_SPS 60000.0
+#define MULTI_MAX_SPS 30000.0
 #endif
 
 /* The step engine's queues (MultiStepEngine.h): commands each axis's ring holds, and the size of
