@@ -79,7 +79,7 @@
 /* The fastest step rate each sketch accepts for vmax (steps/s): below the highest rate `make bench`
  * shows stepping cleanly (every step, no underrun, every edge within its bound, serial served), by
  * about one rung of its ladder as the margin; build/bench/bench.md has the measured figures.
- * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=80000 (no redefinition warning). */
+ * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=90000 (no redefinition warning). */
 #if STEPPER_TIMED_LOOP
 #ifndef STEPPER_MAX_SPS_SIMPLISTIC
 #define STEPPER_MAX_SPS_SIMPLISTIC 2000.0
