@@ -1,7 +1,8 @@
 // motion-sketch: multiaxis
 /* MultiAxisStepper - the X, Y and Z drivers of a RAMPS 1.4, each with the exact constant-acceleration
- * ramp (every step within one tick of F = 16 MHz of its time), moved one at a time, several at once,
- * or together on a straight line. Wiring and limits: MotionBoard's MultiAxisPins.h; the rates
+ * ramp (every step planned within one tick of F = 16 MHz of its time; on the pins an edge that meets
+ * another axis's interrupt waits for it), moved one at a time, several at once, or together on a
+ * straight line. Wiring and limits: MotionBoard's MultiAxisPins.h; the rates
  * measured by `make bench` are in build/bench/bench.md; docs/multi-axis.md explains it all.
  *
  * How: the planners (lib/src/step_planner.h for an axis alone, step_coord.h for a coordinated move)
@@ -12,7 +13,7 @@
  * Serial Monitor at 9600 baud, "Both NL & CR":
  *   x 20000          move X alone to 20000: "OK x 0 20000", later "DONE x 20000" (y, z likewise)
  *   move x1000 y500  X and Y together on the line from where they are to (1000, 500): both start
- *                    and end on one tick: "OK move x 0 1000 y 0 500", later "DONE move x 1000 y 500"
+ *                    and end on one planned tick: "OK move x 0 1000 y 0 500", later "DONE move x 1000 y 500"
  *   stop  /  !       decelerate every axis to rest / halt at once (stop x, ! y: one axis)
  *   ?                one line per axis: position, target, state, limits, underruns= late=
  *   set y vmax 5000  v0, vmax (up to max_sps) or accel of one axis
