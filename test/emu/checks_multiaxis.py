@@ -14,6 +14,7 @@ the core's millis/serial interrupt) runs is late by up to that interrupt's lengt
 "exact" within 1 tick of its plan; the others must be late (never early) by at most
 OTHER_ISR_CYCLES, and are counted in the summary.
 """
+import bisect
 import math
 import os
 import re
@@ -31,6 +32,11 @@ DEFAULTS = (0.0, 10000.0, 10000.0)  # v0, vmax, accel: MultiAxisStepper.ino
 # the longest an edge may wait for another interrupt: a slow step's C path (about 450 cycles with
 # its register saving) plus one fast step of another axis and the core's serial interrupt
 OTHER_ISR_CYCLES = 1000
+# the longest the core's own interrupts (millis, serial receive and transmit, one after another) may
+# hold an edge back; an edge later than this must have met another axis's step interrupt, seen on
+# the pins as that axis's STEP pulse (its interrupt runs from a little before the pulse to a little
+# after it: CORE_ISR_CYCLES on each side)
+CORE_ISR_CYCLES = 300
 
 
 def profile_s(d, lim):
@@ -73,17 +79,30 @@ def plan_move(env, frm, to, lim):
     return plan
 
 
+def step_pulses(log, ax):
+    """[(rise, fall)] of an axis's STEP pin"""
+    ev = log.pins.get(ax.upper() + "STEP", [])
+    return [(a, b) for (a, la), (b, lb) in zip(ev, ev[1:]) if la == 1 and lb == 0]
+
+
 class EdgeStats:
     def __init__(self):
         self.edges = self.exact = self.late = 0
         self.worst_late = 0
         self.early = []
 
-    def add(self, err, where):
+    def add(self, err, where, others=None, planned=None):
+        """others: the other axes' STEP pulses [(rise, fall)], sorted; planned: the edge's planned cycle"""
         self.edges += 1
         if abs(err) <= 1:
             self.exact += 1
         elif 0 < err <= OTHER_ISR_CYCLES:
+            if err > CORE_ISR_CYCLES and others is not None and not any(
+                    a - CORE_ISR_CYCLES <= planned + err and planned <= b + CORE_ISR_CYCLES
+                    for a, b in others[max(0, bisect.bisect_left(others, (planned - 2 * OTHER_ISR_CYCLES,)) - 1):
+                                       bisect.bisect_right(others, (planned + err + CORE_ISR_CYCLES,))]):
+                self.early.append(f"{where}: {err:+d} cycles late with no other axis's step interrupt near it")
+                return
             self.late += 1
             self.worst_late = max(self.worst_late, err)
         else:
@@ -94,13 +113,14 @@ class EdgeStats:
                 f"interrupt (worst {self.worst_late} cycles)")
 
 
-def compare(stats, got, plan, where, t0=None):
+def compare(stats, got, plan, where, t0=None, others=None):
     """edges (cycles) against planned ticks (one tick = one cycle), aligned at t0 or at the best offset (the
-    smallest one: an edge is late, never early)"""
+    smallest one: an edge is late, never early); others: the other axes' STEP pulses, which must explain an
+    edge later than CORE_ISR_CYCLES"""
     if t0 is None:
         t0 = min(g - p for g, p in zip(got, plan))
     for i, (g, p) in enumerate(zip(got, plan)):
-        stats.add(g - t0 - p, f"{where} step {i + 1}")
+        stats.add(g - t0 - p, f"{where} step {i + 1}", others, t0 + p)
     return t0
 
 
@@ -157,7 +177,7 @@ def check_moves(env, sketch):
             continue
         if not dir_ok(log, ax.upper() + "DIR", got[0], to > 0):
             problems.append(f"{ax} alone: DIR not set for the direction before the first step")
-        compare(st, got, plan, f"{ax} alone")
+        compare(st, got, plan, f"{ax} alone", others=sorted(p for o in AXES if o != ax for p in step_pulses(log, o)))
     lim["y"] = (DEFAULTS[0], 8000.0, DEFAULTS[2])
     # 2. coordinated: one timeline for all axes (aligned at the earliest offset over all axes)
     worst_path = 0.0
@@ -177,7 +197,8 @@ def check_moves(env, sketch):
         for ax in plan:
             if not dir_ok(log, ax.upper() + "DIR", got[ax][0], to[ax] > frm[ax]):
                 problems.append(f"move {k + 1}: {ax}'s DIR not set before its first step")
-            compare(st, got[ax], plan[ax], f"move {k + 1} {ax}", t0)
+            compare(st, got[ax], plan[ax], f"move {k + 1} {ax}", t0,
+                    others=sorted(p for o in AXES if o != ax for p in step_pulses(log, o)))
         # the path bound at every edge of any axis: floor(D s(T - L)) <= |p - from| <= floor(D s(T + L)),
         # L the lateness the edge may have met (OTHER_ISR_CYCLES)
         s_at = profile_s(d, lim)
