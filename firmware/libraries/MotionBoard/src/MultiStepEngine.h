@@ -37,9 +37,11 @@
 #ifndef MULTI_START_SLOTS
 #define MULTI_START_SLOTS 24U
 #endif
-/* Steps kept queued ahead of each interrupt, in milliseconds (and at least two commands). Long,
- * because the end of a deceleration needs one command per step (each about 8,000 cycles of
- * planning) on every axis of a coordinated move at once: the queues are filled before it comes. */
+/* Steps kept queued ahead of each interrupt, in milliseconds (and at least two commands): how late a
+ * stop or a new target takes effect. Long, because three axes accelerating at once, or the ends of
+ * their decelerations (one command per step, each a whole exact plan), need more planning than the
+ * CPU has at that moment: the queues are filled before it comes (`make bench`: shorter leads lose
+ * the three-axis rate). */
 #ifndef MULTI_LEAD_MS
 #define MULTI_LEAD_MS 100U
 #endif

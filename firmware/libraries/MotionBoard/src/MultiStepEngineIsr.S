@@ -1,7 +1,7 @@
 /* MultiStepEngineIsr.S - the common path of the three step interrupts (see MultiStepEngine.h): one
  * step of a normal command, i.e. step_exec_next (lib/src/step_queue.h) on the command the axis's
  * state holds:
- *   STEP high; left--; acc += rate; OCR1x = acc >> 16; rate += add; STEP low
+ *   STEP high; left--; acc += rate; OCR1x = acc >> 16; rate += add; late?; STEP low
  * and, when the command is used up, the switch to the next slot if loop() has laid it out (its
  * rate, add, left and flags copied into the state; DIR written if it turns, at least 1.5 us after
  * the last STEP edge of the old direction and long before the first of the new). Slow commands,
@@ -11,8 +11,8 @@
  * STEP pin is raised (sbi) at the same cycle after the compare match on every path of an axis
  * stepping alone; the master of a coordinated move (mode AXIS_MODE_MASKED) raises its STEP and
  * its followers' through the state's masks, one write per port, at the same cycle on each of its
- * paths; while wraps are counted out nothing is raised. One routine per axis, written once as the macro below: its
- * arguments are the axis's state, pins, compare register and flag, and C path.
+ * paths; while wraps are counted out nothing is raised. One routine per axis, written once as the
+ * macro below: its arguments are the axis's state, pins, compare register and flag, and C path.
  * Registers: r24, r25 and SREG kept in GPIOR0..2 while the interrupt runs (one cycle each way
  * instead of a push and a pop; the three step interrupts do not nest and no other code of the sketch
  * uses the GPIORs), r26, r27 (r30, r31 at a switch) pushed. The path for a master with followers is a
