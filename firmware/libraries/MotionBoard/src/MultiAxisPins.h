@@ -53,6 +53,22 @@
 
 #define MULTI_TICK_HZ 16000000UL
 
+/* GPIOR0 (the one bit-addressable general-purpose I/O register: sbi, cbi, sbis, sbic touch no
+ * register and no flag) belongs to the step interrupts (MultiStepEngineIsr.S): ANY is a copy of
+ * "the axis's mode byte is not zero" (not the common path), OWNOFF a copy of X's and Y's
+ * AXIS_MODE_OWN_OFF, so that their entry raises STEP and chooses its path before saving a
+ * register; BUSY (MULTI_TRACE builds only) marks an interrupt running, so that the last one lowers
+ * TRACE. No other code of the sketch may use GPIOR0. */
+#define MULTI_G_BUSY_X 0
+#define MULTI_G_BUSY_Y 1
+#define MULTI_G_BUSY_Z 2
+#define MULTI_G_BUSY_MASK 0x07
+#define MULTI_G_ANY_X 3
+#define MULTI_G_ANY_Y 4
+#define MULTI_G_ANY_Z 5
+#define MULTI_G_OWNOFF_X 6
+#define MULTI_G_OWNOFF_Y 7
+
 /* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which every case `make bench`
  * measures is clean (build/bench/bench.md, "MultiAxisStepper: several axes at once"): three
  * independent moves at once and a coordinated move of unequal axes, each axis with its own plan and

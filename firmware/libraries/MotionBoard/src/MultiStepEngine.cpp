@@ -77,10 +77,8 @@ inline void step_low(uint8_t axis)
 {
     AxisState &s = state(axis);
     PORTF &= (uint8_t)~s.mask_f;
-    PORTL &= (uint8_t)~s.mask_l;
-#if MULTI_TRACE
-    MULTI_TRACE_PORT &= (uint8_t)~_BV(MULTI_TRACE_BIT);
-#endif
+    if (s.mask_l)
+        PORTL &= (uint8_t)~s.mask_l;
 }
 
 inline void own_masks(uint8_t axis)
@@ -170,7 +168,8 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
 {
     bool forward = !(c.flags & STEP_CMD_REVERSE);
     uint8_t fl = 0;
-    t.rate = c.rate;
+    /* the interrupt adds add to rate before it uses it: laid out less add (WIDE: whole ticks, no add) */
+    t.rate = (c.flags & STEP_CMD_WIDE) ? c.rate : c.rate - (uint32_t)c.add;
     t.add = c.add;
     t.left = c.count - 1U; /* the first step is armed when the slot is taken */
     t.p_start = f.next_p_start;
@@ -211,9 +210,20 @@ inline void change_mode(AxisState &s, uint8_t set, uint8_t clear)
     if (m & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_MASKED)))
         m |= _BV(AXIS_MODE_OWN_OFF);
     s.mode = m;
+    /* the entry reads ANY and OWN_OFF from GPIOR0 (MultiAxisPins.h) */
+    if (&s == &multi_axis_x) {
+        GPIOR0 = (uint8_t)((GPIOR0 & ~(_BV(MULTI_G_ANY_X) | _BV(MULTI_G_OWNOFF_X))) |
+                           (m ? _BV(MULTI_G_ANY_X) : 0) | ((m & _BV(AXIS_MODE_OWN_OFF)) ? _BV(MULTI_G_OWNOFF_X) : 0));
+    } else if (&s == &multi_axis_y) {
+        GPIOR0 = (uint8_t)((GPIOR0 & ~(_BV(MULTI_G_ANY_Y) | _BV(MULTI_G_OWNOFF_Y))) |
+                           (m ? _BV(MULTI_G_ANY_Y) : 0) | ((m & _BV(AXIS_MODE_OWN_OFF)) ? _BV(MULTI_G_OWNOFF_Y) : 0));
+    } else {
+        GPIOR0 = (uint8_t)((GPIOR0 & ~_BV(MULTI_G_ANY_Z)) | (m ? _BV(MULTI_G_ANY_Z) : 0));
+    }
 }
 
-/* Makes slot t the interrupt's current command: its fields into the state (interrupts off). */
+/* Makes slot t the interrupt's current command: its fields into the state (the interrupt's own
+ * match cannot come before arm_step arms the next one). */
 __attribute__((always_inline)) inline void load_slot(AxisState &s, AxisSlot &t)
 {
     t.ready = 0;
@@ -222,34 +232,36 @@ __attribute__((always_inline)) inline void load_slot(AxisState &s, AxisSlot &t)
     s.add = t.add;
     s.left = t.left;
     s.flags = t.flags;
-    if (t.flags & _BV(AXIS_SLOT_SLOW))
-        change_mode(s, _BV(AXIS_MODE_SLOW), 0);
-    else
-        change_mode(s, 0, _BV(AXIS_MODE_SLOW));
+    /* its SLOW mode bit: arm_step */
 }
 
 /* Arms the next step of the current command by the executor's rule, counting a slow interval's wraps; a first
- * match already missed counts as passed, a step already due fires 2 us later. `prev` (the edge the
- * interval starts from) may lie ahead of TCNT1 at a move's start: nothing has elapsed then. */
+ * match already missed counts as passed, a step already due fires 2 us later; sets the mode bits SLOW
+ * (the command's) and WAITING. `prev` (the edge the interval starts from) may lie ahead of TCNT1 at a
+ * move's start: nothing has elapsed then. The arithmetic may run with interrupts on; from the arming
+ * on they are off and stay off (cli, not restored): the interrupt ends so, and its next match, armed
+ * here, may come at once (a late edge). */
 __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
 {
     uint16_t prev = (uint16_t)(s.acc >> 16), elapsed;
     uint32_t interval, first;
     int16_t since;
+    uint8_t set = 0, clear = 0;
     if (s.flags & _BV(AXIS_SLOT_WIDE)) {
         interval = s.rate;
         s.acc += s.rate << 16;
     } else {
         uint32_t acc0 = s.acc;
+        s.rate += (uint32_t)s.add; /* the rate was laid out less add */
         s.acc += s.rate;
-        s.rate += (uint32_t)s.add;
         interval = (uint16_t)((s.acc >> 16) - (acc0 >> 16));
         if (interval == 0)
             interval = 0x10000UL;
     }
-    write_ocr(axis, (uint16_t)(s.acc >> 16));
     s.wraps = (uint16_t)((interval - 1U) >> 16);
     first = ((interval - 1U) & 0xFFFFUL) + 1U;
+    cli();
+    write_ocr(axis, (uint16_t)(s.acc >> 16));
     since = (int16_t)(TCNT1 - prev);
     elapsed = since > 0 ? (uint16_t)since : 0U;
     if (elapsed >= first && !(TIFR1 & ocf_bit(axis))) {
@@ -261,18 +273,26 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
         }
     }
     if (s.wraps != 0)
-        change_mode(s, _BV(AXIS_MODE_WAITING), 0);
+        set |= _BV(AXIS_MODE_WAITING);
     else
-        change_mode(s, 0, _BV(AXIS_MODE_WAITING));
+        clear |= _BV(AXIS_MODE_WAITING);
+    if (s.flags & _BV(AXIS_SLOT_SLOW))
+        set |= _BV(AXIS_MODE_SLOW);
+    else
+        clear |= _BV(AXIS_MODE_SLOW);
+    change_mode(s, set, clear);
 }
 
-/* the C path of one axis (interrupts off): a wrap to count, a slow command's step, or the slot used
- * up without a ready fast one */
+/* the C path of one axis: a wrap to count, a slow command's step, or the slot used up without a
+ * ready fast one. It runs with interrupts on (__vector_multi_cold_*: the asm path enters it with its
+ * STEP raised) until arm_step arms the next edge, or throughout with them off where it is short
+ * (a wrap) or rare (the end): other axes' edges do not wait for its arithmetic. */
 __attribute__((always_inline)) inline void cold_path(uint8_t axis)
 {
     AxisState &s = state(axis);
     AxisSlot *cur = s.cur, *next;
     if (s.mode & _BV(AXIS_MODE_WAITING)) {
+        cli();
         s.wraps = s.wraps - 1U;
         if (s.wraps == 0)
             change_mode(s, 0, _BV(AXIS_MODE_WAITING));
@@ -287,6 +307,7 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
     }
     next = cur->other;
     if (!next->ready) {
+        cli();
         TIMSK1 &= (uint8_t)~ocie_bit(axis);
         stop_after(s, *cur);
         __builtin_avr_delay_cycles(32); /* the STEP pulse: >= 2 us */
@@ -351,20 +372,34 @@ void catch_missed_match(uint8_t axis)
 }
 } // namespace
 
-extern "C" void __vector_multi_cold_x(void) __attribute__((signal, used));
-extern "C" void __vector_multi_cold_y(void) __attribute__((signal, used));
-extern "C" void __vector_multi_cold_z(void) __attribute__((signal, used));
+/* interrupt: sei first (ISR_NOBLOCK), as the asm path's common part */
+extern "C" void __vector_multi_cold_x(void) __attribute__((interrupt, used));
+extern "C" void __vector_multi_cold_y(void) __attribute__((interrupt, used));
+extern "C" void __vector_multi_cold_z(void) __attribute__((interrupt, used));
+/* MULTI_TRACE builds: the C path ends the interrupt (interrupts off), TRACE lowered if no other step
+ * interrupt runs */
+template <uint8_t busy_bit> __attribute__((always_inline)) inline void trace_end()
+{
+#if MULTI_TRACE
+    GPIOR0 &= (uint8_t)~_BV(busy_bit);
+    if (!(GPIOR0 & MULTI_G_BUSY_MASK))
+        MULTI_TRACE_PORT &= (uint8_t)~_BV(MULTI_TRACE_BIT);
+#endif
+}
 void __vector_multi_cold_x(void)
 {
     cold_path(0);
+    trace_end<MULTI_G_BUSY_X>();
 }
 void __vector_multi_cold_y(void)
 {
     cold_path(1);
+    trace_end<MULTI_G_BUSY_Y>();
 }
 void __vector_multi_cold_z(void)
 {
     cold_path(2);
+    trace_end<MULTI_G_BUSY_Z>();
 }
 
 void MultiStepEngine::begin()
@@ -406,6 +441,7 @@ void MultiStepEngine::begin()
             f.open = 0;
             f.held = 0;
         }
+        GPIOR0 = 0;
         /* the Arduino core leaves Timer1 in 8-bit PWM mode for analogWrite(): take it over */
         TIMSK1 = 0;
         TCCR1A = 0;

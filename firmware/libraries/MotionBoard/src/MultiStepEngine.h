@@ -56,7 +56,7 @@
 #define AXIS_SLOT_WIDE 4    /* rate in whole ticks (step_queue.h's STEP_CMD_WIDE) */
 #define AXIS_SLOT_PHASE_SHIFT 5 /* bits 5-6: the ramp phase (step_queue.h's STEP_CMD_PHASE), for `?` */
 struct AxisSlot {
-    uint32_t rate;          /* +0  16.16 ticks (WIDE: whole ticks) */
+    uint32_t rate;          /* +0  16.16 ticks, the first interval less add (WIDE: whole ticks) */
     int32_t add;            /* +4 */
     uint16_t left;          /* +8  its steps after the first */
     uint8_t flags;          /* +10 AXIS_SLOT_* bits */
@@ -76,7 +76,7 @@ struct AxisSlot {
  * field at a fixed address. */
 struct AxisState {
     uint32_t acc;               /* +0  the timeline: time of the armed edge, 16.16 ticks */
-    uint32_t rate;              /* +4  the current command's next interval (WIDE: whole ticks) */
+    uint32_t rate;              /* +4  the current command's next interval less add (WIDE: whole ticks) */
     int32_t add;                /* +8 */
     volatile uint16_t left;     /* +12 its steps not yet armed */
     uint8_t flags;              /* +14 its AXIS_SLOT_* bits */

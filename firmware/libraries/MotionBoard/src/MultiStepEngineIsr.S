@@ -1,24 +1,34 @@
 /* MultiStepEngineIsr.S - the common path of the three step interrupts (see MultiStepEngine.h): one
  * step of a normal command, i.e. step_exec_next (lib/src/step_queue.h) on the command the axis's
  * state holds:
- *   STEP high; left--; acc += rate; OCR1x = acc >> 16; rate += add; late?; STEP low
+ *   STEP high; left--; rate += add; acc += rate; STEP low; OCR1x = acc >> 16; late?
+ * (the state's rate is the next interval less add, laid out so by MultiStepEngine.cpp, so that the
+ * new edge comes out of the last addition in two registers)
  * and, when the command is used up, the switch to the next slot if loop() has laid it out (its
  * rate, add, left and flags copied into the state; DIR written if it turns, at least 1.5 us after
  * the last STEP edge of the old direction and long before the first of the new). Slow commands,
  * wraps to count out and a missing next command jump to the axis's C path (MultiStepEngine.cpp)
- * with the registers restored as they were at the interrupt's entry.
- * Cost: the state's mode byte is zero on the common path, so one test chooses it; the axis's own
- * STEP pin is raised (sbi) at the same cycle after the compare match on every path of an axis
- * stepping alone; the master of a coordinated move (mode AXIS_MODE_MASKED) raises its STEP and
- * its followers' through the state's masks, one write per port, at the same cycle on each of its
- * paths; while wraps are counted out nothing is raised. One routine per axis, written once as the
- * macro below: its arguments are the axis's state, pins, compare register and flag, and C path.
- * Registers: r24, r25 and SREG kept in GPIOR0..2 while the interrupt runs (one cycle each way
- * instead of a push and a pop; the three step interrupts do not nest and no other code of the sketch
- * uses the GPIORs), r26, r27 (r30, r31 at a switch) pushed. The path for a master with followers is a
- * second copy of the step (STEP_BODY m = 1), so the common path has no branch for it at the end.
- * A port outside the I/O space (Z's PORTL) is read-modify-written through r25/r24: interrupts are
- * off here, and loop() writes it only in atomic blocks.
+ * with the registers restored as they were at the interrupt's entry and interrupts off.
+ *
+ * The three interrupts nest, so that an edge never waits for another axis's step: each raises its
+ * STEP in its first instructions and enables interrupts (sei); the step's arithmetic may then be
+ * interrupted by another axis's edge. Only those first instructions, the short stretches that touch
+ * shared hardware (PORTL is read-modify-written) and the end run with interrupts off: the end arms
+ * the new edge (OCR1x: Timer1's 16-bit registers share one TEMP byte) and tests whether it is
+ * already late, so an axis's next match never comes while its own interrupt runs and the
+ * interrupt never nests in itself. An edge due in one of those stretches waits a few dozen cycles
+ * at most (`make bench` measures it). The C path runs with interrupts off, as rarely as before:
+ * the start and end of a move, slow steps, wraps.
+ * Cost: GPIOR0 holds copies of the mode byte (MultiAxisPins.h): ANY (mode not zero: not the
+ * common path) for each axis and OWN_OFF for X and Y, so that the entry raises STEP and chooses
+ * its path before saving a register. The axis's own STEP pin is raised at the same cycle after the
+ * compare match on every path of an axis stepping alone; the master of a coordinated move (mode
+ * AXIS_MODE_MASKED) raises its STEP and its followers' through the state's masks, one write per
+ * port, with interrupts still off; while wraps are counted out nothing is raised. One routine per
+ * axis, written once as the macro below: its arguments are the axis's state, pins, compare
+ * register and flag, GPIOR0 bits and C path. Registers: r24, SREG, r25, r26 (r30, r31 at a switch)
+ * pushed. The path for a master with followers is a second copy of the step (STEP_BODY m = 1), so
+ * the common path has no branch for it at the end.
  */
 #include <avr/io.h>
 #include "MultiAxisPins.h"
@@ -71,7 +81,10 @@ multi_axis_z:
 #define M_MASKED 2
 #define M_WAITING 3
 
-/* a bit of a port: io = 1 for the I/O space (port = I/O address), 0 for a memory address (uses reg) */
+#define G0 _SFR_IO_ADDR(GPIOR0)
+
+/* a bit of a port: io = 1 for the I/O space (port = I/O address), 0 for a memory address (uses reg;
+ * interrupts must be off, as in the entry and the exit) */
 .macro PIN_HIGH io, port, bit, reg
 .if \io
     sbi \port, \bit
@@ -90,15 +103,42 @@ multi_axis_z:
     sts \port, \reg
 .endif
 .endm
+/* the same where interrupts are on: a read-modify-write with them off around it */
+.macro PIN_HIGH_NESTED io, port, bit, reg
+.if \io
+    sbi \port, \bit
+.else
+    cli
+    PIN_HIGH 0, \port, \bit, \reg
+    sei
+.endif
+.endm
+.macro PIN_LOW_NESTED io, port, bit, reg
+.if \io
+    cbi \port, \bit
+.else
+    cli
+    PIN_LOW 0, \port, \bit, \reg
+    sei
+.endif
+.endm
 
-.macro TRACE_HIGH
+/* TRACE (MULTI_TRACE builds, for `make bench`): high while any step interrupt runs. Each marks
+ * itself busy in GPIOR0; the last one to end (no busy bit left) lowers it. TRACE_END uses r24. */
+.macro TRACE_HIGH busy
 #if MULTI_TRACE
+    sbi G0, \busy
     sbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
 #endif
 .endm
-.macro TRACE_LOW
+.macro TRACE_END busy
 #if MULTI_TRACE
+    cbi G0, \busy
+    in r24, G0
+    andi r24, MULTI_G_BUSY_MASK
+    brne 1f
     cbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
+1:
 #endif
 .endm
 
@@ -122,63 +162,81 @@ multi_axis_z:
     sts \dst + 3, r24
 .endm
 
-/* One copy of the step path: m = 0 for an axis stepping alone (its own STEP lowered by cbi at the
- * end), m = 1 for a master with followers (every STEP of the masks lowered). The switch of slots
- * (m = 1: before the step, reached through a jump next to the branch; m = 0: before the entry),
- * then the step, then the rarer late edge. */
-.macro STEP_BODY name, m, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf
+/* left's high byte when the low one borrows (once in 256 steps): a borrow there too means the
+ * command is used up (the switch); r24 holds the low byte, 0xFF */
+.macro LEFT_HIGH name, m, st
+.L\name\()_lefthi\m:
+    lds r25, \st + LEFT + 1
+    subi r25, 1
+    brcc 1f
+    rjmp .L\name\()_switch\m
+1:
+    sts \st + LEFT + 1, r25
+    sts \st + LEFT, r24
+    rjmp .L\name\()_acc\m
+.endm
+
+/* One copy of the step path (interrupts on; r24, SREG and r25 pushed): m = 0 for an axis
+ * stepping alone (its own STEP lowered at the end), m = 1 for a master with followers (every STEP
+ * of the masks lowered). The switch of slots and left's high byte (m = 1: here, jumped over;
+ * m = 0: before the entry), then the step, the exit, then the rarer late edge. */
+.macro STEP_BODY name, m, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, busy
 .if \m
     rjmp .L\name\()_left\m
 .L\name\()_switch\m:
     SWITCH_SLOT \name, \m, \st, \io, \dir_port, \dir_bit
-.L\name\()_tramp\m:
-    rjmp .L\name\()_switch\m
+    LEFT_HIGH \name, \m, \st
 .endif
 .L\name\()_left\m:
-    lds r24, \st + LEFT          /* left-- (a borrow: the command is used up) */
-    lds r25, \st + LEFT + 1
-    sbiw r24, 1
-    brcs .L\name\()_tramp\m
-    sts \st + LEFT + 1, r25
+    lds r24, \st + LEFT          /* left-- */
+    subi r24, 1
+    brcs .L\name\()_lefthi\m
     sts \st + LEFT, r24
 .L\name\()_acc\m:
     push r26
-    push r27
-    /* acc += rate; the edge, acc >> 16, into r27:r26 and OCR1x (high byte first, through TEMP) */
-    lds r24, \st + ACC
-    lds r25, \st + RATE
-    add r24, r25
-    sts \st + ACC, r24
-    lds r24, \st + ACC + 1
-    lds r25, \st + RATE + 1
-    adc r24, r25
-    sts \st + ACC + 1, r24
-    lds r26, \st + ACC + 2
-    lds r25, \st + RATE + 2
-    adc r26, r25
-    sts \st + ACC + 2, r26
-    lds r27, \st + ACC + 3
-    lds r25, \st + RATE + 3
-    adc r27, r25
-    sts \st + ACC + 3, r27
-    sts \ocrh, r27
-    sts \ocrl, r26
     /* rate += add, when the command has one */
     lds r24, \st + FLAGS
     sbrs r24, F_HAS_ADD
-    rjmp .L\name\()_late\m
+    rjmp .L\name\()_rate\m
     ADD32_STATE \st + RATE, \st + ADD
-.L\name\()_late\m:
-    /* late? edge - TCNT1 <= 0 (TCNT1L first: it latches the high byte) */
-    lds r24, _SFR_MEM_ADDR(TCNT1L)
-    lds r25, _SFR_MEM_ADDR(TCNT1H)
-    sub r26, r24
-    sbc r27, r25
+.L\name\()_rate\m:
+    /* acc += rate; the edge, acc >> 16, in r25:r24 */
+    lds r24, \st + ACC
+    lds r26, \st + RATE
+    add r24, r26
+    sts \st + ACC, r24
+    lds r24, \st + ACC + 1
+    lds r26, \st + RATE + 1
+    adc r24, r26
+    sts \st + ACC + 1, r24
+    lds r24, \st + ACC + 2
+    lds r26, \st + RATE + 2
+    adc r24, r26
+    sts \st + ACC + 2, r24
+    lds r25, \st + ACC + 3
+    lds r26, \st + RATE + 3
+    adc r25, r26
+    sts \st + ACC + 3, r25
+.if \m == 0 && \io
+    cbi \step_port, \step_bit     /* STEP low (more than 2 us after it rose) */
+.endif
+    /* Interrupts off: the new edge is armed (OCR1x, high byte first through TEMP, which every
+     * 16-bit register of Timer1 shares) only now that the step is done, so this axis's next match
+     * never comes while its own step runs; late? edge - TCNT1 <= 0 (TCNT1L first: it latches the
+     * high byte). Then the STEP pins low and interrupts on again for the last pops (a match of
+     * this axis may nest there: its step finds the state complete). */
+    cli
+    sts \ocrh, r25
+    sts \ocrl, r24
+    lds r26, _SFR_MEM_ADDR(TCNT1L)
+    sub r24, r26
+    lds r26, _SFR_MEM_ADDR(TCNT1H)
+    sbc r25, r26
     brmi .L\name\()_rearm\m
     breq .L\name\()_rearm\m
 .L\name\()_low\m:
 .if \m
-    /* every STEP of the masks low */
+    /* every STEP of the masks low (read-modify-write: interrupts off) */
     lds r25, \st + MASK_F
     com r25
     in r24, _SFR_IO_ADDR(PORTF)
@@ -189,19 +247,19 @@ multi_axis_z:
     lds r24, _SFR_MEM_ADDR(PORTL)
     and r24, r25
     sts _SFR_MEM_ADDR(PORTL), r24
-.else
-    PIN_LOW \io, \step_port, \step_bit, r24
+.elseif \io == 0
+    PIN_LOW 0, \step_port, \step_bit, r24
 .endif
-    TRACE_LOW
-    pop r27
+    TRACE_END \busy
+    sei
     pop r26
-    in r25, _SFR_IO_ADDR(GPIOR2)
-    in r24, _SFR_IO_ADDR(GPIOR1)
+    pop r25
+    pop r24
     out _SFR_IO_ADDR(SREG), r24
-    in r24, _SFR_IO_ADDR(GPIOR0)
+    pop r24
     reti
 .L\name\()_rearm\m:
-    /* armed in the past (an overload): unless the match came meanwhile, fire 2 us from now */
+    /* armed in the past (an overload): unless its match came meanwhile, fire 2 us from now */
     sbic _SFR_IO_ADDR(TIFR1), \ocf
     rjmp .L\name\()_low\m
     lds r24, _SFR_MEM_ADDR(TCNT1L)
@@ -266,10 +324,10 @@ multi_axis_z:
     rjmp .L\name\()_dirset\m
     sbrc r24, F_FORWARD
     rjmp .L\name\()_fwd\m
-    PIN_LOW \io, \dir_port, \dir_bit, r24
+    PIN_LOW_NESTED \io, \dir_port, \dir_bit, r24
     rjmp .L\name\()_dirset\m
 .L\name\()_fwd\m:
-    PIN_HIGH \io, \dir_port, \dir_bit, r24
+    PIN_HIGH_NESTED \io, \dir_port, \dir_bit, r24
 .L\name\()_dirset\m:
     pop r31
     pop r30
@@ -280,26 +338,42 @@ multi_axis_z:
     rjmp .L\name\()_cold
 .endm
 
-.macro AXIS_ISR name, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold
+/* io: the STEP port is in the I/O space (X, Y: the entry raises STEP before saving a register, by
+ * the GPIOR0 copy `ownoff` of the OWN_OFF mode bit); Z's PORTL is read-modify-written. any: the
+ * GPIOR0 copy of "mode not zero". */
+.macro AXIS_ISR name, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold, busy, ownoff, any
     .section .text.\name,"ax",@progbits
     .global \name
     /* out of the common path, placed before the entry so that its short branches reach */
 .L\name\()_switch0:
     SWITCH_SLOT \name, 0, \st, \io, \dir_port, \dir_bit
+    LEFT_HIGH \name, 0, \st
 .L\name\()_cold:
-    /* the registers as at the entry, then the C path */
-    in r25, _SFR_IO_ADDR(GPIOR2)
-    in r24, _SFR_IO_ADDR(GPIOR1)
+    /* the registers as at the entry, interrupts off (SREG's I bit cleared), then the C path, which
+     * ends the interrupt (reti) */
+    cli
+    pop r25
+    pop r24
+    andi r24, 0x7F
     out _SFR_IO_ADDR(SREG), r24
-    in r24, _SFR_IO_ADDR(GPIOR0)
+    pop r24
     jmp \cold
+.if \io
+.L\name\()_any:
+    /* interrupts off: save as the common path does */
+    push r24
+    in r24, _SFR_IO_ADDR(SREG)
+    push r24
+    push r25
+.endif
 .L\name\()_other:
-    /* mode not zero: wraps to count, a slow command, or followers */
+    /* mode not zero (interrupts off): wraps to count or a slow command (the C path), or followers:
+     * a master raises its STEP and its followers' here */
+    lds r24, \st + MODE
     sbrc r24, M_WAITING
     rjmp .L\name\()_cold         /* counting out a slow interval's wraps: no step at this match */
-    bst r24, M_SLOW
     sbrs r24, M_MASKED
-    rjmp .L\name\()_trace
+    rjmp .L\name\()_cold         /* a slow command: the C path steps it (STEP is high) */
     /* the axis's own STEP and its followers' together: one write per port */
     lds r25, \st + MASK_F
     in r24, _SFR_IO_ADDR(PORTF)
@@ -309,34 +383,42 @@ multi_axis_z:
     lds r24, _SFR_MEM_ADDR(PORTL)
     or r24, r25
     sts _SFR_MEM_ADDR(PORTL), r24
-.L\name\()_trace:
-    TRACE_HIGH
-    brts .L\name\()_cold         /* a slow command: the C path steps it (STEP is high) */
-    rjmp .L\name\()_left1
-.L\name\()_tramp0:
-    rjmp .L\name\()_switch0
-\name:
-    out _SFR_IO_ADDR(GPIOR0), r24
-    in r24, _SFR_IO_ADDR(SREG)
-    out _SFR_IO_ADDR(GPIOR1), r24
-    out _SFR_IO_ADDR(GPIOR2), r25
     lds r24, \st + MODE
+    sbrc r24, M_SLOW
+    rjmp .L\name\()_cold
+    sei
+    rjmp .L\name\()_left1
+\name:
 .if \io
-    sbrs r24, M_OWN_OFF
-    sbi \step_port, \step_bit    /* STEP high (not while counting out wraps; followers: below) */
+    sbis G0, \ownoff
+    sbi \step_port, \step_bit    /* STEP high (not while counting out wraps; followers: later) */
+    TRACE_HIGH \busy
+    sbic G0, \any
+    rjmp .L\name\()_any
+    sei                          /* the common path: another axis's edge may interrupt from here */
+    push r24
+    in r24, _SFR_IO_ADDR(SREG)
+    push r24
+    push r25
 .else
+    push r24
+    in r24, _SFR_IO_ADDR(SREG)
+    push r24
+    lds r24, \st + MODE
     sbrc r24, M_OWN_OFF
-    rjmp .L\name\()_test
-    PIN_HIGH 0, \step_port, \step_bit, r25
-.L\name\()_test:
+    rjmp .L\name\()_own_off
+    PIN_HIGH 0, \step_port, \step_bit, r24   /* STEP high (not while counting out wraps; followers: later) */
+.L\name\()_own_off:
+    TRACE_HIGH \busy
+    push r25
+    sbic G0, \any
+    rjmp .L\name\()_other
+    sei                          /* the common path: another axis's edge may interrupt from here */
 .endif
-    tst r24
-    brne .L\name\()_other
-    TRACE_HIGH
-    STEP_BODY \name, 0, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf
-    STEP_BODY \name, 1, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf
+    STEP_BODY \name, 0, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf, \busy
+    STEP_BODY \name, 1, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf, \busy
 .endm
 
-AXIS_ISR multi_step_isr_x, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, __vector_multi_cold_x
-AXIS_ISR multi_step_isr_y, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, __vector_multi_cold_y
-AXIS_ISR multi_step_isr_z, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, __vector_multi_cold_z
+AXIS_ISR multi_step_isr_x, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, __vector_multi_cold_x, MULTI_G_BUSY_X, MULTI_G_OWNOFF_X, MULTI_G_ANY_X
+AXIS_ISR multi_step_isr_y, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, __vector_multi_cold_y, MULTI_G_BUSY_Y, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y
+AXIS_ISR multi_step_isr_z, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, __vector_multi_cold_z, MULTI_G_BUSY_Z, 0, MULTI_G_ANY_Z
