@@ -284,9 +284,10 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
 }
 
 /* the C path of one axis: a wrap to count, a slow command's step, or the slot used up without a
- * ready fast one. It runs with interrupts on (__vector_multi_cold_*: the asm path enters it with its
- * STEP raised) until arm_step arms the next edge, or throughout with them off where it is short
- * (a wrap) or rare (the end): other axes' edges do not wait for its arithmetic. */
+ * ready fast one. Called with interrupts on (its STEP raised by the asm path): other axes' edges do
+ * not wait for it; shared registers (TIMSK1, GPIOR0, a port's read-modify-write) are written with
+ * them off, and from the arming of the next edge (arm_step) they stay off. Its own match cannot come
+ * before that: OCR1x still holds the edge that has just matched. */
 __attribute__((always_inline)) inline void cold_path(uint8_t axis)
 {
     AxisState &s = state(axis);
@@ -307,10 +308,13 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
     }
     next = cur->other;
     if (!next->ready) {
-        cli();
-        TIMSK1 &= (uint8_t)~ocie_bit(axis);
+        ATOMIC_BLOCK(ATOMIC_FORCEON)
+        {
+            TIMSK1 &= (uint8_t)~ocie_bit(axis);
+        }
         stop_after(s, *cur);
         __builtin_avr_delay_cycles(32); /* the STEP pulse: >= 2 us */
+        cli();
         step_low(axis);
         return;
     }
@@ -372,34 +376,25 @@ void catch_missed_match(uint8_t axis)
 }
 } // namespace
 
-/* interrupt: sei first (ISR_NOBLOCK), as the asm path's common part */
-extern "C" void __vector_multi_cold_x(void) __attribute__((interrupt, used));
-extern "C" void __vector_multi_cold_y(void) __attribute__((interrupt, used));
-extern "C" void __vector_multi_cold_z(void) __attribute__((interrupt, used));
-/* MULTI_TRACE builds: the C path ends the interrupt (interrupts off), TRACE lowered if no other step
- * interrupt runs */
-template <uint8_t busy_bit> __attribute__((always_inline)) inline void trace_end()
-{
-#if MULTI_TRACE
-    GPIOR0 &= (uint8_t)~_BV(busy_bit);
-    if (!(GPIOR0 & MULTI_G_BUSY_MASK))
-        MULTI_TRACE_PORT &= (uint8_t)~_BV(MULTI_TRACE_BIT);
-#endif
-}
-void __vector_multi_cold_x(void)
+/* The C path of each axis, called by its step interrupt (MultiStepEngineIsr.S) with interrupts on;
+ * returns with them off. */
+extern "C" void multi_cold_x(void) __attribute__((used));
+extern "C" void multi_cold_y(void) __attribute__((used));
+extern "C" void multi_cold_z(void) __attribute__((used));
+void multi_cold_x(void)
 {
     cold_path(0);
-    trace_end<MULTI_G_BUSY_X>();
+    cli();
 }
-void __vector_multi_cold_y(void)
+void multi_cold_y(void)
 {
     cold_path(1);
-    trace_end<MULTI_G_BUSY_Y>();
+    cli();
 }
-void __vector_multi_cold_z(void)
+void multi_cold_z(void)
 {
     cold_path(2);
-    trace_end<MULTI_G_BUSY_Z>();
+    cli();
 }
 
 void MultiStepEngine::begin()

@@ -7,8 +7,7 @@
  * and, when the command is used up, the switch to the next slot if loop() has laid it out (its
  * rate, add, left and flags copied into the state; DIR written if it turns, at least 1.5 us after
  * the last STEP edge of the old direction and long before the first of the new). Slow commands,
- * wraps to count out and a missing next command jump to the axis's C path (MultiStepEngine.cpp)
- * with the registers restored as they were at the interrupt's entry and interrupts off.
+ * wraps to count out and a missing next command call the axis's C path (MultiStepEngine.cpp).
  *
  * The three interrupts nest, so that an edge never waits for another axis's step: each raises its
  * STEP in its first instructions and enables interrupts (sei); the step's arithmetic may then be
@@ -223,8 +222,9 @@ multi_axis_z:
     /* Interrupts off: the new edge is armed (OCR1x, high byte first through TEMP, which every
      * 16-bit register of Timer1 shares) only now that the step is done, so this axis's next match
      * never comes while its own step runs; late? edge - TCNT1 <= 0 (TCNT1L first: it latches the
-     * high byte). Then the STEP pins low and interrupts on again for the last pops (a match of
-     * this axis may nest there: its step finds the state complete). */
+     * high byte). Interrupts stay off to the reti (SREG is restored after the pops; the reti sets
+     * the I bit): an overloaded axis, whose next match is already due, steps again only after
+     * this interrupt has returned, so its interrupts never pile up on the stack. */
     cli
     sts \ocrh, r25
     sts \ocrl, r24
@@ -251,10 +251,10 @@ multi_axis_z:
     PIN_LOW 0, \step_port, \step_bit, r24
 .endif
     TRACE_END \busy
-    sei
     pop r26
     pop r25
     pop r24
+    andi r24, 0x7F               /* SREG as at the entry, the I bit clear until the reti */
     out _SFR_IO_ADDR(SREG), r24
     pop r24
     reti
@@ -348,16 +348,6 @@ multi_axis_z:
 .L\name\()_switch0:
     SWITCH_SLOT \name, 0, \st, \io, \dir_port, \dir_bit
     LEFT_HIGH \name, 0, \st
-.L\name\()_cold:
-    /* the registers as at the entry, interrupts off (SREG's I bit cleared), then the C path, which
-     * ends the interrupt (reti) */
-    cli
-    pop r25
-    pop r24
-    andi r24, 0x7F
-    out _SFR_IO_ADDR(SREG), r24
-    pop r24
-    jmp \cold
 .if \io
 .L\name\()_any:
     /* interrupts off: save as the common path does */
@@ -417,8 +407,45 @@ multi_axis_z:
 .endif
     STEP_BODY \name, 0, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf, \busy
     STEP_BODY \name, 1, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf, \busy
+.L\name\()_cold:
+    /* the C path (MultiStepEngine.cpp), called as a function with interrupts on and the registers
+     * it may change saved; it returns with interrupts off (from the arming of the next edge on) */
+    sei
+    push r0
+    push r1
+    push r18
+    push r19
+    push r20
+    push r21
+    push r22
+    push r23
+    push r26
+    push r27
+    push r30
+    push r31
+    clr r1
+    call \cold
+    pop r31
+    pop r30
+    pop r27
+    pop r26
+    pop r23
+    pop r22
+    pop r21
+    pop r20
+    pop r19
+    pop r18
+    pop r1
+    pop r0
+    TRACE_END \busy
+    pop r25
+    pop r24
+    andi r24, 0x7F               /* SREG as at the entry, the I bit clear until the reti */
+    out _SFR_IO_ADDR(SREG), r24
+    pop r24
+    reti
 .endm
 
-AXIS_ISR multi_step_isr_x, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, __vector_multi_cold_x, MULTI_G_BUSY_X, MULTI_G_OWNOFF_X, MULTI_G_ANY_X
-AXIS_ISR multi_step_isr_y, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, __vector_multi_cold_y, MULTI_G_BUSY_Y, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y
-AXIS_ISR multi_step_isr_z, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, __vector_multi_cold_z, MULTI_G_BUSY_Z, 0, MULTI_G_ANY_Z
+AXIS_ISR multi_step_isr_x, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, multi_cold_x, MULTI_G_BUSY_X, MULTI_G_OWNOFF_X, MULTI_G_ANY_X
+AXIS_ISR multi_step_isr_y, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, multi_cold_y, MULTI_G_BUSY_Y, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y
+AXIS_ISR multi_step_isr_z, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, multi_cold_z, MULTI_G_BUSY_Z, 0, MULTI_G_ANY_Z
