@@ -1,8 +1,8 @@
 // motion-sketch: multiaxis
 /* MultiAxisStepper - the X, Y and Z drivers of a RAMPS 1.4, each with the exact constant-acceleration
- * ramp (every step planned within one tick of F = 16 MHz of its time; on the pins an edge that meets
- * another axis's interrupt waits for it), moved one at a time, several at once, or together on a
- * straight line. Wiring and limits: MotionBoard's MultiAxisPins.h; the rates
+ * ramp (every step planned within one tick of F = 16 MHz of its time; the three step interrupts
+ * nest, so on the pins an edge waits for no other axis's step), moved one at a time, several at
+ * once, or together on a straight line. Wiring and limits: MotionBoard's MultiAxisPins.h; the rates
  * measured by `make bench` are in build/bench/bench.md; docs/multi-axis.md explains it all.
  *
  * How: the planners (lib/src/step_planner.h for an axis alone, step_coord.h for a coordinated move)
@@ -27,22 +27,9 @@ static TrapezoidRamp yRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS
 static TrapezoidRamp zRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
 static MultiAxisConsole console(xRamp, yRamp, zRamp);
 
-/* Timer1's compare interrupts make the steps the planners queued (MultiStepEngine.h): each jumps to
- * its axis's step routine, which returns from the interrupt itself */
-ISR(TIMER1_COMPA_vect, ISR_NAKED)
-{
-    MultiStepEngine::on_x_timer();
-}
-
-ISR(TIMER1_COMPB_vect, ISR_NAKED)
-{
-    MultiStepEngine::on_y_timer();
-}
-
-ISR(TIMER1_COMPC_vect, ISR_NAKED)
-{
-    MultiStepEngine::on_z_timer();
-}
+/* Timer1's compare interrupts (A: X, B: Y, C: Z) make the steps the planners queued: their vectors
+ * are MotionBoard's MultiStepEngineIsr.S itself (MultiStepEngine.h), so this sketch defines no ISR()
+ * for Timer1. */
 
 void setup()
 {

@@ -6,7 +6,8 @@
  *   X     D54 (A0) PF0  D55 (A1) PF1  D38 PD7             OCR1A, TIMER1_COMPA_vect
  *   Y     D60 (A6) PF6  D61 (A7) PF7  D56 (A2) PF2        OCR1B, TIMER1_COMPB_vect
  *   Z     D46 PL3       D48 PL1       D62 (A8) PK0        OCR1C, TIMER1_COMPC_vect
- *   TRACE D40 PG1       only with MULTI_TRACE = 1: high while any step interrupt runs (`make bench`)
+ *   TRACE D40 PG1 (X), D41 PG0 (Y), D39 PG2 (Z): only with MULTI_TRACE = 1, high while that axis's step
+ *         interrupt runs, including the time other interrupts nested in it take (`make bench`)
  * STEP: rising edge = one step, high >= 2 us; DIR: high = forward (position counts up), written
  * before the first step of a move and only while STEP is low. PORTF and PORTG are in the I/O space
  * (single-instruction sbi/cbi); PORTL is not, so Z's pins are read-modify-written, only with
@@ -49,25 +50,23 @@
 
 #define MULTI_TRACE_PORT PORTG
 #define MULTI_TRACE_DDR DDRG
-#define MULTI_TRACE_BIT 1 /* D40 */
+#define MULTI_TRACE_X_BIT 1 /* D40 */
+#define MULTI_TRACE_Y_BIT 0 /* D41 */
+#define MULTI_TRACE_Z_BIT 2 /* D39 */
 
 #define MULTI_TICK_HZ 16000000UL
 
 /* GPIOR0 (the one bit-addressable general-purpose I/O register: sbi, cbi, sbis, sbic touch no
- * register and no flag) belongs to the step interrupts (MultiStepEngineIsr.S): ANY is a copy of
- * "the axis's mode byte is not zero" (not the common path), OWNOFF a copy of X's and Y's
- * AXIS_MODE_OWN_OFF, so that their entry raises STEP and chooses its path before saving a
- * register; BUSY (MULTI_TRACE builds only) marks an interrupt running, so that the last one lowers
- * TRACE. No other code of the sketch may use GPIOR0. */
-#define MULTI_G_BUSY_X 0
-#define MULTI_G_BUSY_Y 1
-#define MULTI_G_BUSY_Z 2
-#define MULTI_G_BUSY_MASK 0x07
-#define MULTI_G_ANY_X 3
-#define MULTI_G_ANY_Y 4
-#define MULTI_G_ANY_Z 5
-#define MULTI_G_OWNOFF_X 6
-#define MULTI_G_OWNOFF_Y 7
+ * register and no flag) belongs to the step interrupts (MultiStepEngineIsr.S), which read it before
+ * saving a register: ANY is a copy of "the axis's mode byte is not zero" (not the common path);
+ * OWNOFF is set when a match of the axis must not raise its STEP: its mode's AXIS_MODE_OWN_OFF (and,
+ * harmlessly, while it is not running). No other code of the sketch may use GPIOR0. */
+#define MULTI_G_ANY_X 0
+#define MULTI_G_ANY_Y 1
+#define MULTI_G_ANY_Z 2
+#define MULTI_G_OWNOFF_X 3
+#define MULTI_G_OWNOFF_Y 4
+#define MULTI_G_OWNOFF_Z 5
 
 /* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which every case `make bench`
  * measures is clean (build/bench/bench.md, "MultiAxisStepper: several axes at once"): three

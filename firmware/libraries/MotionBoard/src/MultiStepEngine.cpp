@@ -175,6 +175,8 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
     t.p_start = f.next_p_start;
     if (c.add != 0)
         fl |= _BV(AXIS_SLOT_HAS_ADD);
+    if (c.add >= -32768L && c.add <= 32767L)
+        fl |= _BV(AXIS_SLOT_ADD16);
     if (is_slow(c))
         fl |= _BV(AXIS_SLOT_SLOW);
     if (c.flags & STEP_CMD_WIDE)
@@ -189,12 +191,32 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
     f.next_p_start += forward ? (int32_t)c.count : -(int32_t)c.count;
 }
 
-/* the last step of slot t is made and nothing follows: the move's end or an underrun */
+/* The GPIOR0 copies of an axis's mode (MultiAxisPins.h), after a change of its mode or of its running
+ * (interrupts off): ANY = mode not zero; OWNOFF = OWN_OFF, or not running. */
+inline void sync_g0(AxisState &s)
+{
+    uint8_t any, off, bits;
+    if (&s == &multi_axis_x) {
+        any = _BV(MULTI_G_ANY_X);
+        off = _BV(MULTI_G_OWNOFF_X);
+    } else if (&s == &multi_axis_y) {
+        any = _BV(MULTI_G_ANY_Y);
+        off = _BV(MULTI_G_OWNOFF_Y);
+    } else {
+        any = _BV(MULTI_G_ANY_Z);
+        off = _BV(MULTI_G_OWNOFF_Z);
+    }
+    bits = (uint8_t)((s.mode ? any : 0) | (((s.mode & _BV(AXIS_MODE_OWN_OFF)) || !s.running) ? off : 0));
+    GPIOR0 = (uint8_t)((GPIOR0 & (uint8_t)~(any | off)) | bits);
+}
+
+/* the last step of slot t is made and nothing follows: the move's end or an underrun (interrupts off) */
 void stop_after(AxisState &s, const AxisSlot &t)
 {
     int32_t made = (int32_t)t.left + 1;
     s.pos_rest = t.p_start + ((t.flags & _BV(AXIS_SLOT_FORWARD)) ? made : -made);
     s.running = 0;
+    sync_g0(s);
     if (s.finishing) {
         s.finishing = 0;
         s.done = 1;
@@ -210,16 +232,7 @@ inline void change_mode(AxisState &s, uint8_t set, uint8_t clear)
     if (m & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_MASKED)))
         m |= _BV(AXIS_MODE_OWN_OFF);
     s.mode = m;
-    /* the entry reads ANY and OWN_OFF from GPIOR0 (MultiAxisPins.h) */
-    if (&s == &multi_axis_x) {
-        GPIOR0 = (uint8_t)((GPIOR0 & ~(_BV(MULTI_G_ANY_X) | _BV(MULTI_G_OWNOFF_X))) |
-                           (m ? _BV(MULTI_G_ANY_X) : 0) | ((m & _BV(AXIS_MODE_OWN_OFF)) ? _BV(MULTI_G_OWNOFF_X) : 0));
-    } else if (&s == &multi_axis_y) {
-        GPIOR0 = (uint8_t)((GPIOR0 & ~(_BV(MULTI_G_ANY_Y) | _BV(MULTI_G_OWNOFF_Y))) |
-                           (m ? _BV(MULTI_G_ANY_Y) : 0) | ((m & _BV(AXIS_MODE_OWN_OFF)) ? _BV(MULTI_G_OWNOFF_Y) : 0));
-    } else {
-        GPIOR0 = (uint8_t)((GPIOR0 & ~_BV(MULTI_G_ANY_Z)) | (m ? _BV(MULTI_G_ANY_Z) : 0));
-    }
+    sync_g0(s);
 }
 
 /* Makes slot t the interrupt's current command: its fields into the state (the interrupt's own
@@ -312,9 +325,9 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
         {
             TIMSK1 &= (uint8_t)~ocie_bit(axis);
         }
-        stop_after(s, *cur);
         __builtin_avr_delay_cycles(32); /* the STEP pulse: >= 2 us */
         cli();
+        stop_after(s, *cur);
         step_low(axis);
         return;
     }
@@ -325,22 +338,31 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
         write_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
 }
 
-/* takes the first laid-out slot and arms its first step from t = base (interrupts off) */
+/* takes the first laid-out slot and arms its first step from t = base. Called from loop() with
+ * interrupts on (this axis's interrupt is off): the other axes keep stepping while it plans its
+ * arithmetic; the arming and the shared registers (a port's read-modify-write, TIFR1, TIMSK1,
+ * GPIOR0) run with interrupts off. */
 void start_axis(uint8_t axis, uint32_t base)
 {
     AxisState &s = state(axis);
     AxisSlot *t = s.cur->other;
+    uint8_t sreg;
     if (!t->ready)
         return;
     load_slot(s, *t);
-    write_dir(axis, t->flags & _BV(AXIS_SLOT_FORWARD)); /* DIR is set here, before the first step */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        write_dir(axis, t->flags & _BV(AXIS_SLOT_FORWARD)); /* DIR is set here, before the first step */
+    }
     s.acc = base;
-    change_mode(s, 0, _BV(AXIS_MODE_WAITING));
     s.wraps = 0;
-    arm_step(axis, s);
+    sreg = SREG;
+    arm_step(axis, s); /* interrupts off from its arming on */
     TIFR1 = ocf_bit(axis);
     s.running = 1;
+    sync_g0(s);
     TIMSK1 |= ocie_bit(axis);
+    SREG = sreg;
     s_feed[axis].held = 0;
     s_feed[axis].started = 1;
 }
@@ -348,7 +370,12 @@ void start_axis(uint8_t axis, uint32_t base)
 /* t = 0 a little ahead of now, half a tick into it (edges at round(F t)) */
 uint32_t base_ahead(uint16_t ticks)
 {
-    return ((uint32_t)(uint16_t)(TCNT1 + ticks) << 16) | 0x8000UL;
+    uint16_t now;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        now = TCNT1; /* through TEMP, which the step interrupts use too */
+    }
+    return ((uint32_t)(uint16_t)(now + ticks) << 16) | 0x8000UL;
 }
 
 /* A compare match that never came (libsimavr dropped some, after a timer wrap, until the harness
@@ -413,7 +440,7 @@ void MultiStepEngine::begin()
         MULTI_Z_ENABLE_DDR |= _BV(MULTI_Z_ENABLE_BIT);
         MULTI_Z_ENABLE_PORT &= (uint8_t)~_BV(MULTI_Z_ENABLE_BIT);
 #if MULTI_TRACE
-        MULTI_TRACE_DDR |= _BV(MULTI_TRACE_BIT);
+        MULTI_TRACE_DDR |= _BV(MULTI_TRACE_X_BIT) | _BV(MULTI_TRACE_Y_BIT) | _BV(MULTI_TRACE_Z_BIT);
 #endif
         for (uint8_t a = 0; a < MULTI_AXES; a++) {
             AxisState &s = state(a);
@@ -436,7 +463,7 @@ void MultiStepEngine::begin()
             f.open = 0;
             f.held = 0;
         }
-        GPIOR0 = 0;
+        GPIOR0 = _BV(MULTI_G_OWNOFF_X) | _BV(MULTI_G_OWNOFF_Y) | _BV(MULTI_G_OWNOFF_Z); /* none running */
         /* the Arduino core leaves Timer1 in 8-bit PWM mode for analogWrite(): take it over */
         TIMSK1 = 0;
         TCCR1A = 0;
@@ -488,10 +515,7 @@ uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t ma
     if (f.open && !f.held && !s.running && !s.done && s.cur->other->ready &&
         (f.started || f.ready >= MULTI_START_SLOTS || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks ||
          f.ready >= MULTI_SLOTS - 1U))
-        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-        {
-            start_axis(axis, base_ahead(64));
-        }
+        start_axis(axis, base_ahead(64));
     if (f.open && !f.held && !src.busy(src.ctx) && !s.finishing && !s.done && !cur_slot(s)->other->ready) {
         ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
         {
@@ -553,18 +577,16 @@ bool MultiStepEngine::ready_to_start(uint8_t axis, const AxisSource &src)
 
 void MultiStepEngine::start_together(uint8_t mask)
 {
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        /* far enough ahead for three first steps to be armed (about 150 cycles each) */
-        uint32_t base = base_ahead(1024);
-        for (uint8_t a = 0; a < MULTI_AXES; a++) {
-            if (!(mask & (1U << a)))
-                continue;
-            if (state(a).cur->other->ready)
-                start_axis(a, base);
-            else
-                s_feed[a].held = 0; /* nothing to step: service() marks it done */
-        }
+    /* far enough ahead (256 us) for three first steps to be armed (a few hundred cycles each, with
+     * interrupts on: other axes moving meanwhile keep stepping) */
+    uint32_t base = base_ahead(4096);
+    for (uint8_t a = 0; a < MULTI_AXES; a++) {
+        if (!(mask & (1U << a)))
+            continue;
+        if (state(a).cur->other->ready)
+            start_axis(a, base);
+        else
+            s_feed[a].held = 0; /* nothing to step: service() marks it done */
     }
 }
 

@@ -4,17 +4,20 @@
  * a coordinated one: step_coord.h), and its own interrupt that executes them.
  *
  * Each interrupt is "simple and dumb", as the single-axis engine's: at its compare match it raises
- * STEP, adds the command's rate to the axis's timeline and its add to the rate (step_exec_next's
- * arithmetic), arms its OCR1x for the next edge and lowers STEP (>= 2 us later); at a new command
+ * STEP, adds the command's add to the rate and the rate to the axis's timeline (step_exec_next's
+ * arithmetic), lowers STEP (>= 2 us later) and arms its OCR1x for the next edge; at a new command
  * that turns, it writes DIR (while STEP is high, >= 1.5 us after its rising edge, which belongs to
- * the old direction). That path is MultiStepEngineIsr.S, one copy per axis; slow steps (an
+ * the old direction). That path is MultiStepEngineIsr.S, one copy per axis and itself the vector
+ * of TIMER1_COMPA/B/C (a sketch using this engine defines no ISR for them); slow steps (an
  * interval of 32768 ticks or more, WIDE ones counted out in wraps of the 16-bit timer), the end of
  * a move, an underrun and a late edge take the rarer path in C (MultiStepEngine.cpp).
  * Why Timer1's three channels: one counter (TCNT1) is one timeline for all axes, so a coordinated
  * move starts every axis on the same tick (start_together) and their planned edges keep their
  * relation exactly; one timer's three vectors cost nothing more per step than three timers would.
- * The interrupts do not nest: an edge due while another axis's interrupt (or the core's millis or
- * serial interrupt) runs is late by up to that interrupt's length; `make bench` measures it.
+ * The interrupts nest: each raises its STEP and enables interrupts in its first instructions, and
+ * arms its next edge with them off at its end, so an edge never waits for another axis's step, only
+ * for the short stretches another axis's interrupt runs with interrupts off (a few dozen cycles) and
+ * for the core's millis and serial interrupts, which do not nest; `make bench` measures it.
  * loop() calls service() for each axis: it keeps between two commands and MULTI_LEAD_MS of steps
  * queued ahead, so a stop takes effect within that time. A queue that runs dry during a move is an
  * underrun: counted (underruns(), `?`), the motion resumes with the next command.
@@ -55,6 +58,7 @@
 #define AXIS_SLOT_TURN 3    /* DIR changes at this command */
 #define AXIS_SLOT_WIDE 4    /* rate in whole ticks (step_queue.h's STEP_CMD_WIDE) */
 #define AXIS_SLOT_PHASE_SHIFT 5 /* bits 5-6: the ramp phase (step_queue.h's STEP_CMD_PHASE), for `?` */
+#define AXIS_SLOT_ADD16 7   /* add within -32768..32767: the interrupt adds two bytes */
 struct AxisSlot {
     uint32_t rate;          /* +0  16.16 ticks, the first interval less add (WIDE: whole ticks) */
     int32_t add;            /* +4 */
@@ -152,12 +156,6 @@ public:
     static uint16_t underruns(uint8_t axis);
     static uint16_t late_edges(uint8_t axis);
     static bool take_done(uint8_t axis, int32_t &position);
-
-    /* The bodies of ISR(TIMER1_COMPx_vect, ISR_NAKED): each jumps to its axis's step routine
-     * (MultiStepEngineIsr.S), which saves what it uses and returns from the interrupt itself. */
-    static inline void on_x_timer() __attribute__((always_inline)) { asm volatile("jmp multi_step_isr_x" ::); }
-    static inline void on_y_timer() __attribute__((always_inline)) { asm volatile("jmp multi_step_isr_y" ::); }
-    static inline void on_z_timer() __attribute__((always_inline)) { asm volatile("jmp multi_step_isr_z" ::); }
 };
 
 #endif

@@ -25,9 +25,11 @@
  * AXIS_MODE_MASKED) raises its STEP and its followers' through the state's masks, one write per
  * port, with interrupts still off; while wraps are counted out nothing is raised. One routine per
  * axis, written once as the macro below: its arguments are the axis's state, pins, compare
- * register and flag, GPIOR0 bits and C path. Registers: r24, SREG, r25, r26 (r30, r31 at a switch)
- * pushed. The path for a master with followers is a second copy of the step (STEP_BODY m = 1), so
- * the common path has no branch for it at the end.
+ * register and flag, GPIOR0 bits and C path. Each routine is its interrupt's vector itself
+ * (TIMER1_COMPA/B/C_vect: the vector table jumps straight to it, three cycles sooner than through
+ * an ISR() in the sketch). Registers: r24, SREG, r25, r26 (r30, r31 at a switch) pushed. The path
+ * for a master with followers is a second copy of the step (STEP_BODY m = 1), so the common path
+ * has no branch for it at the end.
  */
 #include <avr/io.h>
 #include "MultiAxisPins.h"
@@ -74,6 +76,7 @@ multi_axis_z:
 #define F_SLOW 1
 #define F_FORWARD 2
 #define F_TURN 3
+#define F_ADD16 7 /* add within -32768..32767 */
 /* mode bits */
 #define M_OWN_OFF 0 /* the axis's own STEP is not raised at the entry (WAITING or MASKED) */
 #define M_SLOW 1
@@ -122,22 +125,17 @@ multi_axis_z:
 .endif
 .endm
 
-/* TRACE (MULTI_TRACE builds, for `make bench`): high while any step interrupt runs. Each marks
- * itself busy in GPIOR0; the last one to end (no busy bit left) lowers it. TRACE_END uses r24. */
-.macro TRACE_HIGH busy
+/* TRACE (MULTI_TRACE builds, for `make bench`): each axis's pin is high while its step interrupt
+ * runs (other interrupts nested in it included); the pins' union is the CPU's time in step
+ * interrupts. */
+.macro TRACE_HIGH bit
 #if MULTI_TRACE
-    sbi G0, \busy
-    sbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
+    sbi _SFR_IO_ADDR(MULTI_TRACE_PORT), \bit
 #endif
 .endm
-.macro TRACE_END busy
+.macro TRACE_LOW bit
 #if MULTI_TRACE
-    cbi G0, \busy
-    in r24, G0
-    andi r24, MULTI_G_BUSY_MASK
-    brne 1f
-    cbi _SFR_IO_ADDR(MULTI_TRACE_PORT), MULTI_TRACE_BIT
-1:
+    cbi _SFR_IO_ADDR(MULTI_TRACE_PORT), \bit
 #endif
 .endm
 
@@ -179,7 +177,7 @@ multi_axis_z:
  * stepping alone (its own STEP lowered at the end), m = 1 for a master with followers (every STEP
  * of the masks lowered). The switch of slots and left's high byte (m = 1: here, jumped over;
  * m = 0: before the entry), then the step, the exit, then the rarer late edge. */
-.macro STEP_BODY name, m, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, busy
+.macro STEP_BODY name, m, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, trace
 .if \m
     rjmp .L\name\()_left\m
 .L\name\()_switch\m:
@@ -197,6 +195,36 @@ multi_axis_z:
     lds r24, \st + FLAGS
     sbrs r24, F_HAS_ADD
     rjmp .L\name\()_rate\m
+    sbrs r24, F_ADD16
+    rjmp .L\name\()_add32\m
+    /* add within 16 bits (near speed, the common case): two bytes, then the upper half only on a
+     * carry of a positive add or no carry of a negative one (r25: add's sign byte) */
+    lds r24, \st + RATE
+    lds r25, \st + ADD
+    add r24, r25
+    sts \st + RATE, r24
+    lds r24, \st + RATE + 1
+    lds r25, \st + ADD + 1
+    adc r24, r25
+    sts \st + RATE + 1, r24
+    brcs .L\name\()_carry\m
+    sbrs r25, 7
+    rjmp .L\name\()_rate\m
+    lds r24, \st + RATE + 2     /* negative, no carry: the upper half less 1 */
+    lds r25, \st + RATE + 3
+    sbiw r24, 1
+    rjmp .L\name\()_upper\m
+.L\name\()_carry\m:
+    sbrc r25, 7
+    rjmp .L\name\()_rate\m
+    lds r24, \st + RATE + 2     /* positive with a carry: the upper half plus 1 */
+    lds r25, \st + RATE + 3
+    adiw r24, 1
+.L\name\()_upper\m:
+    sts \st + RATE + 3, r25
+    sts \st + RATE + 2, r24
+    rjmp .L\name\()_rate\m
+.L\name\()_add32\m:
     ADD32_STATE \st + RATE, \st + ADD
 .L\name\()_rate\m:
     /* acc += rate; the edge, acc >> 16, in r25:r24 */
@@ -250,7 +278,7 @@ multi_axis_z:
 .elseif \io == 0
     PIN_LOW 0, \step_port, \step_bit, r24
 .endif
-    TRACE_END \busy
+    TRACE_LOW \trace
     pop r26
     pop r25
     pop r24
@@ -339,50 +367,31 @@ multi_axis_z:
 .endm
 
 /* io: the STEP port is in the I/O space (X, Y: the entry raises STEP before saving a register, by
- * the GPIOR0 copy `ownoff` of the OWN_OFF mode bit); Z's PORTL is read-modify-written. any: the
- * GPIOR0 copy of "mode not zero". */
-.macro AXIS_ISR name, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold, busy, ownoff, any
+ * the GPIOR0 copy `ownoff`); Z's PORTL is read-modify-written. any: the GPIOR0 copy of "mode not
+ * zero"; trace: the axis's TRACE bit. */
+.macro AXIS_ISR name, vector, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold, trace, ownoff, any
     .section .text.\name,"ax",@progbits
     .global \name
+    .global \vector
     /* out of the common path, placed before the entry so that its short branches reach */
 .L\name\()_switch0:
     SWITCH_SLOT \name, 0, \st, \io, \dir_port, \dir_bit
     LEFT_HIGH \name, 0, \st
-.if \io
-.L\name\()_any:
-    /* interrupts off: save as the common path does */
-    push r24
-    in r24, _SFR_IO_ADDR(SREG)
-    push r24
-    push r25
-.endif
-.L\name\()_other:
-    /* mode not zero (interrupts off): wraps to count or a slow command (the C path), or followers:
-     * a master raises its STEP and its followers' here */
-    lds r24, \st + MODE
-    sbrc r24, M_WAITING
-    rjmp .L\name\()_cold         /* counting out a slow interval's wraps: no step at this match */
-    sbrs r24, M_MASKED
-    rjmp .L\name\()_cold         /* a slow command: the C path steps it (STEP is high) */
-    /* the axis's own STEP and its followers' together: one write per port */
-    lds r25, \st + MASK_F
-    in r24, _SFR_IO_ADDR(PORTF)
-    or r24, r25
-    out _SFR_IO_ADDR(PORTF), r24
-    lds r25, \st + MASK_L
-    lds r24, _SFR_MEM_ADDR(PORTL)
-    or r24, r25
-    sts _SFR_MEM_ADDR(PORTL), r24
-    lds r24, \st + MODE
-    sbrc r24, M_SLOW
-    rjmp .L\name\()_cold
-    sei
-    rjmp .L\name\()_left1
+\vector:
 \name:
 .if \io
     sbis G0, \ownoff
     sbi \step_port, \step_bit    /* STEP high (not while counting out wraps; followers: later) */
-    TRACE_HIGH \busy
+.else
+    sbic G0, \ownoff
+    rjmp .L\name\()_own_off
+    push r24
+    in r24, _SFR_IO_ADDR(SREG)
+    push r24
+    PIN_HIGH 0, \step_port, \step_bit, r24   /* STEP high (read-modify-write, registers saved) */
+.endif
+    TRACE_HIGH \trace
+.if \io
     sbic G0, \any
     rjmp .L\name\()_any
     sei                          /* the common path: another axis's edge may interrupt from here */
@@ -391,22 +400,13 @@ multi_axis_z:
     push r24
     push r25
 .else
-    push r24
-    in r24, _SFR_IO_ADDR(SREG)
-    push r24
-    lds r24, \st + MODE
-    sbrc r24, M_OWN_OFF
-    rjmp .L\name\()_own_off
-    PIN_HIGH 0, \step_port, \step_bit, r24   /* STEP high (not while counting out wraps; followers: later) */
-.L\name\()_own_off:
-    TRACE_HIGH \busy
     push r25
     sbic G0, \any
     rjmp .L\name\()_other
     sei                          /* the common path: another axis's edge may interrupt from here */
 .endif
-    STEP_BODY \name, 0, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf, \busy
-    STEP_BODY \name, 1, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf, \busy
+    STEP_BODY \name, 0, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf, \trace
+    STEP_BODY \name, 1, \st, \io, \step_port, \step_bit, \dir_port, \dir_bit, \ocrl, \ocrh, \ocf, \trace
 .L\name\()_cold:
     /* the C path (MultiStepEngine.cpp), called as a function with interrupts on and the registers
      * it may change saved; it returns with interrupts off (from the arming of the next edge on) */
@@ -437,15 +437,55 @@ multi_axis_z:
     pop r18
     pop r1
     pop r0
-    TRACE_END \busy
+    TRACE_LOW \trace
     pop r25
     pop r24
     andi r24, 0x7F               /* SREG as at the entry, the I bit clear until the reti */
     out _SFR_IO_ADDR(SREG), r24
     pop r24
     reti
+.if \io == 0
+.L\name\()_own_off:
+    /* counting out wraps, or a master with followers: no STEP of its own here */
+    push r24
+    in r24, _SFR_IO_ADDR(SREG)
+    push r24
+    push r25
+    TRACE_HIGH \trace
+    rjmp .L\name\()_other
+.endif
+.if \io
+.L\name\()_any:
+    /* interrupts off: save as the common path does */
+    push r24
+    in r24, _SFR_IO_ADDR(SREG)
+    push r24
+    push r25
+.endif
+.L\name\()_other:
+    /* mode not zero (interrupts off): wraps to count or a slow command (the C path), or followers:
+     * a master raises its STEP and its followers' here */
+    lds r24, \st + MODE
+    sbrc r24, M_WAITING
+    rjmp .L\name\()_cold         /* counting out a slow interval's wraps: no step at this match */
+    sbrs r24, M_MASKED
+    rjmp .L\name\()_cold         /* a slow command: the C path steps it (STEP is high) */
+    /* the axis's own STEP and its followers' together: one write per port */
+    lds r25, \st + MASK_F
+    in r24, _SFR_IO_ADDR(PORTF)
+    or r24, r25
+    out _SFR_IO_ADDR(PORTF), r24
+    lds r25, \st + MASK_L
+    lds r24, _SFR_MEM_ADDR(PORTL)
+    or r24, r25
+    sts _SFR_MEM_ADDR(PORTL), r24
+    lds r24, \st + MODE
+    sbrc r24, M_SLOW
+    rjmp .L\name\()_cold
+    sei
+    rjmp .L\name\()_left1
 .endm
 
-AXIS_ISR multi_step_isr_x, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, multi_cold_x, MULTI_G_BUSY_X, MULTI_G_OWNOFF_X, MULTI_G_ANY_X
-AXIS_ISR multi_step_isr_y, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, multi_cold_y, MULTI_G_BUSY_Y, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y
-AXIS_ISR multi_step_isr_z, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, multi_cold_z, MULTI_G_BUSY_Z, 0, MULTI_G_ANY_Z
+AXIS_ISR multi_step_isr_x, TIMER1_COMPA_vect, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, multi_cold_x, MULTI_TRACE_X_BIT, MULTI_G_OWNOFF_X, MULTI_G_ANY_X
+AXIS_ISR multi_step_isr_y, TIMER1_COMPB_vect, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, multi_cold_y, MULTI_TRACE_Y_BIT, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y
+AXIS_ISR multi_step_isr_z, TIMER1_COMPC_vect, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, multi_cold_z, MULTI_TRACE_Z_BIT, MULTI_G_OWNOFF_Z, MULTI_G_ANY_Z
