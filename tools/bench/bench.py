@@ -20,7 +20,7 @@ errors are taken against the best alignment (the median edge), since the first e
 have met another interrupt. Late edges are counted and shown. The highest clean rate of each sketch is its ceiling; the planner's
 own cost per command and per step comes from test/emu/step_avr (lib's planner on the AVR).
 MultiAxisStepper (the `// motion-sketch: multiaxis` sketches) is measured in its own section: built with
-MULTI_MAX_SPS lifted and MULTI_TRACE=1 (D40 high while any of its step interrupts runs), it makes the
+MULTI_MAX_SPS lifted and MULTI_TRACE=1 (D40, D41, D39 high while X's, Y's, Z's step interrupt runs), it makes the
 same reference move on one, two and three axes at once as a coordinated move (`move x20000 y20000
 z20000`: the axes start on one tick and share one profile), and on two and three axes as independent
 moves (`x 20000`, `y 20000`, `z 20000`: a planner each), at a ladder of rates; every edge of every
@@ -189,14 +189,15 @@ def planner_costs(elf):
 
 
 # ---- MultiAxisStepper ---------------------------------------------------------------------------
-# What MULTI_TRACE cannot see of a stretch of step interrupts (MultiStepEngineIsr.S; they nest, and TRACE
-# is high from the first one's entry to the last one's end), added to every traced interval. Before TRACE
-# rises: the chip's interrupt entry (5, not charged by simavr), the vector's and the naked ISR's jumps
-# (3 + 3), then X, Y: the STEP test and write and the busy mark (5); Z, whose PORTL is read-modify-written
-# after r24 and SREG are saved: 15; a master with followers: the skipped STEP and the busy mark (4).
-# After TRACE falls: sei, four pops, SREG back and reti (15). Z's 41 is used for every stretch of axes
-# stepping alone (X's and Y's are 10 fewer), 30 for a master with followers.
-MULTI_ENTRY_CYCLES = {"alone": 41, "masked": 30}
+# What MULTI_TRACE cannot see of a stretch of step interrupts (MultiStepEngineIsr.S; they nest, each axis
+# has its TRACE pin, and a stretch runs from the first rise of any of them to the last fall), added to
+# every stretch. Before its TRACE rises: the chip's interrupt entry (5, not charged by simavr), the
+# vector's jump (3), then X, Y: the STEP test and write (3); Z, whose PORTL is read-modify-written after
+# r24 and SREG are saved: 11; a master with followers: the skipped STEP (2). After TRACE falls: four
+# pops, SREG back and reti (15). Z's 34 is used for every stretch of axes stepping alone (X's and Y's
+# are 8 fewer), 25 for a master with followers.
+MULTI_ENTRY_CYCLES = {"alone": 34, "masked": 25}
+MULTI_TRACE_PINS = {"TRACEX": "D40", "TRACEY": "D41", "TRACEZ": "D39"}  # MultiAxisPins.h
 MULTI_LIFT = "-DMULTI_MAX_SPS=200000 -DMULTI_TRACE=1"
 MULTI_LADDER = {"coordinated": [20000, 30000, 40000, 50000, 60000, 70000, 80000, 90000, 100000],
                 "independent": [5000, 10000, 15000, 20000, 25000, 30000, 35000, 40000, 45000, 50000]}
@@ -251,6 +252,21 @@ def multi_plan(motionsim, mode, axes, v):
     return {ax: one for ax in axes}
 
 
+def trace_stretches(log, after):
+    """[(from, to)] cycles during which at least one axis's TRACE pin is high (the step interrupts nest)"""
+    iv = []
+    for name in MULTI_TRACE_PINS:
+        ev = log.pins.get(name, [])
+        iv += [(a[0], b[0]) for a, b in zip(ev, ev[1:]) if a[1] == 1 and b[1] == 0 and a[0] > after]
+    out = []
+    for a, b in sorted(iv):
+        if out and a <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], b))
+        else:
+            out.append((a, b))
+    return out
+
+
 def run_multi(elf, motionsim, mode, axes, v, pins):
     log = emulog.run(elf, multi_script(mode, axes, v), pins=pins, timeout=900)
     res = {"mode": mode, "axes": axes, "rate": v, "problems": []}
@@ -269,9 +285,8 @@ def run_multi(elf, motionsim, mode, axes, v, pins):
     res["late"] = sum(int(q.get(ax, {}).get("late", -1)) for ax in axes)
     rises = {ax: [c for c in log.rising(ax.upper() + "STEP") if c > m] for ax in axes}
     res["steps"] = min(len(r) for r in rises.values())
-    tr = log.pins.get("TRACE", [])
     entry = MULTI_ENTRY_CYCLES["masked" if mode == "coordinated" and len(axes) > 1 else "alone"]
-    isr = [b[0] - a[0] + entry for a, b in zip(tr, tr[1:]) if a[1] == 1 and b[1] == 0 and a[0] > m]
+    isr = [b - a + entry for a, b in trace_stretches(log, m)]
     res["isr"] = (min(isr), sum(isr) / len(isr), max(isr)) if isr else (0, 0, 0)
     first = min(r[0] for r in rises.values() if r) if any(rises.values()) else 0
     last = max(r[-1] for r in rises.values() if r) if any(rises.values()) else 0
@@ -329,7 +344,7 @@ def multi_section(motionsim, out_dir, only):
     if r.returncode != 0:
         sys.exit("bench: building the traced multi-axis sketch failed:\n" + r.stdout[-2000:])
     pins = {k: v for k, v in sketches.multiaxis_pins(env).items() if k.endswith("STEP")}
-    pins["TRACE"] = "D40"
+    pins.update(MULTI_TRACE_PINS)
     lines = []
     for n in names:
         elf = os.path.join(fw, n, n + ".ino.elf")
