@@ -350,6 +350,32 @@ def check_three_axes_at_speed(env, sketch):
     return CheckResult(not problems, summary, problems)
 
 
+# A coordinated move of unequal axes from rest, slow enough that each axis's first interval spans
+# several timer wraps (tools/bench's `unequal` case at 5,000 steps/s: x 20,000, y 15,000, z 10,000
+# steps, acceleration 2,500 steps/s^2): the axes are armed from one start tick a little ahead of the
+# timer, and an axis whose first compare value comes round before that tick must let that match pass
+# (y's does: its first interval ends 1,688 ticks short of a whole number of wraps). Every edge on the
+# plan (motionsim move, one alignment for all axes) within OTHER_ISR_CYCLES, no underrun.
+UNEQUAL_SLOW_SPS = 5000
+
+
+def check_unequal_slow_start(env, sketch):
+    sys.path.insert(0, os.path.join(env.source_dir, "tools", "bench"))
+    import bench  # tools/bench/bench.py: the same run as `make bench`
+    pins = {k: v for k, v in sketches.multiaxis_pins(env).items() if k.endswith("STEP")}
+    res = bench.run_multi(env.elf(sketch), env.motionsim, "unequal", AXES, UNEQUAL_SLOW_SPS, pins)
+    problems = [p for p in res["problems"] if p != "not clean"]
+    if res.get("underruns") != 0:
+        problems.append(f"underruns: {res.get('underruns')}")
+    if "worst" in res and not -1 <= res["worst"] <= OTHER_ISR_CYCLES:
+        problems.append(f"an edge {res['worst']:+d} cycles from its plan (bound -1..{OTHER_ISR_CYCLES}); the axes' "
+                        f"last edges {res.get('end_spread')} cycles apart")
+    summary = (f"move x{bench.UNEQUAL['x']} y{bench.UNEQUAL['y']} z{bench.UNEQUAL['z']} at {UNEQUAL_SLOW_SPS:,} "
+               f"steps/s: worst edge {res.get('worst', '-')} cycles from its plan, last edges "
+               f"{res.get('end_spread', '-')} cycles apart, underruns {res.get('underruns')}")
+    return CheckResult(not problems, summary, problems)
+
+
 def checks_for(env):
     checks = []
     for n in env.sketch_names():
@@ -367,4 +393,6 @@ def checks_for(env):
                        lambda n=n: check_stop(env, n)))
         checks.append((f"{n}: three independent axes at {THREE_AXES_SPS:,} steps/s each: every step, no underrun",
                        lambda n=n: check_three_axes_at_speed(env, n)))
+        checks.append((f"{n}: a slow coordinated move of unequal axes starts every axis on its plan",
+                       lambda n=n: check_unequal_slow_start(env, n)))
     return checks

@@ -251,7 +251,7 @@ __attribute__((always_inline)) inline void load_slot(AxisState &s, AxisSlot &t)
 /* Arms the next step of the current command by the executor's rule, counting a slow interval's wraps; a first
  * match already missed counts as passed, a step already due fires 2 us later; sets the mode bits SLOW
  * (the command's) and WAITING. `prev` (the edge the interval starts from) may lie ahead of TCNT1 at a
- * move's start: nothing has elapsed then. The arithmetic may run with interrupts on; from the arming
+ * move's start: nothing has elapsed then, and a match before prev is one more to let pass. The arithmetic may run with interrupts on; from the arming
  * on they are off and stay off (cli, not restored): the interrupt ends so, and its next match, armed
  * here, may come at once (a late edge). */
 __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
@@ -276,13 +276,20 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
     cli();
     write_ocr(axis, (uint16_t)(s.acc >> 16));
     since = (int16_t)(TCNT1 - prev);
-    elapsed = since > 0 ? (uint16_t)since : 0U;
-    if (elapsed >= first && !(TIFR1 & ocf_bit(axis))) {
-        if (s.wraps != 0) {
-            s.wraps = s.wraps - 1U;
-        } else {
-            write_ocr(axis, TCNT1 + s.late_ticks);
-            s.late = s.late + 1U;
+    if (since < 0) {
+        /* prev (a move's start) is still ahead, by d ticks: the compare value comes round once before
+         * prev when first + d reaches past a wrap; that match is not this step's, let it pass too */
+        if (first > 0x10000UL - (uint16_t)-since)
+            s.wraps = s.wraps + 1U;
+    } else {
+        elapsed = (uint16_t)since;
+        if (elapsed >= first && !(TIFR1 & ocf_bit(axis))) {
+            if (s.wraps != 0) {
+                s.wraps = s.wraps - 1U;
+            } else {
+                write_ocr(axis, TCNT1 + s.late_ticks);
+                s.late = s.late + 1U;
+            }
         }
     }
     if (s.wraps != 0)

@@ -176,10 +176,15 @@ void arm_step(StepSlot &t)
     s.wraps = (uint16_t)((interval - 1U) >> 16);
     first = ((interval - 1U) & 0xFFFFUL) + 1U;
     /* ticks since the edge the interval counts from: small, or negative at a move's start, where
-     * that reference lies a few ticks ahead (start_stepping): then nothing has elapsed */
+     * that reference lies a few ticks ahead (start_stepping): then nothing has elapsed, and if the
+     * compare value comes round before the reference (first + the lead past a wrap) that match is
+     * one more to let pass */
     elapsed = TCNT1 - prev;
-    if ((int16_t)elapsed < 0)
+    if ((int16_t)elapsed < 0) {
+        if (first > 0x10000UL - (uint16_t)-(int16_t)elapsed)
+            s.wraps = s.wraps + 1U;
         elapsed = 0;
+    }
     if (elapsed >= first && !(TIFR1 & _BV(OCF1A))) {
         if (s.wraps != 0) {
             s.wraps = s.wraps - 1U;
