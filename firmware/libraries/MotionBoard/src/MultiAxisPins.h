@@ -68,13 +68,15 @@
 #define MULTI_G_OWNOFF_Y 4
 #define MULTI_G_OWNOFF_Z 5
 
-/* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which every case `make bench`
- * measures is clean (build/bench/bench.md, "MultiAxisStepper: several axes at once"): three
- * independent moves at once and a coordinated move of unequal axes, each axis with its own plan and
- * interrupt, are the slowest cases; a diagonal (axes moving as far, one plan, one interrupt) and one
- * or two axes alone are clean well above it. Above this rate the queues can run dry (counted as
- * underruns in `?`) and a coordinated move can leave its line. Override at compile time, e.g.
- * -DMULTI_MAX_SPS=50000 for a machine that only moves diagonals or two axes at a time. */
+/* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which three independent moves
+ * at once (each axis with its own plan and interrupt, issue 13's case) are clean in `make bench`
+ * (build/bench/bench.md, "MultiAxisStepper: several axes at once"). A coordinated move of unequal
+ * axes is clean to a little less there: its axes' edges often fall on one tick, so their three
+ * interrupts pile up and the fastest axis arms its next edge last (a few late edges, `late=` in `?`,
+ * at this rate); a diagonal (axes moving as far, one plan, one interrupt) and one or two axes alone
+ * are clean well above it. Above this rate the queues can run dry (counted as underruns in `?`) and
+ * a coordinated move can leave its line. Override at compile time, e.g. -DMULTI_MAX_SPS=50000 for a
+ * machine that only moves diagonals or two axes at a time. */
 #ifndef MULTI_MAX_SPS
 #define MULTI_MAX_SPS 30000.0
 #endif
