@@ -125,8 +125,20 @@ def query_lines(log, after=0):
     return out
 
 
-def run(env, sketch, script):
-    return emulog.run(env.elf(sketch), script, pins=sketches.multiaxis_pins(env), timeout=600)
+def run(env, sketch, script, matches=False):
+    return emulog.run(env.elf(sketch), script, pins=sketches.multiaxis_pins(env), timeout=600,
+                      extra=["--matches"] if matches else None)
+
+
+def match_errors(log, got, plan):
+    """got, plan: {axis: [cycles]}, one move on one timeline: each edge's compare match (motionemu
+    --matches, tools/bench's step_matches) against its planned tick, aligned at the earliest"""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "bench"))
+    import bench
+    mt = bench.step_matches(log, got)
+    e = [(c - p, ax, i) for ax in got for i, (c, p) in enumerate(zip(mt[ax], plan[ax]))]
+    t0 = min(x for x, _, _ in e)
+    return [(x - t0, ax, i) for x, ax, i in e]
 
 
 def check_moves(env, sketch):
@@ -141,11 +153,12 @@ def check_moves(env, sketch):
         "mark move2", "send move x0 y0 z0", "wait ^OK move ", "wait ^DONE move ",
         "mark end", "send ?", "wait ^z pos=",
     ]) + "\n"
-    log = run(env, sketch, script)
+    log = run(env, sketch, script, matches=True)
     problems = []
     for c, k, t in log.fails:
         problems.append(f"harness reported {k} at {c / F_CPU:.4f} s: {t}")
     marks = [log.mark(m) for m in ("alone", "move1", "move2", "end")]
+    timer = []  # each edge's compare match against its plan (ticks)
     if None in marks:
         return CheckResult(False, "the script did not run to its end", problems +
                            [l.text for l in log.rx[-8:]])
@@ -161,6 +174,7 @@ def check_moves(env, sketch):
         if not dir_ok(log, ax.upper() + "DIR", got[0], to > 0):
             problems.append(f"{ax} alone: DIR not set for the direction before the first step")
         compare(st, got, plan, f"{ax} alone")
+        timer += [(x, f"{ax} alone step {i + 1}") for x, _, i in match_errors(log, {ax: got}, {ax: plan})]
     lim["y"] = (DEFAULTS[0], 8000.0, DEFAULTS[2])
     # 2. coordinated: one timeline for all axes (aligned at the earliest offset over all axes)
     worst_path = 0.0
@@ -181,6 +195,8 @@ def check_moves(env, sketch):
             if not dir_ok(log, ax.upper() + "DIR", got[ax][0], to[ax] > frm[ax]):
                 problems.append(f"move {k + 1}: {ax}'s DIR not set before its first step")
             compare(st, got[ax], plan[ax], f"move {k + 1} {ax}", t0)
+        timer += [(x, f"move {k + 1} {ax} step {i + 1}")
+                  for x, ax, i in match_errors(log, {ax: got[ax] for ax in plan}, plan)]
         # the path bound at every edge of any axis: floor(D s(T - L)) <= |p - from| <= floor(D s(T + L)),
         # L the lateness the edge may have met (OTHER_ISR_CYCLES)
         s_at = profile_s(d, lim)
@@ -208,14 +224,16 @@ def check_moves(env, sketch):
         for ax in to:
             pos[ax] = to[ax]
     problems += st.early[:10]
+    problems += [f"{w}: its compare match {x:+d} ticks from its plan" for x, w in timer if not -1 <= x <= 1][:10]
     q = query_lines(log, marks[3])
     for ax in AXES:
         f = q.get(ax, {})
         if f.get("pos") != "0" or f.get("underruns") != "0":
             problems.append(f"`?` after the moves: {ax} pos={f.get('pos')} underruns={f.get('underruns')} "
                             "(want 0 and 0)")
-    return CheckResult(not problems, f"x, y, z alone at once; move x y; move x y z: {st.text()}; path: worst "
-                       f"|p - D s(t)| = {worst_path:.3f} step", problems)
+    return CheckResult(not problems, f"x, y, z alone at once; move x y; move x y z: {len(timer)} compare matches, "
+                       f"{sum(1 for x, _ in timer if -1 <= x <= 1)} within 1 tick of motionsim; on the pins {st.text()}; "
+                       f"path: worst |p - D s(t)| = {worst_path:.3f} step", problems)
 
 
 BAD = [
@@ -344,9 +362,13 @@ def check_three_axes_at_speed(env, sketch):
         problems.append(f"late edges: {res.get('late')}")
     if "worst" in res and not -1 <= res["worst"] <= OTHER_ISR_CYCLES:
         problems.append(f"an edge {res['worst']:+d} cycles from its plan (bound -1..{OTHER_ISR_CYCLES})")
+    if "match_worst" in res and res["match_worst"] > 1:
+        problems.append(f"a compare match {res['match_worst']:+d} ticks from its plan (bound 1)")
     summary = (f"x, y, z each to {THREE_AXES_SPS:,} steps/s at once: {res.get('steps', 0):,} steps per axis, "
-               f"underruns {res.get('underruns')}, late {res.get('late')}, worst edge {res.get('worst', '-')} "
-               f"cycles from its plan, {res.get('beyond8', '-')} edges beyond 8 cycles")
+               f"underruns {res.get('underruns')}, late {res.get('late')}, every compare match within "
+               f"{res.get('match_worst', '-')} tick(s) of its plan, STEP {res.get('pin_latency', ('-', '-'))[0]} to "
+               f"{res.get('pin_latency', ('-', '-'))[1]} cycles after it, worst edge {res.get('worst', '-')} cycles "
+               f"from its plan, {res.get('beyond8', '-')} edges beyond 8 cycles")
     return CheckResult(not problems, summary, problems)
 
 
@@ -370,6 +392,8 @@ def check_unequal_slow_start(env, sketch):
     if "worst" in res and not -1 <= res["worst"] <= OTHER_ISR_CYCLES:
         problems.append(f"an edge {res['worst']:+d} cycles from its plan (bound -1..{OTHER_ISR_CYCLES}); the axes' "
                         f"last edges {res.get('end_spread')} cycles apart")
+    if "match_worst" in res and res["match_worst"] > 1:
+        problems.append(f"a compare match {res['match_worst']:+d} ticks from its plan (bound 1)")
     summary = (f"move x{bench.UNEQUAL['x']} y{bench.UNEQUAL['y']} z{bench.UNEQUAL['z']} at {UNEQUAL_SLOW_SPS:,} "
                f"steps/s: worst edge {res.get('worst', '-')} cycles from its plan, last edges "
                f"{res.get('end_spread', '-')} cycles apart, underruns {res.get('underruns')}")

@@ -30,6 +30,7 @@ so an edge waits for the core's interrupts, not for another axis's step).
 Writes build/bench/bench.md (the one home of these figures) and prints it.
 """
 import argparse
+import bisect
 import math
 import os
 import subprocess
@@ -252,6 +253,25 @@ def multi_plan(motionsim, mode, axes, v):
     return {ax: one for ax in axes}
 
 
+MULTI_CHANNELS = {"x": "OC1A", "y": "OC1B", "z": "OC1C"}  # MultiAxisPins.h: Timer1's compare channels
+
+
+def step_matches(log, rises):
+    """{axis: [cycle of the compare match that made each STEP edge]}: the last match of the axis's channel
+    at or before the edge; a follower (no interrupt of its own: its master's pulses it) takes the channel
+    with the most matches during its move (its master's)"""
+    out = {}
+    for ax, r in rises.items():
+        def during(ch):
+            return sum(1 for c in log.matches.get(ch, []) if r and r[0] - 65536 <= c <= r[-1])
+        ch = MULTI_CHANNELS[ax]
+        if during(ch) < len(r):
+            ch = max(MULTI_CHANNELS.values(), key=during)
+        own = log.matches.get(ch, [])
+        out[ax] = [own[bisect.bisect_right(own, c) - 1] if bisect.bisect_right(own, c) else c for c in r]
+    return out
+
+
 def trace_stretches(log, after):
     """[(from, to)] cycles during which at least one axis's TRACE pin is high (the step interrupts nest)"""
     iv = []
@@ -268,7 +288,7 @@ def trace_stretches(log, after):
 
 
 def run_multi(elf, motionsim, mode, axes, v, pins):
-    log = emulog.run(elf, multi_script(mode, axes, v), pins=pins, timeout=900)
+    log = emulog.run(elf, multi_script(mode, axes, v), pins=pins, timeout=900, extra=["--matches"])
     res = {"mode": mode, "axes": axes, "rate": v, "problems": []}
     errs = [l.text for l in log.rx if l.text.startswith("ERR")]
     if errs:
@@ -311,9 +331,21 @@ def run_multi(elf, motionsim, mode, axes, v, pins):
         res["end_spread"] = max(rises[ax][-1] for ax in axes) - min(rises[ax][-1] for ax in axes)
     res["worst"] = max(errs_all)
     res["beyond8"] = sum(1 for x in errs_all if x > 8)
-    # the single-axis bound for every case: an edge waits at most for the core's interrupts (or another
-    # axis's interrupts-off stretches, shorter), never for another axis's step
-    clean = res["underruns"] == 0 and res["worst"] <= OTHER_ISR_CYCLES
+    # the timer's side: each edge's compare match (the planned edge) against the plan, and how long after
+    # it the STEP pin rose
+    mt = step_matches(log, rises)
+    merr = []
+    for g in groups:
+        e = [c - p for ax in g for c, p in zip(mt[ax], plan[ax])]
+        t0 = min(e)
+        merr += [x - t0 for x in e]
+    res["match_worst"] = max(merr)
+    lat = [r - c for ax in axes for r, c in zip(rises[ax], mt[ax])]
+    res["pin_latency"] = (min(lat), max(lat))
+    # every compare match on its planned tick, and every edge within the single-axis bound: an edge waits
+    # at most for the core's interrupts (or another axis's interrupts-off stretches, shorter), never for
+    # another axis's step
+    clean = res["underruns"] == 0 and res["match_worst"] <= 1 and res["worst"] <= OTHER_ISR_CYCLES
     if not clean:
         res["problems"].append("not clean")
     return res
@@ -322,12 +354,13 @@ def run_multi(elf, motionsim, mode, axes, v, pins):
 def fmt_multi(res):
     name = f"{res['mode']} {'+'.join(res['axes'])}"
     if "worst" not in res:
-        return (f"| {name} | {res['rate']:,} | {res.get('steps', 0):,} | - | - | - | {res.get('underruns', '-')} | "
+        return (f"| {name} | {res['rate']:,} | {res.get('steps', 0):,} | - | - | - | - | - | {res.get('underruns', '-')} | "
                 f"{res.get('late', '-')} | - | - | - | {'; '.join(res['problems'])} |")
     mn, me, mx = res["isr"]
     verdict = "clean" if not res["problems"] else "; ".join(res["problems"])
     spread = f"{res['end_spread']}" if "end_spread" in res else "-"
-    return (f"| {name} | {res['rate']:,} | {res['steps']:,} per axis | {res['worst']:+d} | {res['beyond8']} | {spread} | "
+    return (f"| {name} | {res['rate']:,} | {res['steps']:,} per axis | {res['match_worst']:+d} | "
+            f"{res['pin_latency'][0]} / {res['pin_latency'][1]} | {res['worst']:+d} | {res['beyond8']} | {spread} | "
             f"{res['underruns']} | {res['late']} | {mn} / {me:.0f} / {mx} | {res['isr_per_step']:.0f} | "
             f"{100 * res['cpu_left']:.0f} % | {verdict} |")
 
@@ -367,16 +400,20 @@ def multi_section(motionsim, out_dir, only):
                   "interrupt per axis), `independent` separate "
                   "targets (a planner and an interrupt each). Errors in CPU cycles (= ticks at 16 MHz) against "
                   "motionsim, aligned at the earliest edge (an edge is late, never early; coordinated, unequal: one "
-                  "alignment for all axes); 'beyond 8' counts edges more than 0.5 us late; 'end spread' is how far apart "
-                  "the axes' last edges are. Clean: every step, no underrun, every edge within the single-axis bound "
+                  "alignment for all axes). Two sides of each edge: the timer's compare match that makes it (its "
+                  "planned time; `motionemu --matches`) against the plan, in ticks, and the STEP pin's rise after that "
+                  "match (pin latency min / max, cycles); then the pin against the plan, 'beyond 8' counting edges more "
+                  "than 0.5 us late; 'end spread' is how far apart the axes' last edges are. Clean: every step, no "
+                  "underrun, every compare match within 1 tick of its plan, every edge within the single-axis bound "
                   f"({OTHER_ISR_CYCLES} cycles: the step interrupts nest, so an edge waits for the core's serial and millis "
                   "interrupts and for the few dozen cycles another axis's interrupt runs with interrupts off, never for "
                   "another axis's whole step). ISR cycles: each stretch of step interrupts (nested ones are one "
                   f"stretch), with the {MULTI_ENTRY_CYCLES['alone']} cycles MULTI_TRACE cannot see "
                   f"({MULTI_ENTRY_CYCLES['masked']} with followers); per step: interrupt cycles per STEP edge of all axes.", "",
-                  "| move | steps/s per axis | steps | worst vs plan (cycles) | beyond 8 | end spread | underruns | late "
+                  "| move | steps/s per axis | steps | compare match vs plan (ticks) | pin latency (cycles) "
+                  "| edge vs plan, worst (cycles) | beyond 8 | end spread | underruns | late "
                   "| ISR stretch cycles min / mean / max | ISR cycles per step | CPU left | verdict |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         lines += [fmt_multi(r) for r in rows]
         lines += ["", f"Highest clean rate per axis ({n}): " +
                   (", ".join(f"{k} {v:,} steps/s" for k, v in best.items()) or "none"), ""]

@@ -75,6 +75,8 @@ int emu_uart_attach(avr_t *avr);
 /* emu_timer.c: simavr's timers keep a compare match due right after a wrap, and a TIFRn write clears
  * only the flags written as 1 (see the file); -1 when this simavr lacks the registers. */
 int emu_timer_attach(avr_t *avr);
+/* after emu_timer_attach: log Timer1's compare matches ("match <cycle> OC1A|OC1B|OC1C") */
+int emu_timer_log_matches(avr_t *avr);
 /* queue bytes to send to the firmware; they arrive one frame time apart */
 void emu_uart_send(const uint8_t *bytes, size_t n);
 size_t emu_uart_pending(void);

@@ -16,6 +16,9 @@
  *    simavr clears every pending flag of the timer whatever the value, so a sketch that clears one
  *    channel's flag (TIFR1 = _BV(OCF1B)) loses another channel's pending match. Fix: the flags the
  *    written value leaves alone are raised again right after simavr's handler.
+ * And, on request (motionemu --matches), a log line for every compare match of Timer1's channels
+ * (the time a step engine planned an edge for): "match <cycle> OC1A|OC1B|OC1C", the cycle the timer
+ * reached the compare value (simavr raises it at the next instruction boundary, a few cycles on).
  */
 #include <stdint.h>
 
@@ -91,6 +94,41 @@ static void tifr_write(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *p
     for (int c = 0; c < AVR_TIMER_COMP_COUNT; c++)
         if (keep_comp[c])
             avr_raise_interrupt(avr, &t->comp[c].interrupt);
+}
+
+/* Timer1's three channels (OCR1AL, OCR1BL, OCR1CL are ocr_low[0..2]) */
+static struct match_watch {
+    avr_t *avr;
+    avr_timer_comp_t *comp;
+    const char *name;
+} match_watch[3];
+
+static void match_raised(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    struct match_watch *w = param;
+    avr_timer_t *t = w->comp->timer;
+    uint64_t at = w->avr->cycle, exact = t->tov_base + w->comp->comp_cycles;
+    (void)irq;
+    if (!value)
+        return;
+    if (exact <= at && at - exact <= EARLY_CYCLES)
+        at = exact; /* the cycle of the match itself */
+    emu_log(at, "match", "%s", w->name);
+}
+
+int emu_timer_log_matches(avr_t *avr)
+{
+    static const char *const names[3] = {"OC1A", "OC1B", "OC1C"};
+    for (int c = 0; c < 3; c++) {
+        avr_timer_comp_t *comp = simavr_write[c].param;
+        if (comp == 0)
+            return -1;
+        match_watch[c].avr = avr;
+        match_watch[c].comp = comp;
+        match_watch[c].name = names[c];
+        avr_irq_register_notify(&comp->interrupt.irq[AVR_INT_IRQ_PENDING], match_raised, &match_watch[c]);
+    }
+    return 0;
 }
 
 int emu_timer_attach(avr_t *avr)

@@ -54,6 +54,7 @@ class EmuLog:
         self.tx = []          # Line: what the script sent (text as written)
         self.pins = {}        # name -> [(cycle, level)]
         self.ddr = {}         # name -> [(cycle, 1 output / 0 input)]: the pin's DDRx bit
+        self.matches = {}     # "OC1A".. -> [cycle]: Timer1's compare matches (run(..., extra=["--matches"]))
         self.motor = []       # (cycle, duty_pct, counts)
         self.marks = []       # Line
         self.fails = []       # (cycle, kind, text)
@@ -83,6 +84,8 @@ class EmuLog:
             elif tag == "pin":
                 name, level = rest.split()
                 log.pins.setdefault(name, []).append((cycle, int(level)))
+            elif tag == "match":
+                log.matches.setdefault(rest.strip(), []).append(cycle)
             elif tag == "ddr":
                 name, out = rest.split()
                 log.ddr.setdefault(name, []).append((cycle, int(out)))

@@ -1,12 +1,12 @@
 /* motionemu.c - run a sketch's ELF on an emulated ATmega2560 at 16 MHz and log what it does.
  *
  *   motionemu FIRMWARE.elf [--input SCRIPT] [--pin NAME=PIN ...] [--motor SPEC | --ls7366r CS=PIN]
- *             [--duration MS] [--max-ms MS] [-o LOG]
+ *             [--matches] [--duration MS] [--max-ms MS] [-o LOG]
  *
  * The log (stdout or -o) has one event per line, "<tag> <cycle> <fields>"; cycles are CPU cycles
  * since power-on (16 per microsecond). Tags: boot, uart, tx/txraw/txrepeat (host -> firmware),
- * rx (a line from the firmware), pin (an edge of a watched pin), motor (duty/count samples),
- * adc, mark, warn, fail, end. Failures (reset, crash, halt, stack overflow, a wait that timed out,
+ * rx (a line from the firmware), pin (an edge of a watched pin), match (a compare match of Timer1,
+ * with --matches), motor (duty/count samples), adc, mark, warn, fail, end. Failures (reset, crash, halt, stack overflow, a wait that timed out,
  * an SPI mode the device cannot talk) are "fail" lines and make the exit status 1.
  * Exit status: 0 ran and nothing failed; 1 a failure was seen; 2 bad arguments or ELF.
  */
@@ -34,6 +34,7 @@ static const char usage[] =
     "      --motor SPEC       emulate an H-bridge + DC motor (sim/plant_dcmotor) + LS7366R on SPI:\n"
     "                         SPEC = PWM=D3,DIR=D12,CS=D53[,BRAKE=D9][,DIRPOS=1|0][,BRAKEON=1|0]\n"
     "      --ls7366r CS=PIN   an LS7366R alone, its encoder moved by the script's 'encoder' command\n"
+    "      --matches          log Timer1's compare matches: 'match <cycle> OC1A|OC1B|OC1C'\n"
     "  -d, --duration MS      run at least until this emulated time (default: until the script ends)\n"
     "      --max-ms MS        give up (fail 'limit') at this emulated time (default 600000)\n"
     "  -h, --help             this text\n";
@@ -178,18 +179,20 @@ int main(int argc, char **argv)
     int npins = 0;
     const char *execs[256];
     int nexecs = 0;
+    int matches = 0;
 
     /* getopt_long(3), in order ("-": the firmware file comes back as 1 where it stands; ":": a missing
      * value as ':'); "--" ends the options. Whole names only: a unique prefix ("--dur") is refused,
      * as in motionsim. Options that are not repeatable are refused when given twice. Every short
      * option takes a value or ends the parse (-h), so each call starts at the beginning of an
      * argument. */
-    enum { OPT_MOTOR = 256, OPT_LS7366R, OPT_MAX_MS };
+    enum { OPT_MOTOR = 256, OPT_LS7366R, OPT_MATCHES, OPT_MAX_MS };
     static const struct option longopts[] = {
         {"input", required_argument, NULL, 'i'},     {"exec", required_argument, NULL, 'e'},
         {"output", required_argument, NULL, 'o'},    {"pin", required_argument, NULL, 'p'},
         {"motor", required_argument, NULL, OPT_MOTOR}, {"ls7366r", required_argument, NULL, OPT_LS7366R},
         {"duration", required_argument, NULL, 'd'},  {"max-ms", required_argument, NULL, OPT_MAX_MS},
+        {"matches", no_argument, NULL, OPT_MATCHES},
         {"help", no_argument, NULL, 'h'},            {NULL, 0, NULL, 0}};
     unsigned char given[OPT_MAX_MS + 1] = {0};
     opterr = 0;
@@ -266,6 +269,9 @@ int main(int argc, char **argv)
             break;
         case OPT_LS7366R:
             ls_spec = optarg;
+            break;
+        case OPT_MATCHES:
+            matches = 1;
             break;
         case 'd':
             if (parse_ms(optarg, &duration_ms)) {
@@ -370,6 +376,10 @@ int main(int argc, char **argv)
 
     if (emu_timer_attach(avr)) {
         fprintf(stderr, "motionemu: this simavr has no 16-bit timers' compare registers where expected\n");
+        return 2;
+    }
+    if (matches && emu_timer_log_matches(avr)) {
+        fprintf(stderr, "motionemu: no Timer1 compare channels to watch in this simavr\n");
         return 2;
     }
     if (emu_uart_attach(avr)) {
