@@ -20,13 +20,15 @@ errors are taken against the best alignment (the median edge), since the first e
 have met another interrupt. Late edges are counted and shown. The highest clean rate of each sketch is its ceiling; the planner's
 own cost per command and per step comes from test/emu/step_avr (lib's planner on the AVR).
 MultiAxisStepper (the `// motion-sketch: multiaxis` sketches) is measured in its own section: built with
-MULTI_MAX_SPS lifted and MULTI_TRACE=1 (D40, D41, D39 high while X's, Y's, Z's step interrupt runs), it makes the
-same reference move on one, two and three axes at once as a coordinated move (`move x20000 y20000
-z20000`: the axes start on one tick and share one profile), and on two and three axes as independent
-moves (`x 20000`, `y 20000`, `z 20000`: a planner each), at a ladder of rates; every edge of every
-axis against motionsim (`move`, or `ramp --queue` for an axis alone), aligned at the earliest edge;
-clean: all steps, no underrun, every edge within STEPPER_OTHER_ISR_CYCLES (its step interrupts nest,
-so an edge waits for the core's interrupts, not for another axis's step).
+MULTI_MAX_SPS lifted, it makes the same reference move on one, two and three axes at once as a
+coordinated move (`move x20000 y20000 z20000`: the axes start on one tick and share one profile), as
+a coordinated move of unequal axes, and on two and three axes as independent moves (`x 20000`,
+`y 20000`, `z 20000`: a planner each), at a ladder of rates; every edge of every axis and its
+compare match (motionemu --matches) against motionsim (`move`, or `ramp --queue` for an axis alone),
+aligned at the earliest edge; clean: all steps, no underrun, every compare match within one tick of
+its plan, every edge within STEPPER_OTHER_ISR_CYCLES (its step interrupts nest, so an edge waits for
+the core's interrupts, not for another axis's step). The same run on a MULTI_TRACE=1 build (D40, D41,
+D39 high while X's, Y's, Z's step interrupt runs) gives the interrupt cycles.
 Writes build/bench/bench.md (the one home of these figures) and prints it.
 """
 import argparse
@@ -370,21 +372,30 @@ def multi_section(motionsim, out_dir, only):
     names = [n for n in env.sketch_names() if only in n and env.family(n) == "multiaxis"]
     if not names:
         return []
+    # two builds with the speed limit lifted: the sketch as it is (every edge, underrun and late count comes
+    # from it) and one with MULTI_TRACE=1 (its TRACE pins give the interrupt cycles; the pin writes cost a
+    # few cycles per step, so its timing is not the sketch's)
     fw = os.path.join(out_dir, "firmware-multiaxis")
-    env2 = dict(os.environ, FIRMWARE_DEFINES=MULTI_LIFT, FIRMWARE_OUT=fw)
-    r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh")] + names, env=env2,
-                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        sys.exit("bench: building the traced multi-axis sketch failed:\n" + r.stdout[-2000:])
+    for out, defines in ((fw, MULTI_LIFT), (fw + "-plain", MULTI_LIFT.replace("-DMULTI_TRACE=1", "").strip())):
+        env2 = dict(os.environ, FIRMWARE_DEFINES=defines, FIRMWARE_OUT=out)
+        r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh")] + names, env=env2,
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if r.returncode != 0:
+            sys.exit("bench: building the multi-axis sketch failed:\n" + r.stdout[-2000:])
     pins = {k: v for k, v in sketches.multiaxis_pins(env).items() if k.endswith("STEP")}
     pins.update(MULTI_TRACE_PINS)
     lines = []
     for n in names:
-        elf = os.path.join(fw, n, n + ".ino.elf")
+        elf = os.path.join(fw + "-plain", n, n + ".ino.elf")
+        traced = os.path.join(fw, n, n + ".ino.elf")
         rows, best = [], {}
         for mode, axes in MULTI_CASES:
             for v in MULTI_LADDER[mode]:
                 res = run_multi(elf, motionsim, mode, axes, v, pins)
+                if "worst" in res:
+                    tr = run_multi(traced, motionsim, mode, axes, v, pins)
+                    for k in ("isr", "isr_per_step", "cpu_left"):
+                        res[k] = tr[k]
                 rows.append(res)
                 print(fmt_multi(res), flush=True)
                 key = f"{mode} {'+'.join(axes)}"
@@ -403,11 +414,13 @@ def multi_section(motionsim, out_dir, only):
                   "alignment for all axes). Two sides of each edge: the timer's compare match that makes it (its "
                   "planned time; `motionemu --matches`) against the plan, in ticks, and the STEP pin's rise after that "
                   "match (pin latency min / max, cycles); then the pin against the plan, 'beyond 8' counting edges more "
-                  "than 0.5 us late; 'end spread' is how far apart the axes' last edges are. Clean: every step, no "
+                  "than 0.5 us late; 'end spread' is how far apart the axes' last edges are (all from the sketch as "
+                  "built, the limit lifted). Clean: every step, no "
                   "underrun, every compare match within 1 tick of its plan, every edge within the single-axis bound "
                   f"({OTHER_ISR_CYCLES} cycles: the step interrupts nest, so an edge waits for the core's serial and millis "
                   "interrupts and for the few dozen cycles another axis's interrupt runs with interrupts off, never for "
-                  "another axis's whole step). ISR cycles: each stretch of step interrupts (nested ones are one "
+                  "another axis's whole step). ISR cycles (the same run on a MULTI_TRACE=1 build, whose pin writes "
+                  "cost a few cycles more per step): each stretch of step interrupts (nested ones are one "
                   f"stretch), with the {MULTI_ENTRY_CYCLES['alone']} cycles MULTI_TRACE cannot see "
                   f"({MULTI_ENTRY_CYCLES['masked']} with followers); per step: interrupt cycles per STEP edge of all axes.", "",
                   "| move | steps/s per axis | steps | compare match vs plan (ticks) | pin latency (cycles) "

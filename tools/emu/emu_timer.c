@@ -63,6 +63,8 @@ static void ocr_write(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *pa
     }
 }
 
+static int reraising; /* tifr_write is raising kept flags again: not compare matches */
+
 /* TIFR0..TIFR5 (data addresses) */
 static const uint16_t tifr[] = {0x35, 0x36, 0x37, 0x38, 0x39, 0x3A};
 #define N_TIFR (sizeof tifr / sizeof tifr[0])
@@ -87,6 +89,7 @@ static void tifr_write(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *p
     for (int c = 0; c < AVR_TIMER_COMP_COUNT; c++)
         keep_comp[c] = kept(avr, &t->comp[c].interrupt, v);
     simavr_tifr[i].c(avr, addr, v, simavr_tifr[i].param);
+    reraising = 1; /* not matches: flags that were set already */
     if (keep_ov)
         avr_raise_interrupt(avr, &t->overflow);
     if (keep_ic)
@@ -94,6 +97,7 @@ static void tifr_write(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *p
     for (int c = 0; c < AVR_TIMER_COMP_COUNT; c++)
         if (keep_comp[c])
             avr_raise_interrupt(avr, &t->comp[c].interrupt);
+    reraising = 0;
 }
 
 /* Timer1's three channels (OCR1AL, OCR1BL, OCR1CL are ocr_low[0..2]) */
@@ -109,7 +113,7 @@ static void match_raised(struct avr_irq_t *irq, uint32_t value, void *param)
     avr_timer_t *t = w->comp->timer;
     uint64_t at = w->avr->cycle, exact = t->tov_base + w->comp->comp_cycles;
     (void)irq;
-    if (!value)
+    if (!value || reraising)
         return;
     if (exact <= at && at - exact <= EARLY_CYCLES)
         at = exact; /* the cycle of the match itself */
