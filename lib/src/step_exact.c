@@ -493,6 +493,10 @@ void step_exact_stop(step_exact_t *e)
         e->moving = 0;
         return;
     }
+    /* already decelerating to the target at least as soon (the stopping distance is rounded up to
+     * whole steps): keep that profile, so that a stop never passes the target */
+    if (e->n < e->d && ds >= e->d - e->n)
+        return;
     setup_profile(e, e->dir, ds, speed_u(e));
 }
 

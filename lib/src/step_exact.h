@@ -104,7 +104,8 @@ void step_exact_reset(step_exact_t *e, int32_t pos);
 motion_status_t step_exact_plan(step_exact_t *e, int32_t to);
 
 /* Replaces the profile by the shortest stop from the current speed (decelerating at accel to
- * v0); at rest it plans nothing. */
+ * v0); at rest it plans nothing. A profile that already ends as soon (decelerating to its target)
+ * is kept: a stop never passes the target. */
 void step_exact_stop(step_exact_t *e);
 
 /* Steps needed to stop from the current state (0 at rest). */

@@ -239,7 +239,7 @@ void step_planner_stop(step_planner_t *pl)
     if (pl->algo == RAMP_ALGO_EXACT) {
         if (pl->active && pl->exact.moving) {
             step_exact_stop(&pl->exact);
-            pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d);
+            pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d - pl->exact.n);
         }
         return;
     }

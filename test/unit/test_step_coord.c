@@ -437,6 +437,36 @@ static void stop_decelerates_every_axis(void **state)
     assert_int_equal(step_coord_busy(&c, 0), 1);
 }
 
+/* A stop after any number of commands, during the deceleration too, leaves every axis at rest at or
+ * before its target, never past it (the sketch's `stop` of `move x1000 y500 z250` ended at x 1001
+ * when an axis's rounded-up stopping distance exceeded its steps left). */
+static void stop_never_passes_a_target(void **state)
+{
+    ramp_params_t p[3] = {params(0, 10000, 10000), params(0, 10000, 10000), params(0, 10000, 10000)};
+    int32_t from[3] = {0, 0, 0}, to[3] = {1000, 500, -250};
+    int k;
+    (void)state;
+    for (k = 1; k < 400; k++) {
+        step_coord_t c;
+        step_cmd_t cmd;
+        uint8_t i;
+        int j;
+        assert_int_equal(step_coord_plan(&c, 3, p, from, to), MS_OK);
+        for (j = 0; j < k; j++)
+            for (i = 0; i < 3; i++)
+                (void)step_coord_next(&c, i, &cmd);
+        step_coord_stop(&c);
+        for (i = 0; i < 3; i++) {
+            int32_t at;
+            while (step_coord_next(&c, i, &cmd))
+                ;
+            at = step_coord_position(&c, i);
+            if (to[i] > 0 ? at > to[i] : at < to[i])
+                fail_msg("stop after %d commands: axis %u at %d, past its target %d", k, i, at, to[i]);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -446,6 +476,7 @@ int main(void)
         cmocka_unit_test(path_check_sees_an_uncoordinated_axis),
         cmocka_unit_test(equal_distance_axes_get_the_masters_commands),
         cmocka_unit_test(too_unequal_refused),
+        cmocka_unit_test(stop_never_passes_a_target),
         cmocka_unit_test(bad_input_refused),
         cmocka_unit_test(stop_decelerates_every_axis),
     };

@@ -563,6 +563,38 @@ static void stop_decelerates_to_rest(void **state)
     }
 }
 
+/* A stop after any command of a move (as `motionsim ramp --stop-at`), during its deceleration too,
+ * ends at rest at or before the move's target, never past it, and not behind where it was. The
+ * stopping distance rounds up to whole steps, so in the deceleration it can exceed the steps left by
+ * one: the move then keeps its own end (before, it stopped one step past the target). */
+static void stop_never_passes_the_target(void **state)
+{
+    const ramp_params_t p = {0.0f, 10000.0f, 10000.0f, 16000000U};
+    const int32_t target = 1000;
+    uint32_t k, passed = 0, first_bad = 0;
+    (void)state;
+    for (k = 1; k < (uint32_t)target; k += 3U) {
+        step_planner_t pl;
+        trace_t tr;
+        int32_t end;
+        assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0), MS_OK);
+        assert_int_equal(step_planner_move(&pl, target), MS_OK);
+        trace_init(&tr, 2000);
+        drain_steps(&pl, &tr, k);
+        step_planner_stop(&pl);
+        drain(&pl, &tr, UINT32_MAX);
+        end = step_planner_position(&pl);
+        assert_int_equal(end, (int32_t)tr.n);
+        if (end > target && passed++ == 0)
+            first_bad = k;
+        if (end < (int32_t)k)
+            fail_msg("stop after step %u ended at %d, behind where it was", k, end);
+        trace_free(&tr);
+    }
+    if (passed)
+        fail_msg("%u of the stops passed the target %d (the first after step %u)", passed, target, first_bad);
+}
+
 /* The sigmoid walks its table: the interval of a step with level k is period[(k - 1)/hold]
  * (the last entry beyond the table). A stop, a target further on and a target behind, taken
  * after M accelerating steps (k = M), against the level the S-curve article's stepping gives:
@@ -766,6 +798,7 @@ int main(void)
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
         cmocka_unit_test(stop_decelerates_to_rest),
+        cmocka_unit_test(stop_never_passes_the_target),
         cmocka_unit_test(stop_at_rest_does_nothing),
         cmocka_unit_test(bad_parameters_refused),
     };
