@@ -17,8 +17,9 @@
  *   stop  /  !       decelerate every axis to rest / halt at once (stop x, ! y: one axis)
  *   ?                one line per axis: position, target, state, limits, underruns= late=
  *   set y vmax 5000  v0, vmax (up to max_sps) or accel of one axis
- * The same commands come out of `motionsim move --x 1000 --y 500` (coordinated) and
- * `motionsim ramp --algo exact --tick-hz 16000000 --queue` (an axis alone).
+ * The same commands come out of `motionsim move --x 1000 --y 500 --vmax 10000 --accel 10000`
+ * (coordinated; motionsim's own defaults are faster) and `motionsim ramp --algo exact --tick-hz
+ * 16000000 --queue` (an axis alone).
  */
 #include <MultiAxisConsole.h>
 

@@ -32,7 +32,7 @@ AXES = "xyz"
 DEFAULTS = (0.0, 10000.0, 10000.0)  # v0, vmax, accel: MultiAxisStepper.ino
 # the longest an edge may wait: the single-axis engine's bound for an edge that meets the core's
 # interrupts (checks_sketches.STEPPER_OTHER_ISR_CYCLES, tools/bench's OTHER_ISR_CYCLES); before the
-# step interrupts nested, edges waited for other axes' whole steps (up to about 1,000 cycles)
+# step interrupts nested, edges waited for other axes' whole steps (several hundred cycles)
 OTHER_ISR_CYCLES = 260
 
 
@@ -409,8 +409,8 @@ def checks_for(env):
             continue  # checks_sketches reports a sketch without its marker
         if fam != "multiaxis":
             continue
-        checks.append((f"{n}: x, y, z alone and coordinated moves: steps, DIR, every edge == motionsim, the path "
-                       "bound", lambda n=n: check_moves(env, n)))
+        checks.append((f"{n}: x, y, z alone and coordinated moves: steps, DIR, every compare match and edge "
+                       "against motionsim, the path bound", lambda n=n: check_moves(env, n)))
         checks.append((f"{n}: bad input gets ERR and moves nothing; busy axes refused",
                        lambda n=n: check_bad_input(env, n)))
         checks.append((f"{n}: stop, stop <axis>: one DONE per move, where the pulses end",

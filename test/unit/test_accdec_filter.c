@@ -33,7 +33,7 @@ static void kinds_have_names_and_only_those(void **state)
 }
 
 /* The moving-average-filter note's parameters for each kind: tau = 9 s (tau2 = 3 s for ma2), Ts = 10 ms. */
-static void seed_000_configurations(void **state)
+static void note_000_configurations(void **state)
 {
     accdec_config_t c;
     uint32_t g = 0;
@@ -153,7 +153,7 @@ static void milli_quanta_rounding(void **state)
 
 /* The moving-average-filter note checkpoint through the interface, in the stream's units (uV with q = 1 mV): the moving
  * average is 2.5 V half-way (4.5 s) and 5 V at 9 s; the two-stage filter 2.5 V at 6 s, 5 V at 12 s. */
-static void seed_000_in_microvolts(void **state)
+static void note_000_in_microvolts(void **state)
 {
     static int16_t buf[1200];
     accdec_config_t c;
@@ -181,12 +181,12 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(kinds_have_names_and_only_those),
-        cmocka_unit_test(seed_000_configurations),
+        cmocka_unit_test(note_000_configurations),
         cmocka_unit_test(every_bad_parameter_gets_its_status_and_changes_nothing),
         cmocka_unit_test(each_kind_matches_its_module),
         cmocka_unit_test(start_checks_the_buffer),
         cmocka_unit_test(milli_quanta_rounding),
-        cmocka_unit_test(seed_000_in_microvolts),
+        cmocka_unit_test(note_000_in_microvolts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -43,7 +43,7 @@ static void gain_is_the_rounded_exact_value(void **state)
 /* the moving-average-filter note's scenario with the exponential filter: tau = 9 s, Ts = 10 ms, 5 V step at t = 0 held
  * 20 s. At every sample y[k] = 5 V (1 - e^(-k Ts / tau)) within 1e-6 V; y[0] = 0 and
  * y[1] = 5 V (1 - a) (the one-sample ZOH delay); after one tau (k = 900) 63.2 % of 5 V. */
-static void seed_000_step_matches_the_closed_form_at_the_samples(void **state)
+static void note_000_step_matches_the_closed_form_at_the_samples(void **state)
 {
     exp_filter_t f;
     uint32_t g = 0, k;
@@ -162,7 +162,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gain_is_the_rounded_exact_value),
-        cmocka_unit_test(seed_000_step_matches_the_closed_form_at_the_samples),
+        cmocka_unit_test(note_000_step_matches_the_closed_form_at_the_samples),
         cmocka_unit_test(settles_exactly_on_a_constant_input),
         cmocka_unit_test(stays_within_one_lsb_of_the_exact_recurrence),
         cmocka_unit_test(full_scale_swings_never_overshoot),

@@ -9,7 +9,7 @@
 /* The moving-average-filter note: tau = 9 s, Ts = 10 ms gives N = 900 taps, also from the Mega's float (9.0f/0.01f is
  * about 900.00002). Quotients that binary floating point does not give as whole numbers
  * (2.3/0.01 = 229.99999999999997, 0.07/0.01 = 7.000000000000001) are still whole numbers of taps. */
-static void seed_000_tau_9s_ts_10ms_is_900_taps(void **state)
+static void note_000_tau_9s_ts_10ms_is_900_taps(void **state)
 {
     uint16_t n = 0;
     volatile double tau = 2.3, ts = 0.01;
@@ -128,7 +128,7 @@ static void every_millivolt_value_is_whole_also_from_float(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(seed_000_tau_9s_ts_10ms_is_900_taps),
+        cmocka_unit_test(note_000_tau_9s_ts_10ms_is_900_taps),
         cmocka_unit_test(a_fraction_of_a_sample_is_refused),
         cmocka_unit_test(bad_tap_parameters_get_their_status),
         cmocka_unit_test(volts_are_rounded_to_the_nearest_quantum),

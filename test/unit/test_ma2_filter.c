@@ -32,7 +32,7 @@ static double volts(int64_t num, const ma2_filter_t *f)
 /* the moving-average-filter note scenario with the S-curve filter: tau1 = 9 s, tau2 = 3 s, Ts = 10 ms, a 5 V step held
  * 20 s. Every sample equals the continuous S-curve at t = k Ts within 1e-9 V; the output reaches
  * 5 V at exactly tau1 + tau2 = 12 s and not before; half-way (6 s) it is 2.5 V. */
-static void seed_000_step_gives_the_continuous_s_curve_at_every_sample(void **state)
+static void note_000_step_gives_the_continuous_s_curve_at_every_sample(void **state)
 {
     int16_t buf[1200];
     ma2_filter_t f;
@@ -248,7 +248,7 @@ static void bad_parameters_are_rejected_and_change_nothing(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(seed_000_step_gives_the_continuous_s_curve_at_every_sample),
+        cmocka_unit_test(note_000_step_gives_the_continuous_s_curve_at_every_sample),
         cmocka_unit_test(any_held_input_gives_the_exact_continuous_output),
         cmocka_unit_test(s_curve_has_continuous_velocity_and_bounded_jerk),
         cmocka_unit_test(single_moving_average_fails_the_jerk_bound),

@@ -1,6 +1,6 @@
 /* Unit tests: ma_filter - the moving-average acc/dec filter of the moving-average-filter note (N = tau/Ts taps, exact
  * ZOH discretisation of G(s) = (1/tau)(1 - e^(-tau s))/s, integer accumulator).
- * Expectations come from the continuous-time formula (the ideal ramp), from the seed's own
+ * Expectations come from the continuous-time formula (the ideal ramp), from the note's own
  * delay state-space route re-derived below, and from the direct mean of the last N samples. */
 #include "cmocka_all.h"
 
@@ -27,7 +27,7 @@ static double volts(int32_t sum, uint16_t taps)
  * sample k = 0 at t = 0; y[k] is the output at t = k Ts) every sample must lie within 1e-6 V of
  * that ramp, y is 2.5 V half-way (t = 4.5 s), first moves at k = 1 (the one-sample ZOH delay),
  * and reaches 5 V at exactly t = 9 s (k = 900), not one sample earlier. */
-static void seed_000_step_5v_tau_9s_ramps_linearly_to_5v_in_9s(void **state)
+static void note_000_step_5v_tau_9s_ramps_linearly_to_5v_in_9s(void **state)
 {
     int16_t buf[900];
     ma_filter_t f;
@@ -78,7 +78,7 @@ static void step_later_reaches_final_value_exactly_tau_after_the_step(void **sta
     }
 }
 
-/* ---- the seed's own route: getDelayModel(c2d(G, Ts, 'zoh')) and its state-space loop -------- */
+/* ---- the note's own route: getDelayModel(c2d(G, Ts, 'zoh')) and its state-space loop -------- */
 
 /* Derivation of the matrices (the moving-average-filter note, "Represent discrete transfer function H as a difference
  * equation", getDelayModel):
@@ -88,7 +88,7 @@ static void step_later_reaches_final_value_exactly_tau_after_the_step(void **sta
  * form getDelayModel returns (dx/dt = A x + B1 u + B2 w, y = C1 x + D11 u + D12 w,
  * z = C2 x + D21 u + D22 w, w(t) = z(t - tau)):
  *     dx/dt = u,   y = (x - w)/tau,   z = x,   w(t) = x(t - tau)
- * so y(t) = (x(t) - x(t - tau))/tau = (1/tau) * integral_{t-tau}^{t} u, the seed's f_out.
+ * so y(t) = (x(t) - x(t - tau))/tau = (1/tau) * integral_{t-tau}^{t} u, the note's f_out.
  * c2d(.., Ts, 'zoh'): u is constant over each sample, so x[k+1] = e^(0 Ts) x[k] + (int_0^Ts 1 ds) u[k]
  * = x[k] + Ts u[k]; tau = N Ts is a whole number of samples, so the delay stays an internal delay
  * of N samples (w[k] = z[k-N]) and the static output equations are unchanged:
@@ -96,17 +96,17 @@ static void step_later_reaches_final_value_exactly_tau_after_the_step(void **sta
  * (MATLAB may scale the state differently; the input-output map is the same.) Check: y[k] =
  * (x[k] - x[k-N])/tau = (Ts/tau) (u[k-1] + ... + u[k-N]), the moving average of ma_filter.h.
  *
- * The seed's loop is run below exactly as written, 1-based, except for the delay line: getDelayModel
+ * The note's loop is run below exactly as written, 1-based, except for the delay line: getDelayModel
  * defines w[k] = z[k - tau], i.e. w(k+1) = z(k+1-tau); the slide's z(max(1, k-tau)) delays by
  * tau + 1 samples (it would average N + 1 samples and settle at 5*901/900 V). Indices below 1 are
- * clamped to 1 as in the seed: z(1) = C2 x(1) = 0 is the zero history. MATLAB's y(k) is the
+ * clamped to 1 as in the note: z(1) = C2 x(1) = 0 is the zero history. MATLAB's y(k) is the
  * output at sample k-1 of ours (MATLAB counts from 1). */
 static void delay_model_loop(const double *u, double *y, int kmax, double tau_s, double ts_s, int tau)
 {
     const double A = 1.0, B1 = ts_s, B2 = 0.0;
     const double C1 = 1.0 / tau_s, D11 = 0.0, D12 = -1.0 / tau_s;
     const double C2 = 1.0, D21 = 0.0, D22 = 0.0;
-    /* 1-based like the seed: x(1..kmax+1), z(1..kmax), w(1..kmax+1) */
+    /* 1-based like the note: x(1..kmax+1), z(1..kmax), w(1..kmax+1) */
     double *x = calloc((size_t)kmax + 2, sizeof *x);
     double *z = calloc((size_t)kmax + 2, sizeof *z);
     double *w = calloc((size_t)kmax + 2, sizeof *w);
@@ -147,7 +147,7 @@ static void cross_check(int16_t (*input)(uint32_t k), int kmax)
     free(y);
 }
 
-static int16_t seed_input(uint32_t k)
+static int16_t note_input(uint32_t k)
 {
     (void)k;
     return 5000; /* u = Vmax*ones(1, kmax), Vmax = 5 V */
@@ -161,10 +161,10 @@ static int16_t square_input(uint32_t k)
 /* the moving-average-filter note "Matlab simulation (1/2), (2/2)": tau1 = 9, sampling time 0.01, max simulation time
  * 20 s, Vmax = 5 V: the delay state-space loop and ma_filter give the same output at every
  * sample; also for a 30 s square wave over 60 s (deceleration too). */
-static void seed_000_delay_model_loop_gives_the_same_output(void **state)
+static void note_000_delay_model_loop_gives_the_same_output(void **state)
 {
     (void)state;
-    cross_check(seed_input, 2000); /* kmax = round(max simulation time / sampling time) */
+    cross_check(note_input, 2000); /* kmax = round(max simulation time / sampling time) */
     cross_check(square_input, 6000);
 }
 
@@ -202,11 +202,11 @@ static void no_drift_after_1e8_samples(void **state)
     assert_int_equal(ma_filter_sum(&f), exact_sum(1, total, 900));
 }
 
-/* The check above has teeth, and it is why the seed's route is not what runs on the Mega: there
+/* The check above has teeth, and it is why the note's route is not what runs on the Mega: there
  * double is float, and the delay model's integrator state x = Ts * (u[0] + u[1] + ...) grows
- * without bound, so its rounding error does too. The seed's loop in float, fed 5 V for 10^6
+ * without bound, so its rounding error does too. The note's loop in float, fed 5 V for 10^6
  * samples (2.8 hours at 100 Hz), is off by more than one quantum; ma_filter is exact. */
-static void seed_delay_model_in_float_drifts_where_ma_filter_does_not(void **state)
+static void note_delay_model_in_float_drifts_where_ma_filter_does_not(void **state)
 {
     static float x_hist[901]; /* x[k-900..k]: the internal delay line w[k] = x[k-900] */
     static int16_t buf[900];
@@ -317,11 +317,11 @@ static void bad_parameters_are_rejected_and_change_nothing(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(seed_000_step_5v_tau_9s_ramps_linearly_to_5v_in_9s),
+        cmocka_unit_test(note_000_step_5v_tau_9s_ramps_linearly_to_5v_in_9s),
         cmocka_unit_test(step_later_reaches_final_value_exactly_tau_after_the_step),
-        cmocka_unit_test(seed_000_delay_model_loop_gives_the_same_output),
+        cmocka_unit_test(note_000_delay_model_loop_gives_the_same_output),
         cmocka_unit_test(no_drift_after_1e8_samples),
-        cmocka_unit_test(seed_delay_model_in_float_drifts_where_ma_filter_does_not),
+        cmocka_unit_test(note_delay_model_in_float_drifts_where_ma_filter_does_not),
         cmocka_unit_test(output_is_the_mean_of_the_previous_n_samples),
         cmocka_unit_test(full_scale_at_65535_taps_does_not_overflow),
         cmocka_unit_test(reset_returns_to_rest),

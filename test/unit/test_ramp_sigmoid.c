@@ -1,5 +1,5 @@
 /* Unit tests: the sigmoid S-curve table of the S-curve article (lib/src/ramp_sigmoid.h) and stepping through it.
- * Reference: the seed's formula freq[i] = fmin + (fmax - fmin)/(1 + exp(-flex (i - len/2)/(len/2))),
+ * Reference: the S-curve article's formula freq[i] = fmin + (fmax - fmin)/(1 + exp(-flex (i - len/2)/(len/2))),
  * period[i] = timer_hz/freq[i] truncated to 16 bits, evaluated here in double. */
 #include "cmocka_all.h"
 
@@ -12,7 +12,7 @@
 /* the S-curve article's four curves: CalculateSModelLine(Freq, Period, len, fre_max, fre_min, flexible) with
  * (1000, 56000, 16000, 4), (1000, 64000, 500, 8), (1000, 64000, 500, 15), (1000, 40000, 500, 5) at
  * its 10 MHz timer; hold = 4 as its ISR loads a new period every 4th interrupt. */
-static const ramp_sigmoid_params_t SEED[4] = {
+static const ramp_sigmoid_params_t ARTICLE[4] = {
     {1000, 4, 16000.0f, 56000.0f, 4.0f, 10000000UL},
     {1000, 4, 500.0f, 64000.0f, 8.0f, 10000000UL},
     {1000, 4, 500.0f, 64000.0f, 15.0f, 10000000UL},
@@ -45,18 +45,18 @@ static void exp_is_accurate(void **state)
     assert_true(fabs(ramp_sigmoid_exp(1.0f) - 2.718281828) < 3e-7);
 }
 
-static void table_follows_the_seed_formula(void **state)
+static void table_follows_the_article_formula(void **state)
 {
     size_t c;
     (void)state;
     for (c = 0; c < 4; c++) {
         uint16_t table[1000];
         int i;
-        assert_int_equal(ramp_sigmoid_fill(&SEED[c], table, 1000), MS_OK);
+        assert_int_equal(ramp_sigmoid_fill(&ARTICLE[c], table, 1000), MS_OK);
         for (i = 0; i < 1000; i++) {
-            double f = ref_freq(&SEED[c], i);
+            double f = ref_freq(&ARTICLE[c], i);
             double period = 1e7 / f;
-            assert_true(fabs(ramp_sigmoid_freq_hz(&SEED[c], (uint16_t)i) - f) <= 1e-6 * f);
+            assert_true(fabs(ramp_sigmoid_freq_hz(&ARTICLE[c], (uint16_t)i) - f) <= 1e-6 * f);
             /* float arithmetic (a few ulp, < 1e-6 relative) may put a period that lies within a hair
              * of an integer on either side of it; everywhere else the truncation must agree */
             assert_true(fabs((double)table[i] - floor(period)) <= 1.0);
@@ -71,11 +71,11 @@ static void table_follows_the_seed_formula(void **state)
 
 /* the S-curve article's worked example, (1000, 64000, 500, 8): "the last point is 10000000/64000 = 156"; the
  * first is below its "10000000/500 = 20000" because the curve starts at fmin + (fmax - fmin)/(1 + e^8). */
-static void seed_example_end_points(void **state)
+static void article_example_end_points(void **state)
 {
     uint16_t table[1000];
     (void)state;
-    assert_int_equal(ramp_sigmoid_fill(&SEED[1], table, 1000), MS_OK);
+    assert_int_equal(ramp_sigmoid_fill(&ARTICLE[1], table, 1000), MS_OK);
     assert_int_equal(table[999], 156);
     assert_int_equal(table[0], (uint16_t)floor(1e7 / (500.0 + 63500.0 / (1.0 + exp(8.0)))));
     assert_true(table[0] < 20000);
@@ -83,9 +83,9 @@ static void seed_example_end_points(void **state)
 
 /* "mind: 10000000/65535 = 152, so fre_min can't be less than 152" (the S-curve article): the bound is
  * timer_hz/65535 = 152.59 Hz, so 152 is refused and 153 accepted, with its period inside 16 bits. */
-static void fmin_bound_of_the_seed(void **state)
+static void fmin_bound_of_the_article(void **state)
 {
-    ramp_sigmoid_params_t p = SEED[1];
+    ramp_sigmoid_params_t p = ARTICLE[1];
     uint16_t table[1000];
     (void)state;
     p.fmin_hz = 152.0f;
@@ -129,12 +129,12 @@ static void bad_parameters_are_rejected(void **state)
         assert_memory_equal(table, before, sizeof table);
     }
     /* a table too small for len, and a plan without a (long enough) table */
-    assert_int_equal(ramp_sigmoid_fill(&SEED[0], table, 999), MS_ERR_BUFFER_TOO_SMALL);
+    assert_int_equal(ramp_sigmoid_fill(&ARTICLE[0], table, 999), MS_ERR_BUFFER_TOO_SMALL);
     assert_memory_equal(table, before, sizeof table);
     memset(&r, 0x11, sizeof r);
     rb = r;
-    assert_int_equal(ramp_plan_sigmoid(&r, &SEED[0], NULL, 1000, 0, 100), MS_ERR_TABLE_MISSING);
-    assert_int_equal(ramp_plan_sigmoid(&r, &SEED[0], table, 500, 0, 100), MS_ERR_TABLE_MISSING);
+    assert_int_equal(ramp_plan_sigmoid(&r, &ARTICLE[0], NULL, 1000, 0, 100), MS_ERR_TABLE_MISSING);
+    assert_int_equal(ramp_plan_sigmoid(&r, &ARTICLE[0], table, 500, 0, 100), MS_ERR_TABLE_MISSING);
     assert_int_equal(ramp_plan_sigmoid(&r, &cases[0].p, table, 1000, 0, 100), MS_ERR_LEN_TOO_SHORT);
     assert_memory_equal(&r, &rb, sizeof r);
 }
@@ -149,7 +149,7 @@ static void steps_walk_the_table_and_back(void **state)
     uint16_t table[1000];
     (void)state;
     for (hi = 0; hi < 2; hi++) {
-        ramp_sigmoid_params_t p = SEED[1];
+        ramp_sigmoid_params_t p = ARTICLE[1];
         p.hold = holds[hi];
         assert_int_equal(ramp_sigmoid_fill(&p, table, 1000), MS_OK);
         assert_int_equal(ramp_sigmoid_accel_steps(&p), 1000U * p.hold);
@@ -183,7 +183,7 @@ static void bulk_steps_equal_single_steps(void **state)
     uint16_t table[1000];
     (void)state;
     for (hi = 0; hi < 3; hi++) {
-        ramp_sigmoid_params_t p = SEED[1];
+        ramp_sigmoid_params_t p = ARTICLE[1];
         p.hold = holds[hi];
         assert_int_equal(ramp_sigmoid_fill(&p, table, 1000), MS_OK);
         for (li = 0; li < sizeof lengths / sizeof lengths[0]; li++) {
@@ -224,12 +224,12 @@ static void bulk_steps_equal_single_steps(void **state)
     }
 }
 
-/* The acceleration's duration is hold * sum(period)/timer_hz; the seed's hold of 4 takes four
+/* The acceleration's duration is hold * sum(period)/timer_hz; the S-curve article's hold of 4 takes four
  * times as long as a hold of 1 and covers 4 * len steps (its "1.8 deg * 1000 steps / 4" per len). */
 static void acceleration_time_and_distance(void **state)
 {
     uint16_t table[1000];
-    ramp_sigmoid_params_t p = SEED[1];
+    ramp_sigmoid_params_t p = ARTICLE[1];
     uint32_t i, sum = 0;
     double t4, t1;
     (void)state;
@@ -268,8 +268,8 @@ static void extreme_distance(void **state)
     ramp_step_t s;
     uint32_t i;
     (void)state;
-    assert_int_equal(ramp_sigmoid_fill(&SEED[2], table, 1000), MS_OK);
-    assert_int_equal(ramp_plan_sigmoid(&r, &SEED[2], table, 1000, INT32_MAX, INT32_MIN), MS_OK);
+    assert_int_equal(ramp_sigmoid_fill(&ARTICLE[2], table, 1000), MS_OK);
+    assert_int_equal(ramp_plan_sigmoid(&r, &ARTICLE[2], table, 1000, INT32_MAX, INT32_MIN), MS_OK);
     assert_int_equal(r.steps_total, 4294967295UL);
     for (i = 0; i < 4100; i++)
         assert_int_equal(ramp_next(&r, &s), 1);
@@ -292,9 +292,9 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(exp_is_accurate),
-        cmocka_unit_test(table_follows_the_seed_formula),
-        cmocka_unit_test(seed_example_end_points),
-        cmocka_unit_test(fmin_bound_of_the_seed),
+        cmocka_unit_test(table_follows_the_article_formula),
+        cmocka_unit_test(article_example_end_points),
+        cmocka_unit_test(fmin_bound_of_the_article),
         cmocka_unit_test(bad_parameters_are_rejected),
         cmocka_unit_test(steps_walk_the_table_and_back),
         cmocka_unit_test(bulk_steps_equal_single_steps),

@@ -9,7 +9,8 @@
  *   TRACE D40 PG1 (X), D41 PG0 (Y), D39 PG2 (Z): only with MULTI_TRACE = 1, high while that axis's step
  *         interrupt runs, including the time other interrupts nested in it take (`make bench`)
  * STEP: rising edge = one step, high >= 2 us; DIR: high = forward (position counts up), written
- * before the first step of a move and only while STEP is low. PORTF and PORTG are in the I/O space
+ * before the first step of a move, and where a move turns, at least 1.5 us after the last STEP edge
+ * of the old direction (while that pulse is high) and long before the first of the new. PORTF and PORTG are in the I/O space
  * (single-instruction sbi/cbi); PORTL is not, so Z's pins are read-modify-written, only with
  * interrupts off (in its interrupt, or in an atomic block).
  * Timer1 runs at F = 16 MHz (prescaler 1, one tick per CPU cycle) in normal mode; the three

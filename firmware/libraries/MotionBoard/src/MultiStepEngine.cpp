@@ -1,6 +1,7 @@
-/* MultiStepEngine.cpp - the step interrupts' rarer path (a new command, slow steps, the end, an
- * underrun, a late edge), each axis's queue on the loop() side, and the timer set-up; see
- * MultiStepEngine.h. The common path is MultiStepEngineIsr.S. */
+/* MultiStepEngine.cpp - the step interrupts' rarer path (slow steps and a slow command's start,
+ * wraps to count, the end, an underrun), each axis's queue on the loop() side, and the timer
+ * set-up; see MultiStepEngine.h. The common path, new fast commands and late edges included, is
+ * MultiStepEngineIsr.S. */
 #include "MultiStepEngine.h"
 
 #include <stddef.h>

@@ -9,8 +9,9 @@
  * that turns, it writes DIR (while STEP is high, >= 1.5 us after its rising edge, which belongs to
  * the old direction). That path is MultiStepEngineIsr.S, one copy per axis and itself the vector
  * of TIMER1_COMPA/B/C (a sketch using this engine defines no ISR for them); slow steps (an
- * interval of 32768 ticks or more, WIDE ones counted out in wraps of the 16-bit timer), the end of
- * a move, an underrun and a late edge take the rarer path in C (MultiStepEngine.cpp).
+ * interval of 32768 ticks or more, WIDE ones counted out in wraps of the 16-bit timer), a slow
+ * command's start, the end of a move and an underrun take the rarer path in C (MultiStepEngine.cpp);
+ * a late edge (armed in the past) is fired 2 us later by either path.
  * Why Timer1's three channels: one counter (TCNT1) is one timeline for all axes, so a coordinated
  * move starts every axis on the same tick (start_together) and their planned edges keep their
  * relation exactly; one timer's three vectors cost nothing more per step than three timers would.

@@ -16,8 +16,8 @@
  * the new edge (OCR1x: Timer1's 16-bit registers share one TEMP byte) and tests whether it is
  * already late, so an axis's next match never comes while its own interrupt runs and the
  * interrupt never nests in itself. An edge due in one of those stretches waits a few dozen cycles
- * at most (`make bench` measures it). The C path (as rare as before: the start and end of a move,
- * slow steps, wraps) is called with interrupts on too, and turns them off when it arms.
+ * at most (`make bench` measures it). The C path (rare: the start and end of a move, slow steps,
+ * wraps) is called with interrupts on too, and turns them off when it arms.
  * Cost: GPIOR0 holds copies of the mode byte (MultiAxisPins.h): ANY (mode not zero: not the
  * common path) and OWNOFF (no STEP of its own at this match) for each axis, so that the entry
  * raises STEP and chooses its path before saving a register (Z's STEP, in PORTL, needs one). The
