@@ -425,7 +425,8 @@ def multi_section(motionsim, out_dir, only):
                   "another axis's whole step). ISR cycles (the same run on a MULTI_TRACE=1 build, whose pin writes "
                   "cost a few cycles more per step): each stretch of step interrupts (nested ones are one "
                   f"stretch), with the {MULTI_ENTRY_CYCLES['alone']} cycles MULTI_TRACE cannot see "
-                  f"({MULTI_ENTRY_CYCLES['masked']} with followers); per step: interrupt cycles per STEP edge of all axes.", "",
+                  f"({MULTI_ENTRY_CYCLES['masked']} with followers); per step: interrupt cycles per STEP edge of all axes; CPU "
+                  "left: averaged over the whole move (less at the top speed).", "",
                   "| move | steps/s per axis | steps | compare match vs plan (ticks) | pin latency (cycles) "
                   "| edge vs plan, worst (cycles) | beyond 8 | end spread | underruns | late "
                   "| ISR stretch cycles min / mean / max | ISR cycles per step | CPU left | verdict |",
