@@ -52,7 +52,8 @@ SERIES_NAMES = {"speed_sps": "step rate", "accel_sps2": "acceleration", "interva
                 "u": "input u", "y": "output y", "setpoint": "setpoint", "position_counts": "position",
                 "error_counts": "error", "duty_pct": "duty", "output": "output", "computed": "computed",
                 "y_pos": "path (Y against X)", "x_speed_sps": "X step rate", "y_speed_sps": "Y step rate",
-                "z_speed_sps": "Z step rate", "path_err_steps": "distance from the line"}
+                "z_speed_sps": "Z step rate", "path_err_steps": "distance from the line",
+                "x_position": "X position", "y_position": "Y position", "z_position": "Z position"}
 # columns that are inputs rather than results: drawn once, not again for each overlay that has the same
 REFERENCE_COLUMNS = ("setpoint", "u")
 # a panel with more rows than this, whose values jump back and forth, also gets its moving mean

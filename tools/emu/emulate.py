@@ -470,6 +470,18 @@ def main(argv):
         write_csv(base + ".csv", "t_s,axis,step,position", rows)
         print(f"  {base}.csv: {len(rows)} edges ({', '.join(f'{k.lower()} {v}' for k, v in sorted(steps.items()))}); "
               "compare with `motionsim move` (docs/multi-axis.md)")
+        # the three positions after every edge, for the plot
+        cur, prows = {"x": 0, "y": 0, "z": 0}, []
+        for t, ax, _, p in rows:
+            cur[ax] = p
+            prows.append((t, cur["x"], cur["y"], cur["z"]))
+        write_csv(base + ".positions.csv", "t_s,x_position,y_position,z_position", prows)
+        if not a.no_plot and prows:
+            cmd = [os.path.join(emulog.ROOT, "tools", "plot"), base + ".positions.csv", "--x", "t_s", "--y",
+                   "x_position,y_position,z_position", "--title", f"{s} in the emulator: X, Y, Z positions (steps)",
+                   "--label", "firmware (emulated)", "-o", base + ".png"]
+            p = subprocess.run(cmd, capture_output=True, text=True)
+            print(f"  {p.stdout.strip()}" if p.returncode == 0 else f"  plot failed: {p.stderr.strip()}")
         a.no_plot = True
     elif fam == "filter":
         rows = []
