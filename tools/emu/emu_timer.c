@@ -115,6 +115,8 @@ static void match_raised(struct avr_irq_t *irq, uint32_t value, void *param)
     (void)irq;
     if (!value || reraising)
         return;
+    if (exact > at && exact - t->tov_cycles <= at)
+        exact -= t->tov_cycles; /* a match at the very end of the last period, seen after the wrap */
     if (exact <= at && at - exact <= EARLY_CYCLES)
         at = exact; /* the cycle of the match itself */
     emu_log(at, "match", "%s", w->name);

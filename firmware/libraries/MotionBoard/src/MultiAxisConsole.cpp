@@ -369,7 +369,28 @@ void MultiAxisConsole::handle_move(const char *cursor)
             mask |= (uint8_t)(1U << i);
     }
     if (mask == 0) {
-        serial_.reply_error(MS_ERR_OUT_OF_RANGE, F("every named axis is at its target already"));
+        /* every named axis is there already: nothing moves, and the move is done at once (as `x 0` at 0) */
+        Print &out = serial_.out();
+        out.print(F("OK move"));
+        for (uint8_t i = 0; i < MULTI_AXES; i++)
+            if (named & (1U << i)) {
+                out.print(' ');
+                out.print(AXIS_NAME[i]);
+                out.print(' ');
+                out.print(from[i]);
+                out.print(' ');
+                out.print(to[i]);
+            }
+        out.println();
+        out.print(F("DONE move"));
+        for (uint8_t i = 0; i < MULTI_AXES; i++)
+            if (named & (1U << i)) {
+                out.print(' ');
+                out.print(AXIS_NAME[i]);
+                out.print(' ');
+                out.print(from[i]);
+            }
+        out.println();
         return;
     }
     st = step_coord_plan(&coord_, MULTI_AXES, p, from, to);

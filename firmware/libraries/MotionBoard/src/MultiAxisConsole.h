@@ -12,6 +12,8 @@
  *                        (lib/src/step_coord.h); each axis's vmax and accel hold. "OK move x <from> <to>
  *                        y <from> <to> ...", later one "DONE move x <pos> y <pos> ...". Refused
  *                        ("ERR busy ...") while a named axis is moving; axes not named may move.
+ *                        Every named axis at its target already: "OK move ..." and "DONE move ..." at
+ *                        once, nothing moves (as "x 0" at 0).
  *   stop | !             every axis: decelerate to rest / halt at once: "OK stop" / "OK halt", then
  *                        the DONE of each move that was running ("OK stop (not moving)" when none)
  *   stop <a> | ! <a>     one axis; an axis of a coordinated move stops the whole move (all its axes)
