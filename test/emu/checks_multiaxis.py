@@ -356,20 +356,29 @@ def check_stop(env, sketch):
 THREE_AXES_SPS = 30000
 
 
-def check_three_axes_at_speed(env, sketch):
+def bench_run(env, sketch, mode, rate):
+    """tools/bench's run of one case on the sketch (the same run as `make bench`): its result and the
+    problems every at-speed check asserts (underruns, an edge beyond OTHER_ISR_CYCLES, a compare
+    match off its plan)"""
     sys.path.insert(0, os.path.join(env.source_dir, "tools", "bench"))
-    import bench  # tools/bench/bench.py: the same run as `make bench`
+    import bench
     pins = {k: v for k, v in sketches.multiaxis_pins(env).items() if k.endswith("STEP")}
-    res = bench.run_multi(env.elf(sketch), env.motionsim, "independent", AXES, THREE_AXES_SPS, pins)
+    res = bench.run_multi(env.elf(sketch), env.motionsim, mode, AXES, rate, pins)
     problems = [p for p in res["problems"] if p != "not clean"]
     if res.get("underruns") != 0:
         problems.append(f"underruns: {res.get('underruns')}")
-    if res.get("late") != 0:
-        problems.append(f"late edges: {res.get('late')}")
     if "worst" in res and not -1 <= res["worst"] <= OTHER_ISR_CYCLES:
-        problems.append(f"an edge {res['worst']:+d} cycles from its plan (bound -1..{OTHER_ISR_CYCLES})")
+        problems.append(f"an edge {res['worst']:+d} cycles from its plan (bound -1..{OTHER_ISR_CYCLES})"
+                        + (f"; the axes' last edges {res['end_spread']} cycles apart" if "end_spread" in res else ""))
     if "match_worst" in res and res["match_worst"] > 1:
         problems.append(f"a compare match {res['match_worst']:+d} ticks from its plan (bound 1)")
+    return res, problems
+
+
+def check_three_axes_at_speed(env, sketch):
+    res, problems = bench_run(env, sketch, "independent", THREE_AXES_SPS)
+    if res.get("late") != 0:
+        problems.append(f"late edges: {res.get('late')}")
     summary = (f"x, y, z each to {THREE_AXES_SPS:,} steps/s at once: {res.get('steps', 0):,} steps per axis, "
                f"underruns {res.get('underruns')}, late {res.get('late')}, every compare match within "
                f"{res.get('match_worst', '-')} tick(s) of its plan, STEP {res.get('pin_latency', ('-', '-'))[0]} to "
@@ -388,18 +397,8 @@ UNEQUAL_SLOW_SPS = 5000
 
 
 def check_unequal_slow_start(env, sketch):
-    sys.path.insert(0, os.path.join(env.source_dir, "tools", "bench"))
-    import bench  # tools/bench/bench.py: the same run as `make bench`
-    pins = {k: v for k, v in sketches.multiaxis_pins(env).items() if k.endswith("STEP")}
-    res = bench.run_multi(env.elf(sketch), env.motionsim, "unequal", AXES, UNEQUAL_SLOW_SPS, pins)
-    problems = [p for p in res["problems"] if p != "not clean"]
-    if res.get("underruns") != 0:
-        problems.append(f"underruns: {res.get('underruns')}")
-    if "worst" in res and not -1 <= res["worst"] <= OTHER_ISR_CYCLES:
-        problems.append(f"an edge {res['worst']:+d} cycles from its plan (bound -1..{OTHER_ISR_CYCLES}); the axes' "
-                        f"last edges {res.get('end_spread')} cycles apart")
-    if "match_worst" in res and res["match_worst"] > 1:
-        problems.append(f"a compare match {res['match_worst']:+d} ticks from its plan (bound 1)")
+    res, problems = bench_run(env, sketch, "unequal", UNEQUAL_SLOW_SPS)
+    import bench  # bench_run put tools/bench on the path
     summary = (f"move x{bench.UNEQUAL['x']} y{bench.UNEQUAL['y']} z{bench.UNEQUAL['z']} at {UNEQUAL_SLOW_SPS:,} "
                f"steps/s: worst edge {res.get('worst', '-')} cycles from its plan, last edges "
                f"{res.get('end_spread', '-')} cycles apart, underruns {res.get('underruns')}")

@@ -124,22 +124,29 @@ void MultiAxisConsole::feed()
     }
 }
 
-void MultiAxisConsole::print_coord_positions(Print &out, bool with_from)
+/* " x <a> [<b>] y ..." for the axes in `named` (b: none when 0) */
+static void print_axes(Print &out, uint8_t named, const int32_t *a, const int32_t *b)
 {
     for (uint8_t i = 0; i < MULTI_AXES; i++) {
-        if (!(coord_named_ & (1U << i)))
+        if (!(named & (1U << i)))
             continue;
         out.print(' ');
         out.print(AXIS_NAME[i]);
         out.print(' ');
-        if (with_from) {
-            out.print(coord_.from[i]);
+        out.print(a[i]);
+        if (b) {
             out.print(' ');
-            out.print(coord_.to[i]);
-        } else {
-            out.print(coord_end_[i]);
+            out.print(b[i]);
         }
     }
+}
+
+void MultiAxisConsole::print_coord_positions(Print &out, bool with_from)
+{
+    if (with_from)
+        print_axes(out, coord_named_, coord_.from, coord_.to);
+    else
+        print_axes(out, coord_named_, coord_end_, 0);
 }
 
 void MultiAxisConsole::report_done(uint8_t axis, int32_t position)
@@ -372,24 +379,10 @@ void MultiAxisConsole::handle_move(const char *cursor)
         /* every named axis is there already: nothing moves, and the move is done at once (as `x 0` at 0) */
         Print &out = serial_.out();
         out.print(F("OK move"));
-        for (uint8_t i = 0; i < MULTI_AXES; i++)
-            if (named & (1U << i)) {
-                out.print(' ');
-                out.print(AXIS_NAME[i]);
-                out.print(' ');
-                out.print(from[i]);
-                out.print(' ');
-                out.print(to[i]);
-            }
+        print_axes(out, named, from, to);
         out.println();
         out.print(F("DONE move"));
-        for (uint8_t i = 0; i < MULTI_AXES; i++)
-            if (named & (1U << i)) {
-                out.print(' ');
-                out.print(AXIS_NAME[i]);
-                out.print(' ');
-                out.print(from[i]);
-            }
+        print_axes(out, named, from, 0);
         out.println();
         return;
     }
