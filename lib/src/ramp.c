@@ -143,6 +143,51 @@ uint32_t ramp_stop_steps(const ramp_t *m)
     return lv > 1U ? lv - 1U : 0U;
 }
 
+/* a level from a float count of steps, rounded, at least 1 */
+static uint32_t level_from(float lf)
+{
+    if (!(lf >= 0.5f))
+        return 1U;
+    return lf < 4.0e9f ? (uint32_t)(lf + 0.5f) + 1U : UINT32_MAX - 1U;
+}
+
+/* The level a continuation of the moving m under params starts at. A level counts steps from v0
+ * at the move's accel, so with a new accel or v0 the same speed is another level: Leib, from
+ * v^2 = v0^2 + 2 a (level - 1) (the handout's eq. 3) with v = F/p; simplistic, from its own line
+ * p = p_max - (level - 1) dp (eq. 1). Unchanged parameters keep m's level. */
+static uint32_t continued_level(const ramp_t *m, const ramp_params_t *params)
+{
+    ramp_t probe;
+    if (params == 0 || m->algo == RAMP_ALGO_SIGMOID || ramp_plan_hooked(&probe, m->algo, params, m->hooks, 0, 1) != MS_OK)
+        return m->level;
+    if (m->algo == RAMP_ALGO_LEIB) {
+        float v, v0 = (float)params->v0_sps;
+        if (probe.u.leib.r == m->u.leib.r && probe.u.leib.p1 == m->u.leib.p1)
+            return m->level;
+        v = (float)params->tick_hz / m->u.leib.p;
+        return level_from((v * v - v0 * v0) / (2.0f * (float)params->accel_sps2));
+    }
+    if (m->algo == RAMP_ALGO_SIMPLISTIC) {
+        ramp_simplistic_t sp;
+        if (simplistic_plan(m->hooks, params, &sp, UINT32_MAX) != MS_OK ||
+            (sp.dp == m->u.simplistic.dp && sp.p_max == m->u.simplistic.p_max))
+            return m->level;
+        return level_from((sp.p_max - m->u.simplistic.p) / sp.dp);
+    }
+    return m->level;
+}
+
+uint32_t ramp_stop_steps_under(const ramp_t *m, const ramp_params_t *params)
+{
+    uint32_t lv;
+    if (m->steps_done == 0 && m->start_level == 0)
+        return 0;
+    if (m->algo == RAMP_ALGO_SIGMOID)
+        return ramp_stop_steps(m);
+    lv = continued_level(m, params);
+    return lv > 1U ? lv - 1U : 0U;
+}
+
 motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params_t *params, int32_t to)
 {
     ramp_t n;
@@ -157,9 +202,10 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params
             return MS_ERR_BUSY;
         return ramp_plan_hooked(r, m->algo, params, m->hooks, from, to);
     }
-    if (ramp_distance(from, to) < ramp_stop_steps(m) || (to != from && ramp_direction(from, to) != m->dir))
+    if (ramp_distance(from, to) < ramp_stop_steps_under(m, m->algo == RAMP_ALGO_SIGMOID ? 0 : params) ||
+        (to != from && ramp_direction(from, to) != m->dir))
         return MS_ERR_BUSY;
-    l0 = m->level;
+    l0 = continued_level(m, m->algo == RAMP_ALGO_SIGMOID ? 0 : params);
     if (m->algo == RAMP_ALGO_SIGMOID) {
         n = *m;
         plan_geometry(&n, RAMP_ALGO_SIGMOID, from, to);

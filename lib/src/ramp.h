@@ -103,6 +103,10 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *moving, const ramp_p
 /* Steps a continued move needs to come to rest from `moving`'s last step (its level - 1). */
 uint32_t ramp_stop_steps(const ramp_t *moving);
 
+/* The same under the parameters a replan would use (simplistic, Leib: a new accel or v0 makes the
+ * speed reached another level, so another stopping distance); NULL or the sigmoid: ramp_stop_steps. */
+uint32_t ramp_stop_steps_under(const ramp_t *moving, const ramp_params_t *params);
+
 /* Position after the steps handed out so far. */
 int32_t ramp_position(const ramp_t *r);
 

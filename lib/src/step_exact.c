@@ -457,6 +457,31 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
     }
 }
 
+motion_status_t step_exact_change_params(step_exact_t *e, const ramp_params_t *p)
+{
+    uint64_t u, cu_old;
+    float uf;
+    motion_status_t st;
+    if (e == 0)
+        return MS_ERR_NULL;
+    if (!e->moving)
+        return step_exact_set_params(e, p);
+    u = speed_u(e);
+    cu_old = e->k.cu;
+    st = step_exact_set_params(e, p);
+    if (st != MS_OK)
+        return st;
+    /* U = v F/a and C = 2F^2/a are both proportional to 1/a: U' = U C'/C keeps v */
+    if (e->k.cu != cu_old) {
+        uf = (float)u * ((float)e->k.cu / (float)cu_old);
+        u = uf >= 1.0f ? (uint64_t)uf : 1U;
+    }
+    e->y = u;  /* speed_u() reads y, or up in the cruise (y = 0): both hold the speed now */
+    e->up = u;
+    e->d = e->n; /* the old profile is over: its constants are gone (step_exact_stop keeps none) */
+    return MS_OK;
+}
+
 motion_status_t step_exact_plan(step_exact_t *e, int32_t to)
 {
     uint32_t d = ramp_distance(e->pos, to);

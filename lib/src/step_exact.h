@@ -95,6 +95,14 @@ typedef struct {
  * nothing changes. Call before the first profile; a change applies to the next profile. */
 motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p);
 
+/* New parameters while moving (a replan follows): converts and checks them as
+ * step_exact_set_params and carries the current speed over into the new constants (a speed is
+ * held as U = v F/a, so a new accel would otherwise scale it by new/old accel: a jump). The
+ * profile in progress ends here: plan a move (step_exact_plan) or a stop (step_exact_stop) next,
+ * which then start from the current speed under the new limits. At rest it is
+ * step_exact_set_params. On error nothing changes. */
+motion_status_t step_exact_change_params(step_exact_t *e, const ramp_params_t *p);
+
 /* At rest at position pos (no profile). */
 void step_exact_reset(step_exact_t *e, int32_t pos);
 

@@ -174,7 +174,7 @@ static motion_status_t stop_ramp(step_planner_t *pl)
     uint32_t ds;
     motion_status_t st;
     flush_carry(pl);
-    ds = ramp_stop_steps(&pl->ramp);
+    ds = ramp_stop_steps_under(&pl->ramp, pl->algo == RAMP_ALGO_SIGMOID ? 0 : &pl->params);
     st = ramp_plan_continue(&n, &pl->ramp, pl->algo == RAMP_ALGO_SIGMOID ? 0 : &pl->params,
                             ramp_position_after(pl->pos, pl->ramp.dir, ds));
     if (st != MS_OK)
@@ -191,7 +191,7 @@ motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
         step_exact_t e = pl->exact;
         if (!e.moving || !pl->active)
             return (pl->has_then = 0, plan_from_rest(pl, to));
-        st = step_exact_set_params(&e, &pl->params);
+        st = step_exact_change_params(&e, &pl->params); /* the speed carried into set's new values */
         if (st != MS_OK)
             return st;
         if (step_exact_plan(&e, to) == MS_OK) {
@@ -238,6 +238,11 @@ void step_planner_stop(step_planner_t *pl)
     pl->has_then = 0;
     if (pl->algo == RAMP_ALGO_EXACT) {
         if (pl->active && pl->exact.moving) {
+            step_exact_t e = pl->exact;
+            /* a stop is a plan: it decelerates at the accel in force now (set while moving) */
+            if (step_exact_change_params(&e, &pl->params) == MS_OK &&
+                (e.k.cu != pl->exact.k.cu || e.k.u0 != pl->exact.k.u0 || e.k.vu != pl->exact.k.vu))
+                pl->exact = e; /* unchanged: the profile stays (a stop then never passes the target) */
             step_exact_stop(&pl->exact);
             pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d - pl->exact.n);
         }

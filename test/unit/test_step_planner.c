@@ -534,6 +534,75 @@ static void new_target_while_moving(void **state)
     }
 }
 
+/* issue 22: `set accel` (or vmax) while moving, then a new target or a stop. The replan starts from
+ * the speed the move has reached: no interval outside the ramp's law (replay_positions, with the
+ * larger of the two accelerations), and never faster than the larger of that speed and the new
+ * vmax. Before the fix the exact ramp's speed became old speed x new accel / old accel in one step
+ * (5,000 -> 20,000 steps/s with 50,000 -> 200,000 steps/s^2). Reference: the closed form's own
+ * bound, |1/i2 - 1/i1| <= a (i1 + i2)/2 per step (constant acceleration a, intervals i1, i2). */
+static void replan_case(ramp_algo_t algo, double a1, double a2, double vmax2, int32_t second, int stop)
+{
+    uint32_t f = algo == RAMP_ALGO_EXACT ? 16000000U : 2000000U;
+    ramp_params_t p = {algo == RAMP_ALGO_EXACT ? 0.0f : 200.0f, 5000.0f, a1, f};
+    ramp_params_t q = p;
+    step_planner_t pl;
+    trace_t tr;
+    uint32_t rev, n0, n;
+    double v_at, vmax_seen = 0.0, amax = a1 > a2 ? a1 : a2;
+    q.accel_sps2 = a2;
+    q.vmax_sps = vmax2;
+    assert_int_equal(step_planner_init_trapezoid(&pl, algo, &p, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 100000), MS_OK);
+    trace_init(&tr, 400000);
+    drain_steps(&pl, &tr, 3000); /* cruising at 5,000 steps/s by then (a1 >= 8,000: 1,563 steps or fewer) */
+    n0 = tr.n;
+    v_at = (double)f / (double)(tr.t[n0] - tr.t[n0 - 1]);
+    assert_int_equal(step_planner_set_params(&pl, &q), MS_OK);
+    if (stop)
+        step_planner_stop(&pl);
+    else
+        assert_int_equal(step_planner_move(&pl, second), MS_OK);
+    drain(&pl, &tr, UINT32_MAX);
+    assert_false(step_planner_busy(&pl));
+    (void)replay_positions(&tr, 0, amax, f, simplistic_dp(algo, &q), algo == RAMP_ALGO_SIMPLISTIC ? n0 + 1U : 0U,
+                           algo == RAMP_ALGO_SIMPLISTIC ? n0 : UINT32_MAX, &rev);
+    for (n = n0 + 1U; n <= tr.n; n++) {
+        double v = (double)f / (double)(tr.t[n] - tr.t[n - 1]);
+        if (v > vmax_seen)
+            vmax_seen = v;
+    }
+    if (vmax_seen > (v_at > vmax2 ? v_at : vmax2) * 1.001 + 1.0)
+        fail_msg("%s: %.0f steps/s after the replan (speed then %.0f, new vmax %.0f)", ramp_algo_name(algo), vmax_seen,
+                 v_at, vmax2);
+    if (!stop)
+        assert_int_equal(step_planner_position(&pl), second);
+    trace_free(&tr);
+}
+
+static void replan_with_new_params_keeps_speed(void **state)
+{
+    (void)state;
+    /* the issue's reproducers: 50,000 -> 200,000 and -> 1,000 steps/s^2, then back to 0 */
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 200000.0, 5000.0, 0, 0);
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 1000.0, 5000.0, 0, 0);
+    replan_case(RAMP_ALGO_EXACT, 8000.0, 50000.0, 5000.0, 0, 0);
+    /* ahead, far enough to keep going; and ahead but too close */
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 200000.0, 5000.0, 60000, 0);
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 1000.0, 5000.0, 60000, 0);
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 200000.0, 5000.0, 3100, 0);
+    /* a new vmax as well: above and below the speed */
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 200000.0, 8000.0, 60000, 0);
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 20000.0, 2000.0, 60000, 0);
+    /* a stop after set accel decelerates at the new accel, from the speed reached */
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 200000.0, 5000.0, 0, 1);
+    replan_case(RAMP_ALGO_EXACT, 50000.0, 1000.0, 5000.0, 0, 1);
+    replan_case(RAMP_ALGO_LEIB, 50000.0, 200000.0, 5000.0, 0, 0);
+    replan_case(RAMP_ALGO_LEIB, 50000.0, 10000.0, 5000.0, 60000, 0);
+    replan_case(RAMP_ALGO_LEIB, 50000.0, 200000.0, 5000.0, 0, 1);
+    replan_case(RAMP_ALGO_SIMPLISTIC, 50000.0, 200000.0, 5000.0, 0, 0);
+    replan_case(RAMP_ALGO_SIMPLISTIC, 50000.0, 10000.0, 5000.0, 60000, 0);
+}
+
 static void stop_decelerates_to_rest(void **state)
 {
     const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_LEIB, RAMP_ALGO_SIMPLISTIC};
@@ -797,6 +866,7 @@ int main(void)
         cmocka_unit_test(sketch_hooks_are_what_runs),
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
+        cmocka_unit_test(replan_with_new_params_keeps_speed),
         cmocka_unit_test(stop_decelerates_to_rest),
         cmocka_unit_test(stop_never_passes_the_target),
         cmocka_unit_test(stop_at_rest_does_nothing),
