@@ -30,6 +30,8 @@
 
 #define MOVE_CMD "move"
 #define AXES 3
+/* --max-rows's default, as motionsim ramp's: the move scenario has 5500 rows */
+#define MOVE_MAX_ROWS_DEFAULT 1000000UL
 
 static const char *const axis_names[AXES] = {"x", "y", "z"};
 
@@ -59,6 +61,36 @@ static void advance(step_coord_t *c, uint8_t i, axis_run_t *a)
     (void)step_exec_next(&a->x);
     a->tick = a->abs16 >> 16;
     a->pending = 1;
+}
+
+/* The rows --path would write (ticks with an edge of any axis), counted on a copy of the plan;
+ * counting stops at limit + 1. */
+static uint64_t count_path_rows(const step_coord_t *plan, uint64_t limit)
+{
+    static step_coord_t c;
+    axis_run_t run[AXES];
+    uint64_t rows = 0;
+    int i;
+    c = *plan;
+    for (i = 0; i < AXES; i++) {
+        memset(&run[i], 0, sizeof run[i]);
+        step_exec_init(&run[i].x, 0x8000U);
+        run[i].abs16 = 0x8000U;
+        advance(&c, (uint8_t)i, &run[i]);
+    }
+    while (rows <= limit) {
+        uint64_t t = UINT64_MAX;
+        for (i = 0; i < AXES; i++)
+            if (run[i].pending && run[i].tick < t)
+                t = run[i].tick;
+        if (t == UINT64_MAX)
+            break;
+        rows++;
+        for (i = 0; i < AXES; i++)
+            if (run[i].pending && run[i].tick == t)
+                advance(&c, (uint8_t)i, &run[i]);
+    }
+    return rows;
 }
 
 /* distance of point p (relative to the start) from the line through 0 and d */
@@ -92,7 +124,8 @@ static const char move_description[] =
     "--summary: one line on stderr (steps per axis, time, last-edge spread in ticks, largest path\n"
     "error). --path: one row per tick with an edge instead: t_s, the x, y, z positions, each axis's\n"
     "speed (F over its last interval, held) and path_err_steps. An axis without a target (or with its start as target) does not move; at least one\n"
-    "must move.";
+    "must move. --max-rows N (default 1000000): a table of more rows (one per step of every axis;\n"
+    "--path: one per tick with an edge) is refused before anything is written (exit 2).";
 
 int cmd_move(int argc, char **argv)
 {
@@ -101,7 +134,7 @@ int cmd_move(int argc, char **argv)
     double v0 = 0.0, vmax = 20000.0, accel = 50000.0;
     double ax_v0[AXES] = {0, 0, 0}, ax_vmax[AXES] = {0, 0, 0}, ax_accel[AXES] = {0, 0, 0};
     int seen_v0[AXES] = {0, 0, 0}, seen_vmax[AXES] = {0, 0, 0}, seen_accel[AXES] = {0, 0, 0};
-    uint32_t tick_hz = 16000000UL;
+    uint32_t tick_hz = 16000000UL, max_rows = MOVE_MAX_ROWS_DEFAULT;
     const char *out_path = NULL;
     const cli_opt_t opts[] = {
         {"--x", CLI_INT32, &to[0], "STEPS", "X target position (default: X does not move)", NULL, &seen_to[0]},
@@ -128,6 +161,8 @@ int cmd_move(int argc, char **argv)
         {"--path", CLI_FLAG, &path, NULL, "one row per tick: t_s,x_pos,y_pos,z_pos,x_speed_sps,y_speed_sps,z_speed_sps,"
                                           "path_err_steps", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
+        {"--max-rows", CLI_UINT32, &max_rows, "N", "refuse a table of more than N rows, 1..4294967295 (default 1000000)",
+         NULL, NULL},
     };
     const cli_spec_t spec = {MOVE_CMD, "--x N [--y N] [--z N] [--from-x N ...] [--vmax V --accel A --v0 V] "
                                        "[--x-vmax V ...] [--tick-hz F] [--summary] [-o FILE]",
@@ -139,6 +174,7 @@ int cmd_move(int argc, char **argv)
     uint64_t last_tick[AXES] = {0, 0, 0};
     double speed[AXES] = {0, 0, 0};
     motion_status_t st;
+    uint64_t rows = 0, longest = 0;
     FILE *f;
     int rc, i, any = 0;
 
@@ -159,6 +195,8 @@ int cmd_move(int argc, char **argv)
             return cli_error(MOVE_CMD, "%s axis: a limit does not fit a float (the planner computes in float, as "
                                        "on the Mega)", axis_names[i]);
     }
+    if (max_rows == 0)
+        return cli_error(MOVE_CMD, "--max-rows: 0 is not a bound: a table has at least 1 row (give 1..4294967295)");
     if (!any)
         return cli_error(MOVE_CMD, "no axis moves: give at least one of --x --y --z with a target other than its "
                                    "start");
@@ -171,6 +209,27 @@ int cmd_move(int argc, char **argv)
     st = step_coord_plan(&c, AXES, p, from, to);
     if (st != MS_OK)
         return cli_error(MOVE_CMD, "%s", motion_status_text(st));
+    /* the rows, before anything is written: one per step of every axis; --path one per tick with an
+     * edge, at least the longest axis's steps and at most all of them (counted when in between) */
+    for (i = 0; i < AXES; i++) {
+        uint64_t n = (uint64_t)((int64_t)to[i] > (int64_t)from[i] ? (int64_t)to[i] - from[i] : (int64_t)from[i] - to[i]);
+        rows += n;
+        if (n > longest)
+            longest = n;
+    }
+    if (path && longest > max_rows)
+        rows = longest;
+    else if (path && rows > max_rows)
+        rows = count_path_rows(&c, max_rows);
+    if (rows > max_rows && path && rows != longest) /* counted up to the bound only */
+        return cli_error(MOVE_CMD, "the table would have more than --max-rows %lu rows (--path: one per tick with a "
+                                   "step): shorten the move (--x/--y/--z, --from-x ...), or raise --max-rows",
+                         (unsigned long)max_rows);
+    if (rows > max_rows)
+        return cli_error(MOVE_CMD, "the table would have %llu rows, more than --max-rows %lu: shorten the move "
+                                   "(--x/--y/--z, --from-x ...), or raise --max-rows (%s)",
+                         (unsigned long long)rows, (unsigned long)max_rows,
+                         path ? "--path: one row per tick with a step" : "one row per step of every axis");
     f = cli_open_output(MOVE_CMD, out_path);
     if (f == NULL)
         return CLI_EXIT_RUNTIME;

@@ -26,6 +26,9 @@
 #include "step_queue.h"
 
 #define RAMP_CMD "ramp"
+/* --max-rows's default: the lab's table has 50 rows, the largest scenario (tools/scenarios) 10000;
+ * a million rows of about 60 bytes is 60 MB written in about a second. */
+#define RAMP_MAX_ROWS_DEFAULT 1000000UL
 
 /* Per-row kinematics shared by the table and --compare (definitions in the file comment). */
 typedef struct {
@@ -106,7 +109,7 @@ typedef struct {
  * extremes are at the two ends, which are stepped normally. The sums get n times the row's
  * squares: the result equals stepping through (test_ramp.py checks it), at a cost that no longer
  * grows with the cruise (a 2^32-step move takes milliseconds). */
-static void compare_one(cmp_t *c, ramp_t *r, ramp_t *ex, const ramp_params_t *p, int whole)
+static int compare_one(cmp_t *c, ramp_t *r, ramp_t *ex, const ramp_params_t *p, int whole, uint64_t *budget)
 {
     ramp_step_t s, e;
     kin_t kr, ke;
@@ -124,6 +127,9 @@ static void compare_one(cmp_t *c, ramp_t *r, ramp_t *ex, const ramp_params_t *p,
         double da = a.accel_sps2 - b.accel_sps2;
         double dt = fabs(a.t_s - b.t_s);
         uint32_t skip;
+        if (*budget == 0)
+            return 0; /* more steps outside a cruise than --max-rows */
+        (*budget)--;
         if (dt > c->t_max_dev_s)
             c->t_max_dev_s = dt;
         if (fabs(dpct) > fabs(c->i_max_dev_pct) || s.step == 1) {
@@ -168,6 +174,7 @@ static void compare_one(cmp_t *c, ramp_t *r, ramp_t *ex, const ramp_params_t *p,
             }
         }
     }
+    return 1;
 }
 
 static void compare_row(FILE *f, const cmp_t *c, double accel)
@@ -197,21 +204,34 @@ typedef struct {
     char why[200];        /* room for left_out's text */
 } cmp_plan_t;
 
-static void run_compare(FILE *f, cmp_plan_t *plans, size_t n, const ramp_t *exact, const ramp_params_t *p, int whole)
+/* Every algorithm's row, computed before anything is written; 0 when an algorithm's comparison would
+ * step through more than max_steps steps one at a time (outside the cruises, which are summed in
+ * one go): a move whose table fits max_steps rows always compares. */
+static int compute_compare(cmp_t *out, cmp_plan_t *plans, size_t n, const ramp_t *exact, const ramp_params_t *p,
+                           int whole, uint64_t max_steps)
+{
+    size_t i;
+    for (i = 0; i < n; i++) {
+        ramp_t ex = *exact;
+        uint64_t budget = max_steps;
+        if (plans[i].left_out != NULL)
+            continue;
+        if (!compare_one(&out[i], &plans[i].plan, &ex, p, whole, &budget))
+            return 0;
+    }
+    return 1;
+}
+
+static void run_compare(FILE *f, const cmp_t *rows, const cmp_plan_t *plans, size_t n, const ramp_params_t *p)
 {
     size_t i;
     fputs("algo,steps,move_time_s,move_time_dev_pct,step_time_max_dev_s,interval_max_dev_ticks,"
           "interval_max_dev_pct,interval_max_dev_step,interval_rms_dev_pct,accel_max_dev_sps2,"
           "accel_max_dev_pct,accel_max_dev_step,accel_rms_dev_sps2\n",
           f);
-    for (i = 0; i < n && !ferror(f); i++) {
-        cmp_t c;
-        ramp_t ex = *exact;
-        if (plans[i].left_out != NULL)
-            continue;
-        compare_one(&c, &plans[i].plan, &ex, p, whole);
-        compare_row(f, &c, p->accel_sps2);
-    }
+    for (i = 0; i < n && !ferror(f); i++)
+        if (plans[i].left_out == NULL)
+            compare_row(f, &rows[i], p->accel_sps2);
 }
 
 /* ---- the step table ---- */
@@ -283,6 +303,14 @@ static const char *float_params_problem(ramp_algo_t algo, const ramp_params_t *p
     return float_params_problem_of(ramp_algo_name(algo), p, msg, n);
 }
 
+/* The one line refusing a table of `rows` rows (exit 2). */
+static int too_many_rows(uint64_t rows, uint32_t max_rows)
+{
+    return cli_error(RAMP_CMD, "the table would have %llu rows, more than --max-rows %lu: shorten the move "
+                               "(--from/--to), or raise --max-rows (each row is one step, about 60 bytes)",
+                     (unsigned long long)rows, (unsigned long)max_rows);
+}
+
 /* ---- --queue: the move through the step engine (step_planner.h -> step_queue.h's executor) ---- */
 
 /* A stop or a new target, applied after the command that contains step `at` has been handed out. */
@@ -300,6 +328,7 @@ typedef struct {
     size_t events_done;  /* events applied, in order */
     motion_status_t st;  /* MS_OK, or what a new target returned (events[events_done - 1]) */
     int internal_error;  /* the executor's 16-bit edge disagreed with the absolute timeline */
+    int over_limit;      /* stopped: more than max_steps steps */
 } queue_result_t;
 
 static void queue_cmd_row(FILE *f, uint64_t index, uint64_t first_step, const step_cmd_t *c)
@@ -315,9 +344,11 @@ static void queue_cmd_row(FILE *f, uint64_t index, uint64_t first_step, const st
 /* Hands every command out of the planner, applying the events, and (with `table`) executes each
  * step by step_exec_load/step_exec_next as the step interrupt does: one table row per step, its
  * time the whole tick of its edge. table and cmds may be NULL (the dry run that checks every event
- * falls inside the move before anything is written). Stops at the first write error. */
+ * falls inside the move before anything is written). Stops at the first write error, and with
+ * over_limit set as soon as more than max_steps steps have been handed out (the dry run's bound: a
+ * move of 2^32 steps is not counted out to the end). */
 static queue_result_t queue_run(step_planner_t *pl, int32_t from, const queue_event_t *ev, size_t n_ev, FILE *table,
-                                FILE *cmds, double tick_hz, double v_start)
+                                FILE *cmds, double tick_hz, double v_start, uint64_t max_steps)
 {
     queue_result_t res;
     step_exec_t x;
@@ -367,6 +398,10 @@ static queue_result_t queue_run(step_planner_t *pl, int32_t from, const queue_ev
                 csv_num(table, row.accel_sps2);
                 fputc('\n', table);
             }
+        }
+        if (res.steps > max_steps) {
+            res.over_limit = 1;
+            return res;
         }
         while (res.events_done < n_ev && res.steps >= ev[res.events_done].at) {
             const queue_event_t *e = &ev[res.events_done++];
@@ -446,6 +481,7 @@ typedef struct {
     const char *cmds_path; /* --commands, or NULL */
     queue_event_t ev[QUEUE_MAX_EVENTS + 1];
     size_t n_ev;
+    uint32_t max_rows;     /* --max-rows */
 } queue_opts_t;
 
 /* The planner at `from` for the algorithm (sigmoid: over `table`): MS_OK or its status. */
@@ -484,11 +520,21 @@ static int queue_main(const queue_opts_t *q, int algo, const ramp_params_t *para
         }
         return cli_error(RAMP_CMD, "%s", motion_status_text(st));
     }
-    if (q->n_ev > 0) {
+    if (q->n_ev == 0) {
+        /* the move's rows are known: one per step from `from` to `to` */
+        uint64_t rows = (uint64_t)((int64_t)to > (int64_t)from ? (int64_t)to - from : (int64_t)from - to);
+        if (rows > q->max_rows)
+            return too_many_rows(rows, q->max_rows);
+    } else {
         /* a dry run (commands only, nothing written): every event inside the move, every new target
-         * accepted, before any output exists */
+         * accepted, the rows within --max-rows, before any output exists */
         step_planner_t dry = pl;
-        res = queue_run(&dry, from, q->ev, q->n_ev, NULL, NULL, tick_hz, v_start);
+        res = queue_run(&dry, from, q->ev, q->n_ev, NULL, NULL, tick_hz, v_start, q->max_rows);
+        if (res.over_limit)
+            return cli_error(RAMP_CMD, "the table would have more than --max-rows %lu rows: the move with its "
+                                       "--retarget-at/--stop-at makes at least %llu steps; stop or retarget it "
+                                       "earlier, or raise --max-rows",
+                             (unsigned long)q->max_rows, (unsigned long long)res.steps);
         if (res.st != MS_OK) {
             const queue_event_t *e = &q->ev[res.events_done - 1];
             return cli_error(RAMP_CMD, "--retarget-at %lu:%ld: %s", (unsigned long)e->at, (long)e->target,
@@ -515,7 +561,7 @@ static int queue_main(const queue_opts_t *q, int algo, const ramp_params_t *para
         fputs("cmd,first_step,count,rate_ticks,add_ticks,flags\n", cf);
     }
     table_header(tf);
-    res = queue_run(&pl, from, q->ev, q->n_ev, tf, cf, tick_hz, v_start);
+    res = queue_run(&pl, from, q->ev, q->n_ev, tf, cf, tick_hz, v_start, q->max_rows);
     if (res.internal_error)
         fprintf(stderr, "motionsim ramp: internal error: the executor's edge disagrees with its timeline at step "
                         "%llu\n", (unsigned long long)res.steps + 1U);
@@ -557,7 +603,10 @@ static const char ramp_description[] =
     "'wide', 'reverse', 'wide reverse' or empty). --commands - puts them on stdout (then give the\n"
     "table -o FILE). --stop-at N calls step_planner_stop, --retarget-at N:TARGET step_planner_move\n"
     "(TARGET), right after the command that contains step N is handed out; N counts every step\n"
-    "made so far, and must be reached (exit 2 otherwise).";
+    "made so far, and must be reached (exit 2 otherwise).\n"
+    "--max-rows N (default 1000000) bounds the table: a move of more steps is refused before\n"
+    "anything is written (exit 2; with --retarget-at/--stop-at the dry run stops counting there);\n"
+    "--compare takes at most N steps one by one per algorithm (cruise steps do not count).";
 
 /* Refuses a value that does not survive conversion to float (what the module computes in, as on
  * the Mega): one line naming the option. Returns -1 when it fits. */
@@ -572,7 +621,7 @@ static int check_float_option(const char *name, double x, const char *who)
 int cmd_ramp(int argc, char **argv)
 {
     int algo = RAMP_ALGO_LEIB, compare = 0, whole = 0, algo_given = 0, queue = 0, stop_seen = 0;
-    uint32_t stop_at = 0;
+    uint32_t stop_at = 0, max_rows = RAMP_MAX_ROWS_DEFAULT;
     const char *retarget_arg = NULL;
     static queue_opts_t q;
     int32_t from = 0, to = 50;
@@ -615,6 +664,9 @@ int cmd_ramp(int argc, char **argv)
          NULL, &stop_seen},
         {"--retarget-at", CLI_STRING, &retarget_arg, "N:TARGET[,N:TARGET...]",
          "--queue: new target TARGET after the command containing step N", NULL, NULL},
+        {"--max-rows", CLI_UINT32, &max_rows, "N",
+         "refuse a table of more than N rows, 1..4294967295 (default 1000000; --compare: steps compared one by one)",
+         NULL, NULL},
     };
     const cli_spec_t spec = {RAMP_CMD,
                              "[--algo A | --compare] [--from N --to N] [options] [-o FILE]\n"
@@ -623,6 +675,7 @@ int cmd_ramp(int argc, char **argv)
                              ramp_description, opts, sizeof opts / sizeof opts[0], 0};
     ramp_t r, exact;
     cmp_plan_t plans[3];
+    cmp_t cmp_rows[3];
     size_t n_plans = 0;
     ramp_params_t params;
     ramp_sigmoid_params_t sp;
@@ -640,12 +693,15 @@ int cmd_ramp(int argc, char **argv)
     if (compare && queue)
         return cli_error(RAMP_CMD, "--queue and --compare cannot be combined: --queue runs one algorithm through "
                                    "the step engine");
+    if (max_rows == 0)
+        return cli_error(RAMP_CMD, "--max-rows: 0 is not a bound: a table has at least 1 row (give 1..4294967295)");
     if (!queue && (stop_seen || retarget_arg != NULL || q.cmds_path != NULL))
         return cli_error(RAMP_CMD, "%s needs --queue (it works on the step engine's commands)",
                          stop_seen ? "--stop-at" : retarget_arg != NULL ? "--retarget-at" : "--commands");
     if (queue) {
         q.out_path = out_path;
         q.n_ev = 0;
+        q.max_rows = max_rows;
         if (retarget_arg != NULL && (rc = parse_retargets(retarget_arg, q.ev, &q.n_ev)) >= 0)
             return rc;
         if (stop_seen && (rc = add_stop(q.ev, &q.n_ev, stop_at)) >= 0)
@@ -732,6 +788,15 @@ int cmd_ramp(int argc, char **argv)
         free(table);
         return cli_error(RAMP_CMD, "%s", motion_status_text(st));
     }
+    if (!queue && !compare && r.steps_total > max_rows) {
+        free(table);
+        return too_many_rows(r.steps_total, max_rows);
+    }
+    if (compare && !compute_compare(cmp_rows, plans, n_plans, &exact, &params, whole, max_rows))
+        return cli_error(RAMP_CMD, "--compare would compare more than --max-rows %lu steps one by one (only cruise "
+                                   "steps are summed in one go, and these ramps accelerate and decelerate longer "
+                                   "than that): shorten the move, lower --vmax or raise --accel, or raise --max-rows",
+                         (unsigned long)max_rows);
     if (queue) {
         rc = queue_main(&q, algo, &params, &sp, table, from, to, rate, v_start);
         free(table);
@@ -748,7 +813,7 @@ int cmd_ramp(int argc, char **argv)
             if (plans[k].left_out != NULL)
                 fprintf(stderr, "motionsim ramp: %s left out of the comparison: %s\n", ramp_algo_name(plans[k].algo),
                         plans[k].left_out);
-        run_compare(f, plans, n_plans, &exact, &params, whole);
+        run_compare(f, cmp_rows, plans, n_plans, &params);
     } else {
         table_header(f);
         table_rows(f, &r, rate, v_start, whole);

@@ -256,7 +256,7 @@ def test_write_error_stops_at_once(motionsim):
     # 10^8 rows would take half an hour to compute; the first failed write ends the run
     if not os.path.exists("/dev/full"):
         pytest.skip("no /dev/full")
-    r = motionsim("ramp", "--to", "100000000", "-o", "/dev/full", timeout=10)
+    r = motionsim("ramp", "--to", "100000000", "--max-rows", "100000000", "-o", "/dev/full", timeout=10)
     assert r.rc == 1 and r.out == ""
     assert r.err.strip().splitlines() == ["motionsim ramp: writing '/dev/full' failed: No space left on device"]
 
@@ -778,10 +778,11 @@ def test_queue_same_file_twice_refused(motionsim, tmp_path):
 def test_queue_write_error_stops_at_once(motionsim, tmp_path):
     if not os.path.exists("/dev/full"):
         pytest.skip("no /dev/full")
-    r = motionsim("ramp", "--queue", "--to", "100000000", "-o", "/dev/full", timeout=10)
+    r = motionsim("ramp", "--queue", "--to", "100000000", "--max-rows", "100000000", "-o", "/dev/full", timeout=10)
     assert r.rc == 1 and r.out == ""
     assert r.err.strip().splitlines() == ["motionsim ramp: writing '/dev/full' failed: No space left on device"]
-    r = motionsim("ramp", "--queue", "--to", "100000000", "-o", tmp_path / "t.csv", "--commands", "/dev/full",
+    r = motionsim("ramp", "--queue", "--to", "100000000", "--max-rows", "100000000", "-o", tmp_path / "t.csv",
+                  "--commands", "/dev/full",
                   timeout=10)
     assert r.rc == 1
     lines = r.err.strip().splitlines()
