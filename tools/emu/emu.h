@@ -33,6 +33,14 @@ void emu_log_flush(void);
 /* a failure: logged as "fail <cycle> <kind> <text>" and remembered for the exit status */
 void emu_fail(uint64_t cycle, const char *kind, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 int emu_fail_count(void);
+/* The conversation as it happens (motionemu --echo), one line each, flushed at once:
+ * "[  0.512 s] > 50" (host -> firmware), "[  0.530 s] < OK 0 50" (firmware -> host). */
+void emu_echo_open(FILE *f);
+int emu_echo_on(void);
+void emu_echo(uint64_t cycle, char dir, const uint8_t *s, size_t n);
+void emu_echo_note(uint64_t cycle, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+uint64_t emu_echo_quiet_ms(void); /* wall-clock ms since the last echo line */
+uint64_t emu_wall_ms(void);       /* CLOCK_MONOTONIC in ms */
 
 /* ---- pins (emu_pins.c) ---- */
 typedef struct {
@@ -96,6 +104,19 @@ int emu_script_load_text(const char *text, const char *name);
 uint64_t emu_script_step(avr_t *avr, int *finished);
 /* line number (and script name) of the first 'encoder' command, 0 if there is none */
 int emu_script_encoder_line(const char **name);
+
+/* ---- UART0 as a pseudo-terminal (emu_pty.c, motionemu --pty) ---- */
+/* Opens a pty (posix_openpt, grantpt, unlockpt), sets its terminal side raw (any baud setting is
+ * accepted: the emulated UART keeps the firmware's own rate); path: its name (ptsname). 0 ok. */
+int emu_pty_open(char *path, size_t cap);
+/* 1 while a program has the terminal side open (a monitor, picocom, pyserial) */
+int emu_pty_connected(void);
+/* Moves bytes: the host's input to the firmware's UART (logged "txraw", echoed per line), the
+ * firmware's output (emu_pty_put) to the host. Returns -1 once the host has closed the port. */
+int emu_pty_service(uint64_t cycle);
+void emu_pty_put(uint8_t byte);
+/* the firmware's UART0 output, byte by byte, also goes to fn (NULL: nowhere else) */
+void emu_uart_set_sink(void (*fn)(uint8_t byte));
 
 /* ---- SPI master + attached device (emu_spi.c) ---- */
 typedef struct {

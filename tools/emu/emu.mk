@@ -5,6 +5,7 @@
 #   build/emu/pid_v1_avr.elf        lib's PID module + the PID_v1 float32 vectors, for the ATmega2560
 #   build/emu/text_parse_avr.elf    lib's text_parse_real + decimal words and their nearest floats
 #   make emulate SKETCH=<name> [INPUT=<file>] [EMULATE_OUT=<dir>]   run a sketch in the emulator -> build/emulate/
+#   make emulate SKETCH=<name> LIVE=1                               ... as a board on a pseudo-terminal
 #
 # EMU_DEPS is what `make test` builds first; EMU_SUITES is the emulator suite for tools/run_tests.py
 # (one TAP line per check, "# summary:" lines carry the figures).
@@ -102,7 +103,25 @@ EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf 
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 
+# make emulate SKETCH=X builds only X: its ELF is remade when X's own files, the libraries every
+# sketch is built with (lib/src, firmware/libraries) or the build script changed, or a file of
+# those was added, removed or renamed (EMULATE_LIST, rewritten only when the list of names changes).
+# Not the other sketches, not the test-only builds. An unknown SKETCH is left to emulate.py, which
+# says so in one line. LIVE=1: an interactive board on a pseudo-terminal (tools/emu/emulate.py --live).
 # EMULATE_OUT: where the outputs go (default build/emulate)
 EMULATE_OUT ?= $(BUILD)/emulate
-emulate: check-setup $(EMU_DEPS)
-	@$(PY) tools/emu/emulate.py $(if $(SKETCH),--sketch "$(SKETCH)") $(if $(INPUT),--input "$(INPUT)") --out "$(EMULATE_OUT)"
+EMULATE_OK  := $(and $(SKETCH),$(filter 1,$(words $(SKETCH))),$(wildcard firmware/$(SKETCH)/$(SKETCH).ino))
+ifneq ($(EMULATE_OK),)
+EMULATE_ELF  := $(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.elf
+EMULATE_SRCS := $(shell find firmware/$(SKETCH) lib/src lib/library.properties firmware/libraries -type f 2>/dev/null | LC_ALL=C sort)
+EMULATE_LIST := $(BUILD)/emu/files-$(SKETCH).list
+$(shell mkdir -p $(BUILD)/emu && printf '%s\n' $(EMULATE_SRCS) | cmp -s - $(EMULATE_LIST) || printf '%s\n' $(EMULATE_SRCS) > $(EMULATE_LIST))
+$(EMULATE_ELF): $(EMULATE_SRCS) $(EMULATE_LIST) tools/build_firmware.sh
+	@echo "make emulate: building $(SKETCH) (arduino-cli; log: $(BUILD)/firmware/$(SKETCH).log) ..."
+	@start=$$(date +%s); bash tools/build_firmware.sh $(SKETCH) >$(BUILD)/emu/build-$(SKETCH).log 2>&1 \
+	  || { cat $(BUILD)/emu/build-$(SKETCH).log; exit 1; }; \
+	  echo "make emulate: built $(SKETCH) in $$(( $$(date +%s) - start )) s"
+endif
+emulate: check-setup $(BUILD)/motionemu $(BUILD)/motionsim $(EMULATE_ELF)
+	@$(PY) tools/emu/emulate.py $(if $(SKETCH),--sketch "$(SKETCH)") $(if $(INPUT),--input "$(INPUT)") \
+	  $(if $(filter-out 0,$(LIVE)),--live) --out "$(EMULATE_OUT)"

@@ -270,6 +270,7 @@ int emu_script_encoder_line(const char **name)
 static void send_bytes(uint64_t cycle, const uint8_t *b, size_t n, int crlf, const char *tag)
 {
     emu_log_text(cycle, tag, b, n);
+    emu_echo(cycle, '>', b, n);
     emu_uart_send(b, n);
     if (crlf)
         emu_uart_send((const uint8_t *)"\r\n", 2);
@@ -301,6 +302,7 @@ uint64_t emu_script_step(avr_t *avr, int *finished)
             for (size_t i = 0; i < n; i++)
                 memcpy(b + i * c->len, c->bytes, c->len);
             emu_log(now, "txrepeat", "%zu %s", n, c->src);
+            emu_echo_note(now, "> %zu x %s", n, c->src);
             emu_uart_send(b, n * c->len);
             free(b);
             break;

@@ -104,6 +104,7 @@ static void line_done(uint64_t cycle)
     cur_len = 0;
 
     emu_log_text(cycle, "rx", (const uint8_t *)l->text, l->len);
+    emu_echo(cycle, '<', (const uint8_t *)l->text, l->len);
     if (strncmp(l->text, "READY", 5) == 0) {
         ready_lines++;
         if (ready_lines > 1)
@@ -111,11 +112,20 @@ static void line_done(uint64_t cycle)
     }
 }
 
+static void (*sink)(uint8_t byte); /* e.g. the pty (emu_pty.c) */
+
+void emu_uart_set_sink(void (*fn)(uint8_t byte))
+{
+    sink = fn;
+}
+
 static void uart_out(struct avr_irq_t *irq, uint32_t value, void *param)
 {
     (void)irq;
     (void)param;
     uint8_t c = (uint8_t)value;
+    if (sink)
+        sink(c);
     if (c == '\n') {
         line_done(the_avr->cycle);
         return;

@@ -35,6 +35,7 @@ import argparse
 import glob
 import os
 import re
+import signal
 import subprocess
 import sys
 
@@ -81,10 +82,76 @@ def params_before(log, key, cycle, defaults=None):
 def sketch_defaults(elf, fam, hargs):
     """The sketch's parameters at boot: its own `?` reply, from a short emulation of its own (so the
     user's script needs no `?` for the motionsim overlay). {} if the sketch does not answer."""
+    return probe(elf, fam, hargs)[1]
+
+
+def probe(elf, fam, hargs):
+    """(ready, defaults): whether the sketch prints a `READY <name>` line within 3 s of power-on, and
+    its parameters at boot (its `?` reply, {} if it gives none within 3 s): two short emulations of
+    their own, before the real run."""
     key = QUERY_KEY[fam]
-    log = emulog.run(elf, f"wait ^READY [^ ]+$\ntimeout 3000\nsend ?\nwait ^{key}=\n", **hargs)
+    log = emulog.run(elf, f"timeout 3000\nwait ^READY [^ ]+$\nsend ?\nwait ^{key}=\n", **hargs)
+    ready = log.first(r"^READY [^ ]+$") is not None
+    if not ready:   # no banner: ask anyway, once the sketch has had a second to start
+        log = emulog.run(elf, f"until 1000\nsend ?\ntimeout 3000\nwait ^{key}=\n", **hargs)
     line = log.first(r"^" + key + "=")
-    return emulog.query_fields(line.text) if line else {}
+    return ready, (emulog.query_fields(line.text) if line else {})
+
+
+# The default scripts of a sketch that does not answer `?` (a user's own sketch with its own replies,
+# or none): the family's standard command sent without waiting for any reply, then time to act.
+BLIND_INPUT = {
+    "stepper": "send 50\nrun 15000\n",
+    "multiaxis": "send x 2000\nrun 15000\n",
+    "servo": "send 1000\nrun 3000\n",
+    "filter": "@100 u 5\n@20100 u 0\nuntil 35000\n",
+}
+
+
+def blind_input(sketch, fam, ready):
+    """The default script for a sketch that gives no `?` reply: after its READY line (or 1 s), the
+    family's standard command (the lab's move 0 -> 50, setpoint 1000, ...), then its time to act
+    (every pin is logged whatever the sketch prints)"""
+    head = f"# {sketch}: no `?` reply at boot, so the standard command is sent without waiting for replies\n"
+    head += "wait ^READY [^ ]+$\n" if ready else "until 1000\n"
+    return head + BLIND_INPUT[fam]
+
+
+def host_lines(log):
+    """[(cycle, text)]: every line the host sent to the firmware, in order (a script's send/@ lines,
+    raw bytes, or what was typed on the pty, however it came in pieces), with the cycle at which its
+    line end (CR, LF or CR LF) had arrived: the bytes of each piece arrive one frame apart from one
+    frame after it was queued, behind the bytes queued before them (emu_uart.c)."""
+    fc = frame_cycles(log)
+    out, free_at, cur, prev = [], 0, bytearray(), None
+    for cycle, tag, rest in log.events:
+        if tag == "tx":
+            data = emulog.unescape(rest) + b"\r\n"
+        elif tag == "txraw":
+            data = emulog.unescape(rest)
+        elif tag == "txrepeat":
+            n, _, text = rest.partition(" ")
+            data = emulog.unescape(text) * int(n) if n.isdigit() else b""
+        else:
+            continue
+        for b in data:
+            arrive = max(cycle, free_at) + fc
+            free_at = arrive
+            if b == 10 and prev == 13:
+                out[-1] = (arrive, out[-1][1])   # CR LF: the line ends at its LF
+            elif b in (10, 13):
+                out.append((arrive, cur.decode("latin-1")))
+                cur = bytearray()
+            else:
+                cur.append(b)
+            prev = b
+    return out
+
+
+def arrival_of(lines, text, before):
+    """the cycle at which the last host line equal to `text` (blanks aside) arrived before `before`, or None"""
+    ends = [c for c, t in lines if c < before and t.strip() == text]
+    return ends[-1] if ends else None
 
 
 def frame_cycles(log):
@@ -107,15 +174,14 @@ def stepper_moves(log):
     "OK <a> <b> (after DONE <a>)" starts at that DONE. continues: the move took over a moving axis
     (a new target while moving, no DONE in between): its first edges are the old plan's queued ones."""
     moves = []
-    fc = frame_cycles(log)
+    sent = host_lines(log)
     oks = log.lines_matching(OK_MOVE_RE)
     rises = log.rising("STEP")
     starts, stops, after = [], [], []
     for i, ok in enumerate(oks):
         m = re.match(OK_MOVE_RE, ok.text)
         b = int(m.group(2))
-        tx = [t for t in log.tx if t.cycle < ok.cycle and t.text.strip() == str(b)]
-        t0 = tx[-1].cycle + (len(tx[-1].text) + 2) * fc if tx else ok.cycle
+        t0 = arrival_of(sent, str(b), ok.cycle) or ok.cycle
         if m.group(3):
             d = log.first(r"^DONE " + m.group(4) + "$", ok.cycle)
             t0 = d.cycle if d else ok.cycle
@@ -136,6 +202,34 @@ def stepper_moves(log):
         stop = starts[i + 1] if i + 1 < len(oks) and cont[i + 1] else stops[i]
         edges = [c for c in rises if c >= starts[i] and (stop is None or c < stop)]
         moves.append((a, b, starts[i], edges, ok.cycle, cont[i]))
+    return moves
+
+
+def edge_moves(log):
+    """The moves of a sketch that prints no `OK <from> <to>` (a user's own): its STEP edges, split where
+    DIR changes and where a host line arrived between two edges, in stepper_moves' form
+    (from, to, t0, edges, first edge, False); t0 is the arrival of the line that started the move,
+    else the previous move's last edge, else its own first edge."""
+    rises = log.rising("STEP")
+    if not rises:
+        return []
+    pos = step_positions(log)
+    arrivals = [c for c, t in host_lines(log) if t.strip()]
+    groups = [[rises[0]]]
+    for prev, c in zip(rises, rises[1:]):
+        turned = log.level_before("DIR", c) != log.level_before("DIR", prev)
+        told = any(prev < a < c for a in arrivals)
+        if turned or told:
+            groups.append([c])
+        else:
+            groups[-1].append(c)
+    moves = []
+    for i, g in enumerate(groups):
+        lo = groups[i - 1][-1] if i else -1
+        before = [a for a in arrivals if lo < a < g[0]]
+        t0 = before[-1] if before else (lo if i else g[0])
+        forward = log.level_before("DIR", g[0]) == 1
+        moves.append((pos[g[0]] + (-1 if forward else 1), pos[g[-1]], t0, g, g[0], False))
     return moves
 
 
@@ -276,17 +370,21 @@ def servo_gains_text(q):
 def servo_segments(log):
     """[(setpoint, t0 cycle, ok cycle, rows)] per 'OK setpoint=' reply: rows (t_s from the command's
     arrival, setpoint, counts, error, duty) from the motor samples up to the next command's arrival"""
-    fc = frame_cycles(log)
+    sent = host_lines(log)
     changes = []  # (arrival cycle, setpoint, ok cycle)
     for ok in log.lines_matching(r"^OK setpoint=-?\d+$"):
         sp = int(ok.text.split("=")[1])
-        tx = [t for t in log.tx if t.cycle < ok.cycle and t.text.strip() == str(sp)]
-        changes.append((tx[-1].cycle + (len(tx[-1].text) + 2) * fc if tx else ok.cycle, sp, ok.cycle))
+        changes.append((arrival_of(sent, str(sp), ok.cycle) or ok.cycle, sp, ok.cycle))
+    if not changes:
+        # a sketch that does not confirm setpoints: each number sent is taken as one, from its arrival
+        # (none sent: one segment from power-on, setpoint unknown)
+        changes = [(c, int(t.strip()), c) for c, t in sent if re.fullmatch(r"-?\d+", t.strip())] or \
+            [(0, None, 0)]
     segs = []
     for i, (t0, sp, okc) in enumerate(changes):
         t1 = changes[i + 1][0] if i + 1 < len(changes) else None
-        rows = [((c - t0) / F_CPU, sp, counts, sp - counts, duty) for c, duty, counts in log.motor
-                if c >= t0 and (t1 is None or c < t1)]
+        rows = [((c - t0) / F_CPU, "" if sp is None else sp, counts, "" if sp is None else sp - counts, duty)
+                for c, duty, counts in log.motor if c >= t0 and (t1 is None or c < t1)]
         segs.append((sp, t0, okc, rows))
     return segs
 
@@ -336,6 +434,12 @@ def shift_csv(path, offset, dt):
         f.write("\n".join(out) + "\n")
 
 
+def shown(path):
+    """a path as the user would type it: relative to the current folder when it lies below it"""
+    rel = os.path.relpath(path)
+    return path if rel.startswith("..") else rel
+
+
 def has_commands(script):
     return any(l.strip() and not l.strip().startswith("#") for l in script.splitlines())
 
@@ -355,6 +459,8 @@ def main(argv):
     ap.add_argument("--input")
     ap.add_argument("--out", default=os.path.join(emulog.ROOT, "build", "emulate"))
     ap.add_argument("--no-plot", action="store_true")
+    ap.add_argument("--live", action="store_true", help="an interactive board: the sketch in real time, its "
+                    "serial port a pseudo-terminal (make monitor PORT=<its path>); outputs when it ends")
     ap.add_argument("--source-dir", help="another checkout's firmware/, build/firmware and motionsim")
     a = ap.parse_args(argv)
     env = sketches.Env(source_dir=a.source_dir)
@@ -377,6 +483,10 @@ def main(argv):
     except sketches.SketchError as e:
         print(f"make emulate: {e}", file=sys.stderr)
         return 2
+    if a.live and a.input:
+        print("make emulate: LIVE=1 and INPUT= do not go together (with LIVE=1 you type the commands)",
+              file=sys.stderr)
+        return 2
     if a.input:
         try:
             with open(a.input, encoding="utf-8") as f:
@@ -395,16 +505,27 @@ def main(argv):
             print(f"make emulate: INPUT '{a.input}' holds no commands (only blank lines and # comments)",
                   file=sys.stderr)
             return 2
-    else:
-        script = sketches.default_input(env, s)
     os.makedirs(a.out, exist_ok=True)
     remove_old_outputs(a.out, s)
     base = os.path.join(a.out, s)
-    with open(base + ".input.emu", "w") as f:
-        f.write(script)
-    print(f"emulating {s} ({elf}) with {a.input or 'the default input'} ...", flush=True)
-    # the harness reads the user's file itself, so its messages name that file and line
-    log = emulog.run(elf, input_path=a.input or base + ".input.emu", log_path=base + ".log", **hargs)
+    print(f"emulating {s} ({shown(elf)}): asking it `?` at boot ...", flush=True)
+    ready, defaults = probe(elf, fam, hargs)
+    if not defaults:
+        print(f"  {s} did not answer `?` at boot: its parameters are unknown (overlays need a `?` reply); "
+              "its pins are logged and plotted all the same")
+    if a.live:
+        log = run_live(elf, base, hargs)
+        script = None
+    else:
+        if not a.input:
+            script = sketches.default_input(env, s) if defaults else blind_input(s, fam, ready)
+        with open(base + ".input.emu", "w") as f:
+            f.write(script)
+        print(f"  running {a.input or 'the default input (' + shown(base) + '.input.emu)'}; "
+              "the serial conversation ('>' to the board, '<' from it, emulated time):", flush=True)
+        # the harness reads the user's file itself, so its messages name that file and line
+        log = emulog.run(elf, input_path=a.input or base + ".input.emu", log_path=base + ".log",
+                         extra=["--echo"], echo=lambda line: print("  " + line, flush=True), **hargs)
     if log.rc == 2:
         msg = " / ".join(l for l in log.stderr.strip().splitlines() if l.strip())
         print(f"make emulate: the harness refused to run: {msg}", file=sys.stderr)
@@ -414,14 +535,18 @@ def main(argv):
         return 2
     for c, k, t in log.fails:
         print(f"FAIL {k} at {c / F_CPU:.4f} s: {t}")
-    defaults = sketch_defaults(elf, fam, hargs)
-    if not defaults:
-        print(f"  {s} did not answer `?` at boot: its defaults are unknown, overlays need a `?` in the script")
     print(f"  {len(log.rx)} serial lines, {sum(len(v) for v in log.pins.values())} pin edges, "
           f"{log.end.get('t_s', '?')} s emulated in {log.end.get('wall_s', '?')} s")
     outputs = []   # (firmware csv, motionsim csv or None)
     if fam == "stepper":
         moves = stepper_moves(log)
+        from_pins = not moves
+        if from_pins:
+            moves = edge_moves(log)
+            print(f"  no `OK <from> <to>` reply: {len(moves)} move(s) taken from the STEP/DIR pins alone")
+            if not moves:
+                write_csv(base + ".csv", "step,position,t_s,interval_ticks,speed_sps,accel_sps2", [])
+                outputs.append((base + ".csv", None, "no STEP pulse"))
         positions = step_positions(log)
         rises = log.rising("STEP")
         for i, (fr, to, t0, edges, okc, continues) in enumerate(moves):
@@ -436,7 +561,8 @@ def main(argv):
             write_csv(path, "step,position,t_s,interval_ticks,speed_sps,accel_sps2",
                       stepper_rows(t0, edges, positions, tick, float(q.get("v0", "0")), before))
             sim = path[:-4] + ".motionsim.csv"
-            what = f"move {fr} -> {to} steps" + (" (a new target while moving)" if continues else "")
+            what = f"move {fr} -> {to} steps" + (" (a new target while moving)" if continues else "") + \
+                (" (from the STEP/DIR pins)" if from_pins else "")
             if not q:
                 print(f"  no `?` reply before move {fr} -> {to}: no motionsim overlay (send ? first)")
                 outputs.append((path, None, what))
@@ -513,6 +639,10 @@ def main(argv):
         for i, (sp, t0, okc, rows) in enumerate(segs):
             path = base + (".csv" if i == 0 else f"-{i + 1}.csv")
             write_csv(path, "t_s,setpoint,position_counts,error_counts,duty_pct", rows)
+            if sp is None:
+                print(f"  {os.path.basename(path)}: no setpoint sent or confirmed: the motor and encoder alone")
+                outputs.append((path, None, "no setpoint"))
+                continue
             q = params_before(log, "setpoint", okc, defaults)
             what = f"setpoint {sp} counts" + (f" from {rows[0][2]}" if i and rows else "") + \
                 (f" ({servo_gains_text(q)})" if q else "")
@@ -529,20 +659,41 @@ def main(argv):
                 outputs.append((path, sim, what))
             else:
                 outputs.append((path, None, what))
+    print(f"outputs in {shown(a.out)}/:", flush=True)
     for csv, sim, what in outputs:
-        print(f"  {csv}" + (f"  (motionsim: {sim})" if sim else ""))
+        print(f"  {shown(csv)}" + (f"  (motionsim: {shown(sim)})" if sim else "  (no overlay)"))
         if not a.no_plot:
             cmd = [os.path.join(emulog.ROOT, "tools", "plot"), csv, "--title", f"{s} in the emulator: {what}",
                    "--label", "firmware (emulated)"]
             if sim:
                 cmd += ["--overlay", f"motionsim={sim}"]
             p = subprocess.run(cmd, capture_output=True, text=True)
-            print(f"  {p.stdout.strip()}" if p.returncode == 0 else f"  plot failed: {p.stderr.strip()}")
-    print(f"  {base}.log (event log), {base}.input.emu (the script)")
+            print(f"  {shown(p.stdout.strip())}" if p.returncode == 0 else f"  plot failed: {p.stderr.strip()}")
+    print(f"  {shown(base)}.log (event log)" +
+          (f", {shown(base)}.input.emu (the script)" if script is not None else ""))
     return 1 if log.fails or MOTIONSIM_FAILURES else 0
 
 
 MOTIONSIM_FAILURES = []
+
+
+def run_live(elf, base, hargs):
+    """The sketch as an interactive board (motionemu --pty): in real time, its UART0 on a pseudo-terminal
+    whose path is printed for a monitor; the conversation shown as it happens; Ctrl-C (or the monitor
+    closing the port) ends it, and this process goes on to write the outputs."""
+    def show(line):
+        if line.startswith("pty "):
+            path = line[4:].strip()
+            print(f"  the emulated Mega's serial port: {path}\n"
+                  f"  talk to it as to a board:  make monitor PORT={path}   (or picocom {path}, or pyserial)\n"
+                  "  it starts when the port is opened (a Mega resets then) and runs in real time; it ends when\n"
+                  "  the monitor closes the port or on Ctrl-C here, and then the CSV and plots are written.",
+                  flush=True)
+        else:
+            print("  " + line, flush=True)
+    # Ctrl-C reaches the whole process group: the harness ends its run on it, this process carries on
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return emulog.run(elf, log_path=base + ".log", extra=["--pty", "--echo"], timeout=None, echo=show, **hargs)
 
 
 def run_motionsim(env, args, out):

@@ -7,6 +7,7 @@ import os
 import re
 import subprocess
 import tempfile
+import threading
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MOTIONEMU = os.environ.get("MOTIONEMU") or os.path.join(ROOT, "build", "motionemu")
@@ -170,10 +171,12 @@ class EmuLog:
 
 
 def run(elf, script_text=None, pins=None, motor=None, ls7366r=None, duration_ms=None, max_ms=None,
-        log_path=None, extra=None, timeout=600, input_path=None):
+        log_path=None, extra=None, timeout=600, input_path=None, echo=None):
     """Runs motionemu on `elf` with an INPUT script given as text (or as a file: input_path, which
     the harness's messages then name); returns the parsed EmuLog. A run over `timeout` seconds of
-    wall time raises RuntimeError naming the script."""
+    wall time raises RuntimeError naming the script (timeout None: no limit).
+    echo: a function called with each line motionemu prints on stdout while it runs (with
+    extra=["--echo"]: the conversation, "[  0.512 s] > 50"; with "--pty": first "pty <path>")."""
     args = [MOTIONEMU, elf]
     tmp = None
     if input_path is not None:
@@ -198,7 +201,10 @@ def run(elf, script_text=None, pins=None, motor=None, ls7366r=None, duration_ms=
     args += ["-o", out_path]
     try:
         try:
-            p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+            if echo is None:
+                p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+            else:
+                p = run_echoing(args, echo, timeout)
         except subprocess.TimeoutExpired:
             raise RuntimeError(f"motionemu ran over {timeout} s of wall time on {elf} with "
                                f"{input_path or 'its script'}") from None
@@ -212,6 +218,30 @@ def run(elf, script_text=None, pins=None, motor=None, ls7366r=None, duration_ms=
             os.unlink(tmp.name)
         if not log_path and os.path.exists(out_path):
             os.unlink(out_path)
+
+
+def run_echoing(args, echo, timeout):
+    """subprocess.run with each stdout line handed to echo(line) as it comes (stderr collected aside)"""
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, bufsize=1,
+                            errors="replace")
+    err = []
+    drain = threading.Thread(target=lambda: err.append(proc.stderr.read()), daemon=True)
+    drain.start()
+    timer, fired = None, []
+    if timeout is not None:
+        timer = threading.Timer(timeout, lambda: (fired.append(1), proc.kill()))
+        timer.start()
+    try:
+        for line in proc.stdout:
+            echo(line.rstrip("\n"))
+        rc = proc.wait()
+    finally:
+        if timer:
+            timer.cancel()
+    drain.join()
+    if fired:
+        raise subprocess.TimeoutExpired(args, timeout)
+    return subprocess.CompletedProcess(args, rc, "", "".join(err))
 
 
 def query_fields(line_text):

@@ -1,17 +1,23 @@
 /* motionemu.c - run a sketch's ELF on an emulated ATmega2560 at 16 MHz and log what it does.
  *
  *   motionemu FIRMWARE.elf [--input SCRIPT] [--pin NAME=PIN ...] [--motor SPEC | --ls7366r CS=PIN]
- *             [--matches] [--duration MS] [--max-ms MS] [-o LOG]
+ *             [--matches] [--duration MS] [--max-ms MS] [-o LOG] [--echo] [--pty]
  *
  * The log (stdout or -o) has one event per line, "<tag> <cycle> <fields>"; cycles are CPU cycles
  * since power-on (16 per microsecond). Tags: boot, uart, tx/txraw/txrepeat (host -> firmware),
  * rx (a line from the firmware), pin (an edge of a watched pin), match (a compare match of Timer1,
  * with --matches), motor (duty/count samples), adc, mark, warn, fail, end. Failures (reset, crash, halt, stack overflow, a wait that timed out,
  * an SPI mode the device cannot talk) are "fail" lines and make the exit status 1.
+ * --echo prints the serial conversation on stdout as it happens ("[  0.512 s] > 50",
+ * "[  0.530 s] < OK 0 50"; the log then goes to -o). --pty runs the firmware in real time with UART0
+ * on a pseudo-terminal (emu_pty.c): it prints "pty <path>" on stdout, starts the CPU when a program
+ * opens that path (as a Mega resets when its port is opened) and ends when that program closes it,
+ * or at SIGINT/SIGTERM/SIGHUP (the end line says "closed" or "interrupted").
  * Exit status: 0 ran and nothing failed; 1 a failure was seen; 2 bad arguments or ELF.
  */
 #include <errno.h>
 #include <getopt.h>
+#include <signal.h>
 #include <inttypes.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -36,11 +42,20 @@ static const char usage[] =
     "      --ls7366r CS=PIN   an LS7366R alone, its encoder moved by the script's 'encoder' command\n"
     "      --matches          log Timer1's compare matches: 'match <cycle> OC1A|OC1B|OC1C'\n"
     "  -d, --duration MS      run at least until this emulated time (default: until the script ends)\n"
-    "      --max-ms MS        give up (fail 'limit') at this emulated time (default 600000)\n"
+    "      --max-ms MS        give up (fail 'limit') at this emulated time (default 600000; none with --pty)\n"
+    "      --echo             print the serial conversation on stdout as it happens (needs -o)\n"
+    "      --pty              an interactive board: UART0 on a pseudo-terminal (its path printed on stdout\n"
+    "                         as 'pty <path>'), real time; starts when the path is opened, ends when it is closed\n"
     "  -h, --help             this text\n";
 
 static avr_t *avr;
 static uint64_t heap_start = 0x200;
+static volatile sig_atomic_t stop_signal; /* --pty: SIGINT, SIGTERM or SIGHUP ends the run */
+
+static void on_stop(int sig)
+{
+    stop_signal = sig;
+}
 
 static void logger(avr_t *a, const int level, const char *format, va_list ap)
 {
@@ -179,20 +194,21 @@ int main(int argc, char **argv)
     int npins = 0;
     const char *execs[256];
     int nexecs = 0;
-    int matches = 0;
+    int matches = 0, echo = 0, pty = 0, max_given = 0;
 
     /* getopt_long(3), in order ("-": the firmware file comes back as 1 where it stands; ":": a missing
      * value as ':'); "--" ends the options. Whole names only: a unique prefix ("--dur") is refused,
      * as in motionsim. Options that are not repeatable are refused when given twice. Every short
      * option takes a value or ends the parse (-h), so each call starts at the beginning of an
      * argument. */
-    enum { OPT_MOTOR = 256, OPT_LS7366R, OPT_MATCHES, OPT_MAX_MS };
+    enum { OPT_MOTOR = 256, OPT_LS7366R, OPT_MATCHES, OPT_ECHO, OPT_PTY, OPT_MAX_MS };
     static const struct option longopts[] = {
         {"input", required_argument, NULL, 'i'},     {"exec", required_argument, NULL, 'e'},
         {"output", required_argument, NULL, 'o'},    {"pin", required_argument, NULL, 'p'},
         {"motor", required_argument, NULL, OPT_MOTOR}, {"ls7366r", required_argument, NULL, OPT_LS7366R},
         {"duration", required_argument, NULL, 'd'},  {"max-ms", required_argument, NULL, OPT_MAX_MS},
-        {"matches", no_argument, NULL, OPT_MATCHES},
+        {"matches", no_argument, NULL, OPT_MATCHES}, {"echo", no_argument, NULL, OPT_ECHO},
+        {"pty", no_argument, NULL, OPT_PTY},
         {"help", no_argument, NULL, 'h'},            {NULL, 0, NULL, 0}};
     unsigned char given[OPT_MAX_MS + 1] = {0};
     opterr = 0;
@@ -232,8 +248,8 @@ int main(int argc, char **argv)
             fprintf(stderr, "motionemu: option %s needs a value\n%s", a, usage);
             return 2;
         }
-        if (c == '?') { /* only --help has no value */
-            fprintf(stderr, "motionemu: option --help takes no value\n");
+        if (c == '?') { /* options without a value given one (--help=1) */
+            fprintf(stderr, "motionemu: option --%s takes no value\n", name);
             return 2;
         }
         if (c != 'e' && c != 'p' && given[c]++) { /* --exec and --pin are repeatable */
@@ -273,6 +289,12 @@ int main(int argc, char **argv)
         case OPT_MATCHES:
             matches = 1;
             break;
+        case OPT_ECHO:
+            echo = 1;
+            break;
+        case OPT_PTY:
+            pty = 1;
+            break;
         case 'd':
             if (parse_ms(optarg, &duration_ms)) {
                 fprintf(stderr, "motionemu: --duration wants milliseconds, not '%s'\n", optarg);
@@ -284,6 +306,7 @@ int main(int argc, char **argv)
                 fprintf(stderr, "motionemu: --max-ms wants milliseconds, not '%s'\n", optarg);
                 return 2;
             }
+            max_given = 1;
             break;
         }
     }
@@ -322,8 +345,16 @@ int main(int argc, char **argv)
                         "encoder)\n", enc_script, enc_line);
         return 2;
     }
-    if (!have_script && duration_ms <= 0) {
-        fprintf(stderr, "motionemu: nothing to run: give --input, --exec or --duration\n");
+    if (!have_script && duration_ms <= 0 && !pty) {
+        fprintf(stderr, "motionemu: nothing to run: give --input, --exec, --duration or --pty\n");
+        return 2;
+    }
+    if (echo && !output) {
+        fprintf(stderr, "motionemu: --echo prints on stdout: give the log a file with -o\n");
+        return 2;
+    }
+    if (pty && !output) {
+        fprintf(stderr, "motionemu: --pty prints the terminal's path on stdout: give the log a file with -o\n");
         return 2;
     }
 
@@ -434,6 +465,33 @@ int main(int argc, char **argv)
         }
     }
 
+    char pty_path[256] = "";
+    if (pty) {
+        if (emu_pty_open(pty_path, sizeof pty_path))
+            return 2;
+        emu_uart_set_sink(emu_pty_put);
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_stop;
+        sigemptyset(&sa.sa_mask);
+        sigaction(SIGINT, &sa, NULL);
+        sigaction(SIGTERM, &sa, NULL);
+        sigaction(SIGHUP, &sa, NULL);
+        signal(SIGPIPE, SIG_IGN);
+        if (!max_given)
+            max_ms = 1e9; /* an interactive board runs until it is closed */
+        printf("pty %s\n", pty_path);
+        fflush(stdout);
+        emu_log(0, "pty", "%s", pty_path);
+        /* the board starts when the port is opened, as a Mega resets when its port is opened */
+        while (!emu_pty_connected() && !stop_signal) {
+            struct timespec ts = {0, 20 * 1000 * 1000};
+            nanosleep(&ts, NULL);
+        }
+    }
+    if (echo)
+        emu_echo_open(stdout);
+
     emu_log(0, "boot", "elf=%s mcu=atmega2560 f_cpu=%u heap_start=0x%04" PRIx64 " flash=%u", elf, EMU_F_CPU,
             heap_start, fw.flashsize);
 
@@ -448,6 +506,12 @@ int main(int argc, char **argv)
     const char *reason = "done";
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
+    const uint64_t io_every = EMU_F_CPU / 1000; /* --pty: the port and the wall clock every emulated ms */
+    uint64_t next_io = 0;
+    if (pty && stop_signal) {
+        reason = "interrupted";
+        goto ended;
+    }
 
     for (;;) {
         int st = avr_run(avr);
@@ -490,7 +554,31 @@ int main(int argc, char **argv)
             if (finished)
                 script_done = 1;
         }
-        if (script_done && now >= duration)
+        if (now >= next_io) {
+            next_io = now + io_every;
+            if (pty) {
+                if (emu_pty_service(now)) {
+                    reason = "closed";
+                    break;
+                }
+                /* real time: wait until the wall clock has caught up with the emulated one */
+                struct timespec tw;
+                clock_gettime(CLOCK_MONOTONIC, &tw);
+                double ahead = (double)now / EMU_F_CPU -
+                               ((double)(tw.tv_sec - t0.tv_sec) + (double)(tw.tv_nsec - t0.tv_nsec) * 1e-9);
+                if (ahead > 0.0005) {
+                    struct timespec ts = {(time_t)ahead, (long)((ahead - (double)(time_t)ahead) * 1e9)};
+                    nanosleep(&ts, NULL);
+                }
+            } else if (emu_echo_on() && emu_echo_quiet_ms() >= 10000) {
+                emu_echo_note(now, "... (emulating: %.1f s so far)", (double)now / EMU_F_CPU);
+            }
+            if (stop_signal) {
+                reason = "interrupted";
+                break;
+            }
+        }
+        if (script_done && now >= duration && !pty)
             break;
         if (now >= limit) {
             emu_fail(now, "limit", "emulated time reached --max-ms %g", max_ms);
@@ -498,6 +586,7 @@ int main(int argc, char **argv)
             break;
         }
     }
+ended:
     clock_gettime(CLOCK_MONOTONIC, &t1);
     double wall = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
     emu_motor_summary(avr->cycle);
