@@ -9,7 +9,7 @@
 #   make upload SKETCH=<name> PORT=<device>    flash a real Mega over USB
 #   make monitor PORT=<device> [BAUD=115200]   serial monitor (default 9600 baud), CR+LF line ends
 #   make emulate SKETCH=<name> [INPUT=<file>]  run a sketch's ELF in the ATmega2560 emulator
-#   make bench      step-engine benchmark in the emulator -> build/bench/bench.md
+#   make bench      step-engine benchmark in the emulator -> docs/bench.md (committed; about 17 min)
 #   make fuzz [FUZZ_LINES=10000] [FUZZ_SEED=1] [FUZZ_SIM_RUNS=<lines/4>]   fuzz every sketch's serial
 #                   console in the emulator and motionsim under ASan+UBSan (tools/fuzz); make test runs a short one
 #   make clean
@@ -125,9 +125,9 @@ profiles: check-setup $(BUILD)/motionsim
 # The emulator harness (tools/emu) contributes EMU_SUITES, EMU_DEPS and `make emulate`.
 -include tools/emu/emu.mk
 
-# The step engine measured in the emulator (tools/bench/bench.py): one table, build/bench/bench.md.
+# The step engine measured in the emulator (tools/bench/bench.py): one table, docs/bench.md (working files in build/bench).
 bench: check-setup $(BUILD)/motionsim $(BUILD)/motionemu $(EMU_STEP_ELF)
-	@$(PY) tools/bench/bench.py --motionsim $(BUILD)/motionsim --out $(BUILD)/bench --planner-elf $(EMU_STEP_ELF)
+	@$(PY) tools/bench/bench.py --motionsim $(BUILD)/motionsim --out $(BUILD)/bench --doc docs/bench.md --planner-elf $(EMU_STEP_ELF)
 
 # Everything is built first; then every suite runs and one summary line closes the output.
 # A suite is "name|kind|command": kind tap (cmocka and the harness print TAP) or pytest.
