@@ -212,6 +212,71 @@ static const char *real_shape(const char *word, int *nonzero)
     return *p == '\0' ? p : NULL;
 }
 
+/* Multiplies *mag by 10 and adds d, unless the result would pass 2^31 (|INT32_MIN|): 0 then. */
+static int whole_push(uint32_t *mag, char d)
+{
+    if (*mag > 214748364UL || (*mag == 214748364UL && d > '8'))
+        return 0;
+    *mag = *mag * 10U + (uint32_t)(d - '0');
+    return 1;
+}
+
+/* The whole number a validated decimal word stands for, exactly, in integers: see text_parse.h.
+ * The word is N x 10^place, N the digits from its first to its last nonzero one (the point left
+ * out) and place the power of ten of that last digit: whole when place >= 0. */
+motion_status_t text_parse_whole(const char *word, int32_t lo, int32_t hi, int32_t *out)
+{
+    const char *p = word;
+    int negative = 0, nonzero, point_seen = 0, exp_negative = 0, too_big = 0;
+    /* mantissa digits are numbered 0, 1, ... (the point left out); `before` stand before the point;
+     * `last` is the last nonzero one; `zeros` are zeros after a nonzero digit not yet in mag */
+    int index = 0, before = 0, last = -1, zeros = 0, exp_value = 0, place;
+    uint32_t mag = 0;
+    int32_t value = 0;
+    if (real_shape(word, &nonzero) == NULL)
+        return MS_ERR_NOT_A_NUMBER;
+    if (*p == '+' || *p == '-')
+        negative = (*p++ == '-');
+    for (; is_digit(*p) || *p == '.'; p++) {
+        if (*p == '.') {
+            point_seen = 1;
+            continue;
+        }
+        if (*p == '0') {
+            zeros += last >= 0; /* leading zeros are nothing */
+        } else {
+            for (; zeros > 0; zeros--)
+                too_big |= !whole_push(&mag, '0');
+            too_big |= !whole_push(&mag, *p);
+            last = index;
+        }
+        index++;
+        before += !point_seen;
+    }
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-')
+            exp_negative = (*p++ == '-');
+        for (; is_digit(*p); p++)
+            if (exp_value < 1000) /* saturated: far beyond an int32's 10 digits */
+                exp_value = exp_value * 10 + (*p - '0');
+    }
+    if (last >= 0) { /* else the word is 0: "0", "-0.000", "0e999" */
+        place = before - 1 - last + (exp_negative ? -exp_value : exp_value);
+        if (place < 0)
+            return TEXT_PARSE_NOT_WHOLE; /* N x 10^-k, N not a multiple of 10: a fraction */
+        for (; place > 0 && !too_big; place--)
+            too_big = !whole_push(&mag, '0');
+        if (too_big || mag > (negative ? 2147483648UL : 2147483647UL))
+            return MS_ERR_OUT_OF_RANGE;
+        value = negative ? (mag == 2147483648UL ? INT32_MIN : -(int32_t)mag) : (int32_t)mag;
+    }
+    if (value < lo || value > hi)
+        return MS_ERR_OUT_OF_RANGE;
+    *out = value;
+    return MS_OK;
+}
+
 motion_status_t text_scan_real(const char *word, double *out)
 {
     char *end = 0;

@@ -29,6 +29,21 @@ int text_at_end(const char *cursor);
  * MS_ERR_NOT_A_NUMBER, MS_ERR_OUT_OF_RANGE, or MS_OK. */
 motion_status_t text_parse_int32(const char *word, int32_t lo, int32_t hi, int32_t *out);
 
+/* Whole-word number whose value is a whole number, in [lo, hi] (targets and setpoints: "1e3",
+ * "2.5e3", "+12", "1000.0", "-0" are numbers of steps as "1000", "2500", "12", "1000", "0").
+ * The word has text_parse_real's shape ([sign] digits [. digits] [e [sign] digits]) and is
+ * evaluated exactly, in integers (the digits and the exponent are counted, never rounded through
+ * a float: every int32 is exact, on the AVR too, where double is a 32-bit float).
+ * MS_OK with *out set; MS_ERR_NOT_A_NUMBER for a word of another shape; TEXT_PARSE_NOT_WHOLE for
+ * a number with a nonzero fraction ("1.5", "1e-3", "2.0001"); MS_ERR_OUT_OF_RANGE for a whole
+ * number outside [lo, hi], however large ("1e999", "99999999999"). *out is untouched on error. */
+motion_status_t text_parse_whole(const char *word, int32_t lo, int32_t hi, int32_t *out);
+
+/* What text_parse_whole returns for a number that is not whole. motion_status.h has no sentence
+ * of its own for it yet, so it is "not a number", and the caller's detail says what has to be
+ * whole ("ERR not a number: a target is a whole number of steps, ..."). */
+#define TEXT_PARSE_NOT_WHOLE MS_ERR_NOT_A_NUMBER
+
 /* Whole-word unsigned integer in [lo, hi]: optional '+', decimal digits only. */
 motion_status_t text_parse_uint32(const char *word, uint32_t lo, uint32_t hi, uint32_t *out);
 

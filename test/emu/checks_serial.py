@@ -153,6 +153,48 @@ def check_filter_tau_rule(env):
                        problems)
 
 
+# issue 22 item 4: a target is any number word whose value is whole (docs/serial.md), evaluated
+# exactly on the board; a fraction and an overflow get their own ERR and change nothing.
+TARGET_WORDS_SCRIPT = """\
+wait ^READY [^ ]+$
+timeout 10000
+send ?
+wait ^pos=
+mark words
+send 1e3
+wait ^DONE
+send 1.5
+wait ^ERR
+send 1e999
+wait ^ERR
+send ?
+wait ^pos=
+send 2.147483583e9
+wait ^OK
+send !
+wait ^DONE
+"""
+
+
+def check_target_number_words(env, sketch="ExactRampStepper"):
+    log = emulog.run(env.elf(sketch), TARGET_WORDS_SCRIPT)
+    problems = []
+    fails_of(log, problems)
+    start = log.mark("words")
+    if start is None:
+        return CheckResult(False, "did not run", problems + ["the script did not run"])
+    got = [l.text for l in log.lines_matching(r"^(OK|ERR|DONE|pos=)", start)]
+    # 2147483583 = 2^31 - 65: no 32-bit float holds it (its neighbours are 2147483520 and 2147483648)
+    want = [r"^OK 0 1000$", r"^DONE 1000$",
+            r"^ERR [^:]+: a target is a whole number of steps",
+            r"^ERR number out of range: .*-2147483648\.\.2147483647$",
+            r"^pos=1000 target=1000 state=idle ",
+            r"^OK 1000 2147483583$", r"^OK halt$", r"^DONE \d+$"]
+    if len(got) != len(want) or not all(re.match(w, g) for w, g in zip(want, got)):
+        problems.append(f"replies {got}, want {want}")
+    return CheckResult(not problems, f"1e3, 1.5, 1e999, ?, 2.147483583e9, !: {got}", problems)
+
+
 def checks_for(env):
     checks = []
     names = env.sketch_names()
@@ -167,6 +209,9 @@ def checks_for(env):
     if "MovingAverageFilter" in names:
         checks.append(("MovingAverageFilter: tau is limited by the buffer under every kind, so kind ma works after exp",
                        lambda: check_filter_tau_rule(env)))
+    if "ExactRampStepper" in names:
+        checks.append(("ExactRampStepper: a target 1e3 moves to 1000; 1.5 and 1e999 get their own ERR and change "
+                       "nothing; 2.147483583e9 is exact", lambda: check_target_number_words(env)))
     for s in names:
         try:
             env.family(s)

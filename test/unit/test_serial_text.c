@@ -344,6 +344,102 @@ static void real_is_correctly_rounded_like_the_host_strtod(void **state)
     }
 }
 
+/* ---- text_parse_whole: targets and setpoints (issue 22 item 4) ---- */
+typedef struct {
+    const char *word;
+    int32_t value;
+} whole_case_t;
+
+/* Each value worked out by hand from the decimal word (digits and exponent), no arithmetic of ours. */
+static void whole_accepts_every_whole_number_word(void **state)
+{
+    static const whole_case_t cases[] = {
+        {"1e3", 1000}, {"2.5e3", 2500}, {"+12", 12}, {"1000.0", 1000}, {"-0", 0}, {"0e999", 0},
+        {"0.000", 0}, {"-0.0e-5", 0}, {"-1E3", -1000}, {".5e1", 5}, {"5.", 5}, {"0.0001e4", 1},
+        {"12300e-2", 123}, {"1000000000000e-3", 1000000000}, {"1e9", 1000000000}, {"7", 7},
+        {"2147483647", 2147483647}, {"-2147483648", INT32_MIN}, {"2.147483647e9", 2147483647},
+        {"-2.147483648E+9", INT32_MIN}, {"21474836.47e2", 2147483647}, {"2147483647.000e0", 2147483647},
+        /* beyond a float's 24 bits: exact, as the AVR's 32-bit double could not give them */
+        {"16777217", 16777217}, {"1.6777217e7", 16777217}, {"2.147483583e9", 2147483583},
+        {"-1.999999999e9", -1999999999}, {"000123", 123}, {"0.00123e5", 123},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        int32_t v = 42;
+        motion_status_t st = text_parse_whole(cases[i].word, INT32_MIN, INT32_MAX, &v);
+        if (st != MS_OK || v != cases[i].value)
+            fail_msg("'%s': status %d, %ld (want %ld)", cases[i].word, (int)st, (long)v, (long)cases[i].value);
+    }
+}
+
+static void whole_refuses_fractions_overflow_and_junk_without_touching_output(void **state)
+{
+    static const char *const fractions[] = {"1.5", "1e-3", "2.0001", "-0.5", "1.00000000001e10", "0.1",
+                                            "123456789012345.5", "5e-1", "1e-99999999"};
+    static const char *const too_big[] = {"1e999", "99999999999", "2147483648", "-2147483649", "2.147483648e9",
+                                          "1e10", "-1e10", "1e99999999999", "4294967296", "10000000000.0",
+                                          "21474836.48e2", "-214748364.9e1"};
+    static const char *const junk[] = {"", "-", "+", "1e", "e3", "1.2.3", "0x5", "nan", "inf", "12abc", " 1", "1 ",
+                                       ".", "+.e1", "1e+", "1e3.0", "--1", "1_000"};
+    int32_t v = 1234;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof fractions / sizeof fractions[0]; i++)
+        if (text_parse_whole(fractions[i], INT32_MIN, INT32_MAX, &v) != TEXT_PARSE_NOT_WHOLE)
+            fail_msg("'%s' is not whole", fractions[i]);
+    for (i = 0; i < sizeof too_big / sizeof too_big[0]; i++)
+        if (text_parse_whole(too_big[i], INT32_MIN, INT32_MAX, &v) != MS_ERR_OUT_OF_RANGE)
+            fail_msg("'%s' is out of range", too_big[i]);
+    for (i = 0; i < sizeof junk / sizeof junk[0]; i++)
+        if (text_parse_whole(junk[i], INT32_MIN, INT32_MAX, &v) != MS_ERR_NOT_A_NUMBER)
+            fail_msg("'%s' is not a number", junk[i]);
+    /* the limits, inclusive */
+    assert_int_equal(text_parse_whole("101", -100, 100, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(text_parse_whole("-1.01e2", -100, 100, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(text_parse_whole("1e6", -1000000, 999999, &v), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(v, 1234);
+    assert_int_equal(text_parse_whole("1e6", -1000000, 1000000, &v), MS_OK);
+    assert_int_equal(v, 1000000);
+    assert_int_equal(text_parse_whole("-1.0e6", -1000000, 1000000, &v), MS_OK);
+    assert_int_equal(v, -1000000);
+}
+
+/* Every plain integer word means what text_parse_int32 says, and so do the same digits written
+ * with a point and zeros, or as d.ddd e k: the forms are built here by moving characters only. */
+static void whole_agrees_with_int32_on_rewritten_words(void **state)
+{
+    uint32_t x = 12345U;
+    int k;
+    (void)state;
+    for (k = 0; k < 20000; k++) {
+        char plain[16], form[40];
+        const char *digits;
+        int32_t want = 0, got = 0;
+        size_t n;
+        int32_t v;
+        x = x * 1103515245U + 12345U; /* any int32, edges included below */
+        v = k < 4 ? (k == 0 ? INT32_MIN : k == 1 ? INT32_MAX : k == 2 ? 0 : -1) : (int32_t)x >> (k % 31);
+        snprintf(plain, sizeof plain, "%ld", (long)v);
+        assert_int_equal(text_parse_int32(plain, INT32_MIN, INT32_MAX, &want), MS_OK);
+        assert_int_equal(text_parse_whole(plain, INT32_MIN, INT32_MAX, &got), MS_OK);
+        assert_int_equal(got, want);
+        snprintf(form, sizeof form, "%s.000", plain);
+        assert_int_equal(text_parse_whole(form, INT32_MIN, INT32_MAX, &got), MS_OK);
+        assert_int_equal(got, want);
+        /* sign, first digit, '.', the rest, 'e', the count of the rest */
+        digits = plain[0] == '-' ? plain + 1 : plain;
+        n = strlen(digits);
+        snprintf(form, sizeof form, "%s%c.%se%u", plain[0] == '-' ? "-" : "+", digits[0], digits + 1,
+                 (unsigned)(n - 1));
+        if (text_parse_whole(form, INT32_MIN, INT32_MAX, &got) != MS_OK || got != want)
+            fail_msg("'%s': %ld, want %ld", form, (long)got, (long)want);
+        /* a nonzero digit after the last one: a fraction */
+        snprintf(form, sizeof form, "%s.0001", plain);
+        assert_int_equal(text_parse_whole(form, INT32_MIN, INT32_MAX, &got), TEXT_PARSE_NOT_WHOLE);
+    }
+}
+
 static void words_split_on_blanks(void **state)
 {
     const char *cur = "  set\tvmax  20 ";
@@ -383,6 +479,9 @@ int main(void)
         cmocka_unit_test(real_refuses_underflow),
         cmocka_unit_test(uint32_full_range),
         cmocka_unit_test(words_split_on_blanks),
+        cmocka_unit_test(whole_accepts_every_whole_number_word),
+        cmocka_unit_test(whole_refuses_fractions_overflow_and_junk_without_touching_output),
+        cmocka_unit_test(whole_agrees_with_int32_on_rewritten_words),
     };
     return cmocka_run_group_tests_name("serial_text", tests, NULL, NULL);
 }

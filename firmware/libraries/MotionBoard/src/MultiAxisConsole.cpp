@@ -270,7 +270,7 @@ void MultiAxisConsole::handle(const char *line)
 void MultiAxisConsole::handle_target(uint8_t axis, const char *word)
 {
     int32_t to, from, ended;
-    motion_status_t st = text_parse_int32(word, INT32_MIN, INT32_MAX, &to);
+    motion_status_t st = text_parse_whole(word, INT32_MIN, INT32_MAX, &to);
     step_planner_t &pl = planner_[axis];
     Print &out = serial_.out();
     MultiStepEngine::Continuation c;
@@ -346,7 +346,7 @@ void MultiAxisConsole::handle_move(const char *cursor)
             serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("an axis is named twice"));
             return;
         }
-        st = text_parse_int32(word + 1, INT32_MIN, INT32_MAX, &t);
+        st = text_parse_whole(word + 1, INT32_MIN, INT32_MAX, &t);
         if (st != MS_OK) {
             serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
             return;

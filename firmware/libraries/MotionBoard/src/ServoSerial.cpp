@@ -106,7 +106,7 @@ bool ServoSerial::parseLine(const char *line, ServoCommand &command)
             lines_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("one setpoint per line"));
             return false;
         }
-        st = text_parse_int32(word, -SERVO_SETPOINT_MAX_COUNTS, SERVO_SETPOINT_MAX_COUNTS, &sp);
+        st = text_parse_whole(word, -SERVO_SETPOINT_MAX_COUNTS, SERVO_SETPOINT_MAX_COUNTS, &sp);
         if (st != MS_OK) {
             lines_.reply_error(st, F("setpoint: whole counts -1000000..1000000"));
             return false;

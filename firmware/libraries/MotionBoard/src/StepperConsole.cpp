@@ -91,7 +91,7 @@ void StepperConsole::handle(const char *line)
 void StepperConsole::handle_target(const char *word)
 {
     int32_t to, from, ended;
-    motion_status_t st = text_parse_int32(word, INT32_MIN, INT32_MAX, &to);
+    motion_status_t st = text_parse_whole(word, INT32_MIN, INT32_MAX, &to);
     StepEngine::Continuation c;
     if (st != MS_OK) {
         serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
