@@ -348,22 +348,31 @@ def check_stop(env, sketch):
                        "to -10000", problems)
 
 
-# Issue 13's number, in make test's short form (make bench measures the whole ladder): three
-# independent moves at once, every axis accelerating to 30,000 steps/s (the reference move: 20,000
-# steps, acceleration vmax^2/10,000), with a `?` during the move; every step, no underrun, no late
-# edge, every edge on its own plan (motionsim ramp --queue) within 1 tick or late behind an
+# Issue 13's case, in make test's short form (make bench measures the whole ladder): three
+# independent moves at once, every axis accelerating to the shipped limit (max_sps in `?`,
+# MultiAxisPins.h's MULTI_MAX_SPS; the reference move: 20,000 steps, acceleration vmax^2/10,000),
+# each target after the OK of the one before, with a `?` during the move; every step, no underrun, no
+# late edge, every edge on its own plan (motionsim ramp --queue) within 1 tick or late behind an
 # interrupt by at most OTHER_ISR_CYCLES (tools/bench aligns each axis at its earliest edge).
-THREE_AXES_SPS = 30000
 
 
-def bench_run(env, sketch, mode, rate):
-    """tools/bench's run of one case on the sketch (the same run as `make bench`): its result and the
-    problems every at-speed check asserts (underruns, an edge beyond OTHER_ISR_CYCLES, a compare
-    match off its plan)"""
-    sys.path.insert(0, os.path.join(env.source_dir, "tools", "bench"))
+def bench_module(env):
+    """tools/bench/bench.py, imported"""
+    path = os.path.join(env.source_dir, "tools", "bench")
+    if path not in sys.path:
+        sys.path.insert(0, path)
     import bench
+    return bench
+
+
+def bench_run(env, sketch, mode, rate, timing="ok"):
+    """tools/bench's run of one case on the sketch (the same run as `make bench`; timing: how the
+    host sends independent targets, bench.MULTI_TIMINGS): its result and the problems every at-speed
+    check asserts (a step missing, underruns, an edge beyond OTHER_ISR_CYCLES, a compare match off its
+    plan)"""
+    bench = bench_module(env)
     pins = {k: v for k, v in sketches.multiaxis_pins(env).items() if k.endswith("STEP")}
-    res = bench.run_multi(env.elf(sketch), env.motionsim, mode, AXES, rate, pins)
+    res = bench.run_multi(env.elf(sketch), env.motionsim, mode, AXES, rate, pins, timing)
     problems = [p for p in res["problems"] if p != "not clean"]
     if res.get("underruns") != 0:
         problems.append(f"underruns: {res.get('underruns')}")
@@ -376,10 +385,11 @@ def bench_run(env, sketch, mode, rate):
 
 
 def check_three_axes_at_speed(env, sketch):
-    res, problems = bench_run(env, sketch, "independent", THREE_AXES_SPS)
+    v = shipped_limit(env, sketch)
+    res, problems = bench_run(env, sketch, "independent", v)
     if res.get("late") != 0:
         problems.append(f"late edges: {res.get('late')}")
-    summary = (f"x, y, z each to {THREE_AXES_SPS:,} steps/s at once: {res.get('steps', 0):,} steps per axis, "
+    summary = (f"x, y, z each to {v:,} steps/s (the shipped limit) at once: {res.get('steps', 0):,} steps per axis, "
                f"underruns {res.get('underruns')}, late {res.get('late')}, every compare match within "
                f"{res.get('match_worst', '-')} tick(s) of its plan, STEP {res.get('pin_latency', ('-', '-'))[0]} to "
                f"{res.get('pin_latency', ('-', '-'))[1]} cycles after it, worst edge {res.get('worst', '-')} cycles "
@@ -405,6 +415,69 @@ def check_unequal_slow_start(env, sketch):
     return CheckResult(not problems, summary, problems)
 
 
+# Issue 26: three targets at the shipped limit sent back to back underran (the planning of the later
+# axes' first commands starved the running axes' queues: x, y and z paused mid-acceleration). The
+# issue's reproducer, at the limit the sketch reports (`max_sps` in `?`) with the issue's acceleration
+# (90,000 steps/s^2, v0 0), must end with every step, its DONE and underruns=0 on every axis in both
+# `?` replies; and the bench's independent three-axis move at that limit, its targets sent at every
+# other timing of the bench's sweep (back to back, 1, 5 and 20 ms apart, a `?` or a `set` between
+# them; tools/bench MULTI_TIMINGS), must be as clean as with each target after the OK of the one
+# before (the check above): every step, no underrun, no late edge, every compare match on its plan.
+ISSUE26_ACCEL = 90000
+
+
+def shipped_limit(env, sketch):
+    """max_sps, what the sketch as built reports in `?` (MultiAxisPins.h's MULTI_MAX_SPS)"""
+    log = run(env, sketch, "wait ^READY [^ ]+$\nsend ?\nwait ^z pos=\n")
+    q = query_lines(log)
+    return int(float(q["x"]["max_sps"]))
+
+
+def check_targets_any_timing(env, sketch):
+    problems = []
+    v = shipped_limit(env, sketch)
+    s = ["wait ^READY [^ ]+$", "timeout 20000"]
+    for ax in AXES:
+        for k, val in (("vmax", v), ("accel", ISSUE26_ACCEL), ("v0", 0)):
+            s += [f"send set {ax} {k} {val}", f"wait ^(OK|ERR) "]
+    s += ["mark go", "send x 20000", "send y 20000", "send z 20000", "run 300", "mark q1", "send ?",
+          "timeout 60000", "wait ^DONE z ", "mark q2", "send ?", "wait ^z pos=", "run 100"]
+    log = run(env, sketch, "\n".join(s) + "\n")
+    for c, k, t in log.fails:
+        problems.append(f"harness reported {k} at {c / F_CPU:.4f} s: {t}")
+    go, q1, q2 = log.mark("go"), log.mark("q1"), log.mark("q2")
+    if None in (go, q1, q2):
+        return CheckResult(False, "the reproducer did not run to its end", problems + [l.text for l in log.rx[-8:]])
+    errs = [l.text for l in log.rx if l.text.startswith("ERR")]
+    if errs:
+        problems.append(f"refused: {errs}")
+    replies = [l.text for l in log.lines_matching(r"^(OK|DONE) [xyz] ", go)]
+    want = [f"OK {ax} 0 20000" for ax in AXES]
+    if replies[:3] != want or sorted(replies[3:]) != [f"DONE {ax} 20000" for ax in AXES]:
+        problems.append(f"replies {replies}, want {want} and a DONE <axis> 20000 each")
+    steps = {ax: len(edges_between(log, ax.upper() + "STEP", go, None)) for ax in AXES}
+    if any(n != 20000 for n in steps.values()):
+        problems.append(f"steps {steps}, want 20000 per axis")
+    under = {}
+    for name, after in (("300 ms after the targets", q1), ("after DONE z", q2)):
+        q = query_lines(log, after)
+        under[name] = {ax: q.get(ax, {}).get("underruns") for ax in AXES}
+        if any(u != "0" for u in under[name].values()):
+            problems.append(f"`?` {name}: underruns {under[name]} (want 0 on every axis)")
+    sweep = []
+    timings = [t for t in bench_module(env).MULTI_TIMINGS if t != "ok"]
+    for timing in timings:
+        res, p = bench_run(env, sketch, "independent", v, timing)
+        if res.get("late") != 0:
+            p.append(f"late edges: {res.get('late')}")
+        problems += [f"targets `{timing}`: {x}" for x in p]
+        sweep.append(f"{timing} {'clean' if not p else 'NOT clean'}")
+    summary = (f"x, y, z 20000 back to back at the shipped limit {v:,} steps/s (accel {ISSUE26_ACCEL:,}): steps "
+               f"{steps}, underruns {under.get('after DONE z')}; the reference move with its targets "
+               + ", ".join(sweep))
+    return CheckResult(not problems, summary, problems)
+
+
 def checks_for(env):
     checks = []
     for n in env.sketch_names():
@@ -420,8 +493,10 @@ def checks_for(env):
                        lambda n=n: check_bad_input(env, n)))
         checks.append((f"{n}: stop, stop <axis>: one DONE per move, where the pulses end",
                        lambda n=n: check_stop(env, n)))
-        checks.append((f"{n}: three independent axes at {THREE_AXES_SPS:,} steps/s each: every step, no underrun",
+        checks.append((f"{n}: three independent axes at the shipped limit (max_sps) each: every step, no underrun",
                        lambda n=n: check_three_axes_at_speed(env, n)))
         checks.append((f"{n}: a slow coordinated move of unequal axes starts every axis on its plan",
                        lambda n=n: check_unequal_slow_start(env, n)))
+        checks.append((f"{n}: three targets at the shipped limit, back to back or at any timing: no underrun "
+                       "(issue 26)", lambda n=n: check_targets_any_timing(env, n)))
     return checks

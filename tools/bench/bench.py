@@ -28,7 +28,11 @@ compare match (motionemu --matches) against motionsim (`move`, or `ramp --queue`
 aligned at the earliest edge; clean: all steps, no underrun, every compare match within one tick of
 its plan, every edge within STEPPER_OTHER_ISR_CYCLES (its step interrupts nest, so an edge waits for
 the core's interrupts, not for another axis's step). The same run on a MULTI_TRACE=1 build (D40, D41,
-D39 high while X's, Y's, Z's step interrupt runs) gives the interrupt cycles.
+D39 high while X's, Y's, Z's step interrupt runs) gives the interrupt cycles. Three independent moves
+are also run with the host's targets sent at other timings (MULTI_TIMINGS: back to back, 1, 5, 20 ms
+apart, a `?` or a `set` between them): their ceiling is the lowest over that sweep (issue 26), and the
+sketch's MULTI_MAX_SPS must not exceed it. `--multi-only [--multi-rates 25000,30000]` runs only this
+section and prints it (no file written).
 Writes docs/bench.md (the one home of these figures, committed; --doc), headed with the commit and
 date it was made from, and prints it; build/bench/ (--out) keeps the working files (the builds).
 """
@@ -217,7 +221,32 @@ def multi_distance(mode, ax):
     return UNEQUAL[ax] if mode == "unequal" else MOVE
 
 
-def multi_script(mode, axes, v):
+# How the host times the independent targets (issue 26: the ceiling of independent moves is the lowest
+# over these): "ok" waits for each OK before the next target; "b2b" sends them back to back (each line's
+# first byte right after the previous line's last, at 9600 baud); "1ms", "5ms", "20ms" leave that long
+# between one line's last byte and the next line's first; "query" sends a `?` between the first and the
+# second target, "set" a `set` of the second axis's vmax (its value unchanged), all back to back.
+MULTI_TIMINGS = ["ok", "b2b", "1ms", "5ms", "20ms", "query", "set"]
+MULTI_SWEPT = ("independent", "xyz")  # the case run with every timing: its ceiling is the lowest over them
+
+
+def multi_targets(axes, v, timing):
+    """the script lines that send the independent targets with the given timing"""
+    if timing == "ok":
+        return [x for ax in axes for x in (f"send {ax} {MOVE}", f"wait ^(OK|ERR) {ax}")]
+    s = []
+    for i, ax in enumerate(axes):
+        if i > 0 and timing.endswith("ms"):
+            s += ["drain", f"run {timing[:-2]}"]
+        s.append(f"send {ax} {MOVE}")
+        if i == 0 and timing == "query":
+            s.append("send ?")
+        if i == 0 and timing == "set" and len(axes) > 1:
+            s.append(f"send set {axes[1]} vmax {v:g}")
+    return s + [f"wait ^(OK|ERR) {ax}" for ax in axes]
+
+
+def multi_script(mode, axes, v, timing="ok"):
     a = v * v / 10000.0
     s = ["wait ^READY ", "timeout 20000"]
     for ax in "xyz":
@@ -226,8 +255,7 @@ def multi_script(mode, axes, v):
     if mode in ("coordinated", "unequal"):
         s += ["send move " + " ".join(f"{ax}{multi_distance(mode, ax)}" for ax in axes), "wait ^(OK|ERR) move"]
     else:
-        for ax in axes:
-            s += [f"send {ax} {MOVE}", f"wait ^(OK|ERR) {ax}"]
+        s += multi_targets(axes, v, timing)
     # `?` during the move; its three lines may come before or after the DONE of a fast move, so the
     # script waits for the DONE(s) only, then asks again and lets the reply arrive (three lines take
     # about half a second at 9600 baud): the last `x/y/z pos=` lines are the final state
@@ -290,9 +318,9 @@ def trace_stretches(log, after):
     return out
 
 
-def run_multi(elf, motionsim, mode, axes, v, pins):
-    log = emulog.run(elf, multi_script(mode, axes, v), pins=pins, timeout=900, extra=["--matches"])
-    res = {"mode": mode, "axes": axes, "rate": v, "problems": []}
+def run_multi(elf, motionsim, mode, axes, v, pins, timing="ok"):
+    log = emulog.run(elf, multi_script(mode, axes, v, timing), pins=pins, timeout=900, extra=["--matches"])
+    res = {"mode": mode, "axes": axes, "rate": v, "timing": timing, "problems": []}
     errs = [l.text for l in log.rx if l.text.startswith("ERR")]
     if errs:
         res["problems"].append("refused: " + "; ".join(errs))
@@ -355,6 +383,24 @@ def run_multi(elf, motionsim, mode, axes, v, pins):
     return res
 
 
+def sweep_cell(res):
+    """one run of the timing sweep in a few words: clean, or what failed"""
+    if not res["problems"]:
+        return "clean"
+    if "worst" not in res:
+        return "; ".join(res["problems"])
+    out = []
+    if res["underruns"]:
+        out.append(f"underruns {res['underruns']}")
+    if res["late"]:
+        out.append(f"late {res['late']}")
+    if res["match_worst"] > 1:
+        out.append(f"match {res['match_worst']:+d}")
+    if res["worst"] > OTHER_ISR_CYCLES:
+        out.append(f"edge {res['worst']:+d}")
+    return ", ".join(out) or "; ".join(res["problems"])
+
+
 def fmt_multi(res):
     name = f"{res['mode']} {'+'.join(res['axes'])}"
     if "worst" not in res:
@@ -371,7 +417,8 @@ def fmt_multi(res):
             f"{100 * res['cpu_left']:.0f} % | {verdict} |")
 
 
-def multi_section(motionsim, out_dir, only):
+def multi_section(motionsim, out_dir, only, rates=None):
+    """the MultiAxisStepper section's lines; rates: only these rungs of every ladder (a quicker run)"""
     env = sketches.Env(source_dir=ROOT)
     names = [n for n in env.sketch_names() if only in n and env.family(n) == "multiaxis"]
     if not names:
@@ -392,9 +439,11 @@ def multi_section(motionsim, out_dir, only):
     for n in names:
         elf = os.path.join(fw + "-plain", n, n + ".ino.elf")
         traced = os.path.join(fw, n, n + ".ino.elf")
-        rows, best, failed = [], {}, set()
+        rows, best, failed, sweep = [], {}, set(), []
         for mode, axes in MULTI_CASES:
             for v in MULTI_LADDER[mode]:
+                if rates and v not in rates:
+                    continue
                 res = run_multi(elf, motionsim, mode, axes, v, pins)
                 if "worst" in res:
                     tr = run_multi(traced, motionsim, mode, axes, v, pins)
@@ -403,10 +452,24 @@ def multi_section(motionsim, out_dir, only):
                 rows.append(res)
                 print(fmt_multi(res), flush=True)
                 key = f"{mode} {'+'.join(axes)}"
-                if res["problems"]:
+                bad = bool(res["problems"])
+                if (mode, axes) == MULTI_SWEPT:
+                    # the same move with the targets sent at the other timings (a rung that fails with
+                    # "ok" already is not run again)
+                    cells = [sweep_cell(res)]
+                    for t in MULTI_TIMINGS[1:]:
+                        if res["problems"]:
+                            cells.append("-")
+                            continue
+                        r = run_multi(elf, motionsim, mode, axes, v, pins, t)
+                        cells.append(sweep_cell(r))
+                        print(f"  timing {t}: {cells[-1]}", flush=True)
+                    bad = bad or any(c != "clean" for c in cells)
+                    sweep.append((v, cells))
+                if bad:
                     failed.add(key)
                 elif key not in failed:
-                    best[key] = v  # clean, and every rung below it too
+                    best[key] = v  # clean, and every rung below it too (with every timing, if swept)
         lines += [f"## {n}: several axes at once", "",
                   f"The reference move ({MOVE:,} steps from rest, acceleration vmax^2/10,000 steps/s^2) on each named axis, "
                   "every axis at the same rate: `coordinated` is one `move` (the axes start on one tick and share one "
@@ -433,9 +496,21 @@ def multi_section(motionsim, out_dir, only):
                   "| ISR stretch cycles min / mean / max | ISR cycles per step | CPU left | verdict |",
                   "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         lines += [fmt_multi(r) for r in rows]
+        if sweep:
+            swept = f"{MULTI_SWEPT[0]} {'+'.join(MULTI_SWEPT[1])}"
+            lines += ["", f"The timing sweep ({swept}, issue 26): the same move with the host's targets sent "
+                      "`ok`: each after the OK of the one before (the rows above); `b2b`: back to back at 9,600 baud; "
+                      "`1ms`, `5ms`, `20ms`: that long between one line's last byte and the next line's first; "
+                      "`query`: a `?` between the first and the second target; `set`: a `set` of the second "
+                      "axis's vmax (unchanged) there. Clean as above; otherwise what failed (underruns, late edges, "
+                      "the worst compare match in ticks, the worst edge beyond the bound); '-': not run, the rung "
+                      f"fails with `ok` already. The ceiling of {swept} is the lowest over the sweep.", "",
+                      "| steps/s per axis | " + " | ".join(f"`{t}`" for t in MULTI_TIMINGS) + " |",
+                      "|---|" + "---|" * len(MULTI_TIMINGS)]
+            lines += [f"| {v:,} | " + " | ".join(c) + " |" for v, c in sweep]
         top = {f"{mode} {'+'.join(axes)}": MULTI_LADDER[mode][-1] for mode, axes in MULTI_CASES}
         lines += ["", f"Highest clean rate per axis ({n}; every rung below it clean too, >= at the top of the "
-                  "ladder): " + (", ".join(f"{k} {'>= ' if v == top[k] else ''}{v:,} steps/s"
+                  f"ladder; {MULTI_SWEPT[0]} {'+'.join(MULTI_SWEPT[1])}: with every timing of the sweep): " + (", ".join(f"{k} {'>= ' if v == top[k] else ''}{v:,} steps/s"
                                            for k, v in best.items()) or "none"), ""]
     return lines
 
@@ -463,7 +538,18 @@ def main(argv):
     ap.add_argument("--only", default="", help="sketches whose name contains this")
     ap.add_argument("--doc", default=os.path.join(ROOT, "docs", "bench.md"),
                     help="the table to write (default docs/bench.md)")
+    ap.add_argument("--multi-only", action="store_true",
+                    help="only the multi-axis section (MultiAxisStepper), printed; no file is written")
+    ap.add_argument("--multi-rates", default="",
+                    help="with --multi-only: only these rungs of the multi-axis ladders, e.g. 25000,30000")
     a = ap.parse_args(argv)
+    if a.multi_only:
+        rates = [int(r) for r in a.multi_rates.split(",") if r.strip()] or None
+        lines = multi_section(a.motionsim, a.out, a.only, rates)
+        if not lines:
+            sys.exit("bench: no multi-axis sketch to measure")
+        print("\n".join(lines))
+        return 0
     env = sketches.Env(source_dir=ROOT)
     names = [n for n in env.sketch_names() if a.only in n and env.family(n) == "stepper"]
     multi = [n for n in env.sketch_names() if a.only in n and env.family(n) == "multiaxis"]

@@ -96,15 +96,29 @@ void MultiAxisConsole::feed()
      * coordinated move every axis needs many at once), a bounded number per call */
     uint8_t dry = 0; /* axes whose planner has nothing to hand out now */
     for (uint8_t k = 0; k < 12; k++) {
-        uint32_t best = UINT32_MAX;
-        uint8_t pick = MULTI_AXES;
+        uint32_t best = UINT32_MAX, most = 0;
+        uint8_t pick = MULTI_AXES, start = MULTI_AXES;
         for (uint8_t i = 0; i < MULTI_AXES; i++) {
-            uint32_t q = (dry & (1U << i)) ? UINT32_MAX : MultiStepEngine::queued_ticks(i);
-            if (q < best) {
-                best = q;
-                pick = i;
+            uint32_t q;
+            if ((dry & (1U << i)) || !MultiStepEngine::moving(i))
+                continue;
+            q = MultiStepEngine::queued_ticks(i);
+            if (q == UINT32_MAX)
+                continue; /* needs nothing now */
+            if (MultiStepEngine::stepping(i)) {
+                if (q < best) {
+                    best = q;
+                    pick = i;
+                }
+            } else if (start == MULTI_AXES || q > most) {
+                most = q;
+                start = i;
             }
         }
+        /* a move being started (the one nearest its start first) only when no stepping axis needs a
+         * command: starting a move never starves one that runs */
+        if (pick == MULTI_AXES)
+            pick = start;
         if (pick == MULTI_AXES)
             break;
         if (MultiStepEngine::service(pick, source(pick), 1) == 0)

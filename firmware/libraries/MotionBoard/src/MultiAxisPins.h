@@ -71,15 +71,17 @@
 
 /* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which three independent moves
  * at once (each axis with its own plan and interrupt, issue 13's case) are clean in `make bench`
- * (build/bench/bench.md, "MultiAxisStepper: several axes at once"). A coordinated move of unequal
- * axes is clean to a little less there: its axes' edges often fall on one tick, so their three
- * interrupts pile up and the fastest axis arms its next edge last (a few late edges, `late=` in `?`,
- * at this rate); a diagonal (axes moving as far, one plan, one interrupt) and one or two axes alone
- * are clean well above it. Above this rate the queues can run dry (counted as underruns in `?`) and
- * a coordinated move can leave its line. Override at compile time, e.g. -DMULTI_MAX_SPS=50000 for a
- * machine that only moves diagonals or two axes at a time. */
+ * (build/bench/bench.md, "MultiAxisStepper: several axes at once") whatever the timing of the host's
+ * targets (its sweep: back to back, 1, 5, 20 ms apart, each after the OK of the one before, a `?` or
+ * a `set` between them; issue 26): a rung above, the three step interrupts, nesting, sometimes take
+ * longer than one step interval, and an axis arms its next edge late (`late=` in `?`) at some of
+ * those timings. A coordinated move of unequal axes (its axes' edges often on one tick) is clean to
+ * this rate too; a diagonal (axes moving as far, one plan, one interrupt) and one or two axes alone
+ * are clean well above it. Above this rate edges come late, the queues can run dry (counted as
+ * underruns in `?`) and a coordinated move can leave its line. Override at compile time, e.g.
+ * -DMULTI_MAX_SPS=50000 for a machine that only moves diagonals or two axes at a time. */
 #ifndef MULTI_MAX_SPS
-#define MULTI_MAX_SPS 30000.0
+#define MULTI_MAX_SPS 25000.0
 #endif
 
 /* The step engine's queues (MultiStepEngine.h): commands each axis's ring holds, and the size of

@@ -521,8 +521,7 @@ uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t ma
     }
     /* enough laid out for the first steps (the costliest to plan), or all there is: start */
     if (f.open && !f.held && !s.running && !s.done && s.cur->other->ready &&
-        (f.started || f.ready >= MULTI_START_SLOTS || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks ||
-         f.ready >= MULTI_SLOTS - 1U))
+        (f.started || MultiStepEngine::ready_to_start(axis, src)))
         start_axis(axis, base_ahead(64));
     if (f.open && !f.held && !src.busy(src.ctx) && !s.finishing && !s.done && !cur_slot(s)->other->ready) {
         ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
@@ -576,11 +575,29 @@ void MultiStepEngine::set_rest_position(uint8_t axis, int32_t pos)
     }
 }
 
+/* Another axis is stepping a move (or paused in it by an underrun): its queue must not wait for
+ * this axis's planning. */
+static bool others_stepping(uint8_t axis)
+{
+    for (uint8_t a = 0; a < MULTI_AXES; a++)
+        if (a != axis && s_feed[a].open && s_feed[a].started)
+            return true;
+    return false;
+}
+
 bool MultiStepEngine::ready_to_start(uint8_t axis, const AxisSource &src)
 {
     AxisFeed &f = s_feed[axis];
-    return f.ready >= MULTI_START_SLOTS || f.ready >= MULTI_SLOTS - 1U || !src.busy(src.ctx) ||
-           f.queued_ticks >= s_lead_ticks;
+    /* alone, the first MULTI_START_SLOTS commands suffice: the CPU plans the rest faster than they are
+     * stepped; while other axes step, it shares the CPU with their planning, so it starts with its
+     * ring full (or its lead laid out) */
+    uint8_t want = others_stepping(axis) ? (uint8_t)(MULTI_SLOTS - 1U) : (uint8_t)MULTI_START_SLOTS;
+    return f.ready >= want || f.ready >= MULTI_SLOTS - 1U || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks;
+}
+
+bool MultiStepEngine::stepping(uint8_t axis)
+{
+    return s_feed[axis].open && s_feed[axis].started;
 }
 
 void MultiStepEngine::start_together(uint8_t mask)

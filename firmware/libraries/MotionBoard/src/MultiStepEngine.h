@@ -20,7 +20,9 @@
  * for the short stretches another axis's interrupt runs with interrupts off (a few dozen cycles) and
  * for the core's millis and serial interrupts, which do not nest; `make bench` measures it.
  * loop() calls service() for each axis: it keeps between two commands and MULTI_LEAD_MS of steps
- * queued ahead, so a stop takes effect within that time. A queue that runs dry during a move is an
+ * queued ahead, so a stop takes effect within that time. The axes that step come first (the one
+ * whose queue reaches least far ahead); a move not started yet gets commands only when none of them
+ * needs one, so starting a move never starves a running one (issue 26). A queue that runs dry during a move is an
  * underrun: counted (underruns(), `?`), the motion resumes with the next command.
  */
 #ifndef MULTI_STEP_ENGINE_H
@@ -37,7 +39,9 @@
 
 /* MULTI_SLOTS (MultiAxisPins.h): commands each axis's ring holds (one is the interrupt's current
  * one); 18 bytes of SRAM each. */
-/* A move starts stepping once this many commands are laid out (or its planner has no more). */
+/* A move starts stepping once this many commands are laid out (or its planner has no more), when no
+ * other axis is stepping; while another is, once its ring is full (MULTI_SLOTS - 1 commands) or its
+ * lead is laid out: its planning shares the CPU with theirs, so it starts with all it can bank. */
 #ifndef MULTI_START_SLOTS
 #define MULTI_START_SLOTS 24U
 #endif
@@ -151,6 +155,9 @@ public:
     static void halt(uint8_t axis);
 
     static bool moving(uint8_t axis);
+    /* Its move has started stepping (and has not ended): its queue has a deadline. A move accepted but
+     * not started yet (its first commands being laid out, or held for start_together) has none. */
+    static bool stepping(uint8_t axis);
     static bool held(uint8_t axis);
     static int32_t position(uint8_t axis);
     static uint8_t phase(uint8_t axis); /* ramp_phase_t of the command being stepped; 0 at rest */
