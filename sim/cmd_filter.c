@@ -18,6 +18,7 @@
 #include "filter_stream.h"
 
 #define MAX_SAMPLES 1000000000ull /* rows per run */
+#define MAX_ROWS_DEFAULT 1000000UL /* --max-rows's default, as motionsim ramp's and move's */
 
 typedef enum { IN_STEP, IN_SQUARE, IN_CSV } input_kind_t;
 
@@ -276,13 +277,15 @@ static const char description[] =
     "                            The sketch's stream (t_ms,u,y) and this command's output both work.\n"
     "Output: CSV k,t_s,u,y (t_s = k*Ts; u the quantised input and y the output, in volts), rows\n"
     "k = 0 .. floor(duration/Ts). --stream writes the sketch's serial lines instead: t_ms,u,y with\n"
-    "t_ms = k*Ts in ms, u with 3 decimals, y rounded to 6 decimals (needs --quantum 0.001).";
+    "t_ms = k*Ts in ms, u with 3 decimals, y rounded to 6 decimals (needs --quantum 0.001).\n"
+    "--max-rows N (default 1000000): a run of more rows is refused before anything is written.";
 
 int cmd_filter(int argc, char **argv)
 {
     const char *cmd = argv[0];
     int kind = 0, stream = 0, seen_tau2 = 0, seen_duration = 0, rc;
     double tau = 9.0, tau2 = 3.0, ts = 0.01, duration = 20.0, quantum = 0.001;
+    uint32_t max_rows = MAX_ROWS_DEFAULT;
     const char *input_spec = "step:5", *out_path = NULL;
     const cli_opt_t opts[] = {
         {"--kind", CLI_CHOICE, &kind, NULL, "filter kind (default ma)", "ma|ma2|exp", NULL},
@@ -294,6 +297,8 @@ int cmd_filter(int argc, char **argv)
         {"--quantum", CLI_DOUBLE, &quantum, "V", "input quantum in V (default 0.001, as the sketch)", NULL, NULL},
         {"--stream", CLI_FLAG, &stream, NULL, "write the MovingAverageFilter sketch's serial lines t_ms,u,y", NULL, NULL},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
+        {"--max-rows", CLI_UINT32, &max_rows, "N", "refuse a run of more than N rows, 1..4294967295 (default 1000000)",
+         NULL, NULL},
     };
     const cli_spec_t spec = {"filter",
                              "[--kind ma|ma2|exp] [--tau S] [--tau2 S] [--ts S] [--input SPEC] [--duration S] [--quantum V] [--stream] [-o FILE]",
@@ -311,6 +316,8 @@ int cmd_filter(int argc, char **argv)
 
     if ((rc = cli_parse(&spec, argc, argv, NULL, NULL)) >= 0)
         return rc;
+    if (max_rows == 0)
+        return cli_error(cmd, "--max-rows: 0 is not a bound: a table has at least 1 row (give 1..4294967295)");
     if (!(quantum > 0))
         return cli_error(cmd, "--quantum %g: %s", quantum, motion_status_text(MS_ERR_QUANTUM_NOT_POSITIVE));
     if (seen_tau2 && kind != ACCDEC_MA2)
@@ -348,6 +355,12 @@ int cmd_filter(int argc, char **argv)
             free(in.samples);
             return rc;
         }
+    }
+    if (last >= max_rows) { /* rows k = 0 .. last */
+        free(in.samples);
+        return cli_error(cmd, "the table would have %llu rows, more than --max-rows %lu: shorten --duration, or raise "
+                              "--max-rows (one row per sample of %g s)",
+                         (unsigned long long)last + 1, (unsigned long)max_rows, ts);
     }
     if (stream && (double)last * ts * 1000.0 > 4294967295.0) {
         free(in.samples);

@@ -2,7 +2,7 @@
 
 The row counts expected here come from the documented rule, not from motionsim: one row per step,
 |to - from| steps for `ramp` (plain, --integer-ticks, sigmoid, --queue), the sum of |to - from| over
-the axes for `move`. Where the rule gives no count up front (--queue with a new target, move
+the axes for `move`, floor(duration/Ts) + 1 samples for `filter`. Where the rule gives no count up front (--queue with a new target, move
 --path), the bound is checked against the table motionsim writes without it: exactly that many
 rows pass, one fewer is refused. Every refusal is exit 2, one line on stderr, nothing on stdout
 and no -o file. On the code before the bound, the first tests run for minutes (the timeout fails
@@ -109,7 +109,7 @@ def test_compare_bound_per_algorithm(motionsim):
     refused(motionsim(*args, "--max-rows", 999), "ramp")
 
 
-@pytest.mark.parametrize("cmd", ["ramp", "move"])
+@pytest.mark.parametrize("cmd", ["ramp", "move", "filter"])
 def test_max_rows_zero_and_help(motionsim, cmd):
     base = ["--x", 10] if cmd == "move" else []
     line = refused(motionsim(cmd, *base, "--max-rows", 0), cmd)
@@ -151,6 +151,22 @@ def test_move_path_bound_matches_the_table(motionsim):
     assert line.startswith(rows_line("move", 6000, 5999)), line
 
 
+def test_filter_rows_are_samples_0_to_duration_over_ts(motionsim, tmp_path):
+    # docs/motionsim.md: rows k = 0 .. floor(duration/Ts); at Ts = 10 ms, 9999.99 s is 1000000 rows
+    ok = motionsim("filter", "--duration", 9999.99, "-o", tmp_path / "f.csv")
+    assert ok.rc == 0, ok.err
+    out = tmp_path / "g.csv"
+    line = refused(motionsim("filter", "--duration", 10000, "-o", out, timeout=QUICK), "filter")
+    assert line.startswith(rows_line("filter", 1_000_001, DEFAULT)), line
+    assert not out.exists()
+    # a csv input of 5 samples is 5 rows
+    src = tmp_path / "in.csv"
+    src.write_text("u\n1\n1\n1\n1\n1\n")
+    assert motionsim("filter", "--input", f"csv:{src}", "--max-rows", 5).rc == 0
+    line = refused(motionsim("filter", "--input", f"csv:{src}", "--max-rows", 4), "filter")
+    assert line.startswith(rows_line("filter", 5, 4)), line
+
+
 def test_every_scenario_fits_the_default_bound():
     """tools/scenarios: each ramp/move scenario's rows by the rule, well under the default."""
     for f in sorted(os.listdir(os.path.join(ROOT, "tools", "scenarios"))):
@@ -161,6 +177,10 @@ def test_every_scenario_fits_the_default_bound():
                     frm = int(a[a.index("--from") + 1]) if "--from" in a else 0
                     to = int(a[a.index("--to") + 1]) if "--to" in a else 50
                     assert abs(to - frm) <= DEFAULT // 10, s["name"]
+                elif a[0] == "filter":
+                    d = float(a[a.index("--duration") + 1]) if "--duration" in a else 20
+                    ts = float(a[a.index("--ts") + 1]) if "--ts" in a else 0.01
+                    assert d / ts + 1 <= DEFAULT // 10, s["name"]
                 elif a[0] == "move":
                     n = sum(abs(int(a[a.index(k) + 1])) for k in ("--x", "--y", "--z") if k in a)
                     assert n <= DEFAULT // 10, s["name"]

@@ -131,7 +131,7 @@ def test_a_write_error_stops_a_long_run_at_once(motionsim):
     # each command stops at the first failed row instead of computing the rest (seconds of work)
     if not os.path.exists("/dev/full"):
         pytest.skip("no /dev/full")
-    runs = {"filter": ["--duration", "20000"], "servo": ["--duration", "3600", "--period-ms", "1", "--latency-us", "500"],
+    runs = {"filter": ["--duration", "20000", "--max-rows", "2000001"], "servo": ["--duration", "3600", "--period-ms", "1", "--latency-us", "500"],
             "ramp": ["--to", "100000000", "--max-rows", "100000000"],
             "move": ["--x", "100000000", "--y", "50000000", "--max-rows", "150000000"]}
     for c, args in runs.items():
