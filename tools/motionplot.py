@@ -224,25 +224,45 @@ def moving_mean(ys, window):
     return out[h:] + [out[-1]] * h if len(out) > h else out
 
 
-def default_title(data):
-    """What the CSV shows, said by its own rows: a ramp's move ("move 0 -> 50 steps, 5.47 s", from
-    the first step's position and the direction of the last), a servo run's setpoint ("setpoint 1000
-    counts, 3 s"), then the file's name; for any other file its name."""
-    name = os.path.basename(data.path)
+def what_it_shows(data):
+    """(what, seconds) a CSV's own rows show: a ramp's move ("move 0 -> 50 steps", from the first
+    step's position and the direction of the last) and its time, a servo run's setpoint ("setpoint
+    1000 counts") and its length; (None, None) for any other file."""
     cols = data.columns
     if len(data) == 0 or data.labels is not None:
-        return name
+        return None, None
     if tuple(data.header[:6]) == KNOWN[0][0]:
         pos = [p for p in cols["position"] if not math.isnan(p)]
         if pos and all(b - a in (1, -1) for a, b in zip(pos, pos[1:])) and \
                 len({b - a for a, b in zip(pos, pos[1:])}) <= 1:
             sign = -1 if len(pos) > 1 and pos[1] < pos[0] else 1
-            return f"move {pos[0] - sign:g} -> {pos[-1]:g} steps, {cols['t_s'][-1]:.3g} s ({name})"
+            return f"move {pos[0] - sign:g} -> {pos[-1]:g} steps", cols["t_s"][-1]
     if tuple(data.header[:5]) == KNOWN[2][0]:
         sps = {v for v in cols["setpoint"] if not math.isnan(v)}
         if len(sps) == 1:
-            return f"setpoint {sps.pop():g} counts, {cols['t_s'][-1] - cols['t_s'][0]:.3g} s ({name})"
-    return name
+            return f"setpoint {sps.pop():g} counts", cols["t_s"][-1] - cols["t_s"][0]
+    return None, None
+
+
+def default_title(data, overlays=(), label=None):
+    """What the CSV shows, said by its own rows: a ramp's move ("move 0 -> 50 steps, 5.47 s", see
+    what_it_shows), a servo run's setpoint ("setpoint 1000 counts, 3 s"), then the file's name; for
+    any other file its name. With overlays (a plot of several files) every file is named, with its
+    time: "move 0 -> 50 steps: simplistic 11.2 s (table.csv), Leib 5.47 s (leib.csv)" when they show
+    the same move or setpoint, else each file's own title joined by "; "."""
+    def one(d):
+        what, secs = what_it_shows(d)
+        name = os.path.basename(d.path)
+        return what, (f"{secs:.3g} s ({name})" if what else name)
+    if not overlays:
+        what, rest = one(data)
+        return f"{what}, {rest}" if what else rest
+    items = [(label or os.path.splitext(os.path.basename(data.path))[0], data)] + list(overlays)
+    parts = [(lab,) + one(d) for lab, d in items]
+    whats = {w for _, w, _ in parts}
+    if len(whats) == 1 and None not in whats:
+        return f"{parts[0][1]}: " + ", ".join(f"{lab} {rest}" for lab, _, rest in parts)
+    return "; ".join(f"{lab}: {w + ', ' if w else ''}{rest}" for lab, w, rest in parts)
 
 
 def legend_hides_data(ax, legend, renderer):
@@ -280,7 +300,12 @@ def place_legends(fig, axes):
         fig.set_size_inches(w + widest + 0.2, h)
 
 
-def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None):
+def note_height(note):
+    """the share of the figure's height that a note under the panels takes (its wrapped lines)"""
+    return 0.03 + 0.022 * len(textwrap.wrap(note, 150))
+
+
+def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None, note=None):
     """Plots `data` into out_png. overlays: [(label, CsvData)] drawn dashed on the same panels
     (e.g. the exact ramp under the Leib ramp, or the simulator under the firmware).
     label: what `data` is, for the legends (e.g. "Leib", "firmware (emulated)"); legends name the
@@ -293,7 +318,9 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
     A file with a label column is drawn as bars (plot_bars); a file with a header and no rows
     gets its usual (empty) axes with the note "0 rows". Without a title, default_title says what the
     rows show (a ramp's move, a servo's setpoint); without a label but with overlays, `data` is
-    named by its file (e.g. "table" for table.csv), as an overlay given without LABEL= is.
+    named by its file (e.g. "table" for table.csv), as an overlay given without LABEL= is; a plot with
+    overlays is titled with every file and its time. note: a few sentences printed under the panels
+    (e.g. why a ramp levels off below its vmax; a scenario's "note").
     Returns the legend texts, one list per panel."""
     if data.labels is not None:
         cols = [(y, p[1]) for p in panels for y in p[0]] if panels else None
@@ -346,10 +373,12 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
         legends.append([ln.get_label() for ln in ax.get_lines() if not ln.get_label().startswith("_")])
         if not shared or i == len(specs) - 1:
             ax.set_xlabel(xlabel)
-    fig.suptitle(textwrap.fill(title or default_title(data), 100))
-    fig.tight_layout()
+    fig.suptitle(textwrap.fill(title or default_title(data, overlays, label), 100))
+    if note:
+        fig.text(0.01, 0.005, textwrap.fill(note, 150), fontsize="small", va="bottom", ha="left", color="0.25")
+    fig.tight_layout(rect=(0, note_height(note), 1, 1) if note else None)
     place_legends(fig, axes[:, 0])
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, note_height(note), 1, 1) if note else None)
     fig.savefig(out_png, dpi=110)
     plt.close(fig)
     return legends

@@ -8,6 +8,7 @@ Scenarios are listed in tools/scenarios/*.json, one file per capability. Each sc
    "title": "Leib ramp, 0 -> 50 steps",       plot and chart title
    "args": ["ramp", "--algo", "leib", ...],   motionsim arguments (CSV on stdout)
    "overlay": ["ramp_exact_0_50"],            optional: scenarios drawn dashed on the same axes
+   "note": "Why it levels off at ...",        optional: printed under the plot (and on the index sheet)
    "x": "t_s",                                optional: the x column (default from the header)
    "panels": [[["speed_sps"], "step rate (steps/s)"],                       optional plot layout:
               [["interval_ticks"], "timer period (ticks)", "step", "step number"]]}
@@ -196,7 +197,7 @@ class Thinned:
         return len(self.columns[self.header[0]]) if self.header else 0
 
 
-def write_workbook(path, done, source_note=None):
+def write_workbook(path, done, source_note=None, compare=None):
     """Writes the workbook: an index sheet, then per scenario a sheet with its CSV columns (A...),
     the extra columns its line chart needs (after one blank column) and its charts to the right:
       evenly spaced rows (filter, servo): a line chart per panel over the t_s column; overlays on
@@ -208,7 +209,9 @@ def write_workbook(path, done, source_note=None):
     A scenario with "sheet": False gets no sheet of its own (and no index row): it is only an
     overlay (tools/workbook: X.motionsim.csv given with X.csv). Where it is not on the time base
     of the sheet it is drawn over, its columns are written into that sheet (after its own, headed
-    '<column> (<overlay>)') and the sheet's charts are XY scatters that read them."""
+    '<column> (<overlay>)') and the sheet's charts are XY scatters that read them.
+    compare: names of two or more ramps (tools/workbook) to set side by side on a last sheet, "compare"
+    (write_ramp_compare)."""
     import xlsxwriter  # in .venv (requirements.txt)
 
     wb = xlsxwriter.Workbook(path, {"strings_to_numbers": False, "nan_inf_to_errors": True})
@@ -277,13 +280,86 @@ def write_workbook(path, done, source_note=None):
             for i, chart in enumerate(charts):
                 ws.insert_chart(1 + i * 17, end_col + 1, chart)
         index.write_url(row, 0, f"internal:'{sh}'!A1", string=s["name"])
-        index.write(row, 1, s["title"])
+        index.write(row, 1, s["title"] + (f" Note: {s['note']}" if s.get("note") else ""))
         index.write_number(row, 2, data.full_rows)
         index.write(row, 3, what)
         index.write(row, 4, s.get("source") or "motionsim " + " ".join(s["args"]))
         index.write(row, 5, "all" if data.every == 1 else
                     f"every {data.every}th row ({len(data)}); the full table: {s['name']}.csv")
+    if compare and len(compare) >= 2:
+        cname = sheet_name("compare", used)
+        what = write_ramp_compare(wb, bold, cname, [(by_name[n][0], full[n], sheets.get(n)) for n in compare])
+        row = len(sheets) + 1
+        index.write_url(row, 0, f"internal:'{cname}'!A1", string="compare")
+        index.write(row, 1, "The ramps side by side: " + ", ".join(by_name[n][0]["_label"] for n in compare))
+        index.write_number(row, 2, len(compare))
+        index.write(row, 3, what)
+        index.write(row, 4, "computed from the sheets above")
+        index.write(row, 5, "all")
     wb.close()
+
+
+def write_ramp_compare(wb, bold, sh, ramps):
+    """The sheet `sh` comparing ramps [(scenario, CsvData, its sheet name)]: one row per ramp with its
+    label, steps, move time, top step rate, first interval and its move time against the first ramp's;
+    below it their step rates on one uniform time grid (held_step_rate, sample-and-hold) drawn in one
+    line chart, and an XY scatter of each ramp's step rate at its exact step times (from its own sheet)."""
+    ws = wb.add_worksheet(sh)
+    first = ramps[0][0]["_label"]
+    header = ["ramp", "steps", "move time (s)", "top step rate (steps/s)", "first interval (ticks)",
+              f"move time against {first} (%)"]
+    ws.write_row(0, 0, header, bold)
+    t_first = ramps[0][1].columns["t_s"][-1] if len(ramps[0][1]) else math.nan
+    for i, (s, d, _) in enumerate(ramps, start=1):
+        t = d.columns["t_s"][-1] if len(d) else math.nan
+        ws.write(i, 0, s["_label"])
+        ws.write_number(i, 1, len(d))
+        ws.write_number(i, 2, t)
+        ws.write_number(i, 3, max(d.columns["speed_sps"]) if len(d) else math.nan)
+        ws.write_number(i, 4, d.columns["interval_ticks"][0] if len(d) else math.nan)
+        ws.write_number(i, 5, 100.0 * (t - t_first) / t_first if t_first > 0 else math.nan)
+    ws.set_column(0, 0, 24)
+    ws.set_column(1, len(header), 18)
+    top = len(ramps) + 3                      # the grid below the table
+    t_end = max((d.columns["t_s"][-1] for _, d, _ in ramps if len(d)), default=0.0)
+    charts = []
+    if t_end > 0:
+        dt, grid = time_grid(t_end)
+        ws.write(top, 0, "t_s (grid)", bold)
+        ws.write_column(top + 1, 0, grid)
+        line = wb.add_chart({"type": "line"})
+        for k, (s, d, _) in enumerate(ramps, start=1):
+            ws.write(top, k, f"speed_sps (grid, {s['_label']})", bold)
+            for j, t in enumerate(grid):
+                v = held_step_rate(d.columns["t_s"], d.columns["speed_sps"], t) if len(d) else None
+                if v is not None:
+                    ws.write_number(top + 1 + j, k, v)
+            line.add_series({"name": s["_label"], "categories": [sh, top + 1, 0, top + len(grid), 0],
+                             "values": [sh, top + 1, k, top + len(grid), k],
+                             "line": {"width": 1.5 if k == 1 else 1.2}})
+        line.set_title({"name": "Step rate: " + ", ".join(s["_label"] for s, _, _ in ramps), "name_font": {"size": 11}})
+        line.set_x_axis(category_axis(f"time (s), uniform grid every {dt:g} s", len(grid), dt))
+        line.set_y_axis({"name": "step rate (steps/s)"})
+        line.set_legend({"position": "bottom"})
+        line.set_size({"width": 760, "height": 330})
+        charts.append(line)
+    scatter = wb.add_chart({"type": "scatter", "subtype": "straight"})
+    for s, d, osh in ramps:
+        if osh is None or not len(d):
+            continue
+        n = math.ceil(len(d) / Thinned(d).every)
+        scatter.add_series({"name": s["_label"], "categories": [osh, 1, d.header.index("t_s"), n, d.header.index("t_s")],
+                            "values": [osh, 1, d.header.index("speed_sps"), n, d.header.index("speed_sps")],
+                            "line": {"width": 1.3}})
+    scatter.set_title({"name": "Step rate at the exact step times", "name_font": {"size": 11}})
+    scatter.set_x_axis({"name": "time (s)", "major_gridlines": {"visible": True}})
+    scatter.set_y_axis({"name": "step rate (steps/s)"})
+    scatter.set_legend({"position": "bottom"})
+    scatter.set_size({"width": 760, "height": 330})
+    charts.append(scatter)
+    for i, chart in enumerate(charts):
+        ws.insert_chart(1 + i * 17, len(header) + 1, chart)
+    return "a row per ramp; line chart of their step rates on one grid; XY scatter at the exact step times"
 
 
 def own_series_label(y, s, ycols):
@@ -551,7 +627,7 @@ def main(argv):
         x, panels = layout_of(s, data) if data.labels is None else (None, None)
         overlays = [(scenario_label(by_name[o][0]), by_name[o][1]) for o in s.get("overlay", []) if o in by_name]
         motionplot.plot(data, os.path.join(a.out, s["name"] + ".png"), title=s["title"], x=x, panels=panels,
-                        overlays=overlays, label=scenario_label(s))
+                        overlays=overlays, label=scenario_label(s), note=s.get("note"))
         print(f"  {s['name']:34s} {len(data):6d} rows  {s['title']}")
     if done:
         write_workbook(os.path.join(a.out, "profiles.xlsx"), done)
