@@ -10,7 +10,9 @@
  *   emu_spi.c       the SPI master with true transfer timing, talking to an attached device
  *   ls7366r.c       the LS7366R quadrature counter (pure logic, datasheet behaviour)
  *   emu_motor.c     PWM duty measured from pin edges -> the DC-motor plant -> encoder counts
- * Time is emulated: nothing sleeps; a second of firmware time costs about 0.1 s of host time.
+ *   emu_pty.c       --pty: UART0 on a pseudo-terminal, for a monitor (an interactive board)
+ * Time is emulated: nothing sleeps (except with --pty, held to the wall clock); a second of
+ * firmware time costs about 0.1 s of host time.
  */
 #ifndef EMU_H
 #define EMU_H

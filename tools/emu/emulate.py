@@ -1,8 +1,14 @@
 #!/usr/bin/env python3
-"""tools/emu/emulate.py - what `make emulate SKETCH=<name> [INPUT=<file>]` runs.
+"""tools/emu/emulate.py - what `make emulate SKETCH=<name> [INPUT=<file>] [LIVE=1]` runs.
 
 Runs the sketch's ELF (build/firmware/<S>/<S>.ino.elf) in the ATmega2560 emulator with an INPUT
-script (default: the sketch family's standard scenario), then writes into the output folder:
+script (default: the sketch family's standard scenario; a sketch that gives no `?` reply at boot
+gets the family's command without waiting for replies), printing the serial conversation as it
+happens ("[   0.168 s] < OK 0 50"), or with --live as an interactive board: real time, UART0 on a
+pseudo-terminal whose path it prints (motionemu --pty), until the monitor closes it or Ctrl-C. The
+CSVs come from the pins, whatever the sketch prints (a stepper that prints no `OK <from> <to>`: one
+move per DIR change or host line, from its STEP/DIR edges; overlays only where the parameters are
+known). Then it writes into the output folder:
   <S>.input.emu     the script that ran
   <S>.log           the harness's event log (every serial line, pin edge, motor sample, cycle-exact)
   <S>.csv           the firmware's behaviour in motionsim's CSV format, from its real pins/port:
