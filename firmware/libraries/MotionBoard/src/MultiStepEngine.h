@@ -135,7 +135,8 @@ public:
     /* The position of an axis at rest (a follower's, after its master's move). */
     static void set_rest_position(uint8_t axis, int32_t pos);
 
-    /* A held move has enough laid out to start (MULTI_START_SLOTS, or everything its planner has). */
+    /* A move has enough laid out to start: MULTI_START_SLOTS commands (its ring full while another
+     * axis steps), its lead, or everything its planner has. */
     static bool ready_to_start(uint8_t axis, const AxisSource &src);
 
     /* Starts the held moves of the axes in mask (bit i: axis i) on one tick of Timer1. */
