@@ -55,3 +55,12 @@ uint8_t line_reader_overrun(line_reader_t *r)
     r->after_cr = 0; /* the LF of a CRLF may have been lost with the rest */
     return (uint8_t)!already;
 }
+
+uint8_t line_reader_lost(line_reader_t *r, uint8_t rest_lost, uint8_t after_cr)
+{
+    uint8_t already = r->discarding;
+    r->discarding = rest_lost ? 1U : 0U;
+    r->len = 0;
+    r->after_cr = after_cr ? 1U : 0U;
+    return already;
+}

@@ -49,6 +49,12 @@ line_event_t line_reader_feed(line_reader_t *r, uint8_t byte, motion_status_t *e
  * bad (one reply per line). */
 uint8_t line_reader_overrun(line_reader_t *r);
 
+/* Input was lost here (rx_ring.h's loss record): the line in progress is dropped; when rest_lost,
+ * the bytes that follow are the rest of a damaged line and are discarded up to its terminator;
+ * after_cr: the lost stretch ended in CR (a following LF is its CR LF). Returns 1 when the line in
+ * progress had already been answered as bad (the caller must not count it again). */
+uint8_t line_reader_lost(line_reader_t *r, uint8_t rest_lost, uint8_t after_cr);
+
 #ifdef __cplusplus
 }
 #endif

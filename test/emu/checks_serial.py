@@ -4,9 +4,10 @@ The expectations are the documented rules, not recordings of the firmware:
 - a blank line (empty, or only spaces and tabs, any length) is no line: no reply at all, on every
   sketch (the rule lives in lib/src/line_reader.c, which every console reads through
   MotionSerial, so the stepper sketches follow it without code of their own);
-- receive overrun (every sketch): a host that sends faster than the sketch reads fills the 63-byte
-  receive buffer and the core drops bytes; the line hit is answered `ERR input overrun` and never
-  executed, no half line is ever taken for a command, and afterwards the sketch answers again.
+- input overrun (every sketch): a host that sends faster than the sketch reads fills its input
+  (SerialRx's 128-byte ring); the lines hit are answered `ERR input overrun: N line(s) lost` and
+  never executed, no half line is ever taken for a command, every line sent is answered or counted
+  in such a reply, and afterwards the sketch answers again.
 """
 import re
 
@@ -80,7 +81,6 @@ def check_overrun(env, sketch):
     script = "\n".join([
         "wait ^READY [^ ]+$", "timeout 3000", "send ?", f"wait ^{key}", "run 500", "mark flood",
         f"repeat {FLOOD_LINES // 2} ?\\r\\n{cmd}\\r\\n", "drain", "run 8000", "mark flood-end",
-        # the line after a burst whose tail was lost is the one the overrun hit (docs/serial.md)
         "send ?", "run 1000", "mark sync", "send ?", "run 1000",
     ]) + "\n"
     log = emulog.run(env.elf(sketch), script, **run_kwargs(env, sketch))
@@ -94,19 +94,22 @@ def check_overrun(env, sketch):
         return [l.text for l in log.lines_matching(r".", after, before)
                 if other_lines is None or not other_lines.match(l.text)]
     lines = replies(start, sync)
-    overruns = [t for t in lines if t == "ERR input overrun"]
+    overruns = [t for t in lines if re.match(r"^ERR input overrun: \d+ lines? lost$", t)]
     states = [t for t in lines if t.startswith(key)]
     oks = [t for t in lines if t.startswith("OK")]
     other = [t for t in lines if t not in overruns and t not in states and t not in oks]
-    if not overruns:
-        problems.append("no `ERR input overrun` although the receive buffer overflowed")
+    # (a sketch whose input keeps up with the burst has nothing to report: the servo sketches' ring
+    # holds it; the accounting below holds either way, and checks_reliability's longer flood always
+    # overflows)
     bad_ok = [t for t in oks if t != ok_reply]
     if bad_ok:
         problems.append(f"half lines were executed: {bad_ok}")
     if other:
         problems.append(f"replies other than the state line, {ok_reply} and ERR input overrun: {other}")
-    if len(lines) > FLOOD_LINES + 1:
-        problems.append(f"{len(lines)} replies to {FLOOD_LINES + 1} lines")
+    counted = sum(int(t.split()[3]) for t in overruns)  # "ERR input overrun: N line(s) lost"
+    if len(states) + len(oks) + counted != FLOOD_LINES + 1:  # the burst and the `?` after it
+        problems.append(f"{len(states) + len(oks)} replies + {counted} lines counted lost, want the "
+                        f"{FLOOD_LINES + 1} sent")
     after = replies(sync)
     if len(after) != 1 or not after[0].startswith(key):
         problems.append(f"the `?` after the burst drew {after}, want one state line")

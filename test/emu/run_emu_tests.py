@@ -37,6 +37,7 @@ import checks_text_parse  # noqa: E402
 import checks_sketches  # noqa: E402
 import checks_multiaxis  # noqa: E402
 import checks_serial  # noqa: E402
+import checks_reliability  # noqa: E402
 
 
 def main(argv):
@@ -52,7 +53,8 @@ def main(argv):
     env = sketches.Env(firmware_dir=a.firmware_dir, source_dir=a.source_dir, motionsim=a.motionsim)
 
     checks = (list(checks_selftest.CHECKS) + list(checks_pid.CHECKS) + list(checks_text_parse.CHECKS)
-              + checks_sketches.checks_for(env) + checks_multiaxis.checks_for(env) + checks_serial.checks_for(env))
+              + checks_sketches.checks_for(env) + checks_multiaxis.checks_for(env) + checks_serial.checks_for(env)
+              + checks_reliability.checks_for(env))
     checks = [(n, f) for n, f in checks if a.only in n]
     if a.list:
         for n, _ in checks:

@@ -1,66 +1,38 @@
 /* MotionSerial.cpp - see MotionSerial.h. */
 #include "MotionSerial.h"
 
-/* A full receive buffer (avail bytes): whatever arrives now is dropped by the core, so input may be lost right
- * after the bytes it holds. Remember that point (the first one still ahead, and the latest). */
-void MotionSerial::check_overrun(int avail)
-{
-    if (!(pending_ & 1)) {
-        pending_ |= 1;
-        first_left_ = (uint8_t)avail;
-    } else if (avail != first_left_) {
-        pending_ |= 2;
-        last_left_ = (uint8_t)avail;
-    }
-}
-
-bool MotionSerial::lost_before_next()
-{
-    bool lost = false;
-    if (pending_ & 1) {
-        if (first_left_ == 0) {
-            lost = true;
-            pending_ &= (uint8_t)~1;
-            if (pending_ & 2) { /* the later point becomes the next one */
-                pending_ = 1;
-                first_left_ = last_left_;
-            }
-        }
-        if (pending_ & 1)
-            first_left_--;
-    }
-    if (pending_ & 2)
-        last_left_--;
-    return lost;
-}
-
 const char *MotionSerial::poll(uint8_t max_bytes)
 {
-    int avail = port_.available();
-    if (avail <= 0)
-        return NULL; /* the usual case: no more work than before the overrun check existed */
-    if (rx_full_ != 0 && avail >= (int)rx_full_)
-        check_overrun(avail);
-    while (max_bytes-- > 0 && port_.available() > 0) {
-        int c;
+    if (!started_) {
+        SerialRx::begin();
+        started_ = true;
+    }
+    while (max_bytes-- > 0) {
+        uint8_t c = 0;
+        rx_loss_t loss = {0, 0, 0};
+        rx_event_t ev;
+        motion_status_t err = MS_OK;
         if (queue_ != 0 && queue_->room() < reserve_)
             break; /* back-pressure: leave the input unread until a reply surely fits */
-        c = port_.read();
-        motion_status_t err = MS_OK;
-        if (c < 0)
+        ev = SerialRx::get(c, loss);
+        if (ev == RX_NONE)
             break;
-        if (pending_ != 0 && lost_before_next()) {
-            /* input was lost here: what follows is the host's next line, whatever state the current
-             * one was in (even one already refused, whose end may be what was lost), so it is
-             * answered ERR input overrun and discarded to its end: one reply, never none */
-            (void)line_reader_overrun(&reader_);
-            reply_error(MS_ERR_INPUT_OVERRUN);
-            (void)line_reader_feed(&reader_, (uint8_t)c, &err); /* discarded, or its terminator */
+        if (ev == RX_LOSS) {
+            /* input was lost right here: the line in progress and the lines the loss touched are
+             * answered together, at once, and none is executed */
+            uint16_t lines = loss.lines;
+            if (line_reader_lost(&reader_, loss.cont, loss.after_cr) && lines > 0)
+                lines--; /* the line in progress already had its ERR */
+            if (lines == 0)
+                continue; /* e.g. only the LF of a CR LF: no line touched */
+            Print &out = begin_error(MS_ERR_INPUT_OVERRUN);
+            out.print(lines);
+            out.println(lines == 1 ? F(" line lost") : F(" lines lost"));
             if (queue_ != 0)
-                return NULL;
+                return NULL; /* one reply per call */
             continue;
         }
-        switch (line_reader_feed(&reader_, (uint8_t)c, &err)) {
+        switch (line_reader_feed(&reader_, c, &err)) {
         case LINE_READY:
             return reader_.line;
         case LINE_ERROR:

@@ -20,7 +20,7 @@
  * into a SerialOutQueue that readCommand() feeds to Serial only as fast as its transmit buffer
  * accepts (docs/servo.md, "Serial output never makes the control loop wait").
  *  - A command line is read only when the queue has room for the longest reply
- *    (REPLY_MAX_BYTES); otherwise its bytes wait, unread, in Serial's receive buffer.
+ *    (REPLY_MAX_BYTES); otherwise its bytes wait, unread, in the input ring (SerialRx).
  *  - The status line is deferred, never dropped: printStatus() snapshots the values with their
  *    scheduled time, and readCommand() writes it as soon as STATUS_MAX_BYTES are free; until then
  *    no command is read, so commands cannot starve it.

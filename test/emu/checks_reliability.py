@@ -1,0 +1,178 @@
+"""Issue 22's reproducers, checked on the emulated ATmega2560 against the documented rules
+(docs/serial.md "Input overrun", docs/stepper-engine.md "Stop and redirect a move"):
+
+- `set accel` (or vmax) while moving, then a new target: the replan starts from the speed reached.
+  Oracle: the law of constant acceleration itself. Over two consecutive windows of W steps lasting
+  T1 and T2, the average speeds differ by at most a_max (T1 + T2)/2 (for constant acceleration the
+  average speed over a window is the speed at its middle time), a_max the larger of the two accels;
+  the edges on the pin may wait for another interrupt by up to STEP_LATE_CYCLES (the documented
+  single-axis bound), which moves a window's speed by at most v 2 late / T. No window is faster than
+  the larger vmax by more than that. `?` afterwards: underruns=0 late=0.
+- A flood of lines sent at once (the issue's `100000`, then 80 x `?`, -7777, `?`, 9999): no line that
+  lost a byte is executed (every OK names a value that was sent), every line sent gets one reply or
+  is counted in an `ERR input overrun: N line(s) lost` reply (exactly: replies + sum N = lines
+  sent), those replies come without waiting for a later line, and the sketch answers afterwards.
+"""
+import re
+
+import emulog
+import sketches
+from checks_selftest import CheckResult
+from emulog import F_CPU
+
+STEP_LATE_CYCLES = 260  # docs/stepper-engine.md: an edge is at most this late after its compare match
+WINDOW = 8
+
+OVERRUN_RE = re.compile(r"^ERR input overrun: (\d+) lines? lost$")
+
+
+def fails_of(log, problems):
+    for c, k, t in log.fails:
+        problems.append(f"harness: {k} at {c / F_CPU:.4f} s: {t}")
+
+
+def speed_law_problems(edges, dirs, a_max, v_max, label):
+    """edges: rising STEP cycles; dirs: the DIR level at each. Windows of WINDOW steps within one
+    direction; returns (problems, windows checked, largest jump / allowed)."""
+    problems, checked, worst = [], 0, 0.0
+    runs, cur = [], [edges[0]] if edges else []
+    for i in range(1, len(edges)):
+        if dirs[i] != dirs[i - 1]:
+            runs.append(cur)
+            cur = []
+        cur.append(edges[i])
+    if cur:
+        runs.append(cur)
+    late = STEP_LATE_CYCLES / F_CPU
+    for run in runs:
+        wins = []
+        for k in range(0, len(run) - WINDOW, WINDOW):
+            t = (run[k + WINDOW] - run[k]) / F_CPU
+            wins.append((run[k] / F_CPU, t, WINDOW / t))
+        for (t0, T1, v1), (_, T2, v2) in zip(wins, wins[1:]):
+            checked += 1
+            allowed = a_max * (T1 + T2) / 2 * 1.01 + max(v1, v2) * 2 * late / min(T1, T2)
+            jump = abs(v2 - v1)
+            worst = max(worst, jump / allowed)
+            if jump > allowed and len(problems) < 3:
+                problems.append(f"{label}: speed {v1:.0f} -> {v2:.0f} steps/s in {(T1 + T2) / 2 * 1e3:.2f} ms at "
+                                f"{t0:.4f} s (the law allows {allowed:.0f} at {a_max:.0f} steps/s^2)")
+        for t0, T, v in wins:
+            if v > v_max * (1 + 2 * late / T) + 1 and len(problems) < 6:
+                problems.append(f"{label}: {v:.0f} steps/s at {t0:.4f} s, above vmax {v_max:.0f}")
+    return problems, checked, worst
+
+
+def replan_script(prefix, set_cmd, accel1, accel2, vmax, far, back, key):
+    return "\n".join([
+        "wait ^READY [^ ]+$", "timeout 60000", f"send set {prefix}vmax {vmax}", "wait ^OK",
+        f"send set {prefix}accel {accel1}", "wait ^OK", f"send {far}", "wait ^OK", "run 300",
+        f"send set {prefix}accel {accel2}", "wait ^OK", f"send {back}", "wait ^OK", "wait ^DONE",
+        "send ?", f"wait ^{key}",
+    ]) + "\n"
+
+
+# (accel before, accel after): the issue's 50,000 -> 200,000 (4x vmax before the fix) and
+# -> 1,000 (5,000 -> 95 steps/s), and a low accel raised while moving
+REPLAN_CASES = [(50000, 200000), (50000, 1000), (1000, 50000)]
+
+
+def check_replan_keeps_speed(env, sketch):
+    fam = env.family(sketch)
+    multi = fam == "multiaxis"
+    prefix, step, dirp = ("x ", "XSTEP", "XDIR") if multi else ("", "STEP", "DIR")
+    far, back = ("x 100000", "x 0") if multi else ("100000", "0")
+    key = "x pos=" if multi else "pos="
+    pins = sketches.multiaxis_pins(env) if multi else sketches.stepper_pins(env)
+    problems, summary = [], []
+    for a1, a2 in REPLAN_CASES:
+        log = emulog.run(env.elf(sketch), replan_script(prefix, "set", a1, a2, 5000, far, back, key), pins=pins)
+        fails_of(log, problems)
+        edges = log.rising(step)
+        if len(edges) < 100:
+            problems.append(f"accel {a1} -> {a2}: only {len(edges)} steps")
+            continue
+        dirs = [log.level_before(dirp, c + 1) for c in edges]
+        p, n, worst = speed_law_problems(edges, dirs, max(a1, a2), 5000, f"accel {a1} -> {a2}")
+        problems += p
+        q = log.first("^" + key)
+        fields = emulog.query_fields(q.text) if q else {}
+        if not q or fields.get("underruns") != "0" or fields.get("late") != "0" or fields.get("pos") != "0":
+            problems.append(f"accel {a1} -> {a2}: the `?` after DONE says {q.text if q else None}")
+        summary.append(f"{a1}->{a2}: {len(edges)} steps, {n} windows, worst {worst:.2f} of the law")
+    return CheckResult(not problems, "set accel while moving, then a target behind: " + "; ".join(summary), problems)
+
+
+# family: (first line, the two values, regex of an OK to a value (group 1: the value), reply key,
+# lines that are no reply: DONE, the servo's status, the filter's stream, the other axes' lines)
+FLOOD = {
+    "stepper": ("100000", ("-7777", "9999"), r"^OK -?\d+ (-?\d+)( \(after DONE -?\d+\))?$", "pos=",
+                r"^(DONE|WARN)"),
+    "servo": ("100000", ("-7777", "9999"), r"^OK setpoint=(-?\d+)$", "setpoint=", r"^t_ms="),
+    "multiaxis": ("x 100000", ("x -7777", "x 9999"), r"^OK x -?\d+ (-?\d+)( \(after DONE .*\))?$", "x pos=",
+                  r"^(DONE|WARN|[yz] pos=)"),
+    "filter": ("u 1", ("u 2.5", "u 1.25"), r"^OK u=(-?[\d.]+)$", "kind=", r"^(-?\d|t_ms,)"),
+}
+FLOOD_REPEATS = 80
+
+
+def check_flood_accounting(env, sketch):
+    fam = env.family(sketch)
+    first, (a, b), ok_re, key, not_reply = FLOOD[fam]
+    ok_re, not_reply = re.compile(ok_re), re.compile(not_reply)
+    sent = 1 + 4 * FLOOD_REPEATS
+    script = "\n".join([
+        "wait ^READY [^ ]+$", "timeout 60000", "mark flood", f"raw {first}\\r\\n",
+        f"repeat {FLOOD_REPEATS} ?\\r\\n{a}\\r\\n?\\r\\n{b}\\r\\n", "drain", "run 6000", "mark flood-end",
+        "send ?", "run 1500", "mark end",
+    ]) + "\n"
+    kw = {}
+    if fam == "servo":
+        kw["motor"] = sketches.servo_motor_spec(env, sketch)
+    elif fam == "filter":
+        kw["pins"] = sketches.filter_pins(env)
+    log = emulog.run(env.elf(sketch), script, **kw)
+    problems = []
+    fails_of(log, problems)
+    start, end, last = log.mark("flood"), log.mark("flood-end"), log.mark("end")
+    if None in (start, end, last):
+        return CheckResult(False, "did not run", problems + ["the script did not run"])
+    lines = [l.text for l in log.lines_matching(".", start, end) if not not_reply.match(l.text)]
+    overruns = [int(m.group(1)) for m in (OVERRUN_RE.match(t) for t in lines) if m]
+    states = [t for t in lines if t.startswith(key)]
+    oks = [t for t in lines if t.startswith("OK")]
+    other = [t for t in lines if not OVERRUN_RE.match(t) and t not in states and t not in oks]
+    values = {v.split()[-1] for v in (first, a, b)}
+    bad = [t for t in oks if not ok_re.match(t) or ok_re.match(t).group(1) not in values
+           and str(float(ok_re.match(t).group(1))) not in {str(float(v)) for v in values}]
+    if bad:
+        problems.append(f"lines that lost bytes were executed: {bad[:5]}")
+    if other:
+        problems.append(f"unexpected replies: {other[:5]}")
+    if not overruns:
+        problems.append("no ERR input overrun although the flood overflowed the input")
+    answered = len(states) + len(oks)
+    if answered + sum(overruns) != sent:
+        problems.append(f"{sent} lines sent, {answered} answered + {sum(overruns)} counted lost by the overrun "
+                        f"replies before the next line was sent: want exactly {sent}")
+    after = [l.text for l in log.lines_matching(".", end, last) if not not_reply.match(l.text)]
+    if len(after) != 1 or not after[0].startswith(key):
+        problems.append(f"the `?` after the flood drew {after}, want one state line")
+    return CheckResult(not problems, f"{sent} lines at once: {len(states)} `?` answered, {len(oks)} OK, "
+                       f"{len(overruns)} overrun replies counting {sum(overruns)} lines; the `?` after answered",
+                       problems)
+
+
+def checks_for(env):
+    checks = []
+    for s in env.sketch_names():
+        try:
+            fam = env.family(s)
+        except sketches.SketchError:
+            continue
+        checks.append((f"{s}: {1 + 4 * FLOOD_REPEATS} lines at once: none half-executed, every line answered or "
+                       f"counted in an overrun reply", lambda s=s: check_flood_accounting(env, s)))
+        if fam == "multiaxis" or (fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read()):
+            checks.append((f"{s}: set accel while moving then a new target keeps the speed (the law of "
+                           f"constant acceleration, from the STEP edges)", lambda s=s: check_replan_keeps_speed(env, s)))
+    return checks
