@@ -175,4 +175,69 @@ def checks_for(env):
         if fam == "multiaxis" or (fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read()):
             checks.append((f"{s}: set accel while moving then a new target keeps the speed (the law of "
                            f"constant acceleration, from the STEP edges)", lambda s=s: check_replan_keeps_speed(env, s)))
+        if fam == "stepper" and "SCurveRamp" in open(env.ino(s)).read():
+            checks.append((f"{s}: one line per reply around the table's refills: no line lost or damaged",
+                           lambda s=s: check_scurve_one_line_per_reply(env, s)))
     return checks
+
+
+# SCurveStepper, a host that sends one line per reply (docs/serial.md "Flow control"): the table's
+# refill (len 1000: about 0.4 s of arithmetic) no longer stops loop(), and no line is lost or damaged
+# around it: a line after a blank line, `set len` at rest and while moving, a retarget storm. Each
+# entry: the line, the regex its one reply must match.
+SCURVE_LINES = [
+    ("set len 1000", r"^OK len=1000$"), ("?", r"^pos=0 .* len=1000 "), ("", None), ("100", r"^OK 0 100$"),
+    ("set len 250", r"^OK len=250( \(from the next plan\))?$"), ("?", r"^pos="), ("523", r"^OK -?\d+ 523"),
+    ("-38", r"^OK -?\d+ -38"), ("522", r"^OK -?\d+ 522"), ("", None), ("-38", r"^OK -?\d+ -38"),
+    ("set hold 5", r"^OK hold=5"), ("0", r"^OK -?\d+ 0"), ("?", r"^pos="), ("set len 1000", r"^OK len=1000"),
+]
+
+
+def check_scurve_one_line_per_reply(env, sketch):
+    lines = ["wait ^READY [^ ]+$", "timeout 20000", "mark start"]
+    for text, want in SCURVE_LINES:
+        lines.append(f"send {text}" if text else "raw \\r\\n")
+        if want:
+            lines.append("wait ^(OK|ERR|pos=)")
+    # the refill to len 1000 runs at the DONE: lines right after it, one per reply, a blank among them
+    lines += ["wait ^DONE 0$", "mark refill", "send ?", "wait ^pos=", "raw \\r\\n", "send 60", "wait ^OK", "send ?",
+              "wait ^pos=", "wait ^DONE 60$", "send 0", "wait ^OK", "wait ^DONE 0$", "send ?", "wait ^pos=", "mark end"]
+    log = emulog.run(env.elf(sketch), "\n".join(lines) + "\n", pins=sketches.stepper_pins(env))
+    problems = []
+    fails_of(log, problems)
+    start, end = log.mark("start"), log.mark("end")
+    if start is None or end is None:
+        return CheckResult(False, "did not run", problems + ["the script did not run"])
+    replies = [l.text for l in log.lines_matching(r"^(OK|ERR|pos=)", start)]
+    wants = [w for _, w in SCURVE_LINES if w] + [r"^pos=0 .* len=1000 ", r"^OK 0 60$", r"^pos=",
+                                                 r"^OK 60 0$", r"^pos=0 target=0 state=idle .* underruns=0 late=0( |$)"]
+    if len(replies) != len(wants):
+        problems.append(f"{len(replies)} replies to {len(wants)} lines: {replies}")
+    for r, w in zip(replies, wants):
+        if not re.search(w, r):
+            problems.append(f"reply {r!r}, want /{w}/")
+    # the `?` sent as the refill to len 1000 starts: answered while it runs, not after it (about
+    # 1000 x 6,500 cycles = 0.41 s): its reply ends within its own transmission time (11 bits a
+    # byte in the emulator, 9600 baud) plus the 2 bytes sent and 50 ms
+    # the DONE that starts the refill is printed when the last step is made, not after the refill
+    # (before: 0.4 s later): within its own transmission time + 50 ms
+    done = log.first(r"^DONE 0$", start)
+    last_step = max((c for c in log.rising("STEP") if done and c < done.cycle), default=None)
+    if done is None or last_step is None:
+        problems.append("no DONE 0 after steps")
+    else:
+        done_late = (done.cycle - last_step) / F_CPU - (len(done.text) + 2) * 11 / 9600
+        if done_late > 0.05:
+            problems.append(f"DONE 0 came {done_late * 1e3:.0f} ms after the last step and its transmission time: "
+                            "loop() stopped for the table refill")
+    refill = log.mark("refill")
+    q = log.first(r"^pos=", refill) if refill is not None else None
+    late_s = None
+    if q is not None:
+        late_s = (q.cycle - refill) / F_CPU - (len(q.text) + 2 + 2) * 11 / 9600
+        if late_s > 0.05:
+            problems.append(f"the `?` during the table refill was answered {late_s * 1e3:.0f} ms after its "
+                            "transmission time: loop() stopped reading")
+    return CheckResult(not problems, f"{len(wants)} lines, one per reply, around table refills: every one answered "
+                       f"as sent; DONE 0; underruns=0 late=0; `?` during a refill answered "
+                       f"{(late_s or 0) * 1e3:.0f} ms after its transmission time", problems)

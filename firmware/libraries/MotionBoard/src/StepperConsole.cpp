@@ -43,15 +43,18 @@ void StepperConsole::poll()
     StepEngine::service(planner_);
     if (StepEngine::take_done(done_at)) {
         report_done(done_at);
-        if (has_next_) {
-            /* the target accepted while the last steps ran: its move starts now, from rest */
-            has_next_ = false;
-            step_planner_halt(&planner_, done_at);
-            if (step_planner_move(&planner_, next_target_) == MS_OK)
-                StepEngine::open_move();
-        }
+        next_due_ = has_next_;
     }
     queue_.pump();
+    /* the S-curve table's refill, a slice per pass: a target waits for it (handle_target) */
+    if (!ramp_.busy(planner_) && next_due_) {
+        /* the target accepted while the last steps ran (or during the refill): it starts now, from rest */
+        next_due_ = false;
+        has_next_ = false;
+        step_planner_halt(&planner_, StepEngine::position());
+        if (step_planner_move(&planner_, next_target_) == MS_OK)
+            StepEngine::open_move();
+    }
     line = serial_.poll();
     if (line != NULL)
         handle(line);
@@ -117,6 +120,19 @@ void StepperConsole::handle_target(const char *word)
         report_done(ended); /* the move that just ended gets its DONE before the new OK */
         c = StepEngine::AT_REST;
     }
+    if (c == StepEngine::AT_REST && ramp_.busy(planner_)) {
+        /* the move that just ended started a refill of the S-curve table: this move starts from
+         * here when the table is ready (poll()), a few passes from now */
+        has_next_ = true;
+        next_due_ = true;
+        next_target_ = to;
+        from = StepEngine::position();
+        serial_.out().print(F("OK "));
+        serial_.out().print(from);
+        serial_.out().print(' ');
+        serial_.out().println(to);
+        return;
+    }
     if (c == StepEngine::AT_REST)
         step_planner_halt(&planner_, StepEngine::position()); /* at rest where the axis is */
     st = step_planner_move(&planner_, to);
@@ -141,6 +157,7 @@ void StepperConsole::handle_stop(bool halt)
     Print &out = serial_.out();
     StepEngine::Continuation c;
     has_next_ = false; /* a target waiting for the move's end is dropped */
+    next_due_ = false;
     c = StepEngine::extend(ended);
     if (c == StepEngine::ENDED)
         report_done(ended);

@@ -42,7 +42,8 @@
 class StepperConsole {
 public:
     explicit StepperConsole(StepperRamp &ramp)
-        : ramp_(ramp), queue_(Serial), serial_(Serial, queue_, 240), has_next_(false), next_target_(0)
+        : ramp_(ramp), queue_(Serial), serial_(Serial, queue_, 240), has_next_(false), next_due_(false),
+          next_target_(0)
     {
     }
 
@@ -67,6 +68,7 @@ private:
     SerialOutQueue queue_; /* before serial_, which is built on it */
     MotionSerial serial_;
     bool has_next_;       /* a target accepted while the move's last steps were queued */
+    bool next_due_;       /* ... whose move starts as soon as nothing is in the way (poll()) */
     int32_t next_target_;
 };
 

@@ -119,7 +119,8 @@ void TrapezoidRamp::print_params(Print &out) const
 /* ---- SCurveRamp ---- */
 SCurveRamp::SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps,
                        uint32_t timer_hz)
-    : has_pending_(false), accel_time_s_(0), max_sps_(max_sps)
+    : has_pending_(false), filling_(false), fill_i_(0), fill_pos_(0), accel_time_s_(0), f_first_(0), f_last_(0),
+      max_sps_(max_sps)
 {
     params_.len = len;
     params_.hold = hold;
@@ -136,8 +137,16 @@ motion_status_t SCurveRamp::fill(const ramp_sigmoid_params_t &p)
     if (st != MS_OK)
         return st;
     params_ = p;
-    accel_time_s_ = ramp_sigmoid_accel_time_s(&params_, table_);
+    table_done();
     return MS_OK;
+}
+
+/* what `?` reports of the table in force, kept so that `?` is answered during a refill too */
+void SCurveRamp::table_done()
+{
+    accel_time_s_ = ramp_sigmoid_accel_time_s(&params_, table_);
+    f_first_ = (double)params_.timer_hz / table_[0];
+    f_last_ = (double)params_.timer_hz / table_[params_.len - 1U];
 }
 
 motion_status_t SCurveRamp::begin()
@@ -165,8 +174,27 @@ void SCurveRamp::at_rest(step_planner_t &pl, int32_t pos)
     if (!has_pending_)
         return;
     has_pending_ = false;
-    if (fill(pending_) == MS_OK)
-        (void)setup(pl, pos);
+    fill_p_ = pending_; /* checked by set() */
+    fill_i_ = 0;
+    fill_pos_ = pos;
+    filling_ = true;
+    (void)busy(pl);
+}
+
+bool SCurveRamp::busy(step_planner_t &pl)
+{
+    uint8_t n;
+    if (!filling_)
+        return false;
+    for (n = 0; n < 2U && fill_i_ < fill_p_.len; n++, fill_i_++)
+        table_[fill_i_] = (uint16_t)ramp_sigmoid_period_ticks(&fill_p_, fill_i_);
+    if (fill_i_ < fill_p_.len)
+        return true;
+    filling_ = false;
+    params_ = fill_p_;
+    table_done();
+    (void)setup(pl, fill_pos_);
+    return false;
 }
 
 motion_status_t SCurveRamp::set(const char *key, const char *value)
@@ -217,7 +245,7 @@ motion_status_t SCurveRamp::set(const char *key, const char *value)
 void SCurveRamp::print_param(Print &out, const char *key) const
 {
     /* the value set (in force now, or from the next move when set while moving) */
-    const ramp_sigmoid_params_t &p = has_pending_ ? pending_ : params_;
+    const ramp_sigmoid_params_t &p = has_pending_ ? pending_ : (filling_ ? fill_p_ : params_);
     out.print(key);
     out.print('=');
     if (text_word_is(key, "v0"))
@@ -247,8 +275,7 @@ void SCurveRamp::print_limit(Print &out, const char *key) const
 void SCurveRamp::print_params(Print &out) const
 {
     /* the table's own end speeds: timer_hz / period[0] and timer_hz / period[len - 1] */
-    double f_first = (double)params_.timer_hz / table_[0];
-    double f_last = (double)params_.timer_hz / table_[params_.len - 1U];
+    double f_first = f_first_, f_last = f_last_;
     out.print(F(" algo=sigmoid "));
     print_param(out, "v0");
     out.print(' ');

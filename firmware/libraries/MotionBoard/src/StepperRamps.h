@@ -39,6 +39,10 @@ public:
      * apply once the axis is at rest (the S-curve table), which at_rest() then does. */
     virtual bool apply(step_planner_t &pl, bool moving) = 0;
     virtual void at_rest(step_planner_t &pl, int32_t pos) { (void)pl; (void)pos; }
+    /* Background work that at_rest() started (the S-curve table's refill), a slice of about 1 ms
+     * per call; true while it is not done. Meanwhile loop() keeps running and commands are
+     * answered; a move waits for the end of the refill (a few hundred ms at most). */
+    virtual bool busy(step_planner_t &pl) { (void)pl; return false; }
     /* " algo=... v0=... vmax=... accel=... tick_hz=... max_sps=..." for `?` (leading blank). */
     virtual void print_params(Print &out) const = 0;
     /* "key=value" of one parameter, for the OK reply to `set`. */
@@ -101,12 +105,14 @@ class SCurveRamp : public StepperRamp {
 public:
     SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps,
                uint32_t timer_hz);
-    /* Fills the table (about 6,500 cycles per entry); call once in setup(). */
+    /* Fills the table (about 6,500 cycles per entry) at once; call once in setup(). Later refills
+     * (a `set` at rest, or one kept for the end of a move) run in slices: busy(). */
     motion_status_t begin();
     motion_status_t setup(step_planner_t &pl, int32_t pos) override;
     motion_status_t set(const char *key, const char *value) override;
     bool apply(step_planner_t &pl, bool moving) override;
     void at_rest(step_planner_t &pl, int32_t pos) override;
+    bool busy(step_planner_t &pl) override;
     uint32_t tick_hz() const override { return params_.timer_hz; }
     void print_params(Print &out) const override;
     void print_param(Print &out, const char *key) const override;
@@ -117,9 +123,17 @@ private:
     ramp_sigmoid_params_t params_;
     ramp_sigmoid_params_t pending_; /* checked by set(), filled into the table at rest */
     bool has_pending_;
+    /* the refill at rest, a few entries per busy() call (a whole table takes 0.1 s at len 250,
+     * 0.4 s at 1000: loop() must not stop that long) */
+    bool filling_;
+    uint16_t fill_i_;
+    int32_t fill_pos_;
+    ramp_sigmoid_params_t fill_p_;
     uint16_t table_[SCURVE_MAX_LEN];
     double accel_time_s_;
+    double f_first_, f_last_; /* the table's end speeds, steps/s */
     float max_sps_;
+    void table_done();
 };
 
 #endif
