@@ -1,0 +1,79 @@
+"""README's headline step rates must be those of their one home (issue 25): ours from docs/bench.md
+(written by `make bench`: "Highest clean rate per sketch: ... ExactRampStepper N steps/s" and
+MultiAxisStepper's "Highest clean rate per axis (...): ... independent x+y+z N steps/s"), the peers'
+from docs/peers.md's table. Every number in a cell of README's table "| highest clean step rate |"
+must equal the figures of its home, in order (a peer's clean rate, then its own limit if it has one);
+a figure changed in either place without the other fails here.
+
+bench.md must say what it was made from (a commit and a date), and nothing in README or docs may
+point at build/bench/bench.md any more (it is not committed; docs/bench.md is)."""
+import glob
+import os
+import re
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def read(*path):
+    with open(os.path.join(ROOT, *path), encoding="utf-8") as f:
+        return f.read()
+
+
+def number(text):
+    return int(text.replace(",", ""))
+
+
+def numbers(cell):
+    """the figures in a table cell, in order: '70,000 steps/s (past its own limit, 50,000)' -> [70000, 50000]"""
+    return [number(n) for n in re.findall(r"\d[\d,]*\d|\d", cell)]
+
+
+def table(text, first_header):
+    """{first cell: [other cells]} of the markdown table whose header starts with first_header"""
+    lines = text.splitlines()
+    start = next(i for i, l in enumerate(lines) if re.match(r"^\|\s*" + re.escape(first_header) + r"\s*\|", l))
+    rows = {}
+    for l in lines[start + 2:]:
+        if not l.startswith("|"):
+            break
+        cells = [c.strip() for c in l.strip().strip("|").split("|")]
+        rows[cells[0]] = cells[1:]
+    return rows
+
+
+def bench_figures():
+    text = read("docs", "bench.md")
+    single = re.search(r"^Highest clean rate per sketch: (.*)$", text, re.M).group(1)
+    exact = re.search(r"\bExactRampStepper (?:>= )?([\d,]+) steps/s", single)
+    multi_line = re.search(r"^Highest clean rate per axis \(MultiAxisStepper;.*?\): (.*)$", text, re.M).group(1)
+    multi = re.search(r"\bindependent x\+y\+z (?:>= )?([\d,]+) steps/s", multi_line)
+    assert exact and multi, (single, multi_line)
+    return number(exact.group(1)), number(multi.group(1))
+
+
+def test_bench_md_says_what_it_was_made_from():
+    text = read("docs", "bench.md")
+    assert re.search(r"Made from commit `[0-9a-f]{7,40}`.*, on \d{4}-\d{2}-\d{2} \d{2}:\d{2} UTC", text), text[:400]
+
+
+def test_readmes_headline_rates_are_those_of_bench_md_and_peers_md():
+    readme = table(read("README.md"), "highest clean step rate")
+    peers = table(read("docs", "peers.md"), "library")
+    exact, multi = bench_figures()
+    ours = next(k for k in readme if k.startswith("ours"))
+    assert [numbers(c) for c in readme[ours]] == [[exact], [multi]], readme[ours]
+    seen = set()
+    for name, cells in peers.items():
+        version, clean1, limit1, clean3, limit3 = cells
+        row = next((k for k in readme if k.startswith(f"{name} {version}")), None)
+        assert row, f"README's table has no row for {name} {version}"
+        seen.add(row)
+        assert numbers(readme[row][0]) == numbers(clean1) + numbers(limit1), (row, readme[row], cells)
+        assert numbers(readme[row][1]) == numbers(clean3) + numbers(limit3), (row, readme[row], cells)
+    assert set(readme) == seen | {ours}, "a README row without a home in docs/peers.md"
+
+
+def test_no_link_to_the_uncommitted_build_bench():
+    for path in ["README.md"] + sorted(glob.glob(os.path.join(ROOT, "docs", "*.md"))):
+        text = read(path)
+        assert "build/bench/bench.md" not in text, path
