@@ -10,8 +10,9 @@
 #   make monitor PORT=<device> [BAUD=115200]   serial monitor (default 9600 baud), CR+LF line ends
 #   make emulate SKETCH=<name> [INPUT=<file>]  run a sketch's ELF in the ATmega2560 emulator
 #   make bench      step-engine benchmark in the emulator -> docs/bench.md (committed; about 17 min)
-#   make fuzz [FUZZ_LINES=10000] [FUZZ_SEED=1] [FUZZ_SIM_RUNS=<lines/4>]   fuzz every sketch's serial
-#                   console in the emulator and motionsim under ASan+UBSan (tools/fuzz); make test runs a short one
+#   make fuzz [FUZZ_LINES=10000] [FUZZ_SEED=1] [FUZZ_SIM_RUNS=<lines/20>]   fuzz every sketch's serial
+#                   console in the emulator and motionsim under ASan+UBSan (tools/fuzz) -> docs/fuzz-summary.md;
+#                   make test runs a short one
 #   make clean
 
 SHELL := /bin/bash
@@ -142,12 +143,13 @@ TEST_SUITES = \
 test: check-setup $(BUILD)/motionsim $(BUILD)/motionsim-san unit $(EMU_DEPS)
 	@MOTIONSIM=$(abspath $(BUILD)/motionsim) $(PY) tools/run_tests.py $(TEST_SUITES)
 
-# The long fuzz campaign (tools/fuzz/run_fuzz.py): FUZZ_LINES lines per sketch, FUZZ_SIM_RUNS motionsim
-# invocations (default FUZZ_LINES / 4), seed FUZZ_SEED; failing inputs are kept in build/fuzz/failures.
+# The long fuzz campaign (tools/fuzz/run_fuzz.py): FUZZ_LINES lines over all sketches, FUZZ_SIM_RUNS motionsim
+# invocations (default FUZZ_LINES / 20), seed FUZZ_SEED; failing inputs are kept in build/fuzz/failures;
+# the summary is written to docs/fuzz-summary.md (generated, committed).
 FUZZ_LINES ?= 10000
 FUZZ_SEED  ?= 1
 fuzz: check-setup $(BUILD)/motionsim-san $(EMU_DEPS)
-	@$(PY) tools/fuzz/run_fuzz.py --lines "$(FUZZ_LINES)" --seed "$(FUZZ_SEED)" $(if $(FUZZ_SIM_RUNS),--sim-runs "$(FUZZ_SIM_RUNS)")
+	@$(PY) tools/fuzz/run_fuzz.py --lines "$(FUZZ_LINES)" --seed "$(FUZZ_SEED)" $(if $(FUZZ_SIM_RUNS),--sim-runs "$(FUZZ_SIM_RUNS)") --summary docs/fuzz-summary.md
 
 # ---------------------------------------------------------------------------------------
 # A real board over USB (cannot run without one). Every refusal is one line and exit 2: the checks

@@ -1,0 +1,237 @@
+"""tools/fuzz/fuzz_oracles.py - what the fuzzer checks on the STEP/DIR edges, as pure functions.
+
+Inputs are plain lists (cycles of the 16 MHz CPU), so the self-test (fuzz_selftest.py) can feed
+them synthetic traces. The bounds come from the documented guarantees, not from the firmware:
+
+- docs/stepper-engine.md: every step edge of the planner is within 1 tick of its plan (the exact
+  ramp: of round(F t_n)), and Timer1's compare match falls on that tick; F = 16 MHz for the exact
+  ramp (ExactRampStepper, MultiAxisStepper: one tick per CPU cycle), 2 MHz for the lab's ramps.
+  An edge on the pin comes after its compare match, never before, by at most STEP_LATE_CYCLES
+  (the single-axis bound, also the bench's clean criterion for MultiAxisStepper, docs/multi-axis.md).
+- The exact ramp is constant acceleration: the average speed over a step interval t_k is the speed
+  at its middle, so two consecutive intervals obey
+      |1/t_k+1 - 1/t_k| <= a (t_k + t_k+1) / 2        (equality while accelerating)
+  with a the acceleration in force; with each edge within QUANT_TICKS of its plan, an interval is
+  off by at most 2 QUANT_TICKS ticks (QUANT_TICKS = 1.5: 1 tick of round(F t_n)), which moves 1/t by at most F 2q / (t (t - 2q)).
+- No interval is faster than the largest vmax in force (plus the same quantisation).
+- A direction reversal happens from rest: under constant deceleration a to rest the step before
+  the turning point is less than one step from it, so the interval ending there covers steps
+  within two steps of rest, whose speed is at most sqrt(v0^2 + 2 a 2) (v0: a ramp may start and
+  end at v0); the same on the way back. So both intervals next to a DIR change are at most that
+  fast. (Not for the S-curve, whose largest acceleration `?` does not give: its `accel=` is the
+  average.)
+"""
+import math
+
+F_CPU = 16_000_000
+STEP_LATE_CYCLES = 260   # docs/stepper-engine.md / docs/multi-axis.md: an edge at most this late after its match
+QUANT_TICKS = 1.5        # docs/stepper-engine.md: every edge within 1 tick of round(F t_n), itself 0.5 tick from F t_n
+LAW_TOL = 0.002          # the parameters are float32 (6e-8) and the ramp's constants 1/256 tick: 0.2 % is ample
+
+
+def edges_with_dir(pins, step, dirp):
+    """[(cycle, +1/-1)]: every rising STEP edge with the DIR level just before it (high = +1).
+    pins: emulog's {name: [(cycle, level)]}; one linear merge."""
+    steps = pins.get(step, [])
+    dirs = pins.get(dirp, [])
+    out = []
+    j, level = 0, 0
+    for c, lv in steps:
+        while j < len(dirs) and dirs[j][0] < c:
+            level = dirs[j][1]
+            j += 1
+        if lv == 1:
+            out.append((c, 1 if level == 1 else -1))
+    return out
+
+
+def positions(edges):
+    """[(cycle, position after the edge)] from [(cycle, +-1)], starting at 0"""
+    pos, out = 0, []
+    for c, d in edges:
+        pos += d
+        out.append((c, pos))
+    return out
+
+
+def planned_cycles(edge_cycles, own_matches, all_matches, late=STEP_LATE_CYCLES):
+    """The compare match each pin edge came from: its own channel's last match at or before it, if
+    within `late` cycles, else (an axis stepped by another axis's interrupt, a diagonal) any
+    channel's. Returns (planned cycles, problems): an edge with no match within `late` cycles
+    before it is a problem (late, or not from a timer match at all)."""
+    out, problems = [], []
+    io = ia = 0
+    last_o = last_a = None
+    for c in edge_cycles:
+        while io < len(own_matches) and own_matches[io] <= c:
+            last_o = own_matches[io]
+            io += 1
+        while ia < len(all_matches) and all_matches[ia] <= c:
+            last_a = all_matches[ia]
+            ia += 1
+        if last_o is not None and c - last_o <= late:
+            out.append(last_o)
+        elif last_a is not None and c - last_a <= late:
+            out.append(last_a)
+        else:
+            out.append(c)
+            if len(problems) < 3:
+                ago = f"{c - last_o} cycles after its channel's last match" if last_o is not None else "no match before"
+                problems.append(f"STEP edge at {c / F_CPU:.6f} s: {ago} (bound {late} cycles)")
+    return out, problems
+
+
+class Params:
+    """The parameters in force over time for one axis: events (cycle, key, value) of accepted
+    `set`s, after the initial values. max_over(key, a, b): the largest value in force at any time
+    in [a, b] (a set takes effect at the next plan, so the old one stays in force until then:
+    taking the largest of both is the honest bound)."""
+
+    def __init__(self, initial, events=()):
+        self.initial = dict(initial)
+        self.events = sorted(events)
+
+    def max_over(self, key, a, b):
+        v = self.initial.get(key, 0.0)
+        best = None
+        for c, k, val in self.events:
+            if k != key:
+                continue
+            if c <= a:
+                v = val
+            elif c <= b:
+                best = val if best is None else max(best, val)
+        return v if best is None else max(v, best)
+
+
+def split_runs(times, dirs, split_after):
+    """Runs of consecutive edges between rests: a new run after every index in split_after (the
+    edge where a move ended: DONE, halt) and at every DIR change. Yields lists of indices."""
+    run = []
+    for i in range(len(times)):
+        if run and (dirs[i] != dirs[i - 1] or (i - 1) in split_after):
+            yield run
+            run = []
+        run.append(i)
+    if run:
+        yield run
+
+
+def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit=3, reversals=True):
+    """The speed-continuity oracle on planned edge times (cycles). Returns (problems, pairs
+    checked, worst fraction of the allowance used, reversals checked).
+    exact: apply the constant-acceleration law between consecutive intervals (exact ramp); every
+    ramp gets the vmax bound and the reversal bound."""
+    problems = []
+    pairs = 0
+    worst = 0.0
+    q = 2 * QUANT_TICKS * tick_cycles   # cycles an interval may be off
+    check_reversals, reversals = reversals, 0
+
+    def quant(t):
+        return F_CPU * q / (t * (t - q)) if t > q else float("inf")
+
+    runs = list(split_runs(times, dirs, split_after))
+    for r in runs:
+        for k in range(1, len(r)):
+            i0, i1 = r[k - 1], r[k]
+            t = times[i1] - times[i0]
+            if t <= 0:
+                problems.append(f"{label}: two STEP edges on one tick at {times[i1] / F_CPU:.6f} s")
+                continue
+            v = F_CPU / t
+            vmax = params.max_over("vmax", times[r[0]], times[i1])
+            if v > vmax * (1 + LAW_TOL) + quant(t) and len(problems) < limit:
+                problems.append(f"{label}: {v:.0f} steps/s at {times[i1] / F_CPU:.6f} s (interval {t} cycles), "
+                                f"above the largest vmax in force {vmax:g}")
+            if exact and k >= 2:
+                ta = times[r[k - 1]] - times[r[k - 2]]
+                if ta <= 0:
+                    continue
+                va = F_CPU / ta
+                a = params.max_over("accel", times[r[0]], times[i1])
+                allowed = a * (ta + t) / 2 / F_CPU * (1 + LAW_TOL) + quant(ta) + quant(t)
+                jump = abs(v - va)
+                pairs += 1
+                if allowed > 0:
+                    worst = max(worst, jump / allowed)
+                if jump > allowed and len(problems) < limit:
+                    problems.append(f"{label}: speed {va:.1f} -> {v:.1f} steps/s in one step at "
+                                    f"{times[i1] / F_CPU:.6f} s (intervals {ta} -> {t} cycles; the law allows "
+                                    f"{allowed:.1f} at accel {a:g})")
+    # reversals: the last interval before a DIR change and the first after it
+    for r0, r1 in zip(runs, runs[1:]):
+        if not check_reversals or dirs[r0[-1]] == dirs[r1[0]] or r0[-1] in split_after or len(r0) < 2 or len(r1) < 2:
+            continue   # not a turn of one motion: a move ended (DONE, halt) and a new one started
+        reversals += 1
+        a = params.max_over("accel", times[r0[0]], times[r1[-1]])
+        v0 = params.max_over("v0", times[r0[0]], times[r1[-1]])
+        bound = math.sqrt(v0 * v0 + 4 * a)
+        for ia, ib in ((r0[-2], r0[-1]), (r1[0], r1[1])):
+            t = times[ib] - times[ia]
+            v = F_CPU / t if t > 0 else float("inf")
+            if v > bound * (1 + LAW_TOL) + quant(t) and len(problems) < limit:
+                problems.append(f"{label}: reverses at {times[r0[-1]] / F_CPU:.6f} s at {v:.0f} steps/s, faster "
+                                f"than two steps from rest ({bound:.0f} at v0 {v0:g}, accel {a:g})")
+                break
+    return problems, pairs, worst, reversals
+
+
+def done_splits(pos_after, done_events):
+    """Indices of the edges where a move ended: for each (cycle, position) of a DONE, the last edge
+    before that cycle that left the axis at that position."""
+    out = set()
+    k = 0
+    for c, p in sorted(done_events):
+        while k < len(pos_after) and pos_after[k][0] < c:
+            k += 1
+        for i in range(k - 1, -1, -1):
+            if pos_after[i][1] == p:
+                out.add(i)
+                break
+            if c - pos_after[i][0] > 5 * F_CPU:   # not within 5 s before: no edge of that move
+                break
+    return out
+
+
+def position_seen(pos_after, cycle, p, span_cycles):
+    """True if the axis was at p at some moment in [cycle - span, cycle] (the DONE line reaches the
+    host up to a transmit buffer after the move ended)."""
+    lo = cycle - span_cycles
+    # binary search for the last edge at or before lo
+    a, b = 0, len(pos_after)
+    while a < b:
+        m = (a + b) // 2
+        if pos_after[m][0] <= lo:
+            a = m + 1
+        else:
+            b = m
+    at_lo = pos_after[a - 1][1] if a else 0
+    if at_lo == p:
+        return True
+    i = a
+    while i < len(pos_after) and pos_after[i][0] <= cycle:
+        if pos_after[i][1] == p:
+            return True
+        i += 1
+    return False
+
+
+def position_at(pos_after, cycle):
+    a, b = 0, len(pos_after)
+    while a < b:
+        m = (a + b) // 2
+        if pos_after[m][0] <= cycle:
+            a = m + 1
+        else:
+            b = m
+    return pos_after[a - 1][1] if a else 0
+
+
+def status_problems(fields, label):
+    """`underruns=` and `late=` of a `?` reply: both 0 within the sketch's limits (docs/serial.md)"""
+    out = []
+    for k in ("underruns", "late"):
+        if k in fields and fields[k] != "0":
+            out.append(f"{label}: `?` says {k}={fields[k]} (0 within the sketch's limits)")
+    return out

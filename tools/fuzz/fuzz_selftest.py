@@ -1,0 +1,144 @@
+"""tools/fuzz/fuzz_selftest.py - the fuzz oracles must be able to fail: synthetic traces, good and
+bad, through the same functions the campaign uses (fuzz_oracles.py, fuzz_conversation.check).
+
+Good traces come from the closed form of constant acceleration, t_n = sqrt(2 n / a) (rounded to
+whole ticks, as the documented planner does within 1 tick), so they are independent of the
+firmware; each bad trace carries one of issue 22's faults: a speed jump at a replan (new speed =
+old x new accel / old accel), a speed above vmax, a drop to ~95 steps/s in one step, a reversal
+at speed, an edge late after its compare match; and conversations in which a damaged flood line
+was executed (`OK 6629 -7799999`), lines went unaccounted, or an overrun came only after the
+host's next line. run() returns (problems, cases): a problem is an oracle that passed a bad trace
+or failed a good one.
+"""
+import math
+
+import emulog
+import fuzz_conversation as fc
+import fuzz_oracles as fo
+
+F = fo.F_CPU
+
+
+def ramp(a, n, v0=0.0, t0=0.0):
+    """edge cycles of n steps of constant acceleration a from v0, starting at t0 (s)"""
+    out = []
+    for k in range(1, n + 1):
+        t = (math.sqrt(v0 * v0 + 2 * a * k) - v0) / a
+        out.append(int(round((t0 + t) * F)))
+    return out
+
+
+def cruise_then(edges, v, n):
+    out = list(edges)
+    for _ in range(n):
+        out.append(out[-1] + int(round(F / v)))
+    return out
+
+
+def law(times, a, vmax, v0=0.0, dirs=None, splits=(), events=()):
+    p = fo.Params({"accel": a, "vmax": vmax, "v0": v0}, events)
+    return fo.speed_law(times, dirs or [1] * len(times), set(splits), p, 1, True, "t")
+
+
+def run():
+    problems, cases = [], 0
+
+    def expect(name, probs, fail):
+        nonlocal cases
+        cases += 1
+        if bool(probs) != fail:
+            problems.append(f"{name}: the oracle {'passed' if fail else 'failed'} it"
+                            + (f" ({probs[0]})" if probs else ""))
+
+    # 1. good: accelerate at 50,000 steps/s^2 to 5,000 steps/s, cruise, then a replan at a new
+    # accel that keeps the speed (decelerate at 200,000 from 5,000)
+    up = ramp(50000, 250)                       # v(250) = sqrt(2 a 250) = 5000
+    good = cruise_then(up, 5000, 300)
+    t_end = good[-1] / F
+    down = [int(round((t_end + (5000 - math.sqrt(max(0.0, 5000 ** 2 - 2 * 200000 * k))) / 200000) * F))
+            for k in range(1, 62)]
+    good_replan = good + down
+    ev = [(good[-50], "accel", 200000.0)]
+    expect("constant acceleration, cruise, faster deceleration after set accel",
+           law(good_replan, 50000, 5000, events=ev)[0], False)
+    # 2. issue 22 item 1: after the replan the interval drops from 200 us to 50 us (4x vmax)
+    jump = cruise_then(good, 20000, 50)
+    expect("a 4x speed jump at a replan (5,000 -> 20,000 steps/s)",
+           law(jump, 50000, 20000, events=[(good[-50], "accel", 200000.0)])[0], True)
+    # 3. set accel 1000: the speed falls from 5,000 to ~95 steps/s in one step
+    drop = cruise_then(good, 95, 3)
+    expect("a drop from 5,000 to 95 steps/s in one step", law(drop, 50000, 5000)[0], True)
+    # 4. above vmax: the good ramp against a vmax of 4,000
+    expect("5,000 steps/s with vmax 4,000", law(good, 50000, 4000)[0], True)
+    # 5. a 1 % faster acceleration than allowed (the law's tolerance is 0.2 % + 2 ticks)
+    expect("accelerating 1 % above accel (many steps)", law(ramp(50500, 2000), 50000, 1e9)[0], True)
+    # 6. quantisation: each edge within 1 tick of the plan passes
+    exact = [(math.sqrt(2 * 50000 * k)) / 50000 * F for k in range(1, 2001)]
+    jitter = [int(round(c)) + (1 if i % 3 == 0 else -1 if i % 3 == 1 else 0) for i, c in enumerate(exact)]
+    expect("the exact ramp with +-1 tick on round(F t_n)", law(jitter, 50000, 1e9)[0], False)
+    jitter3 = [int(round(c)) + (3 if i % 2 else -3) for i, c in enumerate(exact)]
+    expect("the exact ramp with +-3 ticks on its edges", law(jitter3, 50000, 1e9)[0], True)
+    # 7. reversal: at speed (no deceleration) vs from rest
+    back = [good[-1] + (good[-1] - x) for x in reversed(good[:-1])]
+    dirs = [1] * len(good) + [-1] * len(back)
+    expect("a reversal at 5,000 steps/s", law(good + back, 50000, 5000, dirs=dirs)[0], True)
+    rest = ramp(50000, 100)
+    mirror = [2 * rest[-1] - x for x in reversed(rest[:-1])]   # decelerate to rest at the last edge
+    turn = rest + mirror
+    ret = [turn[-1] + x for x in ramp(50000, 100, t0=0)]
+    expect("a reversal from rest", law(turn + ret, 50000, 1e9, dirs=[1] * len(turn) + [-1] * len(ret))[0], False)
+    # 8. a move that ended (DONE) and a new one from v0: not a jump
+    v0ramp = ramp(50000, 100, v0=3000)
+    nxt = [v0ramp[-1] + 160000 + x for x in ramp(50000, 100, v0=3000)]
+    expect("a new move from v0 after a DONE", law(v0ramp + nxt, 50000, 1e9, v0=3000, splits=[99])[0], False)
+    # 9. edges on the pin vs the compare matches
+    matches = list(range(1000, 100000, 1000))
+    expect("edges 100 cycles after their matches", fo.planned_cycles([m + 100 for m in matches], matches, matches)[1],
+           False)
+    expect("an edge 300 cycles after its match", fo.planned_cycles([m + (300 if m == 5000 else 100) for m in matches],
+                                                                   matches, matches)[1], True)
+
+    # 10. conversations: a flood (the issue's pattern) on a servo sketch, the log as motionemu writes it
+    def conv(replies, flood_values, after_query="setpoint=0 position=0 error=0 duty=0 kp=0.02"):
+        items = [("line", b"?", b"\r\n", None), ("line", b"100000", b"\r\n", 1)]
+        for a_, b_ in flood_values:
+            items += [("line", b"?", b"\r\n", 1), ("line", a_.encode(), b"\r\n", 1),
+                      ("line", b"?", b"\r\n", 1), ("line", b_.encode(), b"\r\n", 1)]
+        items += [("settle", 1000), ("line", b"?", b"\r\n", None)]
+        text = ["mark 100 fuzz", "txraw 200 ?\\x0d\\x0a", "rx 300 setpoint=0 position=0 error=0 duty=0 kp=0.02"]
+        c = 1000
+        for it in items[1:-2]:
+            text.append(f"txraw {c} {it[1].decode()}\\x0d\\x0a")
+        for r in replies:
+            c += 100
+            text.append(f"rx {c} {r}")
+        text += [f"txraw {c + 5000} ?\\x0d\\x0a"] + ([f"rx {c + 6000} {after_query}"] if after_query else [])
+        text += [f"mark {c + 9000} fuzz-end", f"end {c + 9100} done"]
+        log = emulog.EmuLog.parse("\n".join(text) + "\n")
+        return fc.check(log, "servo", items)
+
+    vals = [("-7777", "9999")] * 3
+    good_r = ["OK setpoint=100000", "setpoint=100000 position=0 error=0 duty=0 kp=0.02", "OK setpoint=-7777",
+              "ERR input overrun: 10 lines lost"]
+    expect("a flood answered or counted exactly (3 replies + 10 lost of 13 lines)",
+           conv(good_r, vals, "setpoint=-7777 position=0 error=0 duty=0 kp=0.02").problems, False)
+    expect("a flood line that lost bytes executed (OK setpoint=-77799)",
+           conv(good_r[:2] + ["OK setpoint=-77799", "ERR input overrun: 10 lines lost"], vals).problems, True)
+    expect("a flood with one line neither answered nor counted",
+           conv(good_r[:3] + ["ERR input overrun: 9 lines lost"], vals).problems, True)
+    expect("the overrun reported only after the host's next line",
+           conv(good_r[:3], vals, "ERR input overrun: 10 lines lost").problems, True)
+    expect("the `?` after a flood reports a setpoint never sent",
+           conv(good_r, vals, "setpoint=77 position=0 error=0 duty=0 kp=0.02").problems, True)
+    expect("a `?` with underruns=1", fo.status_problems({"underruns": "1", "late": "0"}, "t"), True)
+    expect("a `?` with late=0 underruns=0", fo.status_problems({"underruns": "0", "late": "0"}, "t"), False)
+    return problems, cases
+
+
+if __name__ == "__main__":
+    import sys
+    p, n = run()
+    for x in p:
+        print(x)
+    print(f"{n} cases, {len(p)} failures")
+    sys.exit(1 if p else 0)
