@@ -1,12 +1,18 @@
 /* MotionSerial.cpp - see MotionSerial.h. */
 #include "MotionSerial.h"
 
-const char *MotionSerial::poll(uint8_t max_bytes)
+void MotionSerial::drain_input()
 {
     if (!started_) {
-        SerialRx::begin();
+        SerialRx::begin(rx_interrupt_);
         started_ = true;
     }
+    SerialRx::drain();
+}
+
+const char *MotionSerial::poll(uint8_t max_bytes)
+{
+    drain_input(); /* on every pass, even when no line may be read now (back-pressure) */
     while (max_bytes-- > 0) {
         uint8_t c = 0;
         rx_loss_t loss = {0, 0, 0};

@@ -15,8 +15,9 @@
  * The rules every console built on it follows (docs/serial.md): a blank line (empty or only
  * spaces/tabs) is no line and gets no reply; every other line gets exactly one reply, or is counted
  * in an "ERR input overrun: N lines lost" reply. Input comes from Serial through SerialRx, which
- * drains the core's 63-byte receive buffer every millisecond into a 128-byte ring that knows
- * exactly which bytes it had to refuse (lib/src/rx_ring.h). When the reader reaches a place where
+ * moves the core's 63-byte receive buffer into a 128-byte ring on every poll() (and every
+ * millisecond from an interrupt unless set_rx_interrupt(false)); the ring knows exactly which
+ * bytes it had to refuse (lib/src/rx_ring.h). When the reader reaches a place where
  * input was lost it answers at once, before any later line: "ERR input overrun: <N> line(s) lost",
  * N the lines the loss touched (the line in progress, every line lost whole, and the line that goes
  * on past it, whose rest is discarded up to its terminator; a line already answered as bad is not
@@ -37,13 +38,14 @@
 class MotionSerial {
 public:
     explicit MotionSerial(Stream &port)
-        : port_(port), out_(port), queue_(0), reserve_(0), started_(false)
+        : port_(port), out_(port), queue_(0), reserve_(0), started_(false), rx_interrupt_(true)
     {
         line_reader_init(&reader_);
     }
     /* Replies through queue; input is read only while queue->room() >= reply_reserve_bytes. */
     MotionSerial(Stream &port, SerialOutQueue &queue, uint16_t reply_reserve_bytes)
-        : port_(port), out_(queue), queue_(&queue), reserve_(reply_reserve_bytes), started_(false)
+        : port_(port), out_(queue), queue_(&queue), reserve_(reply_reserve_bytes), started_(false),
+          rx_interrupt_(true)
     {
         line_reader_init(&reader_);
     }
@@ -52,6 +54,14 @@ public:
      * waiting. Reads at most max_bytes bytes per call so a flood cannot stall the caller, and
      * with a queue none while its room is below the reserve. The first call starts SerialRx. */
     const char *poll(uint8_t max_bytes = 64);
+
+    /* Before the first poll(): false = input drained by poll() alone, no interrupt (SerialRx.h;
+     * the step-engine sketches, which call poll() on every pass of a loop() that never stops). */
+    void set_rx_interrupt(bool on) { rx_interrupt_ = on; }
+
+    /* Moves received input into the ring without reading a line: for a pass of loop() that does
+     * not call poll() (a console busy printing), so that the core's buffer never fills. */
+    void drain_input();
 
     /* "ERR <sentence>" */
     void reply_error(motion_status_t status);
@@ -71,6 +81,7 @@ private:
     SerialOutQueue *queue_;
     uint16_t reserve_;
     bool started_; /* SerialRx::begin() done (on the first poll, after the sketch's Serial.begin) */
+    bool rx_interrupt_;
     line_reader_t reader_;
 };
 

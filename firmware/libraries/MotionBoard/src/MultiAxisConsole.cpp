@@ -68,6 +68,7 @@ void MultiAxisConsole::begin(const __FlashStringHelper *sketch_name)
     s_fed = this;
     stepper_print_hook = keep_fed;
     Serial.begin(9600);
+    serial_.set_rx_interrupt(false); /* poll() drains the input on every pass (SerialRx.h) */
     MultiStepEngine::begin();
     for (uint8_t i = 0; i < MULTI_AXES; i++)
         (void)ramp_[i]->setup(planner_[i], MultiStepEngine::position(i));
@@ -227,6 +228,7 @@ void MultiAxisConsole::poll()
     queue_.pump();
     if (status_pending_ != 0) {
         /* the `?` lines, one at a time as the output queue has room (each about 140 bytes) */
+        serial_.drain_input(); /* no line is read meanwhile, but input must not pile up in the core */
         for (uint8_t i = 0; i < MULTI_AXES; i++) {
             if ((status_pending_ & (1U << i)) && queue_.room() >= 160U) {
                 print_status(i);

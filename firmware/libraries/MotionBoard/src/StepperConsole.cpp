@@ -15,6 +15,7 @@ void StepperConsole::begin(const __FlashStringHelper *sketch_name)
     s_fed = &planner_;
     stepper_print_hook = keep_fed;
     Serial.begin(9600);
+    serial_.set_rx_interrupt(false); /* poll() drains the input on every pass (SerialRx.h) */
     StepEngine::begin(ramp_.tick_hz(), ramp_.lead_ms());
     (void)ramp_.setup(planner_, StepEngine::position());
 #if STEPPER_TIMED_LOOP
