@@ -40,6 +40,7 @@ void StepperConsole::poll()
 {
     int32_t done_at;
     const char *line;
+    bool refilling;
     StepEngine::poll();
     StepEngine::service(planner_);
     if (StepEngine::take_done(done_at)) {
@@ -47,8 +48,15 @@ void StepperConsole::poll()
         next_due_ = has_next_;
     }
     queue_.pump();
-    /* the S-curve table's refill, a slice per pass: a target waits for it (handle_target) */
-    if (!ramp_.busy(planner_) && next_due_) {
+    /* the S-curve table's refill, a slice per pass: a target waits for it (handle_target), and so
+     * do the lines after it (a `?` then tells where that move has got, as it would without a refill) */
+    refilling = ramp_.busy(planner_);
+    if (refilling && next_due_) {
+        serial_.drain_input();
+        queue_.pump();
+        return;
+    }
+    if (next_due_) {
         /* the target accepted while the last steps ran (or during the refill): it starts now, from rest */
         next_due_ = false;
         has_next_ = false;
