@@ -664,13 +664,16 @@ void MultiStepEngine::halt(uint8_t axis)
         s.finishing = 0;
         s.wraps = 0;
         change_mode(s, 0, _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW));
-        for (uint8_t i = 0; i < MULTI_SLOTS; i++)
-            s.slot[i].ready = 0;
         if (f.open)
             s.done = 1;
         f.held = 0;
         step_low(axis);
     }
+    /* its interrupt is off now, so nothing reads its slots: emptied with interrupts on (done inside
+     * the block above, the loop held the other axes' edges back by up to 1,300 cycles: the fuzzer's
+     * late edges at every `!`) */
+    for (uint8_t i = 0; i < MULTI_SLOTS; i++)
+        s.slot[i].ready = 0;
     f.head = next_slot(cur_index(s));
     f.seen = f.head;
     f.ready = 0;
