@@ -13,7 +13,8 @@
  *                 reversing and approaching if 5000 is behind); "OK <from> 5000", one DONE
  *   stop          decelerate to rest: "OK stop", then "DONE <position>"
  *   !             halt at once: "OK halt", then "DONE <position>"
- *   ?             position, state, parameters, underruns= late= (both 0 within the limits)
+ *   ?             position, state, parameters, underruns= (0 within the limits) late= (edges fired 2 us
+ *                 late: a few near max_sps, docs/stepper-engine.md)
  *   set vmax 50000   v0, vmax (up to max_sps) or accel; while moving, from the next plan
  * Pins and compile-time options: MotionBoard's StepperPins.h. The same commands come out of
  * `motionsim ramp --algo exact --tick-hz 16000000 --queue`.

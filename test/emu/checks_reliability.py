@@ -175,6 +175,9 @@ def checks_for(env):
         if fam == "multiaxis" or (fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read()):
             checks.append((f"{s}: set accel while moving then a new target keeps the speed (the law of "
                            f"constant acceleration, from the STEP edges)", lambda s=s: check_replan_keeps_speed(env, s)))
+        if fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read():
+            checks.append((f"{s}: at the corners of its limits (max_sps, the largest accel): no underrun, every "
+                           f"edge within the bound", lambda s=s: check_exact_corners(env, s)))
         if fam == "multiaxis":
             checks.append((f"{s}: a halt of one axis holds no other axis's edge beyond the bound",
                            lambda s=s: check_multiaxis_halt_latency(env, s)))
@@ -359,3 +362,43 @@ def check_multiaxis_halt_latency(env, sketch):
     return CheckResult(not problems, f"three axes at 25,000 steps/s, each halted and restarted 4 times while the others "
                        f"step, then `!`: {edges} edges, the latest "
                        f"after its match: " + ", ".join(f"{k} {v} cycles" for k, v in worst.items()), problems)
+
+
+# ExactRampStepper at the corners of its own limits (max_sps from `?`, the largest accel from the
+# `set accel` refusal's "at most N"): moves from rest, a reversal at speed and a retarget, v0 0 and
+# v0 half of max_sps: no underrun (docs: underruns= stays 0 within the limits), every edge within
+# the documented bound of its compare match. Before the accel limit (1e7 then) the fuzzer found
+# underruns=40 at accel 6.8e6 near 80,000 steps/s.
+def check_exact_corners(env, sketch):
+    import bisect
+    probe = emulog.run(env.elf(sketch), "wait ^READY [^ ]+$\nsend ?\nwait ^pos=\nsend set accel 1e30\nwait ^ERR\n")
+    q = probe.first("^pos=")
+    err = probe.first(r"^ERR number out of range: accel at most ")
+    if q is None or err is None:
+        return CheckResult(False, "no limits", [f"`?` and `set accel 1e30` drew {[l.text for l in probe.rx]}"])
+    vmax = float(emulog.query_fields(q.text)["max_sps"])
+    amax = float(re.search(r"at most ([\d.e+]+)", err.text).group(1))
+    problems, figures = [], []
+    for v0 in (0.0, vmax / 2):
+        script = "\n".join(["wait ^READY [^ ]+$", "timeout 30000", f"send set vmax {vmax:g}", "wait ^OK",
+                            f"send set accel {amax:g}", "wait ^OK", f"send set v0 {v0:g}", "wait ^OK",
+                            "send 40000", "wait ^OK", "wait ^DONE", "send -40000", "wait ^OK", "run 150",
+                            "send 20000", "wait ^OK", "run 100", "send -10000", "wait ^OK", "wait ^DONE -10000$",
+                            "send ?", "wait ^pos="]) + "\n"
+        log = emulog.run(env.elf(sketch), script, pins=sketches.stepper_pins(env), extra=["--matches"])
+        fails_of(log, problems)
+        f = emulog.query_fields(log.lines_matching("^pos=")[-1].text) if log.lines_matching("^pos=") else {}
+        m = log.matches.get("OC1A", [])
+        worst = 0
+        for c in log.rising("STEP"):
+            i = bisect.bisect_right(m, c) - 1
+            if i >= 0:
+                worst = max(worst, c - m[i])
+        if f.get("underruns") != "0" or f.get("pos") != "-10000":
+            problems.append(f"v0 {v0:g}: the `?` at the end says {f}")
+        if worst > STEP_LATE_CYCLES:
+            problems.append(f"v0 {v0:g}: an edge {worst} cycles after its compare match (bound {STEP_LATE_CYCLES})")
+        figures.append(f"v0 {v0:g}: {len(log.rising('STEP'))} steps, underruns={f.get('underruns')} "
+                       f"late={f.get('late')}, latest edge {worst} cycles after its match")
+    return CheckResult(not problems, f"vmax {vmax:g} and accel {amax:g} (the limits): " + "; ".join(figures),
+                       problems)

@@ -61,7 +61,7 @@ motion_status_t TrapezoidRamp::set(const char *key, const char *value)
         field = &p.vmax_sps;
     else if (text_word_is(key, "accel")) {
         field = &p.accel_sps2;
-        hi = STEPPER_MAX_ACCEL;
+        hi = max_accel();
     } else
         return MS_ERR_UNKNOWN_COMMAND;
     st = text_parse_real(value, -1e7, hi, &v);
@@ -95,7 +95,7 @@ void TrapezoidRamp::print_param(Print &out, const char *key) const
 void TrapezoidRamp::print_limit(Print &out, const char *key) const
 {
     if (text_word_is(key, "accel"))
-        print_upper_limit(out, key, STEPPER_MAX_ACCEL, F(" steps/s^2"));
+        print_upper_limit(out, key, max_accel(), F(" steps/s^2"));
     else
         print_upper_limit(out, key, max_sps_, F(" steps/s"));
 }

@@ -66,8 +66,14 @@ extern void (*stepper_print_hook)();
  * "0.5", "333.3"), else with 7 significant digits ("1.234567e-01"): PrintReal.h. */
 inline void stepper_print_real(Print &out, double v) { print_real_exact(out, v, stepper_print_hook); }
 
-/* The largest acceleration `set accel` accepts on the trapezoid sketches, steps/s^2. */
+/* The largest acceleration `set accel` accepts on the trapezoid sketches, steps/s^2. The exact
+ * ramp's is lower: above it, near max_sps, its first commands span a step or two each and the
+ * planner falls behind the step interrupt (underruns: found by `make fuzz`; test/emu/
+ * checks_reliability.py checks every combination of the limits). */
 #define STEPPER_MAX_ACCEL 1e7
+#ifndef STEPPER_MAX_ACCEL_EXACT
+#define STEPPER_MAX_ACCEL_EXACT 2e6
+#endif
 /* The largest S-curve flexibility `set flex` accepts. */
 #define STEPPER_MAX_FLEX 1000.0
 
@@ -94,6 +100,7 @@ private:
     ramp_algo_t algo_;
     ramp_params_t params_;
     double max_sps_;
+    double max_accel() const { return algo_ == RAMP_ALGO_EXACT ? STEPPER_MAX_ACCEL_EXACT : STEPPER_MAX_ACCEL; }
     const ramp_hooks_t *hooks_;
 };
 
