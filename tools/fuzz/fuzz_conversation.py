@@ -17,8 +17,9 @@ docs/stepper-engine.md, docs/multi-axis.md):
              ramp's constant-acceleration law between consecutive intervals, no interval above
              the largest vmax in force, reversals from rest; every edge within STEP_LATE_CYCLES
              after its match
-  status     `underruns=` and `late=` 0 in every `?` reply (every command is within the limits
-             the sketch itself accepts)
+  status     `underruns=` 0 in every `?` reply (every command is within the limits the sketch
+             itself accepts); `late=` may count edges fired 2 us late: each edge is checked
+             against its compare match above
 """
 import re
 

@@ -229,9 +229,11 @@ def position_at(pos_after, cycle):
 
 
 def status_problems(fields, label):
-    """`underruns=` and `late=` of a `?` reply: both 0 within the sketch's limits (docs/serial.md)"""
+    """`underruns=` of a `?` reply: 0 within the sketch's limits (docs/stepper-engine.md). `late=`
+    counts edges fired 2 us after their time, which the documented bound allows (a few near
+    max_sps); every edge is checked against its compare match instead (planned_cycles)."""
     out = []
-    for k in ("underruns", "late"):
+    for k in ("underruns",):
         if k in fields and fields[k] != "0":
             out.append(f"{label}: `?` says {k}={fields[k]} (0 within the sketch's limits)")
     return out

@@ -132,6 +132,8 @@ def run():
            conv(good_r, vals, "setpoint=77 position=0 error=0 duty=0 kp=0.02").problems, True)
     expect("a `?` with underruns=1", fo.status_problems({"underruns": "1", "late": "0"}, "t"), True)
     expect("a `?` with late=0 underruns=0", fo.status_problems({"underruns": "0", "late": "0"}, "t"), False)
+    expect("a `?` with late=3 underruns=0 (edges within the bound)",
+           fo.status_problems({"underruns": "0", "late": "3"}, "t"), False)
     return problems, cases
 
 

@@ -221,7 +221,7 @@ def main(argv):
             what = (f"{name}: {g['lines']} lines ({per_kind})"
                     f": {g['replies']} replies, {g['flood_lines']} sent in floods ({g['overrun_lines']} counted lost)"
                     + (f", {g['accepted_moves']} moves, {g['done']} DONE, {g['steps']} steps, {g['pairs']} interval "
-                       f"pairs and {g['reversals']} reversals checked, {g['queries']} `?` with underruns=0 late=0"
+                       f"pairs and {g['reversals']} reversals checked, {g['queries']} `?` with underruns=0"
                        if moving else "")
                     + f", {nfail} findings")
             title = f"{name}: fuzzed serial conversations: one reply each, no reset/crash/hang, floods accounted" + \
@@ -277,7 +277,7 @@ def write_summary(a, env, names, order_names, by_name, tot, total_fail, st_count
            f"- lines sent: {tot['lines']} to {len(names)} sketches; replies {tot['replies']}; "
            f"lines sent in floods {tot['flood_lines']} ({tot['overrun_lines']} counted lost in `ERR input overrun`)",
            f"- steps checked: {tot['steps']} STEP edges against OK/DONE/`?`; {tot['pairs']} consecutive interval pairs "
-           f"against the ramp's law; {tot['reversals']} reversals; {tot['queries']} `?` replies with underruns=0 late=0",
+           f"against the ramp's law; {tot['reversals']} reversals; {tot['queries']} `?` replies with underruns=0",
            f"- oracle self-test: {st_count} synthetic cases, {len(st_problems)} failures",
            f"- **findings: {total_fail}**", "",
            "| sketch | kind | lines | replies | flood lines (lost) | steps | interval pairs | findings |",
