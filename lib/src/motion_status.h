@@ -39,6 +39,11 @@ extern "C" {
     X(MS_ERR_ACCEL_TOO_LOW, "acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz (scales with F^2)") \
     X(MS_ERR_DERIVED_PARAM, "derived here from fmin, fmax, len, hold and flex: set those instead") \
     X(MS_ERR_COORD_RATIO, "axes too unequal for a coordinated move: an axis moves too few steps for the longest one at this accel") \
+    X(MS_ERR_JERK_NOT_POSITIVE, "jerk must be greater than 0 steps/s^3")                      \
+    X(MS_ERR_JERK_TOO_LOW, "jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)") \
+    X(MS_ERR_SMOOTH_REVERSE, "the target is behind where a stop now comes to rest: stop first") \
+    X(MS_ERR_SMOOTH_TOO_MANY, "too many changes of the target within tau1 + tau2: wait or stop first") \
+    X(MS_ERR_SMOOTH_TOO_LONG, "the move would end more than 2^46 timer ticks after its start") \
     /* acceleration/deceleration filters */                                                    \
     X(MS_ERR_TS_NOT_POSITIVE, "sample time Ts must be greater than 0 s")                       \
     X(MS_ERR_TAU_BELOW_TS, "time constant tau must be at least one sample time Ts")            \

@@ -1,0 +1,850 @@
+/* smooth_move.c - the filter-shaped move and its step commands (see smooth_move.h). */
+#include "smooth_move.h"
+
+#include <math.h>
+
+/* ---- smx_t: m x 2^e in integers ---- */
+
+#define SMX_TOP (1ULL << 62)
+#define SMX_BOT (1ULL << 61)
+
+static smx_t smx_make(int neg, uint64_t a, int e)
+{
+    smx_t r;
+    if (a == 0) {
+        r.m = 0;
+        r.e = 0;
+        return r;
+    }
+    while (a >= SMX_TOP) {
+        a = (a >> 1) + (a & 1U); /* halves up */
+        e++;
+    }
+    while (a < SMX_BOT) {
+        a <<= 1;
+        e--;
+    }
+    r.m = neg ? -(int64_t)a : (int64_t)a;
+    r.e = (int16_t)e;
+    return r;
+}
+
+static uint64_t smx_mag(smx_t a)
+{
+    return a.m < 0 ? (uint64_t)0 - (uint64_t)a.m : (uint64_t)a.m;
+}
+
+smx_t smx_from_i64(int64_t v)
+{
+    return v < 0 ? smx_make(1, (uint64_t)0 - (uint64_t)v, 0) : smx_make(0, (uint64_t)v, 0);
+}
+
+static smx_t smx_ldexp(smx_t a, int k);
+
+smx_t smx_from_float(float f)
+{
+    int e = 0;
+    double fm = frexp((double)f, &e);          /* f = fm 2^e, 0.5 <= |fm| < 1 */
+    int32_t mi = (int32_t)(fm * 16777216.0);    /* exact: a float has 24 bits */
+    return smx_ldexp(smx_from_i64(mi), e - 24);
+}
+
+double smx_to_double(smx_t a)
+{
+    return ldexp((double)a.m, a.e);
+}
+
+static smx_t smx_neg(smx_t a)
+{
+    a.m = -a.m;
+    return a;
+}
+
+static smx_t smx_ldexp(smx_t a, int k)
+{
+    if (a.m != 0)
+        a.e = (int16_t)(a.e + k);
+    return a;
+}
+
+smx_t smx_add(smx_t a, smx_t b)
+{
+    int d;
+    uint64_t bm;
+    int64_t s;
+    if (a.m == 0)
+        return b;
+    if (b.m == 0)
+        return a;
+    if (a.e < b.e) {
+        smx_t t = a;
+        a = b;
+        b = t;
+    }
+    d = a.e - b.e;
+    if (d > 63)
+        return a;
+    bm = smx_mag(b);
+    bm = d == 0 ? bm : (bm >> d) + ((bm >> (d - 1)) & 1U); /* rounded, halves up in magnitude */
+    s = a.m + (b.m < 0 ? -(int64_t)bm : (int64_t)bm);
+    return s < 0 ? smx_make(1, (uint64_t)0 - (uint64_t)s, a.e) : smx_make(0, (uint64_t)s, a.e);
+}
+
+static smx_t smx_sub(smx_t a, smx_t b)
+{
+    return smx_add(a, smx_neg(b));
+}
+
+smx_t smx_mul(smx_t a, smx_t b)
+{
+    uint64_t x = smx_mag(a), y = smx_mag(b);
+    uint64_t x0 = (uint32_t)x, x1 = x >> 32, y0 = (uint32_t)y, y1 = y >> 32;
+    uint64_t p00, p01, p10, p11, mid, lo, hi;
+    if (x == 0 || y == 0)
+        return smx_from_i64(0);
+    p00 = x0 * y0;
+    p01 = x0 * y1;
+    p10 = x1 * y0;
+    p11 = x1 * y1;
+    mid = (p00 >> 32) + (uint32_t)p01 + (uint32_t)p10;
+    lo = (mid << 32) | (uint32_t)p00;
+    hi = p11 + (p01 >> 32) + (p10 >> 32) + (mid >> 32);
+    /* product < 2^124: keep bits 62..123 (truncated) */
+    return smx_make((a.m < 0) != (b.m < 0), (hi << 2) | (lo >> 62), a.e + b.e + 62);
+}
+
+smx_t smx_div(smx_t a, smx_t b)
+{
+    uint64_t r = smx_mag(a), d = smx_mag(b), q = 0;
+    int i;
+    if (r == 0 || d == 0)
+        return smx_from_i64(0);
+    for (i = 0; i < 62; i++) {
+        q <<= 1;
+        if (r >= d) {
+            r -= d;
+            q |= 1U;
+        }
+        r <<= 1;
+    }
+    return smx_make((a.m < 0) != (b.m < 0), q, a.e - b.e - 61);
+}
+
+static int smx_sign(smx_t a)
+{
+    return a.m > 0 ? 1 : a.m < 0 ? -1 : 0;
+}
+
+int smx_cmp(smx_t a, smx_t b)
+{
+    return smx_sign(smx_sub(a, b));
+}
+
+/* floor(|a| + 1/2) with a's sign; |a| < 2^62 */
+int64_t smx_round(smx_t a)
+{
+    uint64_t m = smx_mag(a);
+    if (m == 0)
+        return 0;
+    if (a.e >= 0)
+        m <<= a.e; /* callers stay below 2^62: e >= 0 means a is 0 */
+    else if (a.e < -63)
+        m = 0;
+    else
+        m = (m >> -a.e) + ((m >> (-a.e - 1)) & 1U);
+    return a.m < 0 ? -(int64_t)m : (int64_t)m;
+}
+
+int64_t smx_round_q16(smx_t a)
+{
+    return smx_round(smx_ldexp(a, 16));
+}
+
+static int64_t smx_floor(smx_t a)
+{
+    uint64_t m = smx_mag(a);
+    if (m == 0 || a.e < -63)
+        return a.m < 0 ? -1 : 0;
+    if (a.e >= 0)
+        return a.m < 0 ? -(int64_t)(m << a.e) : (int64_t)(m << a.e);
+    if (a.m >= 0)
+        return (int64_t)(m >> -a.e);
+    return -(int64_t)((m + ((1ULL << -a.e) - 1U)) >> -a.e);
+}
+
+static smx_t smx_zero(void)
+{
+    return smx_from_i64(0);
+}
+
+/* ---- the law ---- */
+
+static smx_t last_knot_of(const smooth_law_t *law, smx_t s)
+{
+    return smx_add(smx_add(s, law->tau1), law->tau2);
+}
+
+motion_status_t smooth_law_set_params(smooth_law_t *law, const smooth_params_t *p)
+{
+    float vmax, accel, jerk;
+    smx_t f, t1, t2;
+    if (law == NULL || p == NULL)
+        return MS_ERR_NULL;
+    vmax = (float)p->vmax_sps;
+    accel = (float)p->accel_sps2;
+    jerk = (float)p->jerk_sps3;
+    if (!isfinite(vmax) || !isfinite(accel) || !isfinite(jerk))
+        return MS_ERR_NOT_FINITE;
+    if (!(accel > 0))
+        return MS_ERR_ACCEL_NOT_POSITIVE;
+    if (!(jerk > 0))
+        return MS_ERR_JERK_NOT_POSITIVE;
+    if (!(vmax > 0))
+        return MS_ERR_VMAX_NOT_ABOVE_V0;
+    if (p->tick_hz == 0)
+        return MS_ERR_TICK_HZ_ZERO;
+    if (vmax > (float)p->tick_hz)
+        return MS_ERR_VMAX_ABOVE_TICK_HZ;
+    f = smx_from_i64(p->tick_hz);
+    t1 = smx_div(smx_mul(smx_from_float(vmax), f), smx_from_float(accel));
+    t2 = smx_div(smx_mul(smx_from_float(accel), f), smx_from_float(jerk));
+    if (smx_cmp(t2, t1) > 0)
+        return MS_ERR_JERK_TOO_LOW;
+    if (smx_cmp(t1, smx_from_i64((int64_t)1 << 34)) > 0)
+        return MS_ERR_ACCEL_PHASE_TOO_LONG;
+    law->tau1 = t1;
+    law->tau2 = t2;
+    law->vmax = smx_div(smx_from_float(vmax), f);
+    law->inv_t1t2 = smx_div(smx_from_i64(1), smx_mul(t1, t2));
+    law->tick_hz = p->tick_hz;
+    return MS_OK;
+}
+
+void smooth_law_reset(smooth_law_t *law, int32_t pos)
+{
+    smx_t z = smx_zero();
+    law->n_chg = 0;
+    law->n_knot = 0;
+    law->cur.t = law->cur.p = law->cur.v = law->cur.a = law->cur.j = z;
+    law->cur.next = 0;
+    law->p_final = z;
+    law->t_final = z;
+    law->u_old = z;
+    law->origin = pos;
+    law->dir = 1;
+}
+
+/* q(x) of cursor c: position, velocity, acceleration x later (without knots) */
+static void cur_poly(const smooth_cursor_t *c, smx_t x, smx_t *p, smx_t *v, smx_t *a)
+{
+    smx_t jx = smx_mul(c->j, x);
+    smx_t a_half = smx_ldexp(c->a, -1);
+    smx_t j_sixth = smx_div(c->j, smx_from_i64(6));
+    if (p != NULL) /* p + x (v + x (a/2 + x j/6)) */
+        *p = smx_add(c->p, smx_mul(x, smx_add(c->v, smx_mul(x, smx_add(a_half, smx_mul(x, j_sixth))))));
+    if (v != NULL) /* v + x (a + x j/2) */
+        *v = smx_add(c->v, smx_mul(x, smx_add(c->a, smx_ldexp(jx, -1))));
+    if (a != NULL)
+        *a = smx_add(c->a, jx);
+}
+
+/* the cursor's state moved to time t (>= c->t, before the next knot) */
+static void cur_move(smooth_cursor_t *c, smx_t t)
+{
+    smx_t x = smx_sub(t, c->t), p, v, a;
+    if (x.m == 0) {
+        c->t = t;
+        return;
+    }
+    cur_poly(c, x, &p, &v, &a);
+    c->p = p;
+    c->v = v;
+    c->a = a;
+    c->t = t;
+}
+
+/* to time t, through the knots up to it (those at t included) */
+static void cur_advance(smooth_cursor_t *c, const smooth_law_t *law, smx_t t)
+{
+    while (c->next < law->n_knot && smx_cmp(law->knot[c->next].t, t) <= 0) {
+        cur_move(c, law->knot[c->next].t);
+        c->j = smx_add(c->j, law->knot[c->next].dj);
+        c->next++;
+    }
+    if (smx_cmp(t, c->t) > 0)
+        cur_move(c, t);
+}
+
+void smooth_law_advance(smooth_law_t *law, smx_t t)
+{
+    cur_advance(&law->cur, law, t);
+}
+
+void smooth_law_knots_to(smooth_law_t *law, smx_t t)
+{
+    smooth_cursor_t *c = &law->cur;
+    while (c->next < law->n_knot && smx_cmp(law->knot[c->next].t, t) <= 0) {
+        cur_move(c, law->knot[c->next].t);
+        c->j = smx_add(c->j, law->knot[c->next].dj);
+        c->next++;
+    }
+}
+
+/* The knots after the cursor's time from the changes, sorted; the cursor starts on them. */
+static void rebuild_knots(smooth_law_t *law)
+{
+    uint8_t i, k, n = 0;
+    for (i = 0; i < law->n_chg; i++) {
+        smx_t s = law->chg[i].c, dj = smx_mul(s, law->inv_t1t2), t0 = law->chg[i].t;
+        smx_t tt[4];
+        smx_t dd[4];
+        tt[0] = t0;
+        tt[1] = smx_add(t0, law->tau1);
+        tt[2] = smx_add(t0, law->tau2);
+        tt[3] = last_knot_of(law, t0);
+        dd[0] = dj;
+        dd[1] = dd[2] = smx_neg(dj);
+        dd[3] = dj;
+        for (k = 0; k < 4; k++) {
+            uint8_t at;
+            if (smx_cmp(tt[k], law->cur.t) <= 0)
+                continue;
+            at = n;
+            while (at > 0 && smx_cmp(law->knot[at - 1].t, tt[k]) > 0) {
+                law->knot[at] = law->knot[at - 1];
+                at--;
+            }
+            law->knot[at].t = tt[k];
+            law->knot[at].dj = dd[k];
+            n++;
+        }
+    }
+    law->n_knot = n;
+    law->cur.next = 0;
+    law->t_final = n > 0 ? law->knot[n - 1].t : law->cur.t;
+}
+
+/* command level at the cursor's time (changes at or before it) */
+static smx_t level_now(const smooth_law_t *law)
+{
+    smx_t u = law->u_old;
+    uint8_t i;
+    for (i = 0; i < law->n_chg; i++)
+        if (smx_cmp(law->chg[i].t, law->cur.t) <= 0)
+            u = smx_add(u, law->chg[i].c);
+    return u;
+}
+
+/* Keeps the changes whose knots are not all in the cursor (and, unless drop_future, those
+ * after the cursor's time). */
+static void drop_old_changes(smooth_law_t *law, uint8_t drop_future)
+{
+    uint8_t i, k = 0;
+    for (i = 0; i < law->n_chg; i++) {
+        int future = smx_cmp(law->chg[i].t, law->cur.t) > 0;
+        if (future && drop_future)
+            continue;
+        if (!future && smx_cmp(last_knot_of(law, law->chg[i].t), law->cur.t) <= 0) {
+            law->u_old = smx_add(law->u_old, law->chg[i].c); /* all its knots are in the cursor */
+            continue;
+        }
+        law->chg[k++] = law->chg[i];
+    }
+    law->n_chg = k;
+}
+
+/* Adds a change at time t; a change at the cursor's time puts its first jerk step in at once. */
+static void add_change(smooth_law_t *law, smx_t t, smx_t c)
+{
+    law->chg[law->n_chg].t = t;
+    law->chg[law->n_chg].c = c;
+    law->n_chg++;
+    if (smx_cmp(t, law->cur.t) <= 0)
+        law->cur.j = smx_add(law->cur.j, smx_mul(c, law->inv_t1t2));
+}
+
+/* position after the last knot, from the cursor */
+static smx_t rest_position(const smooth_law_t *law)
+{
+    smooth_cursor_t c = law->cur;
+    if (law->n_knot == 0)
+        return c.p;
+    cur_advance(&c, law, law->knot[law->n_knot - 1].t);
+    return c.p;
+}
+
+/* The rectangle for a distance r > 0 (smooth_move.h): height *h, length *len. */
+static void rectangle(const smooth_law_t *law, smx_t r, smx_t *h, smx_t *len)
+{
+    smx_t both = smx_add(law->tau1, law->tau2);
+    smx_t full = smx_mul(law->vmax, both);
+    smx_t lower = smx_mul(law->vmax, smx_sub(law->tau1, law->tau2));
+    if (smx_cmp(r, full) >= 0 || smx_cmp(r, lower) <= 0) {
+        *h = law->vmax;
+        *len = smx_div(r, law->vmax);
+    } else {
+        *len = both;
+        *h = smx_div(r, both);
+    }
+}
+
+static const smx_t *limit_t(void)
+{
+    static smx_t lim;
+    lim = smx_from_i64((int64_t)1 << 46);
+    return &lim;
+}
+
+/* Replaces the command from the cursor's time on: to `goal` (frame) or, with stop, to 0 now. */
+static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
+{
+    smooth_law_t t = *law;
+    smx_t u, p_stop, r, h, len;
+    drop_old_changes(&t, 1);
+    u = level_now(&t);
+    /* where a stop now comes to rest */
+    if (t.n_chg + 1 > SMOOTH_MAX_CHANGES)
+        return MS_ERR_SMOOTH_TOO_MANY;
+    {
+        smooth_law_t s = t;
+        if (u.m != 0)
+            add_change(&s, s.cur.t, smx_neg(u));
+        rebuild_knots(&s);
+        p_stop = rest_position(&s);
+        if (stop) {
+            s.p_final = p_stop;
+            *law = s;
+            return MS_OK;
+        }
+    }
+    r = smx_sub(goal, p_stop);
+    if (r.m < 0)
+        return MS_ERR_SMOOTH_REVERSE;
+    if (r.m == 0) {
+        h = smx_zero();
+        len = smx_zero();
+    } else {
+        rectangle(&t, r, &h, &len);
+    }
+    if (t.n_chg + 2 > SMOOTH_MAX_CHANGES - 1) /* one is kept for a stop */
+        return MS_ERR_SMOOTH_TOO_MANY;
+    if (smx_cmp(h, u) != 0)
+        add_change(&t, t.cur.t, smx_sub(h, u));
+    if (h.m != 0)
+        add_change(&t, smx_add(t.cur.t, len), smx_neg(h));
+    rebuild_knots(&t);
+    if (smx_cmp(t.t_final, *limit_t()) > 0)
+        return MS_ERR_SMOOTH_TOO_LONG;
+    t.p_final = goal;
+    *law = t;
+    return MS_OK;
+}
+
+motion_status_t smooth_law_start(smooth_law_t *law, int32_t to)
+{
+    int64_t d = (int64_t)to - law->origin;
+    smooth_law_reset(law, law->origin);
+    law->dir = d < 0 ? -1 : 1;
+    if (d == 0)
+        return MS_OK;
+    return replan(law, smx_from_i64(d < 0 ? -d : d), 0);
+}
+
+motion_status_t smooth_law_retarget(smooth_law_t *law, smx_t now, int32_t to)
+{
+    smooth_law_t t = *law;
+    motion_status_t st;
+    cur_advance(&t.cur, &t, now);
+    st = replan(&t, smx_from_i64(((int64_t)to - law->origin) * law->dir), 0);
+    if (st == MS_OK)
+        *law = t;
+    return st;
+}
+
+void smooth_law_stop(smooth_law_t *law, smx_t now)
+{
+    uint8_t i;
+    cur_advance(&law->cur, law, now);
+    for (i = 0; i < law->n_chg; i++)
+        if (smx_cmp(law->chg[i].t, law->cur.t) > 0)
+            break;
+    if (i == law->n_chg && level_now(law).m == 0)
+        return; /* already coming to rest where the plan ends */
+    (void)replan(law, smx_zero(), 1); /* a stop needs at most one more change than the last plan */
+}
+
+/* ---- solving p(t) = n ---- */
+
+typedef struct {
+    smx_t t0, p, v, a, j; /* the polynomial around t0 */
+} poly_t;
+
+static void poly_at(const poly_t *q, smx_t x, smx_t *p, smx_t *v)
+{
+    smooth_cursor_t c;
+    c.t = q->t0;
+    c.p = q->p;
+    c.v = q->v;
+    c.a = q->a;
+    c.j = q->j;
+    cur_poly(&c, x, p, v, NULL);
+}
+
+/* x in [lo, hi] with p(x) = n (p rises on it), to 2^-20 tick: Newton, bisection when it leaves
+ * the bracket or the slope is 0. */
+static smx_t poly_solve(const poly_t *q, smx_t n, smx_t lo, smx_t hi)
+{
+    smx_t x = hi, eps = smx_ldexp(smx_from_i64(1), -20);
+    int i;
+    for (i = 0; i < 200; i++) {
+        smx_t p, v, f, xn, dx;
+        poly_at(q, x, &p, &v);
+        f = smx_sub(p, n);
+        if (f.m == 0)
+            return x;
+        if (f.m < 0)
+            lo = x;
+        else
+            hi = x;
+        xn = v.m > 0 ? smx_sub(x, smx_div(f, v)) : hi;
+        if (v.m <= 0 || smx_cmp(xn, lo) <= 0 || smx_cmp(xn, hi) >= 0)
+            xn = smx_ldexp(smx_add(lo, hi), -1);
+        dx = smx_sub(xn, x);
+        x = xn;
+        if (smx_cmp(dx.m < 0 ? smx_neg(dx) : dx, eps) < 0)
+            break;
+        if (smx_cmp(smx_sub(hi, lo), eps) < 0)
+            break;
+    }
+    return x;
+}
+
+static int8_t sign_of(smx_t a)
+{
+    return (int8_t)smx_sign(a);
+}
+
+smx_t smooth_law_time_of(const smooth_law_t *law, uint32_t n, int8_t *accel)
+{
+    smooth_cursor_t c = law->cur;
+    smx_t target = smx_from_i64(n);
+    poly_t q;
+    for (;;) {
+        if (c.next >= law->n_knot) { /* at rest: never (n is beyond the plan) */
+            if (accel != NULL)
+                *accel = 0;
+            return c.t;
+        }
+        if (smx_cmp(law->knot[c.next].t, law->t_final) == 0) {
+            /* the last segment, from its end: there p = p_final, v = a = 0 */
+            smx_t x;
+            q.t0 = law->t_final;
+            q.p = law->p_final;
+            q.v = q.a = smx_zero();
+            q.j = c.j;
+            if (c.j.m != 0) {
+                x = poly_solve(&q, target, smx_sub(c.t, law->t_final), smx_zero());
+                if (accel != NULL)
+                    *accel = sign_of(smx_mul(c.j, x));
+                return smx_add(law->t_final, x);
+            }
+            return law->t_final;
+        }
+        {
+            smx_t xk = smx_sub(law->knot[c.next].t, c.t), pk;
+            cur_poly(&c, xk, &pk, NULL, NULL);
+            if (smx_cmp(pk, target) >= 0) {
+                smx_t x, a;
+                q.t0 = c.t;
+                q.p = c.p;
+                q.v = c.v;
+                q.a = c.a;
+                q.j = c.j;
+                x = poly_solve(&q, target, smx_zero(), xk);
+                cur_poly(&c, x, NULL, NULL, &a);
+                if (accel != NULL)
+                    *accel = sign_of(a);
+                return smx_add(c.t, x);
+            }
+            cur_move(&c, law->knot[c.next].t);
+            c.j = smx_add(c.j, law->knot[c.next].dj);
+            c.next++;
+        }
+    }
+}
+
+void smooth_law_eval(const smooth_law_t *law, smx_t t, double *p, double *v, double *a, double *j)
+{
+    smooth_cursor_t c = law->cur;
+    double f = (double)law->tick_hz;
+    cur_advance(&c, law, t);
+    if (c.next >= law->n_knot && law->n_knot > 0) /* at rest */
+        c.p = law->p_final, c.v = c.a = c.j = smx_zero();
+    if (p != NULL)
+        *p = smx_to_double(c.p);
+    if (v != NULL)
+        *v = smx_to_double(c.v) * f;
+    if (a != NULL)
+        *a = smx_to_double(c.a) * f * f;
+    if (j != NULL)
+        *j = smx_to_double(c.j) * f * f * f;
+}
+
+int32_t smooth_law_position_at(const smooth_law_t *law, smx_t t)
+{
+    smooth_cursor_t c = law->cur;
+    cur_advance(&c, law, t);
+    if (c.next >= law->n_knot && law->n_knot > 0)
+        c.p = law->p_final;
+    return (int32_t)(law->origin + law->dir * smx_round(c.p));
+}
+
+uint8_t smooth_law_moving(const smooth_law_t *law)
+{
+    return law->cur.next < law->n_knot;
+}
+
+/* ---- the stepper planner ---- */
+
+#define WIDE_ABOVE16 ((int64_t)65536 << 16) /* intervals of 65536 ticks or more go WIDE */
+#define FIT_TOL16 19661                     /* 0.3 tick */
+#define SPAN_MAX_B 15
+
+static void move_rest(smooth_move_t *s, int32_t pos)
+{
+    smooth_law_reset(&s->law, pos);
+    s->pos = pos;
+    s->n = 0;
+    s->n_end = 0;
+    s->acc16 = 0;
+    s->t_n = smx_zero();
+    s->span_b = 0;
+    s->active = 0;
+    s->has_then = 0;
+}
+
+motion_status_t smooth_move_init(smooth_move_t *s, const smooth_params_t *p, int32_t pos)
+{
+    smooth_law_t law;
+    motion_status_t st;
+    if (s == NULL || p == NULL)
+        return MS_ERR_NULL;
+    st = smooth_law_set_params(&law, p);
+    if (st != MS_OK)
+        return st;
+    s->law = law;
+    s->max_cmd_ticks = p->tick_hz / 250U;
+    if (s->max_cmd_ticks == 0)
+        s->max_cmd_ticks = 1;
+    move_rest(s, pos);
+    return MS_OK;
+}
+
+motion_status_t smooth_move_set_params(smooth_move_t *s, const smooth_params_t *p)
+{
+    smooth_law_t law;
+    motion_status_t st;
+    if (s == NULL || p == NULL)
+        return MS_ERR_NULL;
+    law = s->law;
+    st = smooth_law_set_params(&law, p);
+    if (st != MS_OK)
+        return st;
+    if (smooth_move_busy(s))
+        return MS_ERR_BUSY;
+    s->law = law;
+    s->max_cmd_ticks = p->tick_hz / 250U ? p->tick_hz / 250U : 1U;
+    return MS_OK;
+}
+
+/* the last whole step of the plan: floor(p_final) */
+static uint32_t plan_end(const smooth_law_t *law)
+{
+    int64_t e = smx_floor(law->p_final);
+    return e < 0 ? 0 : (uint32_t)e;
+}
+
+static motion_status_t start_from_rest(smooth_move_t *s, int32_t to)
+{
+    smooth_move_t n = *s;
+    motion_status_t st;
+    move_rest(&n, s->pos);
+    st = smooth_law_start(&n.law, to);
+    if (st != MS_OK)
+        return st;
+    n.n_end = plan_end(&n.law);
+    n.active = n.n_end > 0;
+    *s = n;
+    return MS_OK;
+}
+
+motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
+{
+    motion_status_t st;
+    if (s == NULL)
+        return MS_ERR_NULL;
+    if (!smooth_move_busy(s))
+        return start_from_rest(s, to);
+    if (s->has_then) { /* a stop is running: its move is replaced */
+        s->then_target = to;
+        return MS_OK;
+    }
+    st = smooth_law_retarget(&s->law, s->t_n, to);
+    if (st == MS_ERR_SMOOTH_REVERSE) {
+        smooth_law_stop(&s->law, s->t_n);
+        s->n_end = plan_end(&s->law);
+        if (s->n_end < s->n)
+            s->n_end = s->n;
+        s->has_then = 1;
+        s->then_target = to;
+        return MS_OK;
+    }
+    if (st != MS_OK)
+        return st;
+    s->n_end = plan_end(&s->law);
+    return MS_OK;
+}
+
+void smooth_move_stop(smooth_move_t *s)
+{
+    if (s == NULL || !smooth_move_busy(s))
+        return;
+    s->has_then = 0;
+    smooth_law_stop(&s->law, s->t_n);
+    s->n_end = plan_end(&s->law);
+    if (s->n_end < s->n)
+        s->n_end = s->n;
+}
+
+void smooth_move_halt(smooth_move_t *s, int32_t pos)
+{
+    move_rest(s, pos);
+}
+
+uint8_t smooth_move_busy(const smooth_move_t *s)
+{
+    return s->active && (s->n < s->n_end || s->has_then);
+}
+
+int32_t smooth_move_position(const smooth_move_t *s)
+{
+    return s->pos;
+}
+
+int32_t smooth_move_target(const smooth_move_t *s)
+{
+    if (s->has_then)
+        return s->then_target;
+    return (int32_t)(s->law.origin + s->law.dir * (int64_t)s->n_end);
+}
+
+static int64_t div_round(int64_t a, int64_t b) /* b > 0 */
+{
+    return a >= 0 ? (a + b / 2) / b : -((-a + b / 2) / b);
+}
+
+uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
+{
+    uint32_t left, len;
+    int8_t acc_sign = 0;
+    smx_t t_end;
+    int64_t rate = 0, add = 0, e_end;
+    uint8_t first = 1, wide = 0;
+    if (s == NULL || c == NULL)
+        return 0;
+    if (s->active && s->n >= s->n_end && s->has_then) {
+        /* the stop has come to rest (at t_final): the move starts there */
+        int32_t to = s->then_target;
+        int64_t gap = smx_round_q16(s->law.t_final) - s->acc16;
+        s->has_then = 0;
+        s->active = 0;
+        if (start_from_rest(s, to) != MS_OK) {
+            move_rest(s, s->pos);
+            return 0;
+        }
+        s->acc16 = gap > 0 ? -gap : 0;
+    }
+    if (!s->active || s->n >= s->n_end) {
+        if (s->active) { /* at rest: the timeline starts again with the next move */
+            s->active = 0;
+            move_rest(s, s->pos);
+        }
+        return 0;
+    }
+    left = s->n_end - s->n;
+    len = 1U << s->span_b;
+    while (len > left)
+        len >>= 1;
+    for (;;) {
+        int64_t tl16;
+        t_end = smooth_law_time_of(&s->law, s->n + len, &acc_sign);
+        tl16 = smx_round_q16(t_end);
+        e_end = tl16 - s->acc16;
+        if (len == 1) {
+            if (e_end >= WIDE_ABOVE16) {
+                wide = 1;
+                rate = (e_end + 0x8000) >> 16;
+                if (rate > (int64_t)0xFFFFFFFFLL)
+                    rate = 0xFFFFFFFFLL;
+            } else {
+                rate = e_end < 1 ? 1 : e_end;
+            }
+            add = 0;
+            break;
+        }
+        {
+            uint32_t m = len / 2;
+            int64_t em = smx_round_q16(smooth_law_time_of(&s->law, s->n + m, NULL)) - s->acc16;
+            int64_t last, lm = (int64_t)m * m;
+            int ok = 1;
+            add = div_round(e_end - 2 * em, lm);
+            rate = div_round(e_end - (int64_t)len * (len - 1) / 2 * add, len);
+            last = rate + (int64_t)(len - 1) * add;
+            if (rate < 1 || rate >= WIDE_ABOVE16 || last < 1 || last >= WIDE_ABOVE16 || add > INT32_MAX ||
+                add < INT32_MIN || e_end > (int64_t)s->max_cmd_ticks << 16)
+                ok = 0;
+            if (ok && len >= 4) {
+                uint32_t q, jj[2];
+                jj[0] = m / 2;
+                jj[1] = m + m / 2;
+                for (q = 0; q < 2 && ok; q++) {
+                    int64_t j = jj[q];
+                    int64_t fit = j * rate + j * (j - 1) / 2 * add;
+                    int64_t ex = smx_round_q16(smooth_law_time_of(&s->law, s->n + (uint32_t)j, NULL)) - s->acc16;
+                    if (fit - ex > FIT_TOL16 || ex - fit > FIT_TOL16)
+                        ok = 0;
+                }
+            }
+            if (ok)
+                break;
+        }
+        len >>= 1;
+        first = 0;
+    }
+    c->count = (uint16_t)len;
+    c->flags = (uint8_t)((s->law.dir < 0 ? STEP_CMD_REVERSE : 0U) |
+                         ((acc_sign > 0 ? 1U : acc_sign < 0 ? 3U : 2U) << STEP_CMD_PHASE_SHIFT));
+    if (wide) {
+        c->flags |= STEP_CMD_WIDE;
+        c->rate = (uint32_t)rate;
+        c->add = 0;
+        s->acc16 += rate << 16;
+    } else {
+        c->rate = (uint32_t)rate;
+        c->add = (int32_t)add;
+        s->acc16 += (int64_t)len * rate + (int64_t)len * (len - 1) / 2 * add;
+    }
+    s->n += len;
+    s->t_n = t_end;
+    s->pos = (int32_t)(s->law.origin + s->law.dir * (int64_t)s->n);
+    smooth_law_knots_to(&s->law, t_end);
+    if (first && s->span_b < SPAN_MAX_B && len == (1U << s->span_b))
+        s->span_b++;
+    else if (!first) {
+        uint8_t b = 0;
+        while ((1U << (b + 1)) <= len)
+            b++;
+        s->span_b = b;
+    }
+    return 1;
+}

@@ -1,0 +1,217 @@
+/* smooth_move.h - the filter-shaped (jerk-limited) move: the velocity command of the
+ * moving-average-filter note passed through its two moving averages (ma2_filter.h, the note's
+ * "S-curve acceleration"), as a continuous-time position law, and its step times packed into step
+ * commands (step_queue.h) like the exact ramp (step_exact.h).
+ *
+ * The law. The velocity command u(t) is piecewise constant: for a move of R steps from rest a
+ * rectangle of height h and length T (h T = R); the velocity is v = u * b1 * b2, where bi is the
+ * moving average of length taui (unit area), tau1 = vmax/accel, tau2 = accel/jerk, so
+ *   a step of the command by c at time s adds c P(t - s) to the position, with
+ *   P(t) = [r(t) - r(t - tau1) - r(t - tau2) + r(t - tau1 - tau2)] / (tau1 tau2),  r(x) = max(x,0)^3/6
+ * (the integral of ma2_filter.h's S-curve): the position is piecewise cubic, its jerk changes by
+ * +-c/(tau1 tau2) at the "knots" s, s + tau1, s + tau2, s + tau1 + tau2 and is constant between them.
+ * The distance is exactly h T = R; the peak acceleration is h/tau1 <= accel and the jerk
+ * h/(tau1 tau2) <= jerk (equal for h = vmax and T >= tau1 + tau2), velocity and acceleration
+ * continuous.
+ * The rectangle (the rule for R, "short moves"):
+ *   R >= vmax (tau1 + tau2) or R <= vmax (tau1 - tau2):  h = vmax, T = R/vmax
+ *   otherwise:                                          T = tau1 + tau2, h = R/(tau1 + tau2) < vmax
+ * Why the middle band is lowered instead of shortened: the jerk is h/(tau1 tau2) times
+ * [1 on (0, tau2)] - [1 on (T, T + tau2)] - [1 on (tau1, tau1 + tau2)] + [1 on (T + tau1, T + tau1 + tau2)],
+ * so a rectangle with |T - tau1| < tau2 overlaps the two negative windows and the jerk reaches
+ * 2 h/(tau1 tau2) (the end of the acceleration meets the start of the deceleration).
+ * Stop: the command goes to 0 now (the time of the last step handed out); the filter's memory
+ * carries the move on to where it comes to rest (a real position; the last step is the last whole
+ * step before it). New target while moving: the command's future is replaced from now on by a new
+ * rectangle (the rule above for R = target - where a stop now would come to rest), continuing
+ * from the filter's state, so velocity and acceleration stay continuous and |acceleration| <= accel.
+ * A target behind that rest point (it would need to reverse) is reached by a stop, then a move
+ * from rest, as step_planner does for the exact ramp.
+ *
+ * Arithmetic: a small floating point of our own in integers (smx_t: 62-bit mantissa, 16-bit
+ * exponent; +, -, x, / with fixed rounding), so the host and the AVR (whose double is 32 bits)
+ * compute the same bits. Step n's time is the root of the cubic p(t) = n of its segment (Newton
+ * with bisection as safeguard, to 2^-20 tick); the last segment is solved from its end (where the
+ * position is exactly the target), so the last step is at the end of the law.
+ * Commands: spans of 2^k steps (1 .. 32768), each a quadratic (rate, add) through the executor's
+ * predicted time of the span's start (exact, integer) and the exact times of its middle and last
+ * steps, kept only if it is within 0.3 tick of the exact times at the quarter points and covers at
+ * most max_cmd_ticks (else the span is halved; it grows by doubling); intervals above 65535
+ * ticks go into WIDE commands rounded to the nearest tick. The executor's time is predicted
+ * exactly, so the next span absorbs every rounding: no drift. Every edge floor(acc) is within 1
+ * tick of round(F t_n) (test_smooth_move: random moves, stops and new targets).
+ * Limits (smooth_set_params refuses others, each with its own status): 0 < vmax <= tick_hz,
+ * accel > 0, jerk > 0, tau2 <= tau1 (jerk >= accel^2/vmax), tau1 <= 2^34 ticks; a plan must end
+ * within 2^46 ticks of the timeline's start (the timeline restarts at rest); moves of 1 to
+ * 2^32 - 1 steps; at most SMOOTH_MAX_CHANGES changes of the command within tau1 + tau2.
+ * Cost: the smx_t operations are 64-bit integer work (a multiplication is four 32x32 products);
+ * each span solves two to four cubics (a few Newton steps of a few smx_t operations each).
+ * Memory: about 600 bytes per move (SMOOTH_MAX_CHANGES = 6).
+ */
+#ifndef SMOOTH_MOVE_H
+#define SMOOTH_MOVE_H
+
+#include <stdint.h>
+
+#include "motion_status.h"
+#include "step_queue.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* m x 2^e; m = 0 or 2^61 <= |m| < 2^62. */
+typedef struct {
+    int64_t m;
+    int16_t e;
+} smx_t;
+
+/* The parameters (on the AVR double is float; the host rounds them to float first, so both
+ * compute with the same values). */
+typedef struct {
+    double vmax_sps;   /* the command's height, steps/s (the peak speed of long moves) */
+    double accel_sps2; /* peak acceleration, steps/s^2: tau1 = vmax/accel */
+    double jerk_sps3;  /* peak jerk, steps/s^3: tau2 = accel/jerk */
+    uint32_t tick_hz;  /* F: timer ticks per second (the law's time unit is the tick) */
+} smooth_params_t;
+
+#ifndef SMOOTH_MAX_CHANGES
+#define SMOOTH_MAX_CHANGES 6
+#endif
+#define SMOOTH_MAX_KNOTS (4 * SMOOTH_MAX_CHANGES)
+
+typedef struct {
+    smx_t t, c; /* the command changes by c (steps/tick) at time t (ticks) */
+} smooth_change_t;
+
+typedef struct {
+    smx_t t, dj; /* the jerk changes by dj at time t */
+} smooth_knot_t;
+
+/* The motion at time t (ticks of the timeline), in the move's frame (steps from its origin, in
+ * its direction): position, velocity (steps/tick), acceleration, jerk; knots before `next` are in. */
+typedef struct {
+    smx_t t, p, v, a, j;
+    uint8_t next;
+} smooth_cursor_t;
+
+/* The continuous law: parameters, the command's changes, the cursor. */
+typedef struct {
+    smx_t tau1, tau2, vmax; /* ticks, ticks, steps/tick */
+    smx_t inv_t1t2;         /* 1/(tau1 tau2) */
+    uint32_t tick_hz;
+    smooth_change_t chg[SMOOTH_MAX_CHANGES];
+    smooth_knot_t knot[SMOOTH_MAX_KNOTS];
+    uint8_t n_chg, n_knot;
+    smooth_cursor_t cur; /* at a time at or before the last step handed out */
+    smx_t p_final;       /* where the plan comes to rest (frame) */
+    smx_t t_final;       /* when (the last knot) */
+    smx_t u_old;         /* the command's changes already dropped (all their knots in the cursor) */
+    int32_t origin;      /* the frame: absolute position = origin + dir x frame position */
+    int8_t dir;
+} smooth_law_t;
+
+/* Checks a parameter set and converts it (tau1, tau2 in ticks). On error *law is untouched.
+ * MS_ERR_NULL, MS_ERR_NOT_FINITE, MS_ERR_VMAX_NOT_ABOVE_V0 (vmax <= 0), MS_ERR_ACCEL_NOT_POSITIVE,
+ * MS_ERR_JERK_NOT_POSITIVE, MS_ERR_TICK_HZ_ZERO, MS_ERR_VMAX_ABOVE_TICK_HZ, MS_ERR_JERK_TOO_LOW
+ * (tau2 > tau1), MS_ERR_ACCEL_PHASE_TOO_LONG (tau1 > 2^34 ticks), or MS_OK. */
+motion_status_t smooth_law_set_params(smooth_law_t *law, const smooth_params_t *p);
+
+/* At rest at pos, the timeline at 0 (keeps the parameters). */
+void smooth_law_reset(smooth_law_t *law, int32_t pos);
+
+/* From rest at the law's origin: the move to `to` starting at t = 0. MS_OK (also for to = origin:
+ * nothing to do), or MS_ERR_SMOOTH_TOO_LONG. */
+motion_status_t smooth_law_start(smooth_law_t *law, int32_t to);
+
+/* At time `now` (ticks, not before the cursor): replace the command's future so the plan ends
+ * at `to` (MS_OK), or, when `to` is behind where a stop now would come to rest, change nothing
+ * and return MS_ERR_SMOOTH_REVERSE. Also MS_ERR_SMOOTH_TOO_MANY, MS_ERR_SMOOTH_TOO_LONG. */
+motion_status_t smooth_law_retarget(smooth_law_t *law, smx_t now, int32_t to);
+
+/* At time `now`: the command goes to 0 (p_final: where the motion comes to rest). */
+void smooth_law_stop(smooth_law_t *law, smx_t now);
+
+/* The motion at time t (>= the cursor's time) in the frame: p (steps), v (steps/s), a
+ * (steps/s^2), j (steps/s^3) as doubles (for tables and plots; any pointer may be NULL). */
+void smooth_law_eval(const smooth_law_t *law, smx_t t, double *p, double *v, double *a, double *j);
+
+/* The frame position at time t rounded to the nearest whole step (halves away from 0), and as
+ * an absolute position: integer work only (the servo's setpoint). */
+int32_t smooth_law_position_at(const smooth_law_t *law, smx_t t);
+
+/* Moves the cursor to time t (applying the knots up to it). */
+void smooth_law_advance(smooth_law_t *law, smx_t t);
+
+/* Applies the knots up to time t, leaving the cursor on the last of them (no rounding added
+ * between knots: the planner's steps are solved from there). */
+void smooth_law_knots_to(smooth_law_t *law, smx_t t);
+
+/* The exact time (ticks) when the frame position reaches n (0 < n <= p_final), solved from the
+ * cursor on; *accel (may be NULL) gets the sign of the acceleration there (-1, 0, +1). */
+smx_t smooth_law_time_of(const smooth_law_t *law, uint32_t n, int8_t *accel);
+
+/* The plan is moving at or after time t (a knot is still ahead, or the velocity is not 0). */
+uint8_t smooth_law_moving(const smooth_law_t *law);
+
+/* smx_t helpers for callers (motionsim, the servo): exact from an integer, ticks to seconds. */
+smx_t smx_from_i64(int64_t v);
+smx_t smx_from_float(float f);
+double smx_to_double(smx_t a);
+smx_t smx_add(smx_t a, smx_t b);
+smx_t smx_mul(smx_t a, smx_t b);
+smx_t smx_div(smx_t a, smx_t b);
+int smx_cmp(smx_t a, smx_t b);
+/* round(a), halves away from 0; and round(a x 2^16) (a time in 16.16 ticks) */
+int64_t smx_round(smx_t a);
+int64_t smx_round_q16(smx_t a);
+
+/* ---- the stepper planner: the law's step times as step commands ---- */
+typedef struct {
+    smooth_law_t law;
+    uint32_t max_cmd_ticks; /* longest time one command may cover (stop latency), ticks */
+    int32_t pos;            /* position after the last step handed out */
+    uint32_t n;             /* frame steps handed out */
+    uint32_t n_end;         /* the last step of the plan (frame) */
+    int64_t acc16;          /* the executor's time of step n, 2^-16 ticks from the timeline's start */
+    smx_t t_n;              /* the law's time of step n, ticks */
+    uint8_t span_b;         /* log2 of the next span to try */
+    uint8_t active;         /* a plan is being handed out */
+    uint8_t has_then;       /* after the stop in progress: the move to then_target */
+    int32_t then_target;
+} smooth_move_t;
+
+/* At rest at pos with parameters p (checked as smooth_law_set_params); max_cmd_ticks defaults to
+ * F/250 (4 ms), like step_planner. On error *s is untouched. */
+motion_status_t smooth_move_init(smooth_move_t *s, const smooth_params_t *p, int32_t pos);
+
+/* New parameters (checked first): at rest they apply at once; while moving MS_ERR_BUSY (stop first). */
+motion_status_t smooth_move_set_params(smooth_move_t *s, const smooth_params_t *p);
+
+/* A move to `to` from the current state: from rest a new plan; while moving, a new target from
+ * the last step handed out (or a stop, then a move from rest, if it would have to reverse).
+ * MS_OK or the law's status (nothing changed). */
+motion_status_t smooth_move_to(smooth_move_t *s, int32_t to);
+
+/* The command goes to 0 at the last step handed out (no effect at rest); a pending move after
+ * a stop is dropped. */
+void smooth_move_stop(smooth_move_t *s);
+
+/* Forgets everything not handed out and stands at pos (after a halt). */
+void smooth_move_halt(smooth_move_t *s, int32_t pos);
+
+/* The next command: 1 and *c, or 0 when the plan is complete (at rest). */
+uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c);
+
+/* Something is still to be handed out. */
+uint8_t smooth_move_busy(const smooth_move_t *s);
+
+/* Position after the last command handed out; where the plan ends (whole steps). */
+int32_t smooth_move_position(const smooth_move_t *s);
+int32_t smooth_move_target(const smooth_move_t *s);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,609 @@
+/* Unit tests: smooth_move - the filter-shaped move (the moving-average-filter note's velocity command through its
+ * two moving averages, "S-curve acceleration"), its step times and step commands.
+ * Golden data, derived here independently of lib/: a step of the command by c at time s moves
+ * the position by c P(t - s), P the unit step through the two moving averages integrated once,
+ *   P(t) = [r(t) - r(t - tau1) - r(t - tau2) + r(t - tau1 - tau2)] / (tau1 tau2),  r(x) = max(x,0)^3/6
+ * (the note's filters are convolutions with boxes of unit area; three integrations of a box
+ * difference), in long double, and step n's time by bisection on it. The velocity of the law is
+ * also checked against ma2_filter's samples of the same command (the sampled filter, exact at
+ * the samples, tested on its own in test_ma2_filter.c). The rectangle for a distance R is the
+ * documented rule (smooth_move.h); the bounds (distance R, acceleration <= accel, jerk <= jerk,
+ * reached for long moves) are checked on the closed form and on the lib's law. */
+#include "cmocka_all.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ma2_filter.h"
+#include "smooth_move.h"
+#include "step_queue.h"
+
+#include "closed_form.h" /* urand/lrand */
+
+/* ---- the closed form ---- */
+
+/* quadruple precision where the compiler has it: near the end of a move the position
+ * approaches its target as the cube of the time left, so finding the last step's time to a tick
+ * needs the position to about 1e-20 of the distance */
+#if defined(__SIZEOF_FLOAT128__)
+__extension__ typedef __float128 q_t;
+#else
+typedef long double q_t;
+#endif
+
+#define MAXC 8
+typedef struct {
+    q_t tau1, tau2;       /* s */
+    q_t s[MAXC], c[MAXC]; /* command changes: at s (s) by c (steps/s); the area h T of a
+                             rectangle must be exact to ~1e-30 for the last step's time */
+    int n;
+} model_t;
+
+/* d-th derivative (0..3) of r(x) = max(x,0)^3/6 */
+static q_t rd(int d, q_t x)
+{
+    if (x <= 0)
+        return 0;
+    return d == 0 ? x * x * x / 6 : d == 1 ? x * x / 2 : d == 2 ? x : 1;
+}
+
+/* the d-th derivative of P; past t1 + t2 in the form without cancellation (position
+ * t - (t1 + t2)/2, velocity 1, acceleration and jerk 0: the box difference integrated) */
+static q_t kern(int d, q_t t, q_t t1, q_t t2)
+{
+    if (t >= t1 + t2)
+        return d == 0 ? t - (t1 + t2) / 2 : d == 1 ? 1 : 0;
+    return (rd(d, t) - rd(d, t - t1) - rd(d, t - t2) + rd(d, t - t1 - t2)) / (t1 * t2);
+}
+
+static q_t m_der(const model_t *m, int d, q_t t)
+{
+    q_t p = 0;
+    int i;
+    for (i = 0; i < m->n; i++)
+        p += m->c[i] * kern(d, t - m->s[i], m->tau1, m->tau2);
+    return p;
+}
+static long double m_pos(const model_t *m, long double t) { return (long double)m_der(m, 0, t); }
+static long double m_vel(const model_t *m, long double t) { return (long double)m_der(m, 1, t); }
+static long double m_acc(const model_t *m, long double t) { return (long double)m_der(m, 2, t); }
+static long double m_jerk(const model_t *m, long double t) { return (long double)m_der(m, 3, t); }
+static q_t m_endq(const model_t *m)
+{
+    q_t e = 0;
+    int i;
+    for (i = 0; i < m->n; i++)
+        if (m->s[i] + m->tau1 + m->tau2 > e)
+            e = m->s[i] + m->tau1 + m->tau2;
+    return e;
+}
+static long double m_end(const model_t *m) { return (long double)m_endq(m); }
+
+/* the first time after lo (where the position is below n) at which it reaches n: Newton,
+ * bisection when a step leaves the bracket, to 1e-16 s */
+static long double m_time_of(const model_t *m, long double n, long double lo_in)
+{
+    q_t lo = lo_in, hi = m_endq(m), t, f, v, tn;
+    int i;
+    if (m_der(m, 0, hi) <= (q_t)n)
+        return (long double)hi;
+    v = m_der(m, 1, lo);
+    t = v > 0 ? lo + ((q_t)n - m_der(m, 0, lo)) / v : (lo + hi) / 2;
+    if (!(t > lo && t < hi))
+        t = (lo + hi) / 2;
+    for (i = 0; i < 400; i++) {
+        f = m_der(m, 0, t) - (q_t)n;
+        if (f >= 0)
+            hi = t;
+        else
+            lo = t;
+        v = m_der(m, 1, t);
+        tn = v > 0 ? t - f / v : (lo + hi) / 2;
+        if (!(tn > lo && tn < hi))
+            tn = (lo + hi) / 2;
+        if ((tn > t ? tn - t : t - tn) < (q_t)1e-16L || hi - lo < (q_t)1e-16L)
+            return (long double)tn;
+        t = tn;
+    }
+    return (long double)t;
+}
+
+/* the documented rectangle for distance r */
+static void rule(q_t vmax, q_t t1, q_t t2, q_t r, q_t *h, q_t *len)
+{
+    if (r >= vmax * (t1 + t2) || r <= vmax * (t1 - t2)) {
+        *h = vmax;
+        *len = r / vmax;
+    } else {
+        *len = t1 + t2;
+        *h = r / (t1 + t2);
+    }
+}
+
+/* a long double as the lib's smx_t (m x 2^e, 2^61 <= |m| < 2^62) */
+static smx_t smx_from_double_ticks(long double t)
+{
+    smx_t x;
+    int e = 0;
+    long double fm = frexpl(t, &e);
+    if (t == 0)
+        return smx_from_i64(0);
+    x.m = (int64_t)ldexpl(fm, 62);
+    x.e = (int16_t)(e - 62);
+    return x;
+}
+
+/* ---- running the planner through the executor ---- */
+
+typedef struct {
+    int64_t acc16; /* absolute 2^-16 ticks */
+    uint32_t steps;
+    long double worst; /* |edge - round(F t_n)| in ticks */
+    uint32_t checked, commands;
+    int32_t pos;
+} run_t;
+
+/* executes c: checks step edges against the model (frame steps n0+1..), every step when
+ * check_all, else the first, middle and last of the command (their times by the executor's
+ * own sums in closed form: acc_j = acc_0 + j rate + j (j - 1)/2 add) */
+static void check_edge(run_t *r, int64_t acc16, const model_t *m, long double f, uint32_t n, long double t_off,
+                       long double *t_prev)
+{
+    long double tn = m_time_of(m, (long double)n, *t_prev);
+    long double want = roundl(f * (tn + t_off));
+    long double d = fabsl((long double)(acc16 >> 16) - want);
+    if (d > 1 && getenv("SMDEBUG"))
+        printf("# step %u edge %lld want %.1Lf tn %.9Lf\n", n, (long long)(acc16 >> 16), want, tn);
+    if (d > r->worst)
+        r->worst = d;
+    r->checked++;
+    *t_prev = tn;
+}
+
+static void run_cmd(run_t *r, const step_cmd_t *c, const model_t *m, long double f, uint32_t n0, long double t_off,
+                    int check_all, long double *t_prev)
+{
+    uint32_t j;
+    int64_t rate = c->rate, add = c->add;
+    int dir = (c->flags & STEP_CMD_REVERSE) ? -1 : 1;
+    if (c->flags & STEP_CMD_WIDE) {
+        r->acc16 += rate << 16;
+        check_edge(r, r->acc16, m, f, n0 + 1, t_off, t_prev);
+    } else if (check_all) {
+        for (j = 1; j <= c->count; j++) {
+            r->acc16 += rate;
+            rate += add;
+            check_edge(r, r->acc16, m, f, n0 + j, t_off, t_prev);
+        }
+    } else {
+        uint32_t pick[3];
+        int q;
+        int64_t cnt = c->count;
+        pick[0] = 1;
+        pick[1] = c->count / 2 ? c->count / 2 : 1;
+        pick[2] = c->count;
+        for (q = 0; q < 3; q++) {
+            int64_t jj = pick[q];
+            if (q > 0 && pick[q] == pick[q - 1])
+                continue;
+            check_edge(r, r->acc16 + jj * rate + jj * (jj - 1) / 2 * add, m, f, n0 + pick[q], t_off, t_prev);
+        }
+        r->acc16 += cnt * rate + cnt * (cnt - 1) / 2 * add;
+    }
+    r->pos += dir * (int32_t)c->count;
+    r->steps += c->count;
+    r->commands++;
+}
+
+static smooth_params_t params(double vmax, double accel, double jerk, uint32_t f)
+{
+    smooth_params_t p;
+    /* through volatile floats: gcc 12 -O2 dropped the (float) rounding of these doubles here */
+    volatile float v = (float)vmax, a = (float)accel, j = (float)jerk;
+    p.vmax_sps = v;
+    p.accel_sps2 = a;
+    p.jerk_sps3 = j;
+    p.tick_hz = f;
+    return p;
+}
+
+static void model_move(model_t *m, const smooth_params_t *p, long double d)
+{
+    q_t vmax = (float)p->vmax_sps, a = (float)p->accel_sps2, j = (float)p->jerk_sps3, h, len;
+    m->tau1 = vmax / a;
+    m->tau2 = a / j;
+    rule(vmax, m->tau1, m->tau2, d, &h, &len);
+    m->n = 2;
+    m->s[0] = 0;
+    m->c[0] = h;
+    m->s[1] = len;
+    m->c[1] = -h;
+}
+
+/* ---- tests ---- */
+
+/* The law's velocity at t = k Ts equals ma2_filter's y[k] for the same rectangle (tau1 = 50 Ts,
+ * tau2 = 25 Ts, a 1000 steps/s command held 200 samples): the note's filter, sampled. */
+static void law_velocity_is_the_ma2_filter_s_output(void **state)
+{
+    smooth_params_t p = params(1000, 2000, 8000, 1000); /* tau1 0.5 s, tau2 0.25 s, F = 1 kHz: Ts = 10 ticks */
+    smooth_law_t law;
+    ma2_filter_t f;
+    int16_t buf[75];
+    int k;
+    (void)state;
+    assert_int_equal(smooth_law_set_params(&law, &p), MS_OK);
+    smooth_law_reset(&law, 0);
+    assert_int_equal(smooth_law_start(&law, 2000), MS_OK); /* 2000 steps at 1000 steps/s: 2 s = 200 samples */
+    assert_int_equal(ma2_filter_init(&f, buf, 75, 50, 25), MS_OK);
+    for (k = 0; k < 300; k++) {
+        double v;
+        int64_t num = ma2_filter_step(&f, (int16_t)(k < 200 ? 1000 : 0));
+        double y = (double)num / ma2_filter_den(&f);
+        smooth_law_eval(&law, smx_from_i64(10 * k), NULL, &v, NULL, NULL);
+        assert_true(fabs(v - y) <= 1e-9 * 1000);
+    }
+}
+
+/* Distance, peak acceleration and jerk on the lib's law and the closed form: long moves reach
+ * accel and jerk and never exceed them; short ones (all three rectangle cases) stay below. */
+static void distance_and_peaks(void **state)
+{
+    int trial;
+    (void)state;
+    for (trial = 0; trial < 200; trial++) {
+        double vmax = lrand(10, 40000), accel = lrand(vmax / 20, vmax * 20);
+        double jerk = lrand(accel * accel / vmax, accel * accel / vmax * 50);
+        smooth_params_t p = params(vmax, accel, jerk, 16000000);
+        smooth_law_t law;
+        model_t m;
+        long double d, end, amax = 0, jmax = 0, vpk = 0, t;
+        int i, reached;
+        if (smooth_law_set_params(&law, &p) != MS_OK)
+            continue;
+        d = floorl(lrand(1, 3e6));
+        model_move(&m, &p, d);
+        smooth_law_reset(&law, 0);
+        assert_int_equal(smooth_law_start(&law, (int32_t)d), MS_OK);
+        end = m_end(&m);
+        for (i = 0; i <= 1000; i++) {
+            double pl, vl, al, jl;
+            t = end * i / 1000;
+            smooth_law_eval(&law, smx_from_double_ticks(t * 16e6L), &pl, &vl, &al, &jl);
+            assert_true(fabsl(pl - m_pos(&m, t)) <= 1e-6 * (1 + d));
+            assert_true(fabsl(vl - m_vel(&m, t)) <= 1e-6 * vmax);
+                if (fabsl(m_acc(&m, t)) > amax)
+                amax = fabsl(m_acc(&m, t));
+            if (fabsl(al) > amax)
+                amax = fabsl(al);
+            if (fabsl(m_jerk(&m, t)) > jmax)
+                jmax = fabsl(m_jerk(&m, t));
+            if (m_vel(&m, t) > vpk)
+                vpk = m_vel(&m, t);
+        }
+        assert_true(fabsl(m_pos(&m, end) - d) <= 1e-9L * d);
+        assert_true(amax <= p.accel_sps2 * (1 + 1e-6));
+        assert_true(jmax <= p.jerk_sps3 * (1 + 1e-6));
+        if (!(vpk <= p.vmax_sps * (1 + 1e-9)))
+            printf("# vpk %.12Lg vmax %.12g d %.0Lf accel %.9g jerk %.9g h %.12Lg T %.12Lg\n", vpk, (double)p.vmax_sps, d, accel, jerk, (long double)m.c[0], (long double)m.s[1]);
+        assert_true(vpk <= p.vmax_sps * (1 + 1e-9));
+        reached = d >= (long double)p.vmax_sps * (long double)(m.tau1 + m.tau2) + 1;
+        if (reached) { /* at t = tau1 (acceleration) and tau2/2 (jerk), from the law */
+            double al, jl;
+            smooth_law_eval(&law, smx_from_double_ticks(m.tau1 * 16e6L), NULL, NULL, &al, NULL);
+            smooth_law_eval(&law, smx_from_double_ticks(m.tau2 * 8e6L), NULL, NULL, NULL, &jl);
+            if (fabsl(m_acc(&m, m.tau1)) > amax)
+                amax = fabsl(m_acc(&m, m.tau1));
+            if (fabsl(m_jerk(&m, m.tau2 / 2)) > jmax)
+                jmax = fabsl(m_jerk(&m, m.tau2 / 2));
+            assert_true(fabs(al - p.accel_sps2) <= 1e-6 * p.accel_sps2);
+            assert_true(fabs(jl - p.jerk_sps3) <= 1e-6 * p.jerk_sps3);
+            assert_true(amax >= p.accel_sps2 * (1 - 1e-6));
+            assert_true(jmax >= p.jerk_sps3 * (1 - 1e-6));
+        }
+        {
+            double pe;
+            smooth_law_eval(&law, smx_from_double_ticks(end * 16e6L + 1), &pe, NULL, NULL, NULL);
+            assert_true(pe == d);
+        }
+    }
+}
+
+/* Every step edge within 1 tick of round(F t_n), random moves of 1 .. 3 million steps. */
+static void every_edge_within_one_tick(void **state)
+{
+    int trial;
+    long double worst = 0;
+    (void)state;
+    for (trial = 0; trial < 70; trial++) {
+        double vmax = lrand(50, 60000), accel = lrand(vmax / 10, vmax * 40);
+        double jerk = lrand(accel * accel / vmax, accel * accel / vmax * 100);
+        smooth_params_t p = params(vmax, accel, jerk, 16000000);
+        smooth_move_t s;
+        step_cmd_t c;
+        model_t m;
+        run_t r;
+        long double tp = 0;
+        int32_t d = trial < 10 ? trial + 1 : (int32_t)lrand(1, trial < 60 ? 5000 : fmin(3e6, vmax * 60)); /* <= 60 s */
+        int32_t from = (int32_t)urand(-1000, 1000);
+        int dir = trial % 3 == 0 ? -1 : 1;
+        if (smooth_move_init(&s, &p, from) != MS_OK)
+            continue;
+        model_move(&m, &p, d);
+        memset(&r, 0, sizeof r);
+        r.pos = from;
+        assert_int_equal(smooth_move_to(&s, from + dir * d), MS_OK);
+        while (smooth_move_next(&s, &c)) {
+            assert_true(c.count >= 1);
+            assert_int_equal((c.flags & STEP_CMD_REVERSE) != 0, dir < 0);
+            run_cmd(&r, &c, &m, 16e6L, r.steps, 0, d <= 5000, &tp);
+        }
+        assert_int_equal(r.steps, (uint32_t)d);
+        assert_int_equal(r.pos, from + dir * d);
+        assert_int_equal(smooth_move_position(&s), from + dir * d);
+        assert_false(smooth_move_busy(&s));
+        if (r.worst > worst)
+            worst = r.worst;
+        if (r.worst > 1)
+            printf("# vmax %.9g accel %.9g jerk %.9g d %d\n", vmax, accel, jerk, d);
+        assert_true(r.worst <= 1);
+    }
+    printf("# every_edge_within_one_tick: worst %.0Lf tick\n", worst);
+}
+
+/* The longest move, 2^31 - 1 steps: commands stay within 1 tick (checked at each command's first,
+ * middle and last step), the last step is the target. */
+static void longest_move(void **state)
+{
+    smooth_params_t p = params(50000, 200000, 2e6, 16000000);
+    smooth_move_t s;
+    step_cmd_t c;
+    model_t m;
+    run_t r;
+    long double tp = 0;
+    (void)state;
+    assert_int_equal(smooth_move_init(&s, &p, INT32_MIN / 2), MS_OK);
+    s.max_cmd_ticks = 1UL << 24; /* 1 s per command: spans up to 32768 steps, to keep the test short */
+    model_move(&m, &p, 2147483647.0L);
+    memset(&r, 0, sizeof r);
+    r.pos = INT32_MIN / 2;
+    assert_int_equal(smooth_move_to(&s, INT32_MIN / 2 + INT32_MAX), MS_OK);
+    while (smooth_move_next(&s, &c))
+        run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 0, &tp);
+    assert_int_equal(r.steps, 2147483647U);
+    assert_true(r.worst <= 1);
+    printf("# longest_move: %u commands, worst %.0Lf tick\n", r.commands, r.worst);
+}
+
+/* Stop: the command goes to 0 at the last step handed out; the steps after it follow the
+ * closed form of that command (every edge within 1 tick), the motion ends at the last whole step
+ * before where the closed form comes to rest, and never exceeds accel or jerk. */
+static void stop_follows_the_zeroed_command(void **state)
+{
+    int trial;
+    (void)state;
+    for (trial = 0; trial < 50; trial++) {
+        double vmax = lrand(100, 30000), accel = lrand(vmax / 5, vmax * 20);
+        double jerk = lrand(accel * accel / vmax, accel * accel / vmax * 20);
+        smooth_params_t p = params(vmax, accel, jerk, 16000000);
+        smooth_move_t s;
+        step_cmd_t c;
+        model_t m;
+        run_t r;
+        long double tp = 0, ts, rest, t;
+        int32_t d = (int32_t)lrand(10, 5000);
+        uint32_t stop_after;
+        int i;
+        if (smooth_move_init(&s, &p, 0) != MS_OK)
+            continue;
+        model_move(&m, &p, d);
+        memset(&r, 0, sizeof r);
+        assert_int_equal(smooth_move_to(&s, d), MS_OK);
+        stop_after = (uint32_t)urand(1, d);
+        while (r.steps < stop_after && smooth_move_next(&s, &c))
+            run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
+        if (r.steps >= (uint32_t)d)
+            continue;
+        ts = m_time_of(&m, r.steps, 0); /* the last step handed out */
+        /* the model: future changes dropped, the level at ts to 0 */
+        {
+            q_t u = 0;
+            int k = 0;
+            for (i = 0; i < m.n; i++)
+                if (m.s[i] <= ts) {
+                    u += m.c[i];
+                    m.s[k] = m.s[i];
+                    m.c[k++] = m.c[i];
+                }
+            m.n = k;
+            if (u != 0) {
+                m.s[m.n] = ts;
+                m.c[m.n++] = -u;
+            }
+            /* a stop after the command has gone to 0 changes nothing: the move ends at d */
+            rest = u == 0 ? (long double)d : m_pos(&m, m_end(&m));
+        }
+        smooth_move_stop(&s);
+        assert_int_equal(smooth_move_target(&s), (int32_t)floorl(rest));
+        while (smooth_move_next(&s, &c))
+            run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
+        assert_true(r.worst <= 1);
+        assert_int_equal(r.steps, (uint32_t)floorl(rest));
+        for (i = 0; i <= 2000; i++) {
+            t = m_end(&m) * i / 2000;
+            assert_true(fabsl(m_acc(&m, t)) <= p.accel_sps2 * (1 + 1e-9));
+            assert_true(m_vel(&m, t) >= -1e-9);
+        }
+    }
+}
+
+/* New target while moving: ahead of the stopping point, the command's future is a new rectangle
+ * from now (the rule for the distance left beyond the stopping point): edges within 1 tick of
+ * that closed form, the target reached exactly, acceleration within accel; behind it: a stop,
+ * then a move from rest back to it. */
+static void new_target_continues_from_the_filter_state(void **state)
+{
+    int trial, reversed = 0, ahead = 0;
+    (void)state;
+    for (trial = 0; trial < 80; trial++) {
+        double vmax = lrand(100, 30000), accel = lrand(vmax / 5, vmax * 20);
+        double jerk = lrand(accel * accel / vmax, accel * accel / vmax * 20);
+        smooth_params_t p = params(vmax, accel, jerk, 16000000);
+        smooth_move_t s;
+        step_cmd_t c;
+        model_t m;
+        run_t r;
+        long double tp = 0, ts;
+        q_t u = 0, h, len, stop_at;
+        int32_t d = (int32_t)lrand(10, 5000), d2;
+        uint32_t at;
+        int i, k = 0;
+        if (smooth_move_init(&s, &p, 0) != MS_OK)
+            continue;
+        model_move(&m, &p, d);
+        memset(&r, 0, sizeof r);
+        assert_int_equal(smooth_move_to(&s, d), MS_OK);
+        at = (uint32_t)urand(1, d);
+        while (r.steps < at && smooth_move_next(&s, &c))
+            run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
+        if (r.steps >= (uint32_t)d)
+            continue;
+        ts = m_time_of(&m, r.steps, 0);
+        for (i = 0; i < m.n; i++)
+            if (m.s[i] <= ts) {
+                u += m.c[i];
+                m.s[k] = m.s[i];
+                m.c[k++] = m.c[i];
+            }
+        m.n = k;
+        {
+            model_t st = m;
+            if (u != 0) {
+                st.s[st.n] = ts;
+                st.c[st.n++] = -u;
+            }
+            stop_at = m_der(&st, 0, m_endq(&st));
+        }
+        d2 = (int32_t)(trial % 4 == 0 ? urand(-1000, (double)stop_at - 1) : ceill((long double)stop_at) + lrand(1, 6000));
+        assert_int_equal(smooth_move_to(&s, d2), MS_OK);
+        assert_int_equal(smooth_move_target(&s), d2);
+        if (d2 < stop_at) { /* stop, then back from rest */
+            reversed++;
+            while (smooth_move_next(&s, &c))
+                r.pos += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
+            assert_int_equal(r.pos, d2);
+            assert_int_equal(smooth_move_position(&s), d2);
+            continue;
+        }
+        ahead++;
+        rule(p.vmax_sps, m.tau1, m.tau2, d2 - stop_at, &h, &len);
+        if (h != u) {
+            m.s[m.n] = ts;
+            m.c[m.n++] = h - u;
+        }
+        m.s[m.n] = ts + len;
+        m.c[m.n++] = -h;
+        while (smooth_move_next(&s, &c))
+            run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
+        if (r.worst > 1)
+            printf("# vmax %.9g accel %.9g jerk %.9g d %d at %u d2 %d\n", p.vmax_sps, p.accel_sps2, p.jerk_sps3, d, at, d2);
+        assert_true(r.worst <= 1);
+        assert_int_equal(r.steps, (uint32_t)d2);
+        assert_true(fabsl(m_pos(&m, m_end(&m)) - d2) < 1e-6);
+        for (i = 0; i <= 2000; i++) {
+            long double t = m_end(&m) * i / 2000;
+            assert_true(fabsl(m_acc(&m, t)) <= p.accel_sps2 * (1 + 1e-9));
+            assert_true(m_vel(&m, t) <= p.vmax_sps * (1 + 1e-9));
+        }
+    }
+    assert_true(reversed > 5 && ahead > 30);
+}
+
+/* Bad parameters: each refused with its own status, nothing changed. */
+static void bad_parameters_refused(void **state)
+{
+    smooth_move_t s, before;
+    smooth_params_t good = params(1000, 5000, 100000, 16000000), p;
+    (void)state;
+    assert_int_equal(smooth_move_init(&s, &good, 7), MS_OK);
+    before = s;
+    p = good;
+    p.jerk_sps3 = 0;
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_JERK_NOT_POSITIVE);
+    p.jerk_sps3 = -5;
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_JERK_NOT_POSITIVE);
+    p.jerk_sps3 = NAN;
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_NOT_FINITE);
+    p = good;
+    p.accel_sps2 = INFINITY;
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_NOT_FINITE);
+    p = good;
+    p.jerk_sps3 = 5000.0 * 5000.0 / 1000.0 * 0.99; /* tau2 = 1.01 tau1 */
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_JERK_TOO_LOW);
+    p.jerk_sps3 = 5000.0 * 5000.0 / 1000.0; /* tau2 = tau1: allowed */
+    assert_int_equal(smooth_move_init(&before, &p, 7), MS_OK);
+    p = good;
+    p.accel_sps2 = 0;
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_ACCEL_NOT_POSITIVE);
+    p = good;
+    p.vmax_sps = 0;
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_VMAX_NOT_ABOVE_V0);
+    p = good;
+    p.vmax_sps = 2e7;
+    p.jerk_sps3 = 1e12;
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_VMAX_ABOVE_TICK_HZ);
+    p = good;
+    p.tick_hz = 0;
+    assert_int_equal(smooth_move_set_params(&s, &p), MS_ERR_TICK_HZ_ZERO);
+    p = params(1000, 1e-6, 1e-6, 16000000); /* tau1 = 1e9 s */
+    assert_int_equal(smooth_move_init(&s, &p, 0), MS_ERR_ACCEL_PHASE_TOO_LONG);
+    assert_int_equal(smooth_move_init(NULL, &good, 0), MS_ERR_NULL);
+    assert_int_equal(smooth_move_position(&s), 7);
+    /* while moving, new parameters wait for rest */
+    assert_int_equal(smooth_move_init(&s, &good, 0), MS_OK);
+    assert_int_equal(smooth_move_to(&s, 1000), MS_OK);
+    {
+        step_cmd_t c;
+        assert_true(smooth_move_next(&s, &c));
+    }
+    assert_int_equal(smooth_move_set_params(&s, &good), MS_ERR_BUSY);
+    assert_string_equal(motion_status_text(MS_ERR_JERK_TOO_LOW),
+                        "jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)");
+}
+
+/* The smx arithmetic: exact for integers and dyadic values, 62-bit relative precision otherwise. */
+static void smx_arithmetic(void **state)
+{
+    int i;
+    (void)state;
+    assert_true(smx_to_double(smx_from_i64(123456789)) == 123456789.0);
+    assert_true(smx_round(smx_div(smx_from_i64(7), smx_from_i64(2))) == 4);
+    assert_true(smx_round(smx_div(smx_from_i64(-7), smx_from_i64(2))) == -4);
+    assert_true(smx_to_double(smx_from_float(0.1f)) == (double)0.1f);
+    for (i = 0; i < 10000; i++) {
+        int64_t a = (int64_t)urand(-2e9, 2e9), b = (int64_t)urand(1, 2e9);
+        long double q = (long double)a / b;
+        smx_t x = smx_div(smx_from_i64(a), smx_from_i64(b));
+        assert_true(smx_round(smx_mul(smx_from_i64(a), smx_from_i64(b))) == a * b);
+        assert_true(fabsl((long double)smx_to_double(x) - q) <= 1e-15L * fabsl(q) + 1e-300L);
+        assert_true(smx_round(smx_add(smx_from_i64(a), smx_from_i64(b))) == a + b);
+        assert_true(smx_cmp(smx_from_i64(a), smx_from_i64(b)) == (a > b) - (a < b));
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(smx_arithmetic),
+        cmocka_unit_test(law_velocity_is_the_ma2_filter_s_output),
+        cmocka_unit_test(distance_and_peaks),
+        cmocka_unit_test(every_edge_within_one_tick),
+        cmocka_unit_test(longest_move),
+        cmocka_unit_test(stop_follows_the_zeroed_command),
+        cmocka_unit_test(new_target_continues_from_the_filter_state),
+        cmocka_unit_test(bad_parameters_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
