@@ -586,7 +586,8 @@ static const char ramp_description[] =
     "                 (the exact ramp gives +a, 0, -a)\n"
     "Algorithms: simplistic (lab eqs. 1-2), leib (lab §4.3.3 steps 1-6), exact (true constant\n"
     "acceleration), sigmoid (the S-curve article S-curve table; options --len --fmin --fmax --flex --timer-hz\n"
-    "--hold instead of --v0 --vmax --accel --tick-hz).\n"
+    "--hold instead of --v0 --vmax --accel --tick-hz); smooth (the filter-shaped, jerk-limited move:\n"
+    "--algo smooth --jerk SPS3; its own table, --queue and --compare: motionsim ramp --algo smooth --help).\n"
     "--compare (no --algo) prints, for exact, simplistic and leib, how far each deviates from the\n"
     "exact ramp: move time, largest step-time error, largest and RMS interval error, largest and\n"
     "RMS acceleration error (with the step where the largest occurs); cruise steps are summed in\n"
@@ -685,6 +686,8 @@ int cmd_ramp(int argc, char **argv)
     FILE *f;
     int rc, i;
 
+    if (cmd_ramp_wants_smooth(argc, argv)) /* --algo smooth: sim/cmd_smooth.c */
+        return cmd_ramp_smooth(argc, argv);
     rc = cli_parse(&spec, argc, argv, NULL, NULL);
     if (rc >= 0)
         return rc;

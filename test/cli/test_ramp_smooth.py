@@ -1,0 +1,94 @@
+"""motionsim ramp --algo smooth: the filter-shaped move (lib/src/smooth_move.h).
+
+Expected values from the definition: the velocity command (a rectangle) through two moving
+averages tau1 = vmax/accel and tau2 = accel/jerk: the move ends at exactly the target after
+T + tau1 + tau2 (T = distance/vmax for long moves), the speed never exceeds vmax, the acceleration
+never exceeds accel and the jerk never exceeds jerk; bad input is one line on stderr, exit 2."""
+import csv
+import io
+
+import pytest
+
+LONG = ["--from", "0", "--to", "2000", "--vmax", "2000", "--accel", "8000", "--jerk", "80000",
+        "--tick-hz", "16000000"]
+
+
+def test_table_reaches_the_target_within_the_limits(motionsim):
+    r = motionsim("ramp", "--algo", "smooth", *LONG)
+    assert r.rc == 0, r.err
+    header, rows = r.rows()
+    assert header == ["step", "position", "t_s", "interval_ticks", "speed_sps", "accel_sps2", "jerk_sps3"]
+    assert len(rows) == 2000 and rows[-1]["position"] == 2000
+    # T = 2000/2000 = 1 s, tau1 = 0.25 s, tau2 = 0.1 s: the last step at 1.35 s
+    assert rows[-1]["t_s"] == pytest.approx(1.35, abs=1e-9)
+    assert max(x["speed_sps"] for x in rows) <= 2000 * (1 + 1e-9)
+    assert max(abs(x["accel_sps2"]) for x in rows) <= 8000 * (1 + 1e-9)
+    assert max(abs(x["jerk_sps3"]) for x in rows) <= 80000 * (1 + 1e-9)
+    # the cruise at vmax, accel and jerk reached
+    assert max(abs(x["accel_sps2"]) for x in rows) >= 8000 * (1 - 1e-9)
+    assert max(abs(x["jerk_sps3"]) for x in rows) >= 80000 * (1 - 1e-9)
+    # times rise; step 1000 (half the distance) at half the time of the symmetric move
+    assert all(b["t_s"] > a["t_s"] for a, b in zip(rows, rows[1:]))
+    assert rows[999]["position"] == 1000 and rows[999]["t_s"] == pytest.approx(0.675, abs=1e-9)
+
+
+def test_reverse_move_counts_down(motionsim):
+    r = motionsim("ramp", "--algo", "smooth", "--from", "10", "--to", "-10", "--vmax", "20", "--accel", "10",
+                  "--jerk", "40")
+    assert r.rc == 0, r.err
+    _, rows = r.rows()
+    assert [x["position"] for x in rows] == list(range(9, -11, -1))
+
+
+def test_queue_edges_match_the_exact_times(motionsim):
+    exact = motionsim("ramp", "--algo", "smooth", *LONG).rows()[1]
+    q = motionsim("ramp", "--algo", "smooth", "--queue", *LONG)
+    assert q.rc == 0, q.err
+    _, rows = q.rows()
+    assert len(rows) == 2000
+    for a, b in zip(exact, rows):
+        # the executor starts at half a tick: its edge is floor(F t_n + 0.5) within 1 tick
+        assert abs(b["t_s"] * 16e6 - round(a["t_s"] * 16e6)) <= 1
+
+
+def test_queue_stop_and_retarget(motionsim):
+    r = motionsim("ramp", "--algo", "smooth", "--queue", *LONG, "--retarget-at", "500:3000")
+    assert r.rc == 0, r.err
+    _, rows = r.rows()
+    assert rows[-1]["position"] == 3000
+    s = motionsim("ramp", "--algo", "smooth", "--queue", *LONG, "--stop-at", "800")
+    assert s.rc == 0, s.err
+    _, rows = s.rows()
+    assert 800 < rows[-1]["position"] < 2000
+    back = motionsim("ramp", "--algo", "smooth", "--queue", *LONG, "--retarget-at", "1000:100")
+    assert back.rc == 0, back.err
+    _, rows = back.rows()
+    assert rows[-1]["position"] == 100
+
+
+def test_compare_rows(motionsim):
+    r = motionsim("ramp", "--algo", "smooth", "--compare", *LONG)
+    assert r.rc == 0, r.err
+    rows = list(csv.DictReader(io.StringIO(r.out)))
+    assert [x["algo"] for x in rows] == ["trapezoid", "smooth", "sigmoid"]
+    trap, smooth = rows[0], rows[1]
+    assert float(trap["move_time_s"]) == pytest.approx(1.25, abs=1e-9)    # 1 s + vmax/accel
+    assert float(smooth["move_time_s"]) == pytest.approx(1.35, abs=1e-9)  # 1 s + tau1 + tau2
+    # measured from step times: the trapezoid's acceleration jumps, the smooth move's does not
+    assert float(trap["peak_jerk_sps3"]) > 50 * float(smooth["peak_jerk_sps3"])
+
+
+@pytest.mark.parametrize("args,msg", [
+    (["--to", "20"], "needs --jerk"),
+    (["--to", "20", "--jerk", "4"], "jerk too low"),
+    (["--to", "20", "--jerk", "0"], "jerk must be greater than 0"),
+    (["--to", "20", "--jerk", "-3"], "jerk must be greater than 0"),
+    (["--to", "20", "--jerk", "nan"], "--jerk"),
+    (["--to", "20", "--jerk", "40", "--stop-at", "5"], "needs --queue"),
+    (["--to", "20", "--jerk", "40", "--queue", "--stop-at", "50"], "only"),
+    (["--to", "20", "--jerk", "40", "--fmin", "5"], "--compare"),
+])
+def test_bad_input(motionsim, args, msg):
+    r = motionsim("ramp", "--algo", "smooth", *args)
+    assert r.rc == 2 and r.out == ""
+    assert r.err.startswith("motionsim ramp: ") and msg in r.err and r.err.count("\n") == 1
