@@ -26,6 +26,7 @@
 #include "pctrl.h"
 #include "pidv1_ctrl.h"
 #include "plant_dcmotor.h"
+#include "smooth_move.h"
 
 /* Time from the encoder sample to the new duty on the motor, as on the Mega (measured in simavr
  * at 16 MHz, see README "Servo timing"): the rest of the LS7366R read (~30 us at 4 MHz SPI), the
@@ -36,6 +37,12 @@
 
 enum { CTRL_P = 0, CTRL_PID = 1 };
 enum { PREC_FLOAT = 0, PREC_DOUBLE = 1 };
+enum { PROFILE_STEP = 0, PROFILE_SMOOTH = 1 };
+
+/* --profile smooth's defaults: the servo sketches' `move` (counts/s, /s^2, /s^3) */
+#define SERVO_MOVE_VMAX 3000.0
+#define SERVO_MOVE_ACCEL 20000.0
+#define SERVO_MOVE_JERK 400000.0
 
 /* The trace counts as settled when its last SERVO_SETTLE_SAMPLES samples lie within the 2 % band
  * around the final one (so it moved less than the band during that window). */
@@ -117,6 +124,10 @@ int cmd_servo(int argc, char **argv)
 {
     int ctrl = CTRL_P, precision = PREC_FLOAT, want_metrics = 0;
     int seen_ki = 0, seen_kd = 0, seen_precision = 0;
+    int profile = PROFILE_STEP, seen_profile = 0, seen_shape[3] = {0, 0, 0};
+    double mv_vmax = SERVO_MOVE_VMAX, mv_accel = SERVO_MOVE_ACCEL, mv_jerk = SERVO_MOVE_JERK;
+    double peak_duty = 0.0, peak_track = 0.0;
+    smooth_setpoint_t shaped;
     double kp = 0.02, ki = 0.0, kd = 0.0, duration_s = 3.0;
     int32_t setpoint = 1000, period_ms = 20, latency_us = SERVO_DEFAULT_LATENCY_US;
     const char *out_path = NULL;
@@ -131,6 +142,10 @@ int cmd_servo(int argc, char **argv)
         {"--latency-us", CLI_INT32, &latency_us, "US", "encoder sample -> new duty at the motor, 0..period (default 1200)", NULL, NULL},
         {"--precision", CLI_CHOICE, &precision, NULL, "PID arithmetic: float (as on the Mega; default) or double (--ctrl pid only)", "float|double", &seen_precision},
         {"--metrics", CLI_FLAG, &want_metrics, NULL, "print rise time, overshoot, settling time, steady-state error on stderr", NULL, NULL},
+        {"--profile", CLI_CHOICE, &profile, NULL, "setpoint: step (jumps at t = 0, the handout's) or smooth (the sketches' 'move': the filter-shaped move)", "step|smooth", &seen_profile},
+        {"--vmax", CLI_DOUBLE, &mv_vmax, "CPS", "--profile smooth: command height, counts/s (default 3000)", NULL, &seen_shape[0]},
+        {"--accel", CLI_DOUBLE, &mv_accel, "CPS2", "--profile smooth: peak acceleration, counts/s^2 (default 20000)", NULL, &seen_shape[1]},
+        {"--jerk", CLI_DOUBLE, &mv_jerk, "CPS3", "--profile smooth: peak jerk, counts/s^3 (default 400000)", NULL, &seen_shape[2]},
         {"-o", CLI_STRING, &out_path, "FILE", "write the CSV to FILE instead of stdout", NULL, NULL},
     };
     const cli_spec_t spec = {
@@ -145,7 +160,12 @@ int cmd_servo(int argc, char **argv)
         "setpoint in the step's direction / |setpoint - y0| x 100; steady-state error = setpoint - yf;\n"
         "settled=1 when the last 10 samples lie within 2 % of |yf - y0| around yf, else the run ended\n"
         "while still moving (settled=0, rise and settling time nan: run longer); settling time = the\n"
-        "first time after which |y - yf| stays within that band; rise time = 10 % -> 90 % of yf - y0.",
+        "first time after which |y - yf| stays within that band; rise time = 10 % -> 90 % of yf - y0.\n"
+        "--profile smooth: the setpoint follows the filter-shaped move to --setpoint (lib/src/smooth_move.h,\n"
+        "as the sketches' 'move <counts>'; the CSV's setpoint column is the one in force each period);\n"
+        "with --profile (step or smooth) --metrics adds peak_duty_pct (largest |duty|) and\n"
+        "peak_tracking_error_counts (largest |setpoint in force - position|); overshoot and the\n"
+        "other figures are against the final setpoint.",
         opts, sizeof opts / sizeof opts[0], 0};
     plant_dcmotor_params_t params;
     plant_dcmotor_t plant;
@@ -166,6 +186,21 @@ int cmd_servo(int argc, char **argv)
         return cli_error(argv[0], "%s needs --ctrl pid (the P controller has only kp)", seen_ki ? "--ki" : "--kd");
     if (ctrl == CTRL_P && seen_precision)
         return cli_error(argv[0], "--precision needs --ctrl pid (the P controller is float, as on the Mega)");
+    if (profile != PROFILE_SMOOTH && (seen_shape[0] || seen_shape[1] || seen_shape[2]))
+        return cli_error(argv[0], "%s needs --profile smooth", seen_shape[0] ? "--vmax" : seen_shape[1] ? "--accel" : "--jerk");
+    if (profile == PROFILE_SMOOTH) {
+        smooth_params_t mp;
+        mp.vmax_sps = mv_vmax;
+        mp.accel_sps2 = mv_accel;
+        mp.jerk_sps3 = mv_jerk;
+        mp.tick_hz = 1000000U;
+        if (cli_float_range(mv_vmax) || cli_float_range(mv_accel) || cli_float_range(mv_jerk))
+            return cli_error(argv[0], "--vmax/--accel/--jerk: does not fit a float (the sketches compute in float)");
+        st = smooth_setpoint_init(&shaped, &mp, 0);
+        if (st != MS_OK)
+            return cli_error(argv[0], "--profile smooth: %s", motion_status_text(st));
+        (void)smooth_setpoint_move(&shaped, 0, setpoint);
+    }
     if (kp < 0 || ki < 0 || kd < 0)
         return cli_error(argv[0], "%s: %s", kp < 0 ? "--kp" : ki < 0 ? "--ki" : "--kd", motion_status_text(MS_ERR_GAIN_NEGATIVE));
     if (kp > SERVO_GAIN_MAX || ki > SERVO_GAIN_MAX || kd > SERVO_GAIN_MAX)
@@ -227,10 +262,13 @@ int cmd_servo(int argc, char **argv)
     for (k = 0; k < n_steps; k++) {
         uint32_t t_ms = (uint32_t)(k * (size_t)period_ms);
         int32_t position = plant_dcmotor_count(&plant);
-        int32_t error = pctrl_error_counts(setpoint, position);
+        int32_t sp_now = profile == PROFILE_SMOOTH ? smooth_setpoint_at(&shaped, t_ms) : setpoint;
+        int32_t error = pctrl_error_counts(sp_now, position);
         double duty;
+        sp_f = (float)sp_now;
+        sp_d = (double)sp_now;
         if (ctrl == CTRL_P) {
-            float d = pctrl_duty_pct(&pc, setpoint, position);
+            float d = pctrl_duty_pct(&pc, sp_now, position);
             duty = d;
         } else if (precision == PREC_FLOAT) {
             in_f = (float)position;
@@ -244,7 +282,11 @@ int cmd_servo(int argc, char **argv)
         t_log[k] = (double)t_ms / 1000.0;
         y_log[k] = position;
         csv_num(f, t_log[k]);
-        fprintf(f, ",%ld,%ld,%ld,", (long)setpoint, (long)position, (long)error);
+        fprintf(f, ",%ld,%ld,%ld,", (long)sp_now, (long)position, (long)error);
+        if (fabs(duty) > peak_duty)
+            peak_duty = fabs(duty);
+        if (fabs((double)error) > peak_track)
+            peak_track = fabs((double)error);
         if (ctrl == CTRL_PID && precision == PREC_DOUBLE)
             csv_num(f, duty);
         else
@@ -262,9 +304,12 @@ int cmd_servo(int argc, char **argv)
         metrics_t m = step_metrics(t_log, y_log, n_steps, setpoint);
         fprintf(stderr,
                 "metrics: rise_time_s=%.4f overshoot_pct=%.3f settling_time_s=%.4f steady_state_error_counts=%.0f "
-                "final_position_counts=%.0f peak_position_counts=%.0f settled=%d\n",
+                "final_position_counts=%.0f peak_position_counts=%.0f settled=%d",
                 m.rise_time_s, m.overshoot_pct, m.settling_time_s, m.sse_counts, m.final_counts, m.peak_counts,
                 m.settled);
+        if (seen_profile)
+            fprintf(stderr, " peak_duty_pct=%.2f peak_tracking_error_counts=%.0f", peak_duty, peak_track);
+        fputc('\n', stderr);
     }
     free(t_log);
     free(y_log);

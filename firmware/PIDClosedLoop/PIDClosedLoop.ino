@@ -3,8 +3,10 @@
  * (the lab handout, section 4.2): Input is the measured position (LS7366R counts), Output the
  * PWM duty in %, Setpoint the position setpoint. Every 20 ms controlLoop() reads the encoder,
  * calls myPID.Compute() and drives the motor with Output; every 1000 ms printLoop() prints one
- * status line. A number sent over the serial port is the new Setpoint; "kp|ki|kd <value>" retunes
- * the PID; "?" prints the state (9600 baud; the protocol is in MotionBoard/ServoSerial.h).
+ * status line. A number sent over the serial port is the new Setpoint (a step, as in the handout);
+ * "move <counts>" makes Setpoint travel there along the filter-shaped move instead (smooth_move.h,
+ * docs/servo.md); "kp|ki|kd <value>" retunes the PID; "?" prints the state (9600 baud; the
+ * protocol is in MotionBoard/ServoSerial.h).
  *
  * Board: Arduino Mega 2560 + Arduino Motor Shield R3 (channel A) + LS7366R on SPI; the pins are
  * below, under "the pins". The files behind this sketch (with it, five to read end to end):
@@ -27,6 +29,7 @@
 #include <HBridge.h>
 #include <LS7366R.h>
 #include <ServoSerial.h>
+#include <smooth_move.h>
 
 #if USE_REAL_PID_V1
 #include <PID_v1.h>
@@ -42,6 +45,13 @@ double Input = 0;    // measured position, counts
 double Output = 0;   // PWM duty, %
 long measuredPosition = 0; // the count as read (Input is its double copy for the PID)
 PID myPID(&Input, &Output, &Setpoint, Kp, Ki, Kd, DIRECT);
+
+// ---- "move <counts>": Setpoint follows the filter-shaped move of smooth_move.h (a velocity
+//      command of moveVmax through two moving averages, tau1 = vmax/accel, tau2 = accel/jerk) ----
+const float moveVmax = 3000;   // counts/s
+const float moveAccel = 20000; // counts/s^2: tau1 = 0.15 s
+const float moveJerk = 400000; // counts/s^3: tau2 = 0.05 s
+smooth_setpoint_t shapedMove;
 
 // ---- timing: two loops, each advanced by exactly one period so neither drifts ----
 const int controlInterval = 20;           // ms: the control period and the PID's sample time
@@ -66,11 +76,24 @@ LS7366R encoder(SERVO_PIN_ENCODER_CS);
 HBridge motor(SERVO_PIN_PWM, SERVO_PIN_DIR, SERVO_PIN_BRAKE);
 ServoSerial servoSerial(Serial, ServoSerial::KP_KI_KD);
 
+// The shaped move's clock: the scheduled start of this control period (the real PID_v1 build:
+// millis(), as its Compute()).
+unsigned long setpointClock()
+{
+#if USE_REAL_PID_V1
+    return millis();
+#else
+    return lastControlTime;
+#endif
+}
+
 // Every 20 ms: sample the encoder, compute, drive the motor. False if Compute() declined.
 bool controlLoop()
 {
     measuredPosition = encoder.read();
     Input = measuredPosition;
+    if (smooth_setpoint_moving(&shapedMove))
+        Setpoint = smooth_setpoint_at(&shapedMove, setpointClock());
     if (!myPID.Compute())
         return false;
     motor.setDuty(Output);
@@ -92,6 +115,10 @@ void serialCommands()
     switch (command.what) {
     case ServoCommand::SETPOINT:
         Setpoint = command.setpoint;
+        smooth_setpoint_jump(&shapedMove, command.setpoint);
+        break;
+    case ServoCommand::MOVE: // from the Setpoint in force, starting this control period
+        smooth_setpoint_move(&shapedMove, setpointClock(), command.setpoint);
         break;
     case ServoCommand::KP:
         Kp = command.gain;
@@ -128,6 +155,10 @@ void setup()
     measuredPosition = encoder.read();
     Input = measuredPosition;
     lastControlTime = lastPrintTime = millis();
+    { // after the loops' clocks start: its set-up takes a few ms on the AVR
+        smooth_params_t shape = {moveVmax, moveAccel, moveJerk, 1000000UL}; // microsecond ticks
+        smooth_setpoint_init(&shapedMove, &shape, (int32_t)Setpoint);
+    }
 #if !USE_REAL_PID_V1
     myPID.SetClock(controlClock);
 #endif

@@ -4,8 +4,10 @@
  * LS7366R encoder counter and sets the PWM duty to
  *     percentDutyCycle = Kp x (positionSetPoint - measuredPosition),  clamped to -100..+100 %
  * and every 1000 ms printLoop() prints one status line. A number sent over the serial port is
- * the new setpoint; "kp <value>" retunes Kp; "?" prints the state (9600 baud, line endings CR,
- * LF or both; the protocol is in MotionBoard/ServoSerial.h, docs/serial.md).
+ * the new setpoint (a step, as in the handout); "move <counts>" makes the setpoint travel there
+ * along the filter-shaped move instead (smooth_move.h, docs/servo.md); "kp <value>" retunes Kp;
+ * "?" prints the state (9600 baud, line endings CR, LF or both; the protocol is in
+ * MotionBoard/ServoSerial.h, docs/serial.md).
  *
  * Board: Arduino Mega 2560 + Arduino Motor Shield R3 (channel A) + LS7366R on SPI; the pins are
  * below, under "the pins". The files behind this sketch (with it, five to read end to end):
@@ -18,12 +20,20 @@
 #include <LS7366R.h>
 #include <ServoSerial.h>
 #include <pctrl.h>
+#include <smooth_move.h>
 
 // ---- the controller ----
 float Kp = 0.02;            // % duty per count of error (the lab's value)
 long positionSetPoint = 0;  // counts
 long measuredPosition = 0;  // counts
 float percentDutyCycle = 0; // -100..+100 %
+
+// ---- "move <counts>": the setpoint follows the filter-shaped move of smooth_move.h (a velocity
+//      command of moveVmax through two moving averages, tau1 = vmax/accel, tau2 = accel/jerk) ----
+const float moveVmax = 3000;   // counts/s
+const float moveAccel = 20000; // counts/s^2: tau1 = 0.15 s
+const float moveJerk = 400000; // counts/s^3: tau2 = 0.05 s
+smooth_setpoint_t shapedMove;
 
 // ---- timing: two loops, each advanced by exactly one period so neither drifts ----
 const unsigned long controlInterval = 20; // ms
@@ -52,6 +62,8 @@ ServoSerial servoSerial(Serial, ServoSerial::KP_ONLY);
 void controlLoop()
 {
     measuredPosition = encoder.read();
+    if (smooth_setpoint_moving(&shapedMove))
+        positionSetPoint = smooth_setpoint_at(&shapedMove, lastControlTime);
     percentDutyCycle = pctrl_kp_duty_pct(Kp, positionSetPoint, measuredPosition);
     motor.setDuty(percentDutyCycle);
 }
@@ -71,6 +83,10 @@ void serialCommands()
     switch (command.what) {
     case ServoCommand::SETPOINT:
         positionSetPoint = command.setpoint;
+        smooth_setpoint_jump(&shapedMove, command.setpoint);
+        break;
+    case ServoCommand::MOVE: // from the setpoint in force, starting this control period
+        smooth_setpoint_move(&shapedMove, lastControlTime, command.setpoint);
         break;
     case ServoCommand::KP:
         Kp = command.gain;
@@ -91,6 +107,10 @@ void setup()
         servoSerial.out().println(F("WARN encoder: the LS7366R does not answer on SPI (CS D53)"));
     measuredPosition = encoder.read();
     lastControlTime = lastPrintTime = millis();
+    { // after the loops' clocks start: its set-up takes a few ms on the AVR
+        smooth_params_t shape = {moveVmax, moveAccel, moveJerk, 1000000UL}; // microsecond ticks
+        smooth_setpoint_init(&shapedMove, &shape, positionSetPoint);
+    }
     servoSerial.out().println(F("READY ProportionalClosedLoop"));
 }
 

@@ -16,13 +16,20 @@ static smx_t smx_make(int neg, uint64_t a, int e)
         r.e = 0;
         return r;
     }
-    while (a >= SMX_TOP) {
-        a = (a >> 1) + (a & 1U); /* halves up */
-        e++;
-    }
-    while (a < SMX_BOT) {
-        a <<= 1;
-        e--;
+    {
+        int len = 64 - __builtin_clzll(a); /* bits of a */
+        if (len > 62) {
+            int sh = len - 62;
+            a = (a >> sh) + ((a >> (sh - 1)) & 1U); /* rounded, halves up */
+            e += sh;
+            if (a >= SMX_TOP) {
+                a >>= 1;
+                e++;
+            }
+        } else if (len < 62) {
+            a <<= 62 - len;
+            e -= 62 - len;
+        }
     }
     r.m = neg ? -(int64_t)a : (int64_t)a;
     r.e = (int16_t)e;
@@ -237,9 +244,10 @@ void smooth_law_reset(smooth_law_t *law, int32_t pos)
 /* q(x) of cursor c: position, velocity, acceleration x later (without knots) */
 static void cur_poly(const smooth_cursor_t *c, smx_t x, smx_t *p, smx_t *v, smx_t *a)
 {
+    static const smx_t sixth = {0x2AAAAAAAAAAAAAABLL, -64}; /* 1/6 to 62 bits */
     smx_t jx = smx_mul(c->j, x);
     smx_t a_half = smx_ldexp(c->a, -1);
-    smx_t j_sixth = smx_div(c->j, smx_from_i64(6));
+    smx_t j_sixth = smx_mul(c->j, sixth);
     if (p != NULL) /* p + x (v + x (a/2 + x j/6)) */
         *p = smx_add(c->p, smx_mul(x, smx_add(c->v, smx_mul(x, smx_add(a_half, smx_mul(x, j_sixth))))));
     if (v != NULL) /* v + x (a + x j/2) */
@@ -847,4 +855,106 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         s->span_b = b;
     }
     return 1;
+}
+
+/* ---- the servo's setpoint ---- */
+
+static void setpoint_rest(smooth_setpoint_t *s, int32_t pos)
+{
+    smooth_law_reset(&s->law, pos);
+    s->last = pos;
+    s->has_then = 0;
+    s->t0_ms = 0;
+}
+
+motion_status_t smooth_setpoint_init(smooth_setpoint_t *s, const smooth_params_t *p, int32_t pos)
+{
+    smooth_law_t law;
+    motion_status_t st;
+    if (s == NULL || p == NULL)
+        return MS_ERR_NULL;
+    if (p->tick_hz != 1000000U)
+        return MS_ERR_OUT_OF_RANGE;
+    st = smooth_law_set_params(&law, p);
+    if (st != MS_OK)
+        return st;
+    s->law = law;
+    setpoint_rest(s, pos);
+    return MS_OK;
+}
+
+motion_status_t smooth_setpoint_set_params(smooth_setpoint_t *s, const smooth_params_t *p)
+{
+    smooth_law_t law;
+    motion_status_t st;
+    if (s == NULL || p == NULL)
+        return MS_ERR_NULL;
+    if (p->tick_hz != 1000000U)
+        return MS_ERR_OUT_OF_RANGE;
+    law = s->law;
+    st = smooth_law_set_params(&law, p);
+    if (st != MS_OK)
+        return st;
+    if (smooth_setpoint_moving(s))
+        return MS_ERR_BUSY;
+    s->law = law;
+    return MS_OK;
+}
+
+uint8_t smooth_setpoint_moving(const smooth_setpoint_t *s)
+{
+    return smooth_law_moving(&s->law) || s->has_then;
+}
+
+void smooth_setpoint_jump(smooth_setpoint_t *s, int32_t to)
+{
+    setpoint_rest(s, to);
+}
+
+motion_status_t smooth_setpoint_move(smooth_setpoint_t *s, uint32_t now_ms, int32_t to)
+{
+    motion_status_t st;
+    if (s == NULL)
+        return MS_ERR_NULL;
+    if (!smooth_setpoint_moving(s)) {
+        smooth_law_t law = s->law;
+        smooth_law_reset(&law, s->last);
+        st = smooth_law_start(&law, to);
+        if (st != MS_OK)
+            return st;
+        s->law = law;
+        s->t0_ms = now_ms;
+        return MS_OK;
+    }
+    if (s->has_then) {
+        s->then_target = to;
+        return MS_OK;
+    }
+    {
+        smx_t now = smx_from_i64((int64_t)(uint32_t)(now_ms - s->t0_ms) * 1000);
+        st = smooth_law_retarget(&s->law, now, to);
+        if (st == MS_ERR_SMOOTH_REVERSE || st == MS_ERR_SMOOTH_TOO_MANY) {
+            smooth_law_stop(&s->law, now);
+            s->has_then = 1;
+            s->then_target = to;
+            return MS_OK;
+        }
+        return st;
+    }
+}
+
+int32_t smooth_setpoint_at(smooth_setpoint_t *s, uint32_t now_ms)
+{
+    smx_t t;
+    if (!smooth_law_moving(&s->law) && !s->has_then)
+        return s->last;
+    t = smx_from_i64((int64_t)(uint32_t)(now_ms - s->t0_ms) * 1000);
+    smooth_law_knots_to(&s->law, t);
+    s->last = smooth_law_position_at(&s->law, t);
+    if (!smooth_law_moving(&s->law) && s->has_then) {
+        int32_t to = s->then_target;
+        s->has_then = 0;
+        (void)smooth_setpoint_move(s, now_ms, to); /* from rest at the stop's whole count */
+    }
+    return s->last;
 }

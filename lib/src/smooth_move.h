@@ -210,6 +210,41 @@ uint8_t smooth_move_busy(const smooth_move_t *s);
 int32_t smooth_move_position(const smooth_move_t *s);
 int32_t smooth_move_target(const smooth_move_t *s);
 
+/* ---- a servo's setpoint along the law (ProportionalClosedLoop, PIDClosedLoop, motionsim servo) ----
+ * Time in milliseconds (the law's ticks are microseconds: tick_hz must be 1000000), positions in
+ * encoder counts (vmax up to 10^6 counts/s). A
+ * move starts from the setpoint in force, at the time it is given; the setpoint at time t is the
+ * law's position rounded to the nearest count. A new target while moving continues from the
+ * filter's state; one behind where a stop now comes to rest (or one more change than the law
+ * holds within tau1 + tau2) stops first and starts from rest (at the whole count nearest to it)
+ * when the stop has ended. Integer work only: the sketch and motionsim compute the same setpoints. */
+typedef struct {
+    smooth_law_t law;
+    uint32_t t0_ms;   /* the timeline's start on the caller's millisecond clock */
+    int32_t last;     /* the setpoint last handed out */
+    uint8_t has_then; /* after the stop in progress: the move to then_target */
+    int32_t then_target;
+} smooth_setpoint_t;
+
+/* At rest at pos. p->tick_hz must be 1000000 (else MS_ERR_OUT_OF_RANGE); the law's other
+ * checks. On error *s is untouched. */
+motion_status_t smooth_setpoint_init(smooth_setpoint_t *s, const smooth_params_t *p, int32_t pos);
+
+/* New parameters at rest (MS_ERR_BUSY while moving). */
+motion_status_t smooth_setpoint_set_params(smooth_setpoint_t *s, const smooth_params_t *p);
+
+/* A move to `to` given at now_ms (MS_OK, or the law's status: nothing changed). */
+motion_status_t smooth_setpoint_move(smooth_setpoint_t *s, uint32_t now_ms, int32_t to);
+
+/* The setpoint jumps to `to` (a step; any move is forgotten). */
+void smooth_setpoint_jump(smooth_setpoint_t *s, int32_t to);
+
+/* The setpoint at now_ms (not before the last call's time). */
+int32_t smooth_setpoint_at(smooth_setpoint_t *s, uint32_t now_ms);
+
+/* A move is in progress. */
+uint8_t smooth_setpoint_moving(const smooth_setpoint_t *s);
+
 #ifdef __cplusplus
 }
 #endif

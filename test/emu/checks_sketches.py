@@ -636,6 +636,101 @@ def check_servo_tuned(env, sketch):
                        must_reach=True)
 
 
+# `move <counts>` (the filter-shaped setpoint, lib/src/smooth_move.h): the gains of the emulator's
+# tuned P run and of `make profiles`' PID run, the move of the other servo checks.
+SERVO_MOVE_GAINS = {"p": [("kp", P_TUNED_KP)], "pid": [("kp", 0.1), ("ki", 0.1), ("kd", 0.002)]}
+SERVO_MOVE_QUERIES = 12      # `?` every SERVO_MOVE_QUERY_MS while the setpoint travels
+SERVO_MOVE_QUERY_MS = 50
+
+
+def check_servo_move(env, sketch, target=1000, run_ms=2500):
+    """`move <target>`: answered `OK move=<target>`, no ERR; the setpoint (from `?` replies during
+    the move) rises through intermediate values, each one of the setpoints motionsim servo
+    --profile smooth computes for its 20 ms periods (the same integer law), and ends at the target;
+    the position trace follows motionsim's within the tolerance of the other servo checks, aligned
+    at the first control period after the command (motionsim's t = 20 ms: the move starts at the
+    sketch's last period)."""
+    ctrl = servo_ctrl(env, sketch)
+    gains = SERVO_MOVE_GAINS[ctrl]
+    gains_cmds = "\n".join(f"send {k} {v}\nwait ^OK {k}=" for k, v in gains)
+    queries = "\n".join(f"run {SERVO_MOVE_QUERY_MS}\nsend ?\nwait ^setpoint=" for _ in range(SERVO_MOVE_QUERIES))
+    script = (f"wait ^READY [^ ]+$\n{gains_cmds}\nsend move {target}\nwait ^OK move={target}$\n{queries}\n"
+              f"run {run_ms}\nsend ?\nwait ^setpoint=\n")
+    cs_pin = f"D{env.header_int('servo', 'SERVO_PIN_ENCODER_CS', sketch)}"
+    log = emulog.run(env.elf(sketch), script, motor=sketches.servo_motor_spec(env, sketch), pins={"CS": cs_pin})
+    problems = []
+    fails_of(log, problems)
+    if problems:
+        return CheckResult(False, "emulation failed", problems)
+    errs = log.lines_matching(r"^ERR")
+    if errs:
+        problems.append(f"ERR lines: {[l.text for l in errs]}")
+    ok = log.first(rf"^OK move={target}$")
+    tx = next((t for t in log.tx if t.text == f"move {target}"), None)
+    if ok is None or tx is None:
+        return CheckResult(False, "no move reply", problems + [f"'move {target}' not sent or not answered"])
+    args = ["servo", "--ctrl", ctrl, "--setpoint", str(target), "--duration", str(run_ms / 1000.0),
+            "--profile", "smooth"]
+    for k, v in gains:
+        args += [f"--{k}", str(v)]
+    out, _ = motionsim(env, *args)
+    sim = [r.split(",") for r in out.splitlines()[1:] if r]
+    sim_t = [float(r[0]) for r in sim]
+    sim_sp = [int(r[1]) for r in sim]
+    sim_p = [int(float(r[2])) for r in sim]
+    replies = [emulog.query_fields(l.text) for l in log.lines_matching(r"^setpoint=", ok.cycle)]
+    sps = [int(q["setpoint"]) for q in replies]
+    mid = [v for v in sps[:-1] if 0 < v < target]
+    if len(sps) != SERVO_MOVE_QUERIES + 1:
+        problems.append(f"{len(sps)} `?` replies after the move, want {SERVO_MOVE_QUERIES + 1}")
+    if any(b < a for a, b in zip(sps, sps[1:])):
+        problems.append(f"the setpoint went back: {sps}")
+    if len(set(mid)) < 3:
+        problems.append(f"the setpoint did not travel (fewer than 3 values between 0 and {target}): {sps}")
+    stray = sorted(set(v for v in sps if v not in sim_sp))
+    if stray:
+        problems.append(f"setpoints not in motionsim servo --profile smooth's sequence: {stray}")
+    if not sps or sps[-1] != target:
+        problems.append(f"the setpoint ends at {sps[-1] if sps else None}, want {target}")
+    # the trace: t = 0.02 s of motionsim at the first encoder read after the command arrived
+    fc = emulate.frame_cycles(log)
+    arrival = tx.cycle + (len(tx.text) + 2) * fc
+    reads = [c for c, lv in log.pins.get("CS", []) if lv == 0 and c > arrival]
+    if not reads:
+        return CheckResult(False, "no encoder read after the move", problems)
+    t0 = reads[0] / F_CPU - 0.02
+    mot = [(c / F_CPU - t0, n) for c, d, n in log.motor if c >= reads[0]]
+    fw_t = [t for t, _ in mot]
+    fw_p = [n for _, n in mot]
+
+    def fw_at(t):
+        i = bisect.bisect_left(fw_t, t)
+        if i <= 0:
+            return fw_p[0]
+        if i >= len(fw_t):
+            return fw_p[-1]
+        return fw_p[i - 1] + (fw_p[i] - fw_p[i - 1]) * (t - fw_t[i - 1]) / (fw_t[i] - fw_t[i - 1])
+
+    devs = [(abs(fw_at(t) - p), t) for t, p in zip(sim_t, sim_p) if fw_t and fw_t[0] <= t <= fw_t[-1]]
+    worst, worst_t = max(devs) if devs else (None, None)
+    tol = max(10, 0.02 * abs(target))
+    if worst is None or worst > tol:
+        problems.append(f"position differs from motionsim servo --profile smooth by up to {worst} counts at "
+                        f"t={worst_t} s (tolerance {tol:.0f})")
+    summary = (f"move {target} with {' '.join(f'{k}={v}' for k, v in gains)}: `?` setpoints {sps}; "
+               f"final position {fw_p[-1] if fw_p else None} (motionsim {sim_p[-1]}); trace within "
+               f"{'-' if worst is None else f'{worst:.1f}'} counts of motionsim (tolerance {tol:.0f})")
+    return CheckResult(not problems, summary, problems)
+
+
+def check_servo_move_bad_input(env, sketch):
+    """`move` with a missing, non-whole, out-of-range or extra word: one ERR each, `?` unchanged"""
+    bad = [("move without a target", "send move"), ("move not whole", "send move 12.5"),
+           ("move above 1000000", "send move 1000001"), ("move below -1000000", "send move -1000001"),
+           ("move with an extra word", "send move 5 6"), ("move of a word", "send move far")]
+    return check_bad_input(env, sketch, "setpoint", "", bad, motor=sketches.servo_motor_spec(env, sketch))
+
+
 def check_servo_bad_input(env, sketch, pid=None):
     if pid is None:
         pid = servo_ctrl(env, sketch) == "pid"
@@ -1232,6 +1327,10 @@ def checks_for(env):
         checks.append((f"{sv}: gains set over serial (Kp for P; Kp, Ki, Kd for PID, as `?` shows) reach the "
                        "setpoint, trace == motionsim servo", lambda sv=sv: check_servo_tuned(env, sv)))
         checks.append((f"{sv}: bad input gets ERR, state unchanged", lambda sv=sv: check_servo_bad_input(env, sv)))
+        checks.append((f"{sv}: move <counts>: the setpoint follows the filter-shaped move (== motionsim servo "
+                       "--profile smooth), no ERR, trace == motionsim", lambda sv=sv: check_servo_move(env, sv)))
+        checks.append((f"{sv}: bad move <counts> gets ERR, state unchanged",
+                       lambda sv=sv: check_servo_move_bad_input(env, sv)))
     if os.path.isfile(os.path.join(env.source_dir, "lib", "examples", "RampIntervals", "RampIntervals.ino")):
         checks.append(("lib/examples/RampIntervals (MotionCore in a user's sketch): printed step intervals == "
                        "motionsim ramp", lambda: check_ramp_example(env)))

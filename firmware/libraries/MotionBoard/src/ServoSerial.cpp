@@ -117,6 +117,13 @@ bool ServoSerial::parseLine(const char *line, ServoCommand &command)
         command.setpoint = sp;
         return true;
     }
+    if (text_word_is(word, "move")) {
+        if (text_next_word(&cursor, value, sizeof value) < 0) {
+            lines_.reply_error(MS_ERR_NOT_A_NUMBER);
+            return false;
+        }
+        return parseMove(value, cursor, command);
+    }
     if (text_word_is(word, "kp") || (gains_ == KP_KI_KD && (text_word_is(word, "ki") || text_word_is(word, "kd")))) {
         if (text_next_word(&cursor, value, sizeof value) < 0) {
             lines_.reply_error(MS_ERR_NOT_A_NUMBER);
@@ -128,7 +135,7 @@ bool ServoSerial::parseLine(const char *line, ServoCommand &command)
         lines_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("the P controller has only kp"));
         return false;
     }
-    lines_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <setpoint>, kp|ki|kd <value>, ?"));
+    lines_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <setpoint>, move <counts>, kp|ki|kd <value>, ?"));
     return false;
 }
 
@@ -164,5 +171,30 @@ bool ServoSerial::parseGain(const char *word, const char *value, const char *res
     queue_.print('=');
     print_real(queue_, command.gain, 6);
     queue_.println();
+    return true;
+}
+
+/* "move <counts>" with nothing after it: -1000000..1000000 -> "OK move=<n>". */
+bool ServoSerial::parseMove(const char *value, const char *rest, ServoCommand &command)
+{
+    int32_t to = 0;
+    motion_status_t st;
+    if (value[0] == '\0') {
+        lines_.reply_error(MS_ERR_NOT_A_NUMBER, F("usage: move <counts>"));
+        return false;
+    }
+    if (!text_at_end(rest)) {
+        lines_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("one target after move"));
+        return false;
+    }
+    st = text_parse_whole(value, -SERVO_SETPOINT_MAX_COUNTS, SERVO_SETPOINT_MAX_COUNTS, &to); /* as the setpoint */
+    if (st != MS_OK) {
+        lines_.reply_error(st, F("move: whole counts -1000000..1000000"));
+        return false;
+    }
+    queue_.print(F("OK move="));
+    queue_.println(to);
+    command.what = ServoCommand::MOVE;
+    command.setpoint = to;
     return true;
 }

@@ -4,6 +4,9 @@
  * readCommand() hands it. 9600 baud; lines end in CR, LF or CRLF (MotionSerial). Commands:
  *
  *   <integer>       position setpoint in encoder counts, -1000000..1000000 -> "OK setpoint=<n>"
+ *                   (a step: the setpoint jumps, the handout's behaviour)
+ *   move <integer>  the same range; the setpoint follows the filter-shaped move there
+ *                   (lib/src/smooth_move.h, smooth_setpoint_*)                -> "OK move=<n>"
  *   kp <value>      retune live, 0..1000 (% duty per count)                -> "OK kp=<v>"
  *   ki <value>      PIDClosedLoop only, 0..1000 (% per count-second)       -> "OK ki=<v>"
  *   kd <value>      PIDClosedLoop only, 0..1000 (% per count/s)            -> "OK kd=<v>"
@@ -36,9 +39,9 @@
 
 /* One checked command, already answered "OK ..." (except QUERY, which the sketch answers). */
 struct ServoCommand {
-    enum What { SETPOINT, KP, KI, KD, QUERY };
+    enum What { SETPOINT, KP, KI, KD, QUERY, MOVE };
     What what;
-    int32_t setpoint; /* SETPOINT: counts, -1000000..1000000 */
+    int32_t setpoint; /* SETPOINT, MOVE: counts, -1000000..1000000 */
     float gain;       /* KP, KI, KD: 0..1000 */
     ServoCommand() : what(QUERY), setpoint(0), gain(0) {}
 };
@@ -82,6 +85,7 @@ public:
 private:
     bool parseLine(const char *line, ServoCommand &command);
     bool parseGain(const char *word, const char *value, const char *rest, ServoCommand &command);
+    bool parseMove(const char *value, const char *rest, ServoCommand &command);
     void printPosition(int32_t setpoint, int32_t position, float duty);
     void flushStatus();
 
