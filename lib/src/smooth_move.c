@@ -105,14 +105,15 @@ static smx_t smx_sub(smx_t a, smx_t b)
 smx_t smx_mul(smx_t a, smx_t b)
 {
     uint64_t x = smx_mag(a), y = smx_mag(b);
-    uint64_t x0 = (uint32_t)x, x1 = x >> 32, y0 = (uint32_t)y, y1 = y >> 32;
+    uint32_t x0 = (uint32_t)x, x1 = (uint32_t)(x >> 32), y0 = (uint32_t)y, y1 = (uint32_t)(y >> 32);
     uint64_t p00, p01, p10, p11, mid, lo, hi;
     if (x == 0 || y == 0)
         return smx_from_i64(0);
-    p00 = x0 * y0;
-    p01 = x0 * y1;
-    p10 = x1 * y0;
-    p11 = x1 * y1;
+    /* 32 x 32 -> 64-bit products (a widening multiply on the AVR, not a full 64-bit one) */
+    p00 = (uint64_t)x0 * y0;
+    p01 = (uint64_t)x0 * y1;
+    p10 = (uint64_t)x1 * y0;
+    p11 = (uint64_t)x1 * y1;
     mid = (p00 >> 32) + (uint32_t)p01 + (uint32_t)p10;
     lo = (mid << 32) | (uint32_t)p00;
     hi = p11 + (p01 >> 32) + (p10 >> 32) + (mid >> 32);

@@ -46,7 +46,8 @@
  * 2^32 - 1 steps; at most SMOOTH_MAX_CHANGES changes of the command within tau1 + tau2.
  * Cost: the smx_t operations are 64-bit integer work (a multiplication is four 32x32 products);
  * each span solves two to four cubics (a few Newton steps of a few smx_t operations each).
- * Memory: about 600 bytes per move (SMOOTH_MAX_CHANGES = 6).
+ * Memory: about 600 bytes per move (SMOOTH_MAX_CHANGES = 6). On the AVR the emulator check
+ * "smooth_move on the AVR" measures the cycles per call (and that the host computes the same bits).
  */
 #ifndef SMOOTH_MOVE_H
 #define SMOOTH_MOVE_H

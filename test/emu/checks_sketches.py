@@ -731,6 +731,41 @@ def check_servo_move_bad_input(env, sketch):
     return check_bad_input(env, sketch, "setpoint", "", bad, motor=sketches.servo_motor_spec(env, sketch))
 
 
+def check_smooth_move_avr(env):
+    """lib/src/smooth_move.c built for the ATmega2560 and for the host from
+    test/emu/smooth_avr/smooth_move_avr.c: the commands of a stepper move and the servo's setpoints
+    must have the same checksums (the smx_t arithmetic is integer work); the cycles per call are
+    reported."""
+    src = os.path.join(env.source_dir, "test", "emu", "smooth_avr", "smooth_move_avr.c")
+    libs = [os.path.join(env.source_dir, "lib", "src", f) for f in ("smooth_move.c", "motion_status.c")]
+    inc = ["-I" + os.path.join(env.source_dir, "lib", "src"), "-I" + os.path.join(env.source_dir, "test", "emu")]
+    with tempfile.TemporaryDirectory() as d:
+        elf, host = os.path.join(d, "smooth_move_avr.elf"), os.path.join(d, "smooth_move_host")
+        for cmd in (["avr-gcc", "-mmcu=atmega2560", "-DF_CPU=16000000UL", "-Os", "-std=gnu11", "-ffunction-sections",
+                     "-fdata-sections", "-flto", "-fuse-linker-plugin", "-Wl,--gc-sections", "-Wall", "-Wextra",
+                     "-Werror", *inc, src, *libs, "-o", elf, "-lm"],
+                    ["cc", "-std=gnu11", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror", *inc, src, *libs,
+                     "-o", host, "-lm"]):
+            p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+            if p.returncode != 0:
+                return CheckResult(False, "build failed", [" ".join(cmd[:2]), p.stderr.strip()[-800:]])
+        log = emulog.run(elf, "wait ^end$\n")
+        problems = []
+        fails_of(log, problems)
+        avr = [l.text for l in log.rx if l.text.startswith(("smooth ", "setpoint "))]
+        out = subprocess.run([host], capture_output=True, text=True, timeout=120).stdout.splitlines()
+        hst = [l for l in out if l.startswith(("smooth ", "setpoint "))]
+
+    def sums(lines):
+        return [re.search(r"sum=(\w+)", l).group(1) if "sum=" in l else None for l in lines]
+    if len(avr) != 2 or len(hst) != 2:
+        problems.append(f"lines: AVR {avr}, host {hst}")
+    elif sums(avr) != sums(hst):
+        problems.append(f"checksums differ: AVR {sums(avr)}, host {sums(hst)}")
+    summary = "; ".join(avr) + " (cycles on the AVR; checksums equal to the host's)" if not problems else str(avr)
+    return CheckResult(not problems, summary, problems)
+
+
 def check_servo_bad_input(env, sketch, pid=None):
     if pid is None:
         pid = servo_ctrl(env, sketch) == "pid"
@@ -1331,6 +1366,8 @@ def checks_for(env):
                        "--profile smooth), no ERR, trace == motionsim", lambda sv=sv: check_servo_move(env, sv)))
         checks.append((f"{sv}: bad move <counts> gets ERR, state unchanged",
                        lambda sv=sv: check_servo_move_bad_input(env, sv)))
+    checks.append(("smooth_move on the AVR: the same step commands and servo setpoints as on the host, cycles per "
+                   "call", lambda: check_smooth_move_avr(env)))
     if os.path.isfile(os.path.join(env.source_dir, "lib", "examples", "RampIntervals", "RampIntervals.ino")):
         checks.append(("lib/examples/RampIntervals (MotionCore in a user's sketch): printed step intervals == "
                        "motionsim ramp", lambda: check_ramp_example(env)))
