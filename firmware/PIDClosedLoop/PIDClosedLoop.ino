@@ -14,7 +14,8 @@
  *   HBridge.h     motor.setDuty(%): 8-bit PWM on D3 and the direction pin D12
  *   MotionPID.h   the PID: PID_v1 1.2.1's class and behaviour, bit for bit (lib/, docs/pid_v1.md;
  *                 the code `motionsim servo --ctrl pid` runs)
- *   ServoSerial.h reads and answers the command lines; output never makes the loops wait
+ *   ServoSerial.h reads and answers the command lines; output never makes the loops wait; it
+ *                 brings in smooth_move.h, the shaped setpoint of `move` (smooth_setpoint_*)
  * With the real PID library installed, FIRMWARE_DEFINES="-DUSE_REAL_PID_V1=1" builds this sketch
  * against PID_v1.h instead (docs/servo.md).
  *
@@ -29,7 +30,6 @@
 #include <HBridge.h>
 #include <LS7366R.h>
 #include <ServoSerial.h>
-#include <smooth_move.h>
 
 #if USE_REAL_PID_V1
 #include <PID_v1.h>

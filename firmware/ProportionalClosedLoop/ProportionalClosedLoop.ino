@@ -14,13 +14,13 @@
  *   LS7366R.h     encoder.read(): the 32-bit count over SPI
  *   HBridge.h     motor.setDuty(%): 8-bit PWM on D3 and the direction pin D12
  *   pctrl.h       pctrl_kp_duty_pct(): the P law above (lib/, the code `motionsim servo` runs)
- *   ServoSerial.h reads and answers the command lines; output never makes the loops wait
+ *   ServoSerial.h reads and answers the command lines; output never makes the loops wait; it
+ *                 brings in smooth_move.h, the shaped setpoint of `move` (smooth_setpoint_*)
  */
 #include <HBridge.h>
 #include <LS7366R.h>
 #include <ServoSerial.h>
 #include <pctrl.h>
-#include <smooth_move.h>
 
 // ---- the controller ----
 float Kp = 0.02;            // % duty per count of error (the lab's value)

@@ -37,6 +37,10 @@
 #include "MotionSerial.h"
 #include "SerialOutQueue.h"
 
+/* `move <counts>`'s shaped setpoint: the sketch keeps a smooth_setpoint_t and calls
+ * smooth_setpoint_move/_at/_jump (lib/src/smooth_move.h) */
+#include <smooth_move.h>
+
 /* One checked command, already answered "OK ..." (except QUERY, which the sketch answers). */
 struct ServoCommand {
     enum What { SETPOINT, KP, KI, KD, QUERY, MOVE };
@@ -54,7 +58,7 @@ public:
     /* The longest lines, CR LF included: the '?' line with setpoint "-1000000" (8 characters),
      * position and error as any int32 (11), duty "-99.99" (6), three gains "999.999939" (10):
      * 9+8 + 10+11 + 7+11 + 6+6 + 3 x (4+10) + 2 = 112; every OK/ERR reply is shorter (the longest,
-     * "ERR number out of range: setpoint: whole counts -1000000..1000000", is 67). The status
+     * "ERR unknown command: try <setpoint>, move <counts>, kp|ki|kd <value>, ?", is 73). The status
      * line: 5+10 + 1 + 17+21+18+12 + 2 = 86. The queue (SERIAL_OUT_QUEUE_BYTES, 256) holds both. */
     static const uint16_t REPLY_MAX_BYTES = 112;
     static const uint16_t STATUS_MAX_BYTES = 86;
