@@ -92,3 +92,43 @@ def test_bad_input(motionsim, args, msg):
     r = motionsim("ramp", "--algo", "smooth", *args)
     assert r.rc == 2 and r.out == ""
     assert r.err.startswith("motionsim ramp: ") and msg in r.err and r.err.count("\n") == 1
+
+
+def edge_kinematics(rows, w=16):
+    """From the executor's edges alone: speed over windows of w steps (at the window's middle
+    time), acceleration and jerk as differences of those w windows apart (each a smoothed
+    derivative, so a true bound holds for it up to the edges' whole-tick rounding)."""
+    pos = [r["position"] for r in rows]
+    t = [r["t_s"] for r in rows]
+    vs = [((t[i] + t[i + w]) / 2, (pos[i + w] - pos[i]) / (t[i + w] - t[i])) for i in range(len(t) - w)]
+    acc = [((a[0] + b[0]) / 2, (b[1] - a[1]) / (b[0] - a[0])) for a, b in zip(vs, vs[w:])]
+    jerk = [((a[0] + b[0]) / 2, (b[1] - a[1]) / (b[0] - a[0])) for a, b in zip(acc, acc[w:])]
+    return max(abs(v) for _, v in vs), max(abs(a) for _, a in acc), max(abs(j) for _, j in jerk)
+
+
+MOVE4000 = ["--from", "0", "--to", "4000", "--vmax", "2000", "--accel", "8000", "--jerk", "80000",
+            "--tick-hz", "16000000"]
+
+
+@pytest.mark.parametrize("events,end,jerk_factor", [
+    ([], 4000, 1.05),
+    (["--stop-at", "1500"], None, 1.05),             # stop in the cruise
+    (["--stop-at", "200"], None, 2.05),              # stop while the acceleration ramps: two jerk windows overlap
+    (["--retarget-at", "1500:6000"], 6000, 1.05),    # further, in the cruise
+    (["--retarget-at", "3700:6000"], 6000, 1.05),    # further, while decelerating
+    (["--retarget-at", "300:900"], 900, 1.05),       # nearer, while accelerating
+    (["--retarget-at", "300:100"], 100, 2.05),       # behind: stop, then back from rest
+])
+def test_stop_and_retarget_measured_from_the_edges(motionsim, events, end, jerk_factor):
+    """Through the step engine's commands: the speed never above vmax, the acceleration never
+    above accel (+2 %) across stops and new targets; the jerk within 5 % of the limit, or twice it
+    where a stop's jerk window meets one still running (smooth-move.md)."""
+    r = motionsim("ramp", "--algo", "smooth", "--queue", *MOVE4000, *events)
+    assert r.rc == 0, r.err
+    _, rows = r.rows()
+    if end is not None:
+        assert rows[-1]["position"] == end
+    v, a, j = edge_kinematics(rows)
+    assert v <= 2000 * 1.0001
+    assert a <= 8000 * 1.02
+    assert j <= 80000 * jerk_factor
