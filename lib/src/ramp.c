@@ -429,8 +429,14 @@ static uint32_t cruise_skip_target(const ramp_t *r)
     case RAMP_ALGO_SIGMOID: {
         /* cruise: the steps after the len*hold accelerating ones and before as many decelerating */
         uint32_t a = r->accel_steps;
-        if (r->start_level != 0)
-            return 0;
+        if (r->start_level != 0) {
+            /* continued (next_sigmoid): k stays at the table's top A while D + 1 - n >= A; once it is
+             * there, the steps up to D - A are cruise (the next, D + 1 - A, the last at the top) */
+            if (done == 0 || r->u.sigmoid.k != a || done + a >= d)
+                return 0;
+            target = d - a;
+            break;
+        }
         if (done == 0 || done < a || done + 1U >= d - a || a > d / 2U) /* the division last: rarely reached */
             return 0;
         target = d - a - 1U; /* the next step, D - A, is the last cruise step */
@@ -456,7 +462,7 @@ uint32_t ramp_skip_cruise_at_most(ramp_t *r, uint32_t max_steps)
     if (n == 0)
         return 0;
     target = r->steps_done + n;
-    if (r->algo == RAMP_ALGO_SIGMOID) {
+    if (r->algo == RAMP_ALGO_SIGMOID && r->start_level == 0) { /* continued: k stays at the top */
         uint32_t from_end = r->steps_total + 1U - target;
         (void)ramp_sigmoid_set_k(&r->u.sigmoid, target < from_end ? target : from_end);
     }

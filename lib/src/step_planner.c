@@ -258,8 +258,9 @@ static uint8_t may_skip(const ramp_t *r)
 {
     if ((r->algo == RAMP_ALGO_SIMPLISTIC || r->algo == RAMP_ALGO_LEIB) && r->level != r->peak_level)
         return 0;
-    if (r->algo == RAMP_ALGO_SIGMOID && (r->start_level != 0 || r->steps_done < r->accel_steps))
-        return 0; /* the sigmoid's cruise: after its accel_steps, from rest only */
+    if (r->algo == RAMP_ALGO_SIGMOID &&
+        (r->start_level != 0 ? r->u.sigmoid.k != r->accel_steps : r->steps_done < r->accel_steps))
+        return 0; /* the sigmoid's cruise: after its accel_steps, or (continued) at the table's top */
     return ramp_cruise_skippable(r) != 0;
 }
 

@@ -675,6 +675,34 @@ static uint32_t sigmoid_period(const uint16_t *table, const ramp_sigmoid_params_
     return table[e < sp->len ? e : sp->len - 1U];
 }
 
+/* A retarget continues the sigmoid from its level (start_level != 0); once it is at the table's top
+ * its cruise is skipped in whole commands, as a move's from rest is, not stepped one step at a time
+ * (issue 22: per-step planning at 20,000 steps/s left the console no time and the queue ran dry).
+ * The intervals themselves are sigmoid_stop_and_retarget's. */
+static void sigmoid_continued_cruise_is_skipped(void **state)
+{
+    static uint16_t table[300];
+    ramp_sigmoid_params_t sp = {300, 3, 500.0f, 20000.0f, 5.0f, 2000000};
+    step_planner_t pl;
+    trace_t tr;
+    uint32_t a = (uint32_t)sp.len * sp.hold;
+    (void)state;
+    assert_int_equal(ramp_sigmoid_fill(&sp, table, 300), MS_OK);
+    assert_int_equal(step_planner_init_sigmoid(&pl, &sp, table, sp.len, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 20000), MS_OK);
+    trace_init(&tr, 60000);
+    drain_steps(&pl, &tr, 500);
+    assert_int_equal(step_planner_move(&pl, 30000), MS_OK);
+    assert_true(pl.ramp.start_level != 0);
+    drain_steps(&pl, &tr, a + 100U); /* at the top by now */
+    assert_int_equal(pl.ramp.u.sigmoid.k, a);
+    /* the rest of the cruise up to D - A of the continued move, A before its end */
+    assert_int_equal(ramp_cruise_skippable(&pl.ramp), pl.ramp.steps_total - a - pl.ramp.steps_done);
+    drain(&pl, &tr, UINT32_MAX);
+    assert_int_equal(step_planner_position(&pl), 30000);
+    trace_free(&tr);
+}
+
 static void sigmoid_stop_and_retarget(void **state)
 {
     static uint16_t table[300];
@@ -863,6 +891,7 @@ int main(void)
         cmocka_unit_test(stepwise_random_moves_exact_ticks),
         cmocka_unit_test(stepwise_longest_moves_no_drift),
         cmocka_unit_test(sigmoid_stop_and_retarget),
+        cmocka_unit_test(sigmoid_continued_cruise_is_skipped),
         cmocka_unit_test(sketch_hooks_are_what_runs),
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
