@@ -573,6 +573,41 @@ static void bad_parameters_refused(void **state)
                         "jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)");
 }
 
+/* The servo's setpoint: a move from the setpoint in force, a new target behind it while moving
+ * (stop, then back from rest), a jump; the setpoint never moves faster than vmax (+1 count of
+ * rounding per sample) and ends exactly at each target. */
+static void servo_setpoint_moves_stops_and_jumps(void **state)
+{
+    smooth_setpoint_t sp;
+    smooth_params_t p = params(3000, 20000, 400000, 1000000);
+    int32_t prev = 0, v = 0;
+    uint32_t t;
+    int reversed = 0;
+    (void)state;
+    assert_int_equal(smooth_setpoint_init(&sp, &p, 0), MS_OK);
+    p.tick_hz = 1000;
+    assert_int_equal(smooth_setpoint_init(&sp, &p, 0), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(smooth_setpoint_at(&sp, 5), 0);
+    assert_int_equal(smooth_setpoint_move(&sp, 10, 1000), MS_OK);
+    for (t = 10; t <= 2000; t++) {
+        if (t == 200)
+            assert_int_equal(smooth_setpoint_move(&sp, t, -500), MS_OK); /* behind: stop, then back */
+        v = smooth_setpoint_at(&sp, t);
+        assert_true(abs(v - prev) <= 4); /* 3000 counts/s x 1 ms + rounding */
+        if (v < prev)
+            reversed = 1;
+        prev = v;
+    }
+    assert_true(reversed);
+    assert_int_equal(v, -500);
+    assert_false(smooth_setpoint_moving(&sp));
+    smooth_setpoint_jump(&sp, 777);
+    assert_int_equal(smooth_setpoint_at(&sp, 2100), 777);
+    assert_int_equal(smooth_setpoint_move(&sp, 2100, 777), MS_OK); /* already there: nothing to do */
+    assert_false(smooth_setpoint_moving(&sp));
+    assert_int_equal(smooth_setpoint_at(&sp, 2200), 777);
+}
+
 /* The smx arithmetic: exact for integers and dyadic values, 62-bit relative precision otherwise. */
 static void smx_arithmetic(void **state)
 {
@@ -604,6 +639,7 @@ int main(void)
         cmocka_unit_test(stop_follows_the_zeroed_command),
         cmocka_unit_test(new_target_continues_from_the_filter_state),
         cmocka_unit_test(bad_parameters_refused),
+        cmocka_unit_test(servo_setpoint_moves_stops_and_jumps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
