@@ -120,7 +120,7 @@ uint8_t ramp_next_ticks(ramp_t *r, uint32_t *whole_ticks, ramp_phase_t *phase);
 
 /* After a step was handed out: hands out at once the steps that follow it with the same whole
  * ticks and phase, at most max_steps, and returns how many (0 when there are none or this ramp
- * cannot tell without stepping). Today the sigmoid from rest: the rest of a table entry's hold
+ * cannot tell without stepping). Today the sigmoid, from rest or continued: the rest of a table entry's hold
  * while the move accelerates or decelerates. The same state as ramp_next_ticks step by step. */
 uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps);
 

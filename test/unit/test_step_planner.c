@@ -703,6 +703,48 @@ static void sigmoid_continued_cruise_is_skipped(void **state)
     trace_free(&tr);
 }
 
+/* ramp_take_same on a continued sigmoid (a retarget: rising to the top, falling with the steps left)
+ * hands out exactly the steps ramp_next_ticks would, one by one: same whole ticks, same end state. */
+static void sigmoid_take_same_continued_equals_stepping(void **state)
+{
+    static uint16_t table[300];
+    ramp_sigmoid_params_t sp = {300, 3, 500.0f, 20000.0f, 5.0f, 2000000};
+    const uint32_t firsts[] = {1, 2, 5, 100, 450, 899, 900, 1500};
+    const int32_t seconds[] = {3, 40, 700, 1800, 2100, 5000};
+    unsigned i, k, taken = 0;
+    (void)state;
+    assert_int_equal(ramp_sigmoid_fill(&sp, table, 300), MS_OK);
+    for (i = 0; i < sizeof firsts / sizeof firsts[0]; i++) {
+        for (k = 0; k < sizeof seconds / sizeof seconds[0]; k++) {
+            ramp_t m, a, b;
+            uint32_t w = 0, wb = 0, s;
+            ramp_phase_t ph;
+            assert_int_equal(ramp_plan_sigmoid(&m, &sp, table, sp.len, 0, 100000), MS_OK);
+            for (s = 0; s < firsts[i]; s++)
+                assert_true(ramp_next_ticks(&m, &w, &ph));
+            if (ramp_plan_continue(&a, &m, 0, (int32_t)firsts[i] + seconds[k]) != MS_OK)
+                continue; /* closer than the stopping distance */
+            b = a;
+            while (ramp_next_ticks(&b, &wb, &ph)) {
+                uint32_t more = ramp_take_same(&b, 65535U), j;
+                assert_true(ramp_next_ticks(&a, &w, &ph));
+                assert_int_equal(w, wb);
+                for (j = 0; j < more; j++) {
+                    assert_true(ramp_next_ticks(&a, &w, &ph));
+                    if (w != wb)
+                        fail_msg("first %u then +%d: step %u of a run taken at once has %u ticks, stepping gives %u",
+                                 firsts[i], seconds[k], a.steps_done, wb, w);
+                }
+                taken += more;
+                assert_int_equal(a.steps_done, b.steps_done);
+                assert_int_equal(a.u.sigmoid.k, b.u.sigmoid.k);
+            }
+            assert_false(ramp_next_ticks(&a, &w, &ph));
+        }
+    }
+    assert_true(taken > 1000U); /* the runs were taken at once, not one by one */
+}
+
 static void sigmoid_stop_and_retarget(void **state)
 {
     static uint16_t table[300];
@@ -892,6 +934,7 @@ int main(void)
         cmocka_unit_test(stepwise_longest_moves_no_drift),
         cmocka_unit_test(sigmoid_stop_and_retarget),
         cmocka_unit_test(sigmoid_continued_cruise_is_skipped),
+        cmocka_unit_test(sigmoid_take_same_continued_equals_stepping),
         cmocka_unit_test(sketch_hooks_are_what_runs),
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
