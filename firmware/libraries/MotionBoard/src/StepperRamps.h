@@ -67,12 +67,12 @@ extern void (*stepper_print_hook)();
 inline void stepper_print_real(Print &out, double v) { print_real_exact(out, v, stepper_print_hook); }
 
 /* The largest acceleration `set accel` accepts on the trapezoid sketches, steps/s^2. The exact
- * ramp's is lower: above it, near max_sps, its first commands span a step or two each and the
- * planner falls behind the step interrupt (underruns: found by `make fuzz`; test/emu/
- * checks_reliability.py checks every combination of the limits). */
+ * ramp's is lower: far above it, near max_sps, its first commands span a step or two each and the
+ * planner falls behind the step interrupt (underruns: found by `make fuzz`; twice this value was
+ * already marginal; test/emu/checks_reliability.py checks the corners of the limits). */
 #define STEPPER_MAX_ACCEL 1e7
 #ifndef STEPPER_MAX_ACCEL_EXACT
-#define STEPPER_MAX_ACCEL_EXACT 2e6
+#define STEPPER_MAX_ACCEL_EXACT 1e6
 #endif
 /* The largest S-curve flexibility `set flex` accepts. */
 #define STEPPER_MAX_FLEX 1000.0
