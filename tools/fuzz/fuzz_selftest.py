@@ -61,6 +61,16 @@ def run():
     ev = [(good[-50], "accel", 200000.0)]
     expect("constant acceleration, cruise, faster deceleration after set accel",
            law(good_replan, 50000, 5000, events=ev)[0], False)
+    # 1b. one late edge (armed past its time, fired 2 us later: 59 cycles late) between edges on
+    # time passes; a speed change that moves every later edge still fails
+    late_one = list(cruise_then(up, 5000, 300))
+    late_one[400] += 59
+    expect("one late edge, 59 cycles after its plan, in a cruise at 5,000 steps/s",
+           law(late_one, 50000, 5000)[0], False)
+    late_run = list(cruise_then(up, 5000, 300))
+    for k in range(400, len(late_run)):
+        late_run[k] += 59 * (k - 399)           # every later interval 59 cycles longer: a speed drop
+    expect("a speed drop that moves every later edge", law(late_run, 50000, 5000)[0], True)
     # 2. issue 22 item 1: after the replan the interval drops from 200 us to 50 us (4x vmax)
     jump = cruise_then(good, 20000, 50)
     expect("a 4x speed jump at a replan (5,000 -> 20,000 steps/s)",
