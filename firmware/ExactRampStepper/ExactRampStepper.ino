@@ -1,6 +1,6 @@
 // motion-sketch: stepper
 /* ExactRampStepper - true constant acceleration on the RAMPS 1.4 X axis, fast (max_sps in `?`; the
- * rates measured by `make bench` are in build/bench/bench.md):
+ * rates measured by `make bench` are in docs/bench.md):
  * every step at round(F t_n) of t_n = (sqrt(v0^2 + 2 a n) - v0)/a (then the cruise line and the
  * mirrored deceleration), within one tick of F = 16 MHz, from the first step to the last.
  *

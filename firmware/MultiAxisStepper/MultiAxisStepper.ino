@@ -3,13 +3,13 @@
  * ramp (every step planned within one tick of F = 16 MHz of its time; the three step interrupts
  * nest, so on the pins an edge waits for no other axis's step), moved one at a time, several at
  * once, or together on a straight line. Wiring and limits: MotionBoard's MultiAxisPins.h; the rates
- * measured by `make bench` are in build/bench/bench.md; docs/multi-axis.md explains it all.
+ * measured by `make bench` are in docs/bench.md; docs/multi-axis.md explains it all.
  *
  * How: the planners (lib/src/step_planner.h for an axis alone, step_coord.h for a coordinated move)
  * run here in loop() and keep each axis's queue of step commands ahead; Timer1's three compare
  * interrupts (A: X, B: Y, C: Z, one timeline) only take the next command and make the step
  * (MultiStepEngine.h). Defaults per axis: v0 = 0, vmax = 10,000 steps/s, accel = 10,000 steps/s^2 (three axes moving
- * independently at once stay clean at these; build/bench/bench.md has the ceilings).
+ * independently at once stay clean at these; docs/bench.md has the ceilings).
  * Serial Monitor at 9600 baud, "Both NL & CR":
  *   x 20000          move X alone to 20000: "OK x 0 20000", later "DONE x 20000" (y, z likewise)
  *   move x1000 y500  X and Y together on the line from where they are to (1000, 500): both start

@@ -239,3 +239,19 @@ def test_make_emulate(built, tmp_path):
                        capture_output=True, text=True, timeout=600)
     assert p.returncode == 2
     assert "make emulate: SKETCH=<name> is unknown ('Nope')" in p.stderr
+
+
+def test_a_move_longer_than_motionsim_tabulates_is_plotted_without_an_overlay(built, tmp_path):
+    """A move of 3,000,000 steps, halted after 200 ms: motionsim refuses a table of more than its
+    default --max-rows (1,000,000) rows, so the emulated move is drawn alone, with a note, and the
+    run succeeds (it failed with a FAIL line once the bound came in)."""
+    script = tmp_path / "big.emu"
+    script.write_text("wait ^READY\ntimeout 5000\nsend ?\nwait ^pos=\nsend 3000000\nwait ^OK\nrun 200\n"
+                      "send !\nwait ^DONE\n")
+    out = tmp_path / "out"
+    p = emulate("--sketch", "ExactRampStepper", "--input", str(script), out=out)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert "FAIL" not in p.stdout
+    assert "no motionsim overlay (a move of 3,000,000 steps" in p.stdout
+    rows = csv_rows(out / "ExactRampStepper.csv")
+    assert len(rows) > 1000 and (out / "ExactRampStepper.png").exists()

@@ -74,6 +74,8 @@ def test_readmes_headline_rates_are_those_of_bench_md_and_peers_md():
 
 
 def test_no_link_to_the_uncommitted_build_bench():
-    for path in ["README.md"] + sorted(glob.glob(os.path.join(ROOT, "docs", "*.md"))):
+    sources = [f for ext in ("ino", "h", "cpp") for f in glob.glob(os.path.join(ROOT, "firmware", "**", "*." + ext),
+                                                                   recursive=True)]
+    for path in ["README.md"] + sorted(glob.glob(os.path.join(ROOT, "docs", "*.md"))) + sorted(sources):
         text = read(path)
         assert "build/bench/bench.md" not in text, path

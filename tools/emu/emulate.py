@@ -332,6 +332,9 @@ def chain_overlay(env, q, moves, i, out):
     return None
 
 
+OVERLAY_MAX_STEPS = 1000000  # motionsim's default --max-rows: a longer move is drawn without an overlay
+
+
 def stepper_sim_args(q, a, b):
     algo = q.get("algo", "leib")
     if algo == "sigmoid":
@@ -579,6 +582,12 @@ def main(argv):
                 if why:
                     print(f"  {os.path.basename(path)}: no motionsim overlay ({why})")
                 outputs.append((path, None if why else sim, what))
+                continue
+            if abs(to - fr) > OVERLAY_MAX_STEPS:
+                # motionsim's table of the whole move would be millions of rows (its --max-rows)
+                print(f"  {os.path.basename(path)}: no motionsim overlay (a move of {abs(to - fr):,} steps, more "
+                      f"than the {OVERLAY_MAX_STEPS:,} motionsim tabulates by default)")
+                outputs.append((path, None, what))
                 continue
             ok = run_motionsim(env, stepper_sim_args(q, fr, to), sim)
             if ok and i + 1 < len(moves) and moves[i + 1][5]:

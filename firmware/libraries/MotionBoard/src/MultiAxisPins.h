@@ -71,7 +71,7 @@
 
 /* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which three independent moves
  * at once (each axis with its own plan and interrupt, issue 13's case) are clean in `make bench`
- * (build/bench/bench.md, "MultiAxisStepper: several axes at once") whatever the timing of the host's
+ * (docs/bench.md, "MultiAxisStepper: several axes at once") whatever the timing of the host's
  * targets (its sweep: back to back, 1, 5, 20 ms apart, each after the OK of the one before, a `?` or
  * a `set` between them; issue 26): a rung above, the three step interrupts, nesting, sometimes take
  * longer than one step interval, and an axis arms its next edge late (`late=` in `?`) at some of

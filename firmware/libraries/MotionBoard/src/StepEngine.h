@@ -18,7 +18,7 @@
  * is counted as late and fires 2 us later instead of a timer wrap later.
  * Timing: F = 16 MHz (prescaler 1: ExactRampStepper) or 2 MHz (prescaler 8: the lab's ramps).
  * An edge is late by the time another interrupt holds the CPU at its compare match (the core's
- * millis and serial interrupts); `make bench` measures the worst case (build/bench/bench.md).
+ * millis and serial interrupts); `make bench` measures the worst case (docs/bench.md).
  * The planner runs in loop() (service(), called by the console): it keeps the queue between two
  * commands and STEP_ENGINE_LEAD_MS of steps ahead, so a stop or a new target takes effect within
  * that time. A queue that runs dry during a move is an underrun: counted (underruns(), `?`), and

@@ -78,7 +78,7 @@
 
 /* The fastest step rate each sketch accepts for vmax (steps/s): below the highest rate `make bench`
  * shows stepping cleanly (every step, no underrun, every edge within its bound, serial served), by
- * about one rung of its ladder as the margin; build/bench/bench.md has the measured figures.
+ * at least one rung of its ladder as the margin; docs/bench.md has the measured figures.
  * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=90000 (no redefinition warning). */
 #if STEPPER_TIMED_LOOP
 #ifndef STEPPER_MAX_SPS_SIMPLISTIC
