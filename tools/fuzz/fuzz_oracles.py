@@ -117,20 +117,26 @@ def split_runs(times, dirs, split_after):
         yield run
 
 
+LATE_MIN_CYCLES = 28  # the least a late edge is off its plan (2 us = 32 cycles, less 2 ticks of quantisation)
+
+
 def undo_late_edges(times, runs, late=STEP_LATE_CYCLES):
     """The planned times of late edges. An edge armed when its time had passed fires 2 us later
     (docs/stepper-engine.md, `late=`), so its compare match is not its planned time: one edge
-    displaced by d (0 < d <= `late` cycles) between two on time, the interval before it d longer and
-    the one after d shorter than their neighbours. Such an edge is put back by d; a real change of
-    speed moves every later edge, not one, and is left as it is."""
+    displaced by d (LATE_MIN_CYCLES <= d <= `late`) between edges on time. Against the trend of
+    the two intervals before it (a ramp's intervals change smoothly), the interval ending at it is
+    d longer and the next one d shorter; such an edge is put back by d. A real change of speed
+    moves every later edge, not one, and is left as it is."""
     t = list(times)
     for r in runs:
-        for k in range(2, len(r) - 1):
-            p = t[r[k - 1]] - t[r[k - 2]]             # the interval before, on time
-            a = t[r[k]] - t[r[k - 1]]                 # ends at the suspect edge
-            b = t[r[k + 1]] - t[r[k]]
-            d = (a - b) / 2.0
-            if 0 < d <= late and a > p and abs((a + b) - 2 * p) <= 0.02 * p + 4:
+        for k in range(3, len(r) - 1):
+            p2 = t[r[k - 2]] - t[r[k - 3]]
+            p1 = t[r[k - 1]] - t[r[k - 2]]
+            x = p1 - p2                                # the trend, per step
+            da = (t[r[k]] - t[r[k - 1]]) - (p1 + x)    # ends at the suspect edge
+            db = (t[r[k + 1]] - t[r[k]]) - (p1 + 2 * x)
+            d = (da - db) / 2.0
+            if LATE_MIN_CYCLES <= d <= late and abs(da + db) <= 12:
                 t[r[k]] -= int(round(d))
     return t
 
