@@ -393,6 +393,7 @@ SKETCH_LIMITS = {
         (f"set vmax {EXACT + 1}", f"ERR number out of range: vmax at most {EXACT} steps/s on this sketch"),
         ("set accel 2e7", "ERR number out of range: accel at most 1000000 steps/s^2 on this sketch"),
         ("set accel 1000001", "ERR number out of range: accel at most 1000000 steps/s^2 on this sketch"),
+        ("set v0 10001", "ERR number out of range: v0 at most 10000 steps/s on this sketch"),
         ("set accel 1", "ERR acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz "
                         "(scales with F^2)"),
         ("set vmax 2e-50", "ERR number too close to 0 (underflow)"),

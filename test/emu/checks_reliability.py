@@ -364,22 +364,26 @@ def check_multiaxis_halt_latency(env, sketch):
                        f"after its match: " + ", ".join(f"{k} {v} cycles" for k, v in worst.items()), problems)
 
 
-# ExactRampStepper at the corners of its own limits (max_sps from `?`, the largest accel from the
-# `set accel` refusal's "at most N"): moves from rest, a reversal at speed and a retarget, v0 0 and
-# v0 half of max_sps: no underrun (docs: underruns= stays 0 within the limits), every edge within
+# ExactRampStepper at the corners of its own limits (max_sps from `?`, the largest accel and v0 from
+# the `set` refusals' "at most N"): moves from rest, a reversal at speed and a retarget, v0 0 and the
+# largest v0: no underrun (docs: underruns= stays 0 within the limits), every edge within
 # the documented bound of its compare match. Before the accel limit (1e7 then) the fuzzer found
 # underruns=40 at accel 6.8e6 near 80,000 steps/s.
 def check_exact_corners(env, sketch):
     import bisect
-    probe = emulog.run(env.elf(sketch), "wait ^READY [^ ]+$\nsend ?\nwait ^pos=\nsend set accel 1e30\nwait ^ERR\n")
+    probe = emulog.run(env.elf(sketch), "wait ^READY [^ ]+$\nsend ?\nwait ^pos=\nsend set accel 1e30\nwait ^ERR\n"
+                       "send set v0 1e30\nwait ^ERR\n")
     q = probe.first("^pos=")
     err = probe.first(r"^ERR number out of range: accel at most ")
-    if q is None or err is None:
-        return CheckResult(False, "no limits", [f"`?` and `set accel 1e30` drew {[l.text for l in probe.rx]}"])
+    err0 = probe.first(r"^ERR number out of range: v0 at most ")
+    if q is None or err is None or err0 is None:
+        return CheckResult(False, "no limits", [f"`?`, `set accel 1e30`, `set v0 1e30` drew {[l.text for l in probe.rx]}"])
     vmax = float(emulog.query_fields(q.text)["max_sps"])
     amax = float(re.search(r"at most ([\d.e+]+)", err.text).group(1))
+    v0max = float(re.search(r"at most ([\d.e+]+)", err0.text).group(1))
     problems, figures = [], []
-    for v0 in (0.0, vmax / 2):
+    algo = emulog.query_fields(q.text).get("algo")
+    for v0 in (0.0 if algo == "exact" else 1.0, v0max):  # the simplistic ramp needs v0 > 0
         script = "\n".join(["wait ^READY [^ ]+$", "timeout 30000", f"send set vmax {vmax:g}", "wait ^OK",
                             f"send set accel {amax:g}", "wait ^OK", f"send set v0 {v0:g}", "wait ^OK",
                             "send 40000", "wait ^OK", "wait ^DONE", "send -40000", "wait ^OK", "run 150",

@@ -55,9 +55,10 @@ motion_status_t TrapezoidRamp::set(const char *key, const char *value)
     double *field;
     double hi = max_sps_;
     motion_status_t st;
-    if (text_word_is(key, "v0"))
+    if (text_word_is(key, "v0")) {
         field = &p.v0_sps;
-    else if (text_word_is(key, "vmax"))
+        hi = max_v0();
+    } else if (text_word_is(key, "vmax"))
         field = &p.vmax_sps;
     else if (text_word_is(key, "accel")) {
         field = &p.accel_sps2;
@@ -96,6 +97,8 @@ void TrapezoidRamp::print_limit(Print &out, const char *key) const
 {
     if (text_word_is(key, "accel"))
         print_upper_limit(out, key, max_accel(), F(" steps/s^2"));
+    else if (text_word_is(key, "v0"))
+        print_upper_limit(out, key, max_v0(), F(" steps/s"));
     else
         print_upper_limit(out, key, max_sps_, F(" steps/s"));
 }

@@ -74,6 +74,13 @@ inline void stepper_print_real(Print &out, double v) { print_real_exact(out, v, 
 #ifndef STEPPER_MAX_ACCEL_EXACT
 #define STEPPER_MAX_ACCEL_EXACT 1e6
 #endif
+/* The exact ramp's largest start speed v0: a move from rest begins at v0 at once, before the
+ * planner is far ahead; much above it the first commands come faster than it lays them out
+ * (underruns found by a fresh-clone review at v0 35,000, vmax 70,000; test/emu/
+ * checks_reliability.py checks the corners). No stepper starts that fast from rest anyway. */
+#ifndef STEPPER_MAX_V0_EXACT
+#define STEPPER_MAX_V0_EXACT 10000.0
+#endif
 /* The largest S-curve flexibility `set flex` accepts. */
 #define STEPPER_MAX_FLEX 1000.0
 
@@ -101,6 +108,11 @@ private:
     ramp_params_t params_;
     double max_sps_;
     double max_accel() const { return algo_ == RAMP_ALGO_EXACT ? STEPPER_MAX_ACCEL_EXACT : STEPPER_MAX_ACCEL; }
+    double max_v0() const
+    {
+        double v = algo_ == RAMP_ALGO_EXACT ? STEPPER_MAX_V0_EXACT : max_sps_;
+        return v < max_sps_ ? v : max_sps_;
+    }
     const ramp_hooks_t *hooks_;
 };
 
