@@ -9,7 +9,8 @@
 #   make upload SKETCH=<name> PORT=<device>    flash a real Mega over USB
 #   make monitor PORT=<device> [BAUD=115200]   serial monitor (default 9600 baud), CR+LF line ends
 #   make emulate SKETCH=<name> [INPUT=<file>]  run a sketch's ELF in the ATmega2560 emulator
-#   make bench      step-engine benchmark in the emulator -> docs/bench.md (committed; about 17 min)
+#   make emulate SKETCH=<name> LIVE=1          ... in real time on a pseudo-terminal: talk to it with make monitor PORT=<its path>
+#   make bench      step-engine benchmark in the emulator -> docs/bench.md (committed; about 8 min on 2 cores)
 #   make fuzz [FUZZ_LINES=10000] [FUZZ_SEED=1] [FUZZ_SIM_RUNS=<lines/20>]   fuzz every sketch's serial
 #                   console in the emulator and motionsim under ASan+UBSan (tools/fuzz) -> docs/fuzz-summary.md;
 #                   make test runs a short one
