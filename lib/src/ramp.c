@@ -346,65 +346,43 @@ uint8_t ramp_next_ticks(ramp_t *r, uint32_t *whole_ticks, ramp_phase_t *phase)
 uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps)
 {
     ramp_sigmoid_t *g = &r->u.sigmoid;
-    uint32_t n = r->steps_done, d = r->steps_total, j;
+    uint32_t n = r->steps_done, d = r->steps_total, j, lim;
+    uint8_t rising;
     if (r->algo != RAMP_ALGO_SIGMOID || n == 0 || n >= d)
         return 0;
     if (r->start_level != 0) {
         /* continued (next_sigmoid): k = min(L0 + n, D + 1 - n), held at the table's top A */
         uint32_t l0 = r->start_level, a = r->accel_steps;
         if (g->k == l0 + n && g->k < a) {
-            /* rising: the rest of the entry, while k stays below the top and below D + 1 - n
-             * (L0 + n + j <= D + 1 - n - j) */
+            /* rising: while k stays below the top and below D + 1 - n (L0 + n + j <= D + 1 - n - j) */
             uint32_t room = d + 1U - n >= l0 + n ? (d + 1U - n - (l0 + n)) / 2U : 0U;
-            j = (uint32_t)(g->hold - 1U - g->phase);
-            if (j > a - g->k)
-                j = a - g->k;
-            if (j > room)
-                j = room;
-            if (j > max_steps)
-                j = max_steps;
-            g->k += j;
-            g->phase = (uint16_t)(g->phase + j);
+            rising = 1;
+            lim = a - g->k < room ? a - g->k : room;
         } else if (g->k == d + 1U - n && g->k < l0 + n && g->k > 1U) {
-            /* falling with the steps left: down to the entry's first phase, k >= 1 */
-            j = g->phase;
-            if (j > g->k - 1U)
-                j = g->k - 1U;
-            if (j > max_steps)
-                j = max_steps;
-            g->k -= j;
-            g->phase = (uint16_t)(g->phase - j);
+            rising = 0; /* falling with the steps left */
+            lim = g->k - 1U;
         } else {
             return 0;
         }
-        r->level = g->k;
-        r->steps_done = n + j;
-        return j;
-    }
-    if (g->k == n && n <= r->label_accel && 2U * n < d) {
-        /* accelerating (k = n): the rest of the entry's hold, while k still rises (2(n + j) <= D + 1)
-         * and the steps are still labelled accel */
-        j = (uint32_t)(g->hold - 1U - g->phase);
-        if (j > r->label_accel - n)
-            j = r->label_accel - n;
-        if (j > (d + 1U) / 2U - n)
-            j = (d + 1U) / 2U - n;
-        if (j > max_steps)
-            j = max_steps;
-        g->k += j;
-        g->phase = (uint16_t)(g->phase + j);
+    } else if (g->k == n && n <= r->label_accel && 2U * n < d) {
+        /* accelerating (k = n): while k still rises (2(n + j) <= D + 1) and the steps are still
+         * labelled accel */
+        rising = 1;
+        lim = r->label_accel - n < (d + 1U) / 2U - n ? r->label_accel - n : (d + 1U) / 2U - n;
     } else if (g->k == d + 1U - n && n > d - r->label_accel && g->k > 1U) {
-        /* decelerating (k = D + 1 - n): down to the entry's first phase, and k stays >= 1 */
-        j = g->phase;
-        if (j > g->k - 1U)
-            j = g->k - 1U;
-        if (j > max_steps)
-            j = max_steps;
-        g->k -= j;
-        g->phase = (uint16_t)(g->phase - j);
+        rising = 0; /* decelerating (k = D + 1 - n) */
+        lim = g->k - 1U;
     } else {
         return 0;
     }
+    /* the rest of the entry's hold (rising), or down to its first phase (falling; k stays >= 1) */
+    j = rising ? (uint32_t)(g->hold - 1U - g->phase) : g->phase;
+    if (j > lim)
+        j = lim;
+    if (j > max_steps)
+        j = max_steps;
+    g->k = rising ? g->k + j : g->k - j;
+    g->phase = (uint16_t)(rising ? g->phase + j : g->phase - j);
     r->level = g->k;
     r->steps_done = n + j;
     return j;

@@ -252,92 +252,21 @@ def check_scurve_one_line_per_reply(env, sketch):
 # MultiAxisStepper: a halt of one axis (`! y`) while the others step must not hold their edges back
 # beyond the single-axis bound (the fuzzer found 494-1,316 cycles at every `!`: the halted axis's 64
 # slots were emptied with interrupts off). Oracle: each STEP edge against its channel's compare match.
-HALT_SCRIPT = """\
-wait ^READY [^ ]+$
-timeout 20000
-send set x vmax 25000
-wait ^OK
-send set x accel 90000
-wait ^OK
-send set y vmax 25000
-wait ^OK
-send set y accel 90000
-wait ^OK
-send set z vmax 25000
-wait ^OK
-send set z accel 90000
-wait ^OK
-send x 1000000
-wait ^OK
-send y 1000000
-wait ^OK
-send z 1000000
-wait ^OK
-run 500
-send ! y
-wait ^DONE
-send y -1000000
-wait ^OK
-run 450
-send ! z
-wait ^DONE
-send z -1000000
-wait ^OK
-run 450
-send ! x
-wait ^DONE
-send x -1000000
-wait ^OK
-run 450
-send ! y
-wait ^DONE
-send y 1000000
-wait ^OK
-run 450
-send ! z
-wait ^DONE
-send z 1000000
-wait ^OK
-run 450
-send ! x
-wait ^DONE
-send x 1000000
-wait ^OK
-run 450
-send ! y
-wait ^DONE
-send y -1000000
-wait ^OK
-run 450
-send ! z
-wait ^DONE
-send z -1000000
-wait ^OK
-run 450
-send ! x
-wait ^DONE
-send x -1000000
-wait ^OK
-run 450
-send ! y
-wait ^DONE
-send y 1000000
-wait ^OK
-run 450
-send ! z
-wait ^DONE
-send z 1000000
-wait ^OK
-run 450
-send ! x
-wait ^DONE
-send x 1000000
-wait ^OK
-run 450
-send !
-wait ^OK
-run 200
-"""
+def _halt_script():
+    """three axes to 25,000 steps/s, each halted (`! <axis>`) and restarted four times while the
+    others step, then `!`"""
+    lines = ["wait ^READY [^ ]+$", "timeout 20000"]
+    for ax in "xyz":
+        lines += [f"send set {ax} vmax 25000", "wait ^OK", f"send set {ax} accel 90000", "wait ^OK"]
+    lines += ["send x 1000000", "wait ^OK", "send y 1000000", "wait ^OK", "send z 1000000", "wait ^OK", "run 500"]
+    for k in range(4):
+        for ax in "yzx":
+            lines += [f"send ! {ax}", "wait ^DONE", f"send {ax} {-1000000 if k % 2 == 0 else 1000000}", "wait ^OK",
+                      "run 450"]
+    return "\n".join(lines + ["send !", "wait ^OK", "run 200"]) + "\n"
+
+
+HALT_SCRIPT = _halt_script()
 
 
 def check_multiaxis_halt_latency(env, sketch):
