@@ -178,6 +178,9 @@ def checks_for(env):
         if fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read():
             checks.append((f"{s}: at the corners of its limits (max_sps, the largest accel): no underrun, every "
                            f"edge within the bound", lambda s=s: check_exact_corners(env, s)))
+        if fam == "stepper" and "TrapezoidRamp" in open(env.ino(s)).read():
+            checks.append((f"{s}: a long ramp just below max_sps (v0 near vmax, a small accel): the planner keeps "
+                           f"up, no underrun", lambda s=s: check_long_ramp_at_limit(env, s)))
         if fam == "multiaxis":
             checks.append((f"{s}: a halt of one axis holds no other axis's edge beyond the bound",
                            lambda s=s: check_multiaxis_halt_latency(env, s)))
@@ -335,3 +338,37 @@ def check_exact_corners(env, sketch):
                        f"late={f.get('late')}, latest edge {worst} cycles after its match")
     return CheckResult(not problems, f"vmax {vmax:g} and accel {amax:g} (the limits): " + "; ".join(figures),
                        problems)
+
+
+# A trapezoid sketch's planner runs its ramp arithmetic for every step of an acceleration (the lab's
+# ramps: the sketch's computeNewSpeed()), so the longest ramp near vmax is its hardest load: v0 a
+# little below max_sps (at most the largest v0 `set` accepts), vmax = max_sps and the smallest
+# accel that still ramps within the move, 60,000 steps all fast. The limit promises underruns=0
+# (docs/serial.md); before the lab ramps' limits were lowered (simplistic 40,000 -> 12,000, Leib
+# 10,000 -> 7,000 steps/s) `make fuzz` found such ramps running dry: simplistic v0 15,000 ->
+# 18,000 at accel 2,000 gave 10 underruns, stalls of up to 90 ms.
+def check_long_ramp_at_limit(env, sketch):
+    probe = emulog.run(env.elf(sketch), "wait ^READY [^ ]+$\nsend ?\nwait ^pos=\nsend set v0 1e30\nwait ^ERR\n")
+    q = probe.first("^pos=")
+    err0 = probe.first(r"^ERR number out of range: v0 at most ")
+    if q is None or err0 is None:
+        return CheckResult(False, "no limits", [f"`?`, `set v0 1e30` drew {[l.text for l in probe.rx]}"])
+    vmax = float(emulog.query_fields(q.text)["max_sps"])
+    v0 = min(float(re.search(r"at most ([\d.e+]+)", err0.text).group(1)), vmax * 0.95)
+    steps = 60000
+    # accel so that the ramp v0 -> vmax takes about the whole move: (vmax^2 - v0^2) / (2 a) = steps
+    accel = max(10.0, (vmax * vmax - v0 * v0) / (2.0 * steps))
+    script = "\n".join(["wait ^READY [^ ]+$", "timeout 60000", f"send set vmax {vmax:g}", "wait ^OK",
+                        f"send set v0 {v0:g}", "wait ^OK", f"send set accel {accel:.0f}", "wait ^OK",
+                        f"send {steps}", "wait ^OK", f"wait ^DONE {steps}$", "send ?", "wait ^pos="]) + "\n"
+    log = emulog.run(env.elf(sketch), script, pins=sketches.stepper_pins(env))
+    problems = []
+    fails_of(log, problems)
+    f = emulog.query_fields(log.lines_matching("^pos=")[-1].text) if log.lines_matching("^pos=") else {}
+    edges = len(log.rising("STEP"))
+    if f.get("underruns") != "0":
+        problems.append(f"the `?` after the move says underruns={f.get('underruns')}")
+    if edges != steps:
+        problems.append(f"{edges} STEP edges, want {steps}")
+    return CheckResult(not problems, f"v0 {v0:g} -> vmax {vmax:g} at accel {accel:.0f}: {edges} steps, "
+                       f"underruns={f.get('underruns')}", problems)
