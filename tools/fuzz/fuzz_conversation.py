@@ -297,6 +297,7 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
     dones = {ax: [] for ax in axes}
     halts = {ax: [] for ax in axes}
     sets = {ax: [] for ax in axes}
+    plans = {ax: [] for ax in axes}  # when a plan was made (a target's or a stop's line sent)
 
     def close(ax, p, c):
         dones[ax].append((c, p))
@@ -309,6 +310,7 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
 
     def move(ax, to, chained, gi):
         o.accepted_moves += 1
+        plans[ax].append(sends[groups[gi][0]].cycle)
         if not open_moves[ax]:
             open_moves[ax] = [to]
             open_at[ax], open_line[ax] = sends[groups[gi][0]].cycle, groups[gi][0]
@@ -360,6 +362,8 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
             for ax in which:
                 if t == "OK halt":
                     halts[ax].append(c)
+                else:
+                    plans[ax].append(min(c, sends[a].cycle))
                 if family == "stepper" and not open_moves[ax]:
                     o.bad(f"line {a + 1} {sent!r} was answered {t!r} (stopping a move) while none was in progress", a)
                 del open_moves[ax][1:]
@@ -421,7 +425,7 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
         tick = int(round(emulog.F_CPU / lim.tick_hz))
         probs, pairs, worst, rev = fo.speed_law(planned, [e[1] for e in edges], splits, params, tick, lim.exact,
                                                f"{name}speed" if name else "speed",
-                                               reversals=lim.algo != "sigmoid")
+                                               reversals=lim.algo != "sigmoid", plans=plans[ax])
         o.pairs += pairs
         o.reversals += rev
         o.worst_law = max(o.worst_law, worst)

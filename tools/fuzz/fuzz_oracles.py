@@ -21,6 +21,7 @@ them synthetic traces. The bounds come from the documented guarantees, not from 
   fast. (Not for the S-curve, whose largest acceleration `?` does not give: its `accel=` is the
   average.)
 """
+import bisect
 import math
 
 F_CPU = 16_000_000
@@ -141,9 +142,13 @@ def undo_late_edges(times, runs, late=STEP_LATE_CYCLES):
     return t
 
 
-def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit=3, reversals=True):
+def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit=3, reversals=True, plans=()):
     """The speed-continuity oracle on planned edge times (cycles). Returns (problems, pairs
     checked, worst fraction of the allowance used, reversals checked).
+    plans: the cycles at which plans were made (a target's or a stop's line sent). A run of edges
+    belongs to the plan made before it started (a reversal is planned with the target that caused
+    it), and that plan has the parameters in force then: the values in force are taken from that
+    plan's time on, not from the run's first edge (a `set` after the plan is "from the next plan").
     exact: apply the constant-acceleration law between consecutive intervals (exact ramp); every
     ramp gets the vmax bound and the reversal bound."""
     problems = []
@@ -157,7 +162,15 @@ def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit
 
     runs = list(split_runs(times, dirs, split_after))
     times = undo_late_edges(times, runs)
+    plans = sorted(plans)
+
+    def since(c):
+        """the time from which the parameters of the run starting at cycle c are in force"""
+        i = bisect.bisect_right(plans, c) - 1
+        return plans[i] if i >= 0 else c
+
     for r in runs:
+        r_from = since(times[r[0]])
         for k in range(1, len(r)):
             i0, i1 = r[k - 1], r[k]
             t = times[i1] - times[i0]
@@ -165,7 +178,7 @@ def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit
                 problems.append(f"{label}: two STEP edges on one tick at {times[i1] / F_CPU:.6f} s")
                 continue
             v = F_CPU / t
-            vmax = params.max_over("vmax", times[r[0]], times[i1])
+            vmax = params.max_over("vmax", r_from, times[i1])
             if v > vmax * (1 + LAW_TOL) + quant(t) and len(problems) < limit:
                 problems.append(f"{label}: {v:.0f} steps/s at {times[i1] / F_CPU:.6f} s (interval {t} cycles), "
                                 f"above the largest vmax in force {vmax:g}")
@@ -174,7 +187,7 @@ def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit
                 if ta <= 0:
                     continue
                 va = F_CPU / ta
-                a = params.max_over("accel", times[r[0]], times[i1])
+                a = params.max_over("accel", r_from, times[i1])
                 allowed = a * (ta + t) / 2 / F_CPU * (1 + LAW_TOL) + quant(ta) + quant(t)
                 jump = abs(v - va)
                 pairs += 1
@@ -189,8 +202,8 @@ def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit
         if not check_reversals or dirs[r0[-1]] == dirs[r1[0]] or r0[-1] in split_after or len(r0) < 2 or len(r1) < 2:
             continue   # not a turn of one motion: a move ended (DONE, halt) and a new one started
         reversals += 1
-        a = params.max_over("accel", times[r0[0]], times[r1[-1]])
-        v0 = params.max_over("v0", times[r0[0]], times[r1[-1]])
+        a = params.max_over("accel", since(times[r0[0]]), times[r1[-1]])
+        v0 = params.max_over("v0", since(times[r0[0]]), times[r1[-1]])
         bound = math.sqrt(v0 * v0 + 4 * a)
         for ia, ib in ((r0[-2], r0[-1]), (r1[0], r1[1])):
             t = times[ib] - times[ia]

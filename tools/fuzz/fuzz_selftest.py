@@ -35,9 +35,9 @@ def cruise_then(edges, v, n):
     return out
 
 
-def law(times, a, vmax, v0=0.0, dirs=None, splits=(), events=()):
+def law(times, a, vmax, v0=0.0, dirs=None, splits=(), events=(), plans=()):
     p = fo.Params({"accel": a, "vmax": vmax, "v0": v0}, events)
-    return fo.speed_law(times, dirs or [1] * len(times), set(splits), p, 1, True, "t")
+    return fo.speed_law(times, dirs or [1] * len(times), set(splits), p, 1, True, "t", plans=plans)
 
 
 def run():
@@ -71,6 +71,24 @@ def run():
     for k in range(400, len(late_run)):
         late_run[k] += 59 * (k - 399)           # every later interval 59 cycles longer: a speed drop
     expect("a speed drop that moves every later edge", law(late_run, 50000, 5000)[0], True)
+    # 1c. a reversal planned with the target that caused it: decelerate to rest and accelerate back
+    # at 500,000 steps/s^2; `set accel 50000` arrives after that plan, before the turn ("from the
+    # next plan"): the run after the turn keeps 500,000 and passes; the same `set` before the plan
+    # makes it too fast for the accel in force and fails
+    fast = ramp(500000, 120)
+    t_top = fast[-1] / F
+    v_top = math.sqrt(2 * 500000 * 120)
+    back = [int(round((t_top + (v_top - math.sqrt(max(0.0, v_top ** 2 - 2 * 500000 * k))) / 500000) * F))
+            for k in range(1, 121)]
+    t_rest = back[-1] / F + 0.0015
+    again = ramp(500000, 60, t0=t_rest)
+    turn = fast + back + again
+    dirs = [1] * (len(fast) + len(back)) + [-1] * len(again)
+    plan_at, set_at = fast[10], back[60]
+    expect("a reversal planned before a lower `set accel` keeps the accel of its plan",
+           law(turn, 500000, 1e6, dirs=dirs, events=[(set_at, "accel", 50000.0)], plans=[0, plan_at])[0], False)
+    expect("the same reversal with the lower accel set before its plan",
+           law(turn, 500000, 1e6, dirs=dirs, events=[(plan_at - 1, "accel", 50000.0)], plans=[0, plan_at])[0], True)
     # 2. issue 22 item 1: after the replan the interval drops from 200 us to 50 us (4x vmax)
     jump = cruise_then(good, 20000, 50)
     expect("a 4x speed jump at a replan (5,000 -> 20,000 steps/s)",
