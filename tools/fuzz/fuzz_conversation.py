@@ -297,7 +297,10 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
     dones = {ax: [] for ax in axes}
     halts = {ax: [] for ax in axes}
     sets = {ax: [] for ax in axes}
-    plans = {ax: [] for ax in axes}  # when a plan was made (a target's or a stop's line sent)
+    # when a plan took the parameters in force (a target's or a stop's line sent); SCurveStepper's
+    # table (its vmax and accel) changes only for a move from rest, so there only such moves count
+    plans = {ax: [] for ax in axes}
+    table = lim is not None and lim.algo == "sigmoid"
 
     def close(ax, p, c):
         dones[ax].append((c, p))
@@ -310,7 +313,8 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
 
     def move(ax, to, chained, gi):
         o.accepted_moves += 1
-        plans[ax].append(sends[groups[gi][0]].cycle)
+        if not table or not open_moves[ax] or chained:
+            plans[ax].append(sends[groups[gi][0]].cycle)
         if not open_moves[ax]:
             open_moves[ax] = [to]
             open_at[ax], open_line[ax] = sends[groups[gi][0]].cycle, groups[gi][0]
@@ -362,7 +366,7 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
             for ax in which:
                 if t == "OK halt":
                     halts[ax].append(c)
-                else:
+                elif not table:
                     plans[ax].append(min(c, sends[a].cycle))
                 if family == "stepper" and not open_moves[ax]:
                     o.bad(f"line {a + 1} {sent!r} was answered {t!r} (stopping a move) while none was in progress", a)
