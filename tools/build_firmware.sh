@@ -6,13 +6,15 @@
 #     // motion-sketch: <family>        (stepper, filter, servo, ...)
 # so any copy under another name is built like its original; an .ino without the marker is
 # refused in one line. The examples of lib/ (lib/examples/<Name>/<Name>.ino, the Arduino
-# library's examples) are built too (they need no marker). Each is compiled by arduino-cli for
+# library's examples) and of the libraries in firmware/libraries (firmware/libraries/<Lib>/examples/
+# <Name>/<Name>.ino) are built too (they need no marker). Each is compiled by arduino-cli for
 # FQBN arduino:avr:mega:cpu=atmega2560 with lib/ and firmware/libraries/* as libraries, into
 # build/firmware/<Name>/<Name>.ino.{elf,hex}. A compiler warning located in our own code
 # (firmware/ or lib/) fails the build; warnings inside Debian's Arduino core are not ours and
 # are ignored. At the end a table of flash and SRAM use is printed.
 #
-# A SKETCH argument is a sketch name (firmware/<Name>) or lib/examples/<Name>. FIRMWARE_SRC names
+# A SKETCH argument is a sketch name (firmware/<Name>), lib/examples/<Name> or
+# firmware/libraries/<Lib>/examples/<Name>. FIRMWARE_SRC names
 # another folder of sketches (default firmware/; the libraries are always this tree's).
 # Extra compile-time options for every sketch can be given in FIRMWARE_DEFINES, e.g.
 #   FIRMWARE_DEFINES="-DSTEPPER_LED_MIRROR=0" tools/build_firmware.sh LeibRampStepper
@@ -32,14 +34,14 @@ all_sketches() {
         n=$(basename "$d")
         [ -f "$d$n.ino" ] && echo "$n"
     done
-    for d in lib/examples/*/; do
+    for d in lib/examples/*/ firmware/libraries/*/examples/*/; do
         n=$(basename "$d")
-        [ -f "$d$n.ino" ] && echo "lib/examples/$n"
+        [ -f "$d$n.ino" ] && echo "${d%/}"
     done
 }
 # the folder of a SKETCH argument
 sketch_dir() {
-    case "$1" in lib/examples/*) echo "$1" ;; *) echo "$SRC/$1" ;; esac
+    case "$1" in lib/examples/* | firmware/libraries/*/examples/*) echo "$1" ;; *) echo "$SRC/$1" ;; esac
 }
 if [ $# -gt 0 ]; then sketches=("$@"); else mapfile -t sketches < <(all_sketches); fi
 [ ${#sketches[@]} -gt 0 ] || { echo "build_firmware: no sketches under firmware/" >&2; exit 1; }
@@ -74,7 +76,7 @@ for arg in "${sketches[@]}"; do
         failed=1; continue
     fi
     case "$dir" in
-        lib/examples/*) ;;
+        lib/examples/* | firmware/libraries/*/examples/*) ;;
         *) if ! grep -Eq "$MARKER_RE" "$dir/$s.ino"; then
                echo "build_firmware: $dir/$s.ino has no marker line '// motion-sketch: <family>' (stepper, multiaxis, filter, servo): add it at the top so the tools know what the sketch is" >&2
                failed=1; continue

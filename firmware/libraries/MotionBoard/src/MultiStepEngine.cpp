@@ -36,6 +36,7 @@ struct AxisFeed {
 };
 AxisFeed s_feed[MULTI_AXES];
 uint32_t s_lead_ticks;
+MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: the sketch sets DIR */
 
 AxisState &state(uint8_t axis)
 {
@@ -62,6 +63,15 @@ inline void write_dir(uint8_t axis, bool forward)
         else
             MULTI_Z_DIR_PORT &= (uint8_t)~_BV(MULTI_Z_DIR_BIT);
     }
+}
+
+/* DIR for the steps that follow: the sketch's hook if it set one, else the pin */
+inline void set_dir(uint8_t axis, bool forward)
+{
+    if (s_dir_hook[axis])
+        s_dir_hook[axis](forward);
+    else
+        write_dir(axis, forward);
 }
 
 inline bool dir_level(uint8_t axis)
@@ -343,7 +353,7 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
     arm_step(axis, s);
     step_low(axis);
     if (next->flags & _BV(AXIS_SLOT_TURN))
-        write_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
+        set_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
 }
 
 /* takes the first laid-out slot and arms its first step from t = base. Called from loop() with
@@ -360,7 +370,7 @@ void start_axis(uint8_t axis, uint32_t base)
     load_slot(s, *t);
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        write_dir(axis, t->flags & _BV(AXIS_SLOT_FORWARD)); /* DIR is set here, before the first step */
+        set_dir(axis, t->flags & _BV(AXIS_SLOT_FORWARD)); /* DIR is set here, before the first step */
     }
     s.acc = base;
     s.wraps = 0;
@@ -496,6 +506,8 @@ static void lay_one(uint8_t axis, AxisState &s, AxisFeed &f, const step_cmd_t &c
         f.last_forward = dir_level(axis);
     }
     lay_out(f, t, c);
+    if (s_dir_hook[axis] && (t.flags & _BV(AXIS_SLOT_TURN)))
+        t.flags |= _BV(AXIS_SLOT_SLOW); /* the C path turns it: through the hook */
     f.duration[f.head] = duration_ticks(c);
     f.queued_ticks += f.duration[f.head];
     f.ready++;
@@ -551,7 +563,7 @@ void MultiStepEngine::follow(uint8_t master, uint8_t axis, bool forward)
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         AxisState &m = state(master), &a = state(axis);
-        write_dir(axis, forward);
+        set_dir(axis, forward);
         m.mask_f |= a.mask_f;
         m.mask_l |= a.mask_l;
         change_mode(m, _BV(AXIS_MODE_MASKED), 0);
@@ -746,4 +758,42 @@ bool MultiStepEngine::take_done(uint8_t axis, int32_t &position)
         }
     }
     return done;
+}
+
+void MultiStepEngine::set_direction_hook(uint8_t axis, DirectionHook hook)
+{
+    if (axis >= MULTI_AXES)
+        return;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        s_dir_hook[axis] = hook;
+    }
+}
+
+void MultiStepEngine::set_lead_ms(uint16_t ms)
+{
+    uint32_t t = MULTI_TICK_HZ / 1000UL * (ms ? ms : 1U);
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        s_lead_ticks = t;
+    }
+}
+
+float MultiStepEngine::speed(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    uint32_t rate;
+    uint8_t flags, running;
+    float v;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        rate = s.rate;
+        flags = s.flags;
+        running = s.running;
+    }
+    if (!running || rate == 0)
+        return 0.0f;
+    /* rate: the interval armed last, 16.16 ticks (WIDE: whole ticks) */
+    v = (flags & _BV(AXIS_SLOT_WIDE)) ? (float)MULTI_TICK_HZ / (float)rate : (float)MULTI_TICK_HZ * 65536.0f / (float)rate;
+    return (flags & _BV(AXIS_SLOT_FORWARD)) ? v : -v;
 }

@@ -165,6 +165,22 @@ public:
     static uint16_t underruns(uint8_t axis);
     static uint16_t late_edges(uint8_t axis);
     static bool take_done(uint8_t axis, int32_t &position);
+
+    /* For the MotionStepper library (docs/library.md); the console uses none of these. */
+    /* A sketch's function that sets an axis's DIR instead of the engine (the lab's moveOneStep()):
+     * hook(true) before steps forwards (position counting up), hook(false) before steps backwards;
+     * called before the first step of every move (in start, from the planner's context) and at
+     * every reversal (from the step interrupt's C path, after STEP has fallen: a command that turns
+     * is stepped by the C path while a hook is set). Keep it short. NULL: the engine writes DIR. */
+    typedef void (*DirectionHook)(bool forward);
+    static void set_direction_hook(uint8_t axis, DirectionHook hook);
+    /* Steps kept queued ahead of each interrupt, ms (MULTI_LEAD_MS until called): how late a stop
+     * or a new target takes effect; at least 1. */
+    static void set_lead_ms(uint16_t ms);
+    /* The speed being stepped now, steps/s: F over the interval armed last, signed by its
+     * direction (DIR high = positive); 0 when the axis's own interrupt is not stepping (at rest, or a
+     * follower: ask its master). */
+    static float speed(uint8_t axis);
 };
 
 #endif

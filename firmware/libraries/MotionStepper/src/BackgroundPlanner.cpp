@@ -1,0 +1,195 @@
+/* BackgroundPlanner.cpp - Timer3's interrupt keeps the step queues planned (see BackgroundPlanner.h). */
+#include "BackgroundPlanner.h"
+
+#include <avr/interrupt.h>
+#include <util/atomic.h>
+
+#include <MultiStepEngine.h>
+
+#include "Stepper.h"
+#include "StepperGroup.h"
+
+Stepper *BackgroundPlanner::axes_[3];
+bool BackgroundPlanner::begun_;
+uint16_t BackgroundPlanner::lead_ms_ = MOTION_STEPPER_LEAD_MS;
+
+static volatile uint8_t s_in_tick;  /* the re-entrancy guard */
+static volatile uint8_t s_locks;    /* PlannerLocks alive */
+static volatile uint8_t s_deferred; /* a tick came while loop() held a lock */
+
+/* A tick that finds a lock held returns and asks for itself again at the unlock. (A flag rather
+ * than TIMSK3: the match that comes while the interrupt is masked would also wait for the unmask on
+ * the chip, but libsimavr drops it.) The count is changed by loop() and, around its own changes, by
+ * the tick, which leaves it as it found it: no atomic block needed. */
+PlannerLock::PlannerLock()
+{
+    s_locks = s_locks + 1U;
+}
+
+PlannerLock::~PlannerLock()
+{
+    s_locks = s_locks - 1U;
+    if (s_locks == 0 && s_deferred && !s_in_tick) {
+        s_deferred = 0;
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+        {
+            TCNT3 = OCR3A - 1U; /* the tick comes 8 us from now */
+        }
+    }
+}
+
+void BackgroundPlanner::begin()
+{
+    if (begun_)
+        return;
+    MultiStepEngine::begin();
+    MultiStepEngine::set_lead_ms(lead_ms_);
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        /* the core set Timer3 up for analogWrite(): take it over. CTC on OCR3A, 16 MHz / 64 / 250 = 1 kHz */
+        TIMSK3 = 0;
+        TCCR3A = 0;
+        TCCR3B = 0;
+        TCNT3 = 0;
+        OCR3A = 249;
+        TIFR3 = _BV(OCF3A) | _BV(OCF3B) | _BV(OCF3C) | _BV(TOV3) | _BV(ICF3);
+        TCCR3B = _BV(WGM32) | _BV(CS31) | _BV(CS30);
+        TIMSK3 = _BV(OCIE3A);
+#if MOTION_STEPPER_TRACE
+        DDRG |= _BV(5);
+#endif
+    }
+    begun_ = true;
+}
+
+bool BackgroundPlanner::setLeadMs(uint16_t ms)
+{
+    if (ms < 1 || ms > 1000)
+        return false;
+    PlannerLock lock;
+    lead_ms_ = ms;
+    if (begun_)
+        MultiStepEngine::set_lead_ms(ms);
+    return true;
+}
+
+bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
+{
+    PlannerLock lock;
+    if (axis >= 3 || (axes_[axis] && axes_[axis] != s))
+        return false;
+    axes_[axis] = s;
+    return true;
+}
+
+/* One command at a time to the stepping axis whose queue reaches least far ahead; a move not yet
+ * started only when no stepping axis needs one (MultiAxisConsole::feed's rule). */
+void BackgroundPlanner::feed()
+{
+    uint8_t dry = 0;
+    for (uint8_t k = 0; k < MOTION_STEPPER_CMDS_PER_TICK; k++) {
+        uint32_t best = UINT32_MAX, most = 0;
+        uint8_t pick = 3, start = 3;
+        for (uint8_t i = 0; i < 3; i++) {
+            uint32_t q;
+            if (!axes_[i] || (dry & (1U << i)) || !MultiStepEngine::moving(i))
+                continue;
+            q = MultiStepEngine::queued_ticks(i);
+            if (q == UINT32_MAX)
+                continue;
+            if (MultiStepEngine::stepping(i)) {
+                if (q < best) {
+                    best = q;
+                    pick = i;
+                }
+            } else if (start == 3 || q > most) {
+                most = q;
+                start = i;
+            }
+        }
+        if (pick == 3)
+            pick = start;
+        if (pick == 3)
+            break;
+        if (MultiStepEngine::service(pick, axes_[pick]->source(), 1) == 0)
+            dry |= (uint8_t)(1U << pick);
+    }
+    for (uint8_t i = 0; i < 3; i++)
+        if (axes_[i])
+            (void)MultiStepEngine::service(i, axes_[i]->source(), 0); /* starts and ends */
+    for (uint8_t i = 0; i < 3; i++) {
+        StepperGroup *g = axes_[i] ? axes_[i]->group_ : 0;
+        if (g)
+            g->poll_start();
+    }
+}
+
+void BackgroundPlanner::collect_done()
+{
+    int32_t at = 0;
+    for (uint8_t i = 0; i < 3; i++) {
+        Stepper *s = axes_[i];
+        if (!s || !MultiStepEngine::take_done(i, at))
+            continue;
+        if (s->group_)
+            s->group_->axis_done(i, at);
+        else
+            s->engine_done(at);
+    }
+}
+
+void BackgroundPlanner::tick()
+{
+    feed();
+    collect_done();
+}
+
+/* A step interrupt is between its compare match and the arming of its next edge: its match has
+ * come (OCR1x at or before TCNT1, less than STEP_ISR_WINDOW ago) and its flag is clear (the vector
+ * was entered). The step interrupts enable interrupts early so that the axes nest; the planner must
+ * not run inside one of them (its next edge would wait for the whole tick). Interrupts are off here;
+ * OCR1x is read without Timer1's TEMP, TCNT1 through it (the step interrupts touch TEMP only with
+ * interrupts off). A slow axis counting out wraps looks busy for STEP_ISR_WINDOW after each wrap:
+ * the tick only comes a little later. */
+#define STEP_ISR_WINDOW 4000
+static bool step_isr_active()
+{
+    uint8_t on = TIMSK1, flags = TIFR1;
+    uint16_t now = TCNT1;
+    if ((on & _BV(OCIE1A)) && !(flags & _BV(OCF1A)) && (uint16_t)(now - OCR1A) < STEP_ISR_WINDOW)
+        return true;
+    if ((on & _BV(OCIE1B)) && !(flags & _BV(OCF1B)) && (uint16_t)(now - OCR1B) < STEP_ISR_WINDOW)
+        return true;
+    if ((on & _BV(OCIE1C)) && !(flags & _BV(OCF1C)) && (uint16_t)(now - OCR1C) < STEP_ISR_WINDOW)
+        return true;
+    return false;
+}
+
+/* Timer3's compare match, 1 kHz. Entered with interrupts off for a few dozen cycles: a tick during a
+ * tick returns; one while loop() holds a PlannerLock comes at the unlock; a tick that has interrupted a step interrupt comes back 8 us later (TCNT3 two counts
+ * before the match); otherwise interrupts are enabled at once and the tick runs, the step interrupts
+ * and the core's millis and serial interrupts nesting in it. */
+ISR(TIMER3_COMPA_vect)
+{
+    if (s_in_tick)
+        return;
+    if (s_locks) {
+        s_deferred = 1;
+        return;
+    }
+    if (step_isr_active()) {
+        TCNT3 = OCR3A - 2U;
+        return;
+    }
+    s_in_tick = 1;
+#if MOTION_STEPPER_TRACE
+    PORTG |= _BV(5); /* D4 high while the tick runs */
+#endif
+    sei();
+    BackgroundPlanner::tick();
+    cli();
+#if MOTION_STEPPER_TRACE
+    PORTG &= (uint8_t)~_BV(5);
+#endif
+    s_in_tick = 0;
+}

@@ -1,0 +1,81 @@
+/* BackgroundPlanner.h - keeps the step queues of the Steppers planned without loop(): Timer3's
+ * compare A interrupt, every millisecond, lays out step commands (lib's planners, step_planner.h and
+ * step_coord.h) into MotionBoard's MultiStepEngine queues, starts moves and collects their ends.
+ *
+ * Timer3 is taken (CTC mode, prescaler 64, OCR3A = 249: 1 kHz): analogWrite() on D2, D3 and D5 (its
+ * PWM pins) no longer works, and no other code may reprogram Timer3. Timer1 belongs to the step
+ * interrupts (MultiStepEngine.h): no analogWrite() on D11, D12, D13 either; GPIOR0 is the engine's.
+ *
+ * The tick runs with interrupts enabled (as ISR_NOBLOCK would), so a step interrupt (Timer1) is never
+ * delayed by planning, nor are the core's millis and serial interrupts. It enables them after a
+ * check of a few dozen cycles, not at its first instruction: the step interrupts themselves enable
+ * interrupts early (so that the axes nest), and a tick that came inside one of them, before it armed
+ * its next edge, would hold that edge back for the whole tick; such a tick returns and comes back
+ * 8 us later. A guard makes a tick that comes while the previous one still runs (at a move's start,
+ * planning can take longer than 1 ms) return at once. Calls from loop() that change a planner keep
+ * the tick from starting (PlannerLock) for their own few hundred microseconds at most; they never
+ * wait for it.
+ *
+ * Lead: each stepping axis keeps leadMs() of steps queued ahead (setLeadMs, default
+ * MOTION_STEPPER_LEAD_MS): a stop() or a new target acts after the steps already queued, so the lead
+ * is its latency (docs/library.md has the measured figure); a shorter lead is safe as long as the
+ * planner keeps up (three axes accelerating at once need more).
+ */
+#ifndef MOTION_STEPPER_BACKGROUND_PLANNER_H
+#define MOTION_STEPPER_BACKGROUND_PLANNER_H
+
+#include <Arduino.h>
+#include <stdint.h>
+
+#ifndef MOTION_STEPPER_LEAD_MS
+#define MOTION_STEPPER_LEAD_MS 4U
+#endif
+/* commands laid out per tick at most (the axis whose queue reaches least far ahead first) */
+#ifndef MOTION_STEPPER_CMDS_PER_TICK
+#define MOTION_STEPPER_CMDS_PER_TICK 24U
+#endif
+/* MOTION_STEPPER_TRACE = 1: D4 (PG5) is high while a planner tick runs (nested interrupts included) */
+#ifndef MOTION_STEPPER_TRACE
+#define MOTION_STEPPER_TRACE 0
+#endif
+
+class Stepper;
+class StepperGroup;
+
+class BackgroundPlanner {
+public:
+    /* The step engine (pins, Timer1) and Timer3's interrupt; once (later calls do nothing). */
+    static void begin();
+    static bool running() { return begun_; }
+    /* Steps kept queued ahead of each axis, ms (1..1000; from the next command laid out). */
+    static bool setLeadMs(uint16_t ms);
+    static uint16_t leadMs() { return lead_ms_; }
+
+    /* Registers s as the stepper of its axis; false when another holds it. */
+    static bool claim(uint8_t axis, Stepper *s);
+    static Stepper *stepper(uint8_t axis) { return axis < 3 ? axes_[axis] : 0; }
+
+    /* One tick's work (the interrupt calls it; public for the vector only). */
+    static void tick();
+
+private:
+    static void feed();
+    static void collect_done();
+    static Stepper *axes_[3];
+    static bool begun_;
+    static uint16_t lead_ms_;
+};
+
+/* Holds the planner interrupt off while it lives (loop()'s changes to a planner): the planner
+ * interrupt is not running when loop() runs (it preempts loop(), never the other way), so keeping it
+ * from starting is all the synchronisation the planners need; a tick that comes meanwhile runs at the
+ * unlock. Nests. */
+class PlannerLock {
+public:
+    PlannerLock();
+    ~PlannerLock();
+    PlannerLock(const PlannerLock &) = delete;
+    PlannerLock &operator=(const PlannerLock &) = delete;
+};
+
+#endif

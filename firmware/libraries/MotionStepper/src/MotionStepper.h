@@ -1,0 +1,19 @@
+/* MotionStepper.h - the MotionStepper library: exact constant-acceleration steppers on a RAMPS 1.4
+ * (Arduino Mega 2560) for your own sketch, with loop() free.
+ *
+ *   #include <MotionStepper.h>
+ *   Stepper x(Stepper::X);              one RAMPS axis (X, Y, Z): Stepper.h
+ *   StepperGroup xy(x, y);              straight-line moves of 2-3 of them: StepperGroup.h
+ *
+ * Timer1 (compare A/B/C) makes the steps (MotionBoard's MultiStepEngine), Timer3 plans them in the
+ * background (BackgroundPlanner.h); both are taken. docs/library.md explains it all, with a table
+ * of AccelStepper's and FastAccelStepper's calls and ours.
+ */
+#ifndef MOTION_STEPPER_H
+#define MOTION_STEPPER_H
+
+#include "BackgroundPlanner.h"
+#include "Stepper.h"
+#include "StepperGroup.h"
+
+#endif

@@ -1,0 +1,379 @@
+/* Stepper.cpp - one RAMPS axis behind the AccelStepper-like calls (see Stepper.h). The planner
+ * (step_planner_t, exact ramp) is shared with the planner interrupt (BackgroundPlanner.cpp): every
+ * change here runs under a PlannerLock. Positions are kept in the engine's coordinates (DIR high
+ * counts up); an inverted axis shows the user their negation. */
+#include "Stepper.h"
+
+#include "StepperGroup.h"
+
+namespace {
+const uint8_t ENABLE_PIN[3] = {38, 56, 62}; /* MultiAxisPins.h: PD7, PF2, PK0 */
+
+uint8_t planner_next(void *ctx, step_cmd_t *c)
+{
+    return step_planner_next(static_cast<step_planner_t *>(ctx), c);
+}
+uint8_t planner_busy(void *ctx)
+{
+    return step_planner_busy(static_cast<step_planner_t *>(ctx));
+}
+
+enum { P_VMAX, P_ACCEL, P_V0 };
+} // namespace
+
+Stepper::Stepper(Axis axis)
+    : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
+      done_(false), has_next_(false), done_pos_(0), next_target_(0), hook_(0), group_(0)
+{
+    /* the MultiAxisStepper sketch's defaults */
+    params_.v0_sps = 0.0;
+    params_.vmax_sps = 10000.0;
+    params_.accel_sps2 = 10000.0;
+    params_.tick_hz = MULTI_TICK_HZ;
+}
+
+const __FlashStringHelper *Stepper::statusText(motion_status_t status)
+{
+    return reinterpret_cast<const __FlashStringHelper *>(motion_status_text(status));
+}
+
+motion_status_t Stepper::begin()
+{
+    motion_status_t st;
+    if (begun_)
+        return MS_OK;
+    if (axis_ > Z)
+        return MS_ERR_OUT_OF_RANGE;
+    st = step_planner_init_trapezoid(&planner_, RAMP_ALGO_EXACT, &params_, 0);
+    if (st != MS_OK)
+        return st;
+    /* commands of at most MOTION_STEPPER_CMD_MS (lib's default is 4 ms): the queue then holds its
+     * lead in short pieces, and a stop waits for less (used from the next plan on) */
+    planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL * MOTION_STEPPER_CMD_MS;
+    planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
+    BackgroundPlanner::begin();
+    if (!BackgroundPlanner::claim(axis_, this))
+        return MS_ERR_BUSY;
+    {
+        PlannerLock lock;
+        step_planner_halt(&planner_, MultiStepEngine::position(axis_));
+        begun_ = true;
+        write_enable(enabled_ && !auto_disable_);
+        if (hook_)
+            MultiStepEngine::set_direction_hook(axis_, axis_ == X ? hook_x : axis_ == Y ? hook_y : hook_z);
+    }
+    return MS_OK;
+}
+
+/* ---- parameters ---- */
+motion_status_t Stepper::set_param(float value, float limit, uint8_t which)
+{
+    ramp_params_t p = params_;
+    step_planner_t probe;
+    motion_status_t st;
+    if (isnan(value) || isinf(value))
+        return MS_ERR_NOT_FINITE;
+    if (value > limit)
+        return MS_ERR_OUT_OF_RANGE;
+    if (which == P_VMAX)
+        p.vmax_sps = value;
+    else if (which == P_ACCEL)
+        p.accel_sps2 = value;
+    else
+        p.v0_sps = value;
+    /* the exact planner checks the set as a whole (vmax > v0, accel >= 8, ...) */
+    st = step_planner_init_trapezoid(&probe, RAMP_ALGO_EXACT, &p, 0);
+    if (st != MS_OK)
+        return st;
+    PlannerLock lock;
+    params_ = p;
+    if (begun_)
+        (void)step_planner_set_params(&planner_, &params_); /* from its next plan */
+    return MS_OK;
+}
+
+motion_status_t Stepper::setMaxSpeed(float steps_per_s)
+{
+    return set_param(steps_per_s, (float)MULTI_MAX_SPS, P_VMAX);
+}
+
+motion_status_t Stepper::setAcceleration(float steps_per_s2)
+{
+    return set_param(steps_per_s2, (float)STEPPER_MAX_ACCEL_EXACT, P_ACCEL);
+}
+
+motion_status_t Stepper::setMinSpeed(float steps_per_s)
+{
+    float hi = (float)STEPPER_MAX_V0_EXACT < (float)MULTI_MAX_SPS ? (float)STEPPER_MAX_V0_EXACT : (float)MULTI_MAX_SPS;
+    return set_param(steps_per_s, hi, P_V0);
+}
+
+/* ---- moves ---- */
+motion_status_t Stepper::moveTo(long target)
+{
+    int32_t to = to_engine(target), ended;
+    MultiStepEngine::Continuation c;
+    motion_status_t st;
+    if (!begun_)
+        return MS_ERR_NULL;
+    PlannerLock lock;
+    if (group_)
+        return MS_ERR_BUSY;
+    if (MultiStepEngine::moving(axis_) && !step_planner_busy(&planner_)) {
+        /* every step of the move is queued already: the new move starts from rest at its end */
+        has_next_ = true;
+        next_target_ = to;
+        return MS_OK;
+    }
+    c = MultiStepEngine::extend(axis_, ended);
+    if (c == MultiStepEngine::ENDED) {
+        engine_done(ended);
+        if (MultiStepEngine::moving(axis_)) /* a target waiting for that end has just started */
+            c = MultiStepEngine::extend(axis_, ended);
+        else
+            c = MultiStepEngine::AT_REST;
+    }
+    if (c == MultiStepEngine::AT_REST)
+        step_planner_halt(&planner_, MultiStepEngine::position(axis_));
+    st = step_planner_move(&planner_, to);
+    if (st != MS_OK)
+        return st; /* a continuing move goes on as planned (service() marks its end again) */
+    has_next_ = false;
+    if (c == MultiStepEngine::AT_REST) {
+        if (auto_disable_)
+            write_enable(true);
+        done_ = false;
+        MultiStepEngine::open_move(axis_, false);
+    }
+    return MS_OK;
+}
+
+motion_status_t Stepper::move(long distance)
+{
+    return moveTo(targetPosition() + distance);
+}
+
+motion_status_t Stepper::stop()
+{
+    int32_t ended;
+    if (!begun_)
+        return MS_ERR_NULL;
+    PlannerLock lock;
+    if (group_)
+        return group_->stop();
+    has_next_ = false; /* a target waiting for the move's end is dropped */
+    if (!MultiStepEngine::moving(axis_))
+        return MS_OK;
+    if (MultiStepEngine::extend(axis_, ended) == MultiStepEngine::CONTINUES)
+        step_planner_stop(&planner_);
+    else
+        engine_done(ended);
+    return MS_OK;
+}
+
+motion_status_t Stepper::forceStop()
+{
+    if (!begun_)
+        return MS_ERR_NULL;
+    PlannerLock lock;
+    if (group_)
+        return group_->forceStop();
+    has_next_ = false;
+    if (!MultiStepEngine::moving(axis_))
+        return MS_OK;
+    MultiStepEngine::halt(axis_); /* its end is collected by the planner interrupt */
+    step_planner_halt(&planner_, MultiStepEngine::position(axis_));
+    return MS_OK;
+}
+
+/* ---- state ---- */
+/* one-byte reads: no lock, so that a loop() polling it leaves the planner interrupt alone */
+bool Stepper::isRunning() const
+{
+    return has_next_ || group_ != 0 || MultiStepEngine::moving(axis_);
+}
+
+long Stepper::currentPosition() const
+{
+    PlannerLock lock;
+    if (group_)
+        return to_user(group_->position_of(axis_));
+    return to_user(MultiStepEngine::position(axis_));
+}
+
+motion_status_t Stepper::setCurrentPosition(long position)
+{
+    int32_t p = to_engine(position);
+    if (!begun_)
+        return MS_ERR_NULL;
+    PlannerLock lock;
+    if (has_next_ || group_ || MultiStepEngine::moving(axis_))
+        return MS_ERR_BUSY;
+    MultiStepEngine::set_rest_position(axis_, p);
+    step_planner_halt(&planner_, p);
+    return MS_OK;
+}
+
+long Stepper::targetPosition() const
+{
+    PlannerLock lock;
+    if (!begun_)
+        return 0;
+    if (group_)
+        return to_user(group_->target_of(axis_));
+    return to_user(has_next_ ? next_target_ : step_planner_target(&planner_));
+}
+
+float Stepper::speed() const
+{
+    uint8_t a = axis_;
+    float v;
+    bool flip = false;
+    if (!begun_)
+        return 0.0f;
+    {
+        PlannerLock lock;
+        if (group_)
+            a = group_->interrupt_of(axis_, flip);
+    }
+    v = MultiStepEngine::speed(a);
+    if (flip)
+        v = -v;
+    return inverted_ ? -v : v;
+}
+
+bool Stepper::takeDone(long &position)
+{
+    if (!done_)
+        return false; /* a one-byte read: polling needs no lock */
+    PlannerLock lock;
+    if (!done_)
+        return false;
+    done_ = false;
+    position = to_user(done_pos_);
+    return true;
+}
+
+uint16_t Stepper::underruns() const
+{
+    return begun_ ? MultiStepEngine::underruns(axis_) : 0;
+}
+
+/* ---- enable and direction ---- */
+void Stepper::write_enable(bool on)
+{
+    if (!begun_)
+        return;
+    pinMode(ENABLE_PIN[axis_], OUTPUT);
+    digitalWrite(ENABLE_PIN[axis_], on == enable_high_ ? HIGH : LOW);
+}
+
+void Stepper::enableOutputs()
+{
+    PlannerLock lock;
+    enabled_ = true;
+    write_enable(true);
+}
+
+void Stepper::disableOutputs()
+{
+    PlannerLock lock;
+    enabled_ = false;
+    write_enable(false);
+}
+
+void Stepper::setAutoDisable(bool on)
+{
+    PlannerLock lock;
+    auto_disable_ = on;
+    if (begun_ && !isRunning())
+        write_enable(!on && enabled_);
+}
+
+void Stepper::setEnableActiveHigh(bool active_high)
+{
+    PlannerLock lock;
+    bool on = begun_ && (isRunning() || (enabled_ && !auto_disable_));
+    enable_high_ = active_high;
+    write_enable(on);
+}
+
+motion_status_t Stepper::setDirectionInverted(bool inverted)
+{
+    PlannerLock lock;
+    if (begun_ && isRunning())
+        return MS_ERR_BUSY;
+    if (inverted != inverted_ && begun_) {
+        /* the user's position stays: the engine's becomes its negation */
+        int32_t p = -MultiStepEngine::position(axis_);
+        MultiStepEngine::set_rest_position(axis_, p);
+        step_planner_halt(&planner_, p);
+    }
+    inverted_ = inverted;
+    return MS_OK;
+}
+
+motion_status_t Stepper::setDirectionHook(DirectionHook hook)
+{
+    PlannerLock lock;
+    if (begun_ && isRunning())
+        return MS_ERR_BUSY;
+    hook_ = hook;
+    if (begun_)
+        MultiStepEngine::set_direction_hook(axis_, hook ? (axis_ == X ? hook_x : axis_ == Y ? hook_y : hook_z) : 0);
+    return MS_OK;
+}
+
+/* the engine's hook gets its own direction (DIR high); the user's counts in their sense */
+void Stepper::call_hook(uint8_t axis, bool forward)
+{
+    Stepper *s = BackgroundPlanner::stepper(axis);
+    if (s)
+        s->hook_(s->inverted_ ? !forward : forward);
+}
+void Stepper::hook_x(bool forward)
+{
+    call_hook(X, forward);
+}
+void Stepper::hook_y(bool forward)
+{
+    call_hook(Y, forward);
+}
+void Stepper::hook_z(bool forward)
+{
+    call_hook(Z, forward);
+}
+
+/* ---- the planner interrupt's side ---- */
+AxisSource Stepper::source()
+{
+    AxisSource s;
+    if (group_)
+        return group_->source_of(axis_);
+    s.next = planner_next;
+    s.busy = planner_busy;
+    s.ctx = &planner_;
+    return s;
+}
+
+void Stepper::record_done(int32_t engine_position)
+{
+    done_pos_ = engine_position;
+    done_ = true;
+    if (auto_disable_)
+        write_enable(false);
+}
+
+void Stepper::engine_done(int32_t position)
+{
+    step_planner_halt(&planner_, position);
+    if (has_next_) {
+        /* the target accepted while the last steps ran: its move starts now, from rest */
+        has_next_ = false;
+        if (step_planner_move(&planner_, next_target_) == MS_OK) {
+            MultiStepEngine::open_move(axis_, false);
+            return;
+        }
+    }
+    record_done(position);
+}

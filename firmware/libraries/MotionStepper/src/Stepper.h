@@ -1,0 +1,139 @@
+/* Stepper.h - one RAMPS 1.4 stepper axis (X, Y or Z) with the exact constant-acceleration ramp,
+ * called as AccelStepper's and FastAccelStepper's users call theirs (docs/library.md has the table).
+ *
+ *   Stepper x(Stepper::X);
+ *   setup():  x.setMaxSpeed(20000); x.setAcceleration(50000); x.begin(); x.moveTo(10000);
+ *   loop():   if (!x.isRunning()) ...   (loop() is free: Timer3 plans, Timer1 steps)
+ *
+ * Units: positions in steps (long), speeds in steps/s, acceleration in steps/s^2. Every call that
+ * can refuse returns a motion_status_t (lib's motion_status.h): MS_OK, or the reason, and then it has
+ * changed nothing; statusText() gives the same sentence as the sketches' serial "ERR" lines.
+ * Limits (those of the MultiAxisStepper sketch): setMaxSpeed up to MULTI_MAX_SPS (MultiAxisPins.h),
+ * setAcceleration up to STEPPER_MAX_ACCEL_EXACT, setMinSpeed up to STEPPER_MAX_V0_EXACT
+ * (StepperRamps.h); above them MS_ERR_OUT_OF_RANGE, never a silent clamp; parameter sets the exact
+ * planner refuses (vmax not above v0, accel below 8 steps/s^2, ...) get its own status. New
+ * parameters take effect at the next moveTo/move/stop (the move in progress keeps its own).
+ * Before begin() nothing moves: moveTo, move, stop, forceStop, setCurrentPosition return
+ * MS_ERR_NULL ("a required argument is missing": the engine); the setters only keep their values.
+ * Call the methods from loop() or setup() (not from an interrupt).
+ *
+ * Pins (fixed by the RAMPS board, MultiAxisPins.h): X STEP D54 DIR D55 EN D38; Y STEP D60 DIR D61
+ * EN D56; Z STEP D46 DIR D48 EN D62. What can change is polarity: setDirectionInverted(true) makes DIR
+ * low count up (a motor wired the other way), setEnableActiveHigh(true) for drivers enabled by a high
+ * EN (RAMPS's A4988/DRV8825 are enabled low: the default).
+ */
+#ifndef MOTION_STEPPER_STEPPER_H
+#define MOTION_STEPPER_STEPPER_H
+
+#include <Arduino.h>
+#include <stdint.h>
+
+#include <motion_status.h>
+#include <step_planner.h>
+
+#include <MultiAxisPins.h>
+#include <MultiStepEngine.h>
+#include <StepperRamps.h> /* STEPPER_MAX_ACCEL_EXACT, STEPPER_MAX_V0_EXACT */
+
+#include "BackgroundPlanner.h"
+
+class StepperGroup;
+
+/* The longest time one step command of a Stepper moving alone covers, ms (a cruise is cut into
+ * such commands): with the lead, what a stop or a new target waits for. */
+#ifndef MOTION_STEPPER_CMD_MS
+#define MOTION_STEPPER_CMD_MS 1U
+#endif
+
+class Stepper {
+public:
+    enum Axis : uint8_t { X = 0, Y = 1, Z = 2 };
+    /* hook(true) before steps that count up, hook(false) before steps that count down */
+    typedef void (*DirectionHook)(bool forward);
+
+    explicit Stepper(Axis axis);
+
+    /* Takes the axis (MS_ERR_BUSY if another Stepper has it), sets up the engine and the planner
+     * (once for all), ENABLE as set (enabled unless auto-disable is on), position 0. */
+    motion_status_t begin();
+
+    /* Limits for the next plan; MS_ERR_OUT_OF_RANGE above this library's limits. */
+    motion_status_t setMaxSpeed(float steps_per_s);          /* vmax > v0, <= MULTI_MAX_SPS */
+    motion_status_t setAcceleration(float steps_per_s2);     /* > 0 (>= 8), <= STEPPER_MAX_ACCEL_EXACT */
+    motion_status_t setMinSpeed(float steps_per_s);          /* v0: 0 <= v0 < vmax, <= STEPPER_MAX_V0_EXACT */
+    float maxSpeed() const { return params_.vmax_sps; }
+    float acceleration() const { return params_.accel_sps2; }
+    float minSpeed() const { return params_.v0_sps; }
+
+    /* Move to an absolute position / by a distance (from the target in force, as AccelStepper's move).
+     * While moving, the move continues from its speed to the new target (no stop in between when
+     * it lies ahead beyond the stopping distance); MS_ERR_BUSY while in a StepperGroup's move. */
+    motion_status_t moveTo(long target);
+    motion_status_t move(long distance);
+    /* Decelerate to rest at the acceleration in force (after the steps already queued: the lead). */
+    motion_status_t stop();
+    /* Halt now: no further step (the position keeps every step made). */
+    motion_status_t forceStop();
+
+    /* A move is accepted and not yet ended. */
+    bool isRunning() const;
+    long currentPosition() const;
+    /* Idle only (MS_ERR_BUSY while moving): the position is now `position` (nothing moves). */
+    motion_status_t setCurrentPosition(long position);
+    long targetPosition() const;
+    /* The speed being stepped now, steps/s, negative counting down; 0 at rest. */
+    float speed() const;
+    /* The end of a move: true once for each move that came to rest (a move replaced by a new
+     * target does not end), with where it ended. Call it from loop(). */
+    bool takeDone(long &position);
+    /* Steps the queue ran dry before they were planned (0 on a healthy machine). */
+    uint16_t underruns() const;
+
+    /* ENABLE: on / off now; auto-disable: off after each move ends, on before each starts. */
+    void enableOutputs();
+    void disableOutputs();
+    void setAutoDisable(bool on);
+    /* Polarity (the pins are fixed on a RAMPS): idle only (MS_ERR_BUSY while moving). */
+    motion_status_t setDirectionInverted(bool inverted);
+    void setEnableActiveHigh(bool active_high);
+    /* Your function sets DIR (the lab's moveOneStep(bool)): called before the first step of every
+     * move and at every reversal, from the engine (an interrupt: keep it short, e.g. a digitalWrite);
+     * NULL: the engine writes DIR. Idle only. */
+    motion_status_t setDirectionHook(DirectionHook hook);
+
+    uint8_t axis() const { return axis_; }
+    /* The sentence of a status, as after "ERR " in the sketches' serial replies (a flash string). */
+    static const __FlashStringHelper *statusText(motion_status_t status);
+
+private:
+    friend class BackgroundPlanner;
+    friend class StepperGroup;
+    AxisSource source();
+    void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
+    void record_done(int32_t engine_position);
+    void write_enable(bool on);
+    int32_t to_engine(long user) const { return inverted_ ? -(int32_t)user : (int32_t)user; }
+    long to_user(int32_t engine) const { return inverted_ ? -(long)engine : (long)engine; }
+    motion_status_t set_param(float value, float limit, uint8_t which);
+    static void call_hook(uint8_t axis, bool forward);
+    static void hook_x(bool forward);
+    static void hook_y(bool forward);
+    static void hook_z(bool forward);
+
+    uint8_t axis_;
+    bool begun_;
+    bool inverted_;
+    bool enable_high_;
+    bool enabled_;
+    bool auto_disable_;
+    volatile bool done_;
+    volatile bool has_next_;
+    int32_t done_pos_;   /* engine coordinates */
+    int32_t next_target_; /* engine coordinates: the target accepted while the last steps ran */
+    DirectionHook hook_;
+    StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */
+    ramp_params_t params_;
+    step_planner_t planner_;
+};
+
+#endif

@@ -1,0 +1,80 @@
+/* StepperGroup.h - straight-line moves of 2 or 3 Steppers (AccelStepper's MultiStepper, with
+ * acceleration): every axis follows one constant-acceleration profile s(t) from 0 to 1
+ * (lib/src/step_coord.h), so all start on one tick of Timer1, end together, and at every step edge
+ * each axis is within one step of the line; each axis's own setMaxSpeed/setAcceleration/setMinSpeed
+ * hold (the profile takes the tightest of them, scaled by how far each axis moves).
+ *
+ *   StepperGroup xy(x, y);   xy.moveTo(4000, 1000);   while (xy.isRunning()) ...
+ *
+ * moveTo refuses (nothing moves): MS_ERR_NULL before every member's begin(), MS_ERR_BUSY while a
+ * member is moving (alone or in a group's move), MS_ERR_COORD_RATIO when an axis moves too few steps
+ * for the longest (step_coord.h's limit), MS_ERR_OUT_OF_RANGE for three targets to a group of two.
+ * While the move runs, a member's moveTo is refused (MS_ERR_BUSY) and its stop()/forceStop() stop the
+ * whole group (stop: every axis decelerates to rest on the line, within a step).
+ * Cost: moveTo plans the move in the caller (loop()): one 96-by-32-bit division per axis; the
+ * planner interrupt keeps running meanwhile (docs/library.md has the measured time).
+ */
+#ifndef MOTION_STEPPER_STEPPER_GROUP_H
+#define MOTION_STEPPER_STEPPER_GROUP_H
+
+#include <Arduino.h>
+#include <stdint.h>
+
+#include <motion_status.h>
+#include <step_coord.h>
+
+#include <MultiStepEngine.h>
+
+class Stepper;
+
+class StepperGroup {
+public:
+    StepperGroup(Stepper &a, Stepper &b);
+    StepperGroup(Stepper &a, Stepper &b, Stepper &c);
+
+    /* Absolute targets, in the order the members were given; a member left out (two targets for
+     * three members) stays where it is. */
+    motion_status_t moveTo(long a, long b);
+    motion_status_t moveTo(long a, long b, long c);
+    motion_status_t stop();      /* decelerate to rest on the line */
+    motion_status_t forceStop(); /* halt every axis now */
+    bool isRunning() const;
+    /* true once when a move of the group has ended (every axis at rest); positions: each member's
+     * currentPosition(). */
+    bool takeDone();
+
+private:
+    friend class Stepper;
+    friend class BackgroundPlanner;
+    struct Ref {
+        StepperGroup *group;
+        uint8_t j;       /* index in the group (and in the coordinated plan) */
+        uint8_t repeats; /* the member whose commands it repeats (moves as far: pulsed by its interrupt), or 0xFF */
+        uint8_t clones;  /* members that repeat this one's */
+    };
+    motion_status_t move_all(const long *targets, uint8_t given);
+    int8_t index_of(uint8_t axis) const;
+    /* for Stepper and the planner interrupt (axis: the engine's axis number) */
+    AxisSource source_of(uint8_t axis);
+    int32_t position_of(uint8_t axis);
+    int32_t target_of(uint8_t axis);
+    uint8_t interrupt_of(uint8_t axis, bool &flip);
+    void poll_start();
+    void axis_done(uint8_t axis, int32_t position);
+    int32_t follower_position(uint8_t j, int32_t master_pos);
+    static uint8_t coord_next(void *ctx, step_cmd_t *c);
+    static uint8_t coord_busy(void *ctx);
+
+    Stepper *member_[STEP_COORD_MAX_AXES];
+    uint8_t n_;
+    step_coord_t coord_;
+    Ref ref_[STEP_COORD_MAX_AXES];
+    volatile uint8_t mask_; /* members that move (bit j) */
+    uint8_t own_;     /* of those, the ones stepped by their own interrupt */
+    uint8_t ended_;   /* members whose part has ended */
+    volatile bool starting_; /* held until every own axis has its first commands */
+    volatile bool done_;
+    int32_t end_[STEP_COORD_MAX_AXES];
+};
+
+#endif
