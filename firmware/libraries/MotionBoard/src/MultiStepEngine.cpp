@@ -535,12 +535,16 @@ uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t ma
     if (f.open && !f.held && !s.running && !s.done && s.cur->other->ready &&
         (f.started || MultiStepEngine::ready_to_start(axis, src)))
         start_axis(axis, base_ahead(64));
-    if (f.open && !f.held && !src.busy(src.ctx) && !s.finishing && !s.done && !cur_slot(s)->other->ready) {
+    /* the planner has handed out its last command: the move ends after the queued ones. Marked as
+     * soon as that is so, not only once the interrupt steps the last one (a last command of one
+     * step is over in a fraction of a millisecond, and loop() may be planning another axis then: the
+     * end would be counted as an underrun, found by `make fuzz`) */
+    if (f.open && !f.held && !src.busy(src.ctx) && !s.finishing && !s.done) {
         ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
         {
             if (s.running)
                 s.finishing = 1;
-            else
+            else if (!s.cur->other->ready)
                 s.done = 1; /* nothing was left to step */
         }
     }

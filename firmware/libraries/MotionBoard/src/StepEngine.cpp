@@ -406,12 +406,15 @@ void StepEngine::service(step_planner_t &planner)
     /* a short move (nothing more to plan), the lead reached, or every slot full: start */
     if (s_open && !s.running && !s.done && s.cur->other->ready)
         start_stepping();
-    if (s_open && !step_planner_busy(&planner) && !s.finishing && !s.done && !cur_slot()->other->ready) {
+    /* the planner has handed out its last command: the move ends after the queued ones (marked at
+     * once: waiting until the interrupt steps the last one left a window of one short command, and
+     * a loop() busy then had the end counted as an underrun) */
+    if (s_open && !step_planner_busy(&planner) && !s.finishing && !s.done) {
         ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
         {
             if (s.running)
                 s.finishing = 1;
-            else
+            else if (!s.cur->other->ready)
                 s.done = 1; /* nothing was left to step (a zero-length move) */
         }
     }
