@@ -140,6 +140,13 @@ void BackgroundPlanner::collect_done()
 
 void BackgroundPlanner::tick()
 {
+    for (uint8_t i = 0; i < 3; i++) {
+        if (!axes_[i])
+            continue;
+        axes_[i]->run_request();
+        if (axes_[i]->group_)
+            axes_[i]->group_->run_request();
+    }
     feed();
     collect_done();
 }

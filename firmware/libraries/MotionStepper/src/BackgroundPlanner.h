@@ -18,8 +18,10 @@
  *
  * Lead: each stepping axis keeps leadMs() of steps queued ahead (setLeadMs, default
  * MOTION_STEPPER_LEAD_MS): a stop() or a new target acts after the steps already queued, so the lead
- * is its latency (docs/library.md has the measured figure); a shorter lead is safe as long as the
- * planner keeps up (three axes accelerating at once need more).
+ * is its latency (docs/library.md has the measured figure). 10 ms, because a plan costs up to about
+ * 4 ms of the AVR (a stop at 20,000 steps/s, made by the tick while the queue runs on) and a
+ * coordinated move's commands cover up to 4 ms each: at 8 ms a StepperGroup move of the TwoAxesLine
+ * example ran dry once, at 6 ms a stop() at 20,000 steps/s did too (emulator, test/emu/checks_library.py).
  */
 #ifndef MOTION_STEPPER_BACKGROUND_PLANNER_H
 #define MOTION_STEPPER_BACKGROUND_PLANNER_H
@@ -28,7 +30,7 @@
 #include <stdint.h>
 
 #ifndef MOTION_STEPPER_LEAD_MS
-#define MOTION_STEPPER_LEAD_MS 4U
+#define MOTION_STEPPER_LEAD_MS 10U
 #endif
 /* commands laid out per tick at most (the axis whose queue reaches least far ahead first) */
 #ifndef MOTION_STEPPER_CMDS_PER_TICK

@@ -23,7 +23,8 @@ enum { P_VMAX, P_ACCEL, P_V0 };
 
 Stepper::Stepper(Axis axis)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
-      done_(false), has_next_(false), done_pos_(0), next_target_(0), hook_(0), group_(0)
+      done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
+      last_status_(MS_OK), hook_(0), group_(0)
 {
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
@@ -108,43 +109,21 @@ motion_status_t Stepper::setMinSpeed(float steps_per_s)
     return set_param(steps_per_s, hi, P_V0);
 }
 
-/* ---- moves ---- */
+/* ---- moves ----
+ * A plan costs milliseconds on the AVR (a stop's about 4 ms at 20,000 steps/s), so loop() only
+ * leaves a request; the planner interrupt carries it out at its next tick (run_request), before it
+ * lays out commands. */
 motion_status_t Stepper::moveTo(long target)
 {
-    int32_t to = to_engine(target), ended;
-    MultiStepEngine::Continuation c;
-    motion_status_t st;
     if (!begun_)
         return MS_ERR_NULL;
     PlannerLock lock;
     if (group_)
         return MS_ERR_BUSY;
-    if (MultiStepEngine::moving(axis_) && !step_planner_busy(&planner_)) {
-        /* every step of the move is queued already: the new move starts from rest at its end */
-        has_next_ = true;
-        next_target_ = to;
-        return MS_OK;
-    }
-    c = MultiStepEngine::extend(axis_, ended);
-    if (c == MultiStepEngine::ENDED) {
-        engine_done(ended);
-        if (MultiStepEngine::moving(axis_)) /* a target waiting for that end has just started */
-            c = MultiStepEngine::extend(axis_, ended);
-        else
-            c = MultiStepEngine::AT_REST;
-    }
-    if (c == MultiStepEngine::AT_REST)
-        step_planner_halt(&planner_, MultiStepEngine::position(axis_));
-    st = step_planner_move(&planner_, to);
-    if (st != MS_OK)
-        return st; /* a continuing move goes on as planned (service() marks its end again) */
-    has_next_ = false;
-    if (c == MultiStepEngine::AT_REST) {
-        if (auto_disable_)
-            write_enable(true);
-        done_ = false;
-        MultiStepEngine::open_move(axis_, false);
-    }
+    req_target_ = to_engine(target);
+    req_ = REQ_MOVE;
+    if (auto_disable_)
+        write_enable(true);
     return MS_OK;
 }
 
@@ -155,7 +134,6 @@ motion_status_t Stepper::move(long distance)
 
 motion_status_t Stepper::stop()
 {
-    int32_t ended;
     if (!begun_)
         return MS_ERR_NULL;
     PlannerLock lock;
@@ -163,11 +141,9 @@ motion_status_t Stepper::stop()
         return group_->stop();
     has_next_ = false; /* a target waiting for the move's end is dropped */
     if (!MultiStepEngine::moving(axis_))
-        return MS_OK;
-    if (MultiStepEngine::extend(axis_, ended) == MultiStepEngine::CONTINUES)
-        step_planner_stop(&planner_);
+        req_ = REQ_NONE; /* a move not started yet: it never starts */
     else
-        engine_done(ended);
+        req_ = REQ_STOP;
     return MS_OK;
 }
 
@@ -179,6 +155,7 @@ motion_status_t Stepper::forceStop()
     if (group_)
         return group_->forceStop();
     has_next_ = false;
+    req_ = REQ_NONE;
     if (!MultiStepEngine::moving(axis_))
         return MS_OK;
     MultiStepEngine::halt(axis_); /* its end is collected by the planner interrupt */
@@ -186,11 +163,60 @@ motion_status_t Stepper::forceStop()
     return MS_OK;
 }
 
+/* planner interrupt: the request loop() left */
+void Stepper::run_request()
+{
+    uint8_t r = req_;
+    int32_t ended;
+    MultiStepEngine::Continuation c;
+    motion_status_t st;
+    if (r == REQ_NONE)
+        return;
+    req_ = REQ_NONE;
+    if (r == REQ_STOP) {
+        c = MultiStepEngine::extend(axis_, ended);
+        if (c == MultiStepEngine::CONTINUES)
+            step_planner_stop(&planner_);
+        else if (c == MultiStepEngine::ENDED)
+            engine_done(ended); /* it had just ended: its end is reported */
+        return;
+    }
+    if (MultiStepEngine::moving(axis_) && !step_planner_busy(&planner_)) {
+        /* every step of the move is queued already: the new move starts from rest at its end */
+        has_next_ = true;
+        next_target_ = req_target_;
+        return;
+    }
+    c = MultiStepEngine::extend(axis_, ended);
+    if (c == MultiStepEngine::ENDED) {
+        engine_done(ended);
+        if (MultiStepEngine::moving(axis_)) /* a target waiting for that end has just started */
+            c = MultiStepEngine::extend(axis_, ended);
+        else
+            c = MultiStepEngine::AT_REST;
+    }
+    if (c == MultiStepEngine::AT_REST)
+        step_planner_halt(&planner_, MultiStepEngine::position(axis_));
+    st = step_planner_move(&planner_, req_target_);
+    last_status_ = st;
+    if (st != MS_OK) {
+        /* a continuing move goes on as planned (service() marks its end again); from rest nothing moves */
+        if (c == MultiStepEngine::AT_REST && auto_disable_)
+            write_enable(false);
+        return;
+    }
+    has_next_ = false;
+    if (c == MultiStepEngine::AT_REST) {
+        done_ = false;
+        MultiStepEngine::open_move(axis_, false);
+    }
+}
+
 /* ---- state ---- */
 /* one-byte reads: no lock, so that a loop() polling it leaves the planner interrupt alone */
 bool Stepper::isRunning() const
 {
-    return has_next_ || group_ != 0 || MultiStepEngine::moving(axis_);
+    return req_ == REQ_MOVE || has_next_ || group_ != 0 || MultiStepEngine::moving(axis_);
 }
 
 long Stepper::currentPosition() const
@@ -207,7 +233,7 @@ motion_status_t Stepper::setCurrentPosition(long position)
     if (!begun_)
         return MS_ERR_NULL;
     PlannerLock lock;
-    if (has_next_ || group_ || MultiStepEngine::moving(axis_))
+    if (req_ != REQ_NONE || has_next_ || group_ || MultiStepEngine::moving(axis_))
         return MS_ERR_BUSY;
     MultiStepEngine::set_rest_position(axis_, p);
     step_planner_halt(&planner_, p);
@@ -221,7 +247,7 @@ long Stepper::targetPosition() const
         return 0;
     if (group_)
         return to_user(group_->target_of(axis_));
-    return to_user(has_next_ ? next_target_ : step_planner_target(&planner_));
+    return to_user(req_ == REQ_MOVE ? req_target_ : has_next_ ? next_target_ : step_planner_target(&planner_));
 }
 
 float Stepper::speed() const

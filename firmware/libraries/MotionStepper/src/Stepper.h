@@ -67,7 +67,8 @@ public:
 
     /* Move to an absolute position / by a distance (from the target in force, as AccelStepper's move).
      * While moving, the move continues from its speed to the new target (no stop in between when
-     * it lies ahead beyond the stopping distance); MS_ERR_BUSY while in a StepperGroup's move. */
+     * it lies ahead beyond the stopping distance); MS_ERR_BUSY while in a StepperGroup's move.
+     * Returns at once (a few microseconds): the planner interrupt plans the move at its next tick. */
     motion_status_t moveTo(long target);
     motion_status_t move(long distance);
     /* Decelerate to rest at the acceleration in force (after the steps already queued: the lead). */
@@ -86,6 +87,10 @@ public:
     /* The end of a move: true once for each move that came to rest (a move replaced by a new
      * target does not end), with where it ended. Call it from loop(). */
     bool takeDone(long &position);
+    /* The status of the last move planned (moveTo/move are planned by the planner interrupt within
+     * a millisecond or so of the call, after their checks: a plan the exact planner refuses there,
+     * which valid parameters never give, leaves the axis as it was and shows here). */
+    motion_status_t lastStatus() const { return last_status_; }
     /* Steps the queue ran dry before they were planned (0 on a healthy machine). */
     uint16_t underruns() const;
 
@@ -108,7 +113,9 @@ public:
 private:
     friend class BackgroundPlanner;
     friend class StepperGroup;
+    enum { REQ_NONE, REQ_MOVE, REQ_STOP };
     AxisSource source();
+    void run_request(); /* planner interrupt: carries out req_ */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
     void record_done(int32_t engine_position);
     void write_enable(bool on);
@@ -128,8 +135,11 @@ private:
     bool auto_disable_;
     volatile bool done_;
     volatile bool has_next_;
-    int32_t done_pos_;   /* engine coordinates */
+    volatile uint8_t req_; /* REQ_*: what loop() asked the planner interrupt to do */
+    int32_t done_pos_;    /* engine coordinates */
     int32_t next_target_; /* engine coordinates: the target accepted while the last steps ran */
+    int32_t req_target_;  /* engine coordinates: REQ_MOVE's target */
+    motion_status_t last_status_;
     DirectionHook hook_;
     StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */
     ramp_params_t params_;

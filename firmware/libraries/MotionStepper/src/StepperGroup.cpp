@@ -8,7 +8,9 @@
 #include "BackgroundPlanner.h"
 #include "Stepper.h"
 
-StepperGroup::StepperGroup(Stepper &a, Stepper &b) : n_(2), mask_(0), own_(0), ended_(0), starting_(false), done_(false)
+StepperGroup::StepperGroup(Stepper &a, Stepper &b)
+    : n_(2), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
+      last_status_(MS_OK)
 {
     member_[0] = &a;
     member_[1] = &b;
@@ -16,7 +18,8 @@ StepperGroup::StepperGroup(Stepper &a, Stepper &b) : n_(2), mask_(0), own_(0), e
 }
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b, Stepper &c)
-    : n_(3), mask_(0), own_(0), ended_(0), starting_(false), done_(false)
+    : n_(3), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
+      last_status_(MS_OK)
 {
     member_[0] = &a;
     member_[1] = &b;
@@ -69,12 +72,11 @@ motion_status_t StepperGroup::moveTo(long a, long b, long c)
     return move_all(t, 3);
 }
 
+/* loop(): the checks and the request; the plan (milliseconds per axis) is made by the planner
+ * interrupt (execute_plan) */
 motion_status_t StepperGroup::move_all(const long *targets, uint8_t given)
 {
-    int32_t from[STEP_COORD_MAX_AXES], to[STEP_COORD_MAX_AXES];
-    ramp_params_t p[STEP_COORD_MAX_AXES];
     uint8_t mask = 0;
-    motion_status_t st;
     for (uint8_t j = 0; j < n_; j++) {
         if (!member_[j]->begun_)
             return MS_ERR_NULL;
@@ -82,36 +84,91 @@ motion_status_t StepperGroup::move_all(const long *targets, uint8_t given)
             if (member_[k]->axis_ == member_[j]->axis_)
                 return MS_ERR_BUSY; /* the same axis twice */
     }
-    {
-        PlannerLock lock;
-        for (uint8_t j = 0; j < n_; j++) {
-            Stepper &s = *member_[j];
-            if (s.isRunning())
-                return MS_ERR_BUSY;
-            from[j] = MultiStepEngine::position(s.axis_);
-            to[j] = j < given ? s.to_engine(targets[j]) : from[j];
-            p[j] = s.params_;
-            if (to[j] != from[j])
-                mask |= (uint8_t)(1U << j);
-        }
+    PlannerLock lock;
+    for (uint8_t j = 0; j < n_; j++) {
+        Stepper &s = *member_[j];
+        int32_t from;
+        if (s.isRunning())
+            return MS_ERR_BUSY;
+        from = MultiStepEngine::position(s.axis_);
+        req_to_[j] = j < given ? s.to_engine(targets[j]) : from;
+        if (req_to_[j] != from)
+            mask |= (uint8_t)(1U << j);
     }
+    done_ = false;
     if (mask == 0) {
         /* every member is there already: nothing moves, and the move is done at once */
         done_ = true;
+        last_status_ = MS_OK;
         return MS_OK;
     }
-    /* the plan (the costly part) with the planner interrupt running: nothing it reads changes here,
-     * the members being idle and coord_ this group's own */
-    st = step_coord_plan(&coord_, n_, p, from, to);
-    if (st != MS_OK)
-        return st;
-    PlannerLock lock;
-    for (uint8_t j = 0; j < n_; j++)
-        if (member_[j]->isRunning())
-            return MS_ERR_BUSY; /* cannot happen from loop(): nothing starts a move in between */
+    for (uint8_t j = 0; j < n_; j++) {
+        ref_[j].repeats = 0xFF;
+        ref_[j].clones = 0;
+        if (!(mask & (1U << j)))
+            continue;
+        Stepper &s = *member_[j];
+        s.has_next_ = false;
+        s.done_ = false;
+        if (s.auto_disable_)
+            s.write_enable(true);
+        s.group_ = this;
+    }
+    own_ = 0;
+    starting_ = false;
     mask_ = mask;
+    plan_req_ = true;
+    return MS_OK;
+}
+
+/* the moving members back on their own, nothing moved (a plan refused, or a stop before it ran) */
+void StepperGroup::release()
+{
+    for (uint8_t j = 0; j < n_; j++) {
+        Stepper &s = *member_[j];
+        if (!(mask_ & (1U << j)))
+            continue;
+        s.group_ = 0;
+        if (s.auto_disable_)
+            s.write_enable(false);
+    }
+    mask_ = 0;
+    own_ = 0;
+    plan_req_ = false;
+    starting_ = false;
+    done_ = true;
+}
+
+/* planner interrupt: loop()'s requests */
+void StepperGroup::run_request()
+{
+    if (plan_req_) {
+        plan_req_ = false;
+        execute_plan();
+    }
+    if (stop_req_) {
+        stop_req_ = false;
+        do_stop();
+    }
+}
+
+void StepperGroup::execute_plan()
+{
+    int32_t from[STEP_COORD_MAX_AXES];
+    ramp_params_t p[STEP_COORD_MAX_AXES];
+    uint8_t mask = mask_;
+    motion_status_t st;
+    for (uint8_t j = 0; j < n_; j++) {
+        from[j] = MultiStepEngine::position(member_[j]->axis_);
+        p[j] = member_[j]->params_;
+    }
+    st = step_coord_plan(&coord_, n_, p, from, req_to_);
+    last_status_ = st;
+    if (st != MS_OK) {
+        release();
+        return;
+    }
     ended_ = 0;
-    done_ = false;
     for (uint8_t j = 0; j < n_; j++) {
         uint8_t m = coord_.master;
         ref_[j].group = this;
@@ -131,18 +188,12 @@ motion_status_t StepperGroup::move_all(const long *targets, uint8_t given)
         Stepper &s = *member_[j];
         if (!(mask & (1U << j)))
             continue;
-        s.has_next_ = false;
-        s.done_ = false;
-        if (s.auto_disable_)
-            s.write_enable(true);
-        s.group_ = this;
         if (ref_[j].repeats != 0xFF)
-            MultiStepEngine::follow(member_[ref_[j].repeats]->axis_, s.axis_, to[j] > from[j]);
+            MultiStepEngine::follow(member_[ref_[j].repeats]->axis_, s.axis_, req_to_[j] > from[j]);
         else
             MultiStepEngine::open_move(s.axis_, true);
     }
     starting_ = true;
-    return MS_OK;
 }
 
 /* planner interrupt: start the own axes together once each has its first commands */
@@ -212,6 +263,19 @@ motion_status_t StepperGroup::stop()
     PlannerLock lock;
     if (mask_ == 0)
         return MS_OK;
+    if (plan_req_) {
+        release(); /* not planned yet: nothing moves */
+        return MS_OK;
+    }
+    stop_req_ = true; /* a replan of every axis: the planner interrupt makes it */
+    return MS_OK;
+}
+
+/* planner interrupt */
+void StepperGroup::do_stop()
+{
+    if (mask_ == 0)
+        return;
     if (starting_) {
         /* not started yet: nothing has stepped, stand still */
         for (uint8_t j = 0; j < n_; j++)
@@ -221,7 +285,7 @@ motion_status_t StepperGroup::stop()
                 step_coord_halt(&coord_, j, MultiStepEngine::position(a));
             }
         starting_ = false;
-        return MS_OK;
+        return;
     }
     uint8_t m = coord_.master;
     bool back[STEP_COORD_MAX_AXES];
@@ -237,7 +301,6 @@ motion_status_t StepperGroup::stop()
             coord_.to[j] = back[j] ? coord_.from[j] - k : coord_.from[j] + k;
         }
     }
-    return MS_OK;
 }
 
 motion_status_t StepperGroup::forceStop()
@@ -245,6 +308,11 @@ motion_status_t StepperGroup::forceStop()
     PlannerLock lock;
     if (mask_ == 0)
         return MS_OK;
+    stop_req_ = false;
+    if (plan_req_) {
+        release();
+        return MS_OK;
+    }
     for (uint8_t j = 0; j < n_; j++) {
         if (!(own_ & (1U << j)))
             continue;
@@ -283,7 +351,9 @@ int32_t StepperGroup::position_of(uint8_t axis)
 int32_t StepperGroup::target_of(uint8_t axis)
 {
     int8_t j = index_of(axis);
-    return j >= 0 ? step_coord_target(&coord_, (uint8_t)j) : MultiStepEngine::position(axis);
+    if (j < 0)
+        return MultiStepEngine::position(axis);
+    return plan_req_ ? req_to_[j] : step_coord_target(&coord_, (uint8_t)j);
 }
 
 /* the engine axis whose interrupt steps this member, and whether its direction is the opposite */

@@ -7,12 +7,12 @@
  *   StepperGroup xy(x, y);   xy.moveTo(4000, 1000);   while (xy.isRunning()) ...
  *
  * moveTo refuses (nothing moves): MS_ERR_NULL before every member's begin(), MS_ERR_BUSY while a
- * member is moving (alone or in a group's move), MS_ERR_COORD_RATIO when an axis moves too few steps
- * for the longest (step_coord.h's limit), MS_ERR_OUT_OF_RANGE for three targets to a group of two.
+ * member is moving (alone or in a group's move), MS_ERR_OUT_OF_RANGE for three targets to a group of
+ * two. It returns at once: the plan is made by the planner interrupt at its next tick, and a plan
+ * refused there (MS_ERR_COORD_RATIO: an axis moves too few steps for the longest, step_coord.h's
+ * limit) ends the move at once without a step: takeDone() is true and lastStatus() tells why.
  * While the move runs, a member's moveTo is refused (MS_ERR_BUSY) and its stop()/forceStop() stop the
  * whole group (stop: every axis decelerates to rest on the line, within a step).
- * Cost: moveTo plans the move in the caller (loop()): one 96-by-32-bit division per axis; the
- * planner interrupt keeps running meanwhile (docs/library.md has the measured time).
  */
 #ifndef MOTION_STEPPER_STEPPER_GROUP_H
 #define MOTION_STEPPER_STEPPER_GROUP_H
@@ -42,6 +42,9 @@ public:
     /* true once when a move of the group has ended (every axis at rest); positions: each member's
      * currentPosition(). */
     bool takeDone();
+    /* The status of the last move's plan (made by the planner interrupt within a millisecond or
+     * so of moveTo: MS_ERR_COORD_RATIO shows here, the move then ended at once with no step). */
+    motion_status_t lastStatus() const { return last_status_; }
 
 private:
     friend class Stepper;
@@ -60,6 +63,10 @@ private:
     int32_t target_of(uint8_t axis);
     uint8_t interrupt_of(uint8_t axis, bool &flip);
     void poll_start();
+    void run_request();
+    void execute_plan();
+    void do_stop();
+    void release();
     void axis_done(uint8_t axis, int32_t position);
     int32_t follower_position(uint8_t j, int32_t master_pos);
     static uint8_t coord_next(void *ctx, step_cmd_t *c);
@@ -74,6 +81,10 @@ private:
     uint8_t ended_;   /* members whose part has ended */
     volatile bool starting_; /* held until every own axis has its first commands */
     volatile bool done_;
+    volatile bool plan_req_; /* loop() asked for a move: the planner interrupt plans it */
+    volatile bool stop_req_; /* loop() asked for a stop */
+    motion_status_t last_status_;
+    int32_t req_to_[STEP_COORD_MAX_AXES];
     int32_t end_[STEP_COORD_MAX_AXES];
 };
 

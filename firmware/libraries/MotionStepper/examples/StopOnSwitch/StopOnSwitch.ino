@@ -1,0 +1,72 @@
+/* StopOnSwitch - limit switches read in loop(): the RAMPS X axis runs towards a far target; when
+ * the STOP switch closes it decelerates to rest (stop()), when the HALT switch closes it stops at
+ * once (forceStop()). After each end it sets off the other way. Serial Monitor at 9600 baud.
+ *
+ * Wiring: each switch between its pin and GND (the pin's pull-up holds it high while open). The
+ * pins are read through the ADC (A3 and A4, on the RAMPS AUX-1 header), a closed switch reading
+ * below half scale: the ATmega2560 emulator drives them with its 'adc' script command
+ * (test/emu/checks_library.py). digitalRead() on the RAMPS endstop pins (D3, D2, ...) works the same.
+ */
+#include <MotionStepper.h>
+
+Stepper x(Stepper::X);
+static const uint8_t STOP_PIN = A3;
+static const uint8_t HALT_PIN = A4;
+static const long FAR = 1000000L;
+static bool stop_was = false, halt_was = false;
+static long direction = 1;
+
+static bool closed(uint8_t pin)
+{
+    return analogRead(pin) < 512;
+}
+
+static void set_off()
+{
+    Serial.print(F("MOVE towards "));
+    Serial.println(direction * FAR);
+    motion_status_t st = x.moveTo(direction * FAR);
+    if (st != MS_OK) {
+        Serial.print(F("ERR "));
+        Serial.println(Stepper::statusText(st));
+    }
+}
+
+void setup()
+{
+    Serial.begin(9600);
+    pinMode(STOP_PIN, INPUT_PULLUP);
+    pinMode(HALT_PIN, INPUT_PULLUP);
+    x.setMaxSpeed(20000);
+    x.setAcceleration(50000);
+    x.begin();
+    Serial.println(F("READY StopOnSwitch"));
+    set_off();
+}
+
+void loop()
+{
+    long at;
+    bool s = closed(STOP_PIN), h = closed(HALT_PIN);
+    if (s && !stop_was && x.isRunning()) {
+        x.stop();
+        Serial.print(F("STOP switch at "));
+        Serial.println(x.currentPosition());
+    }
+    if (h && !halt_was && x.isRunning()) {
+        x.forceStop();
+        Serial.print(F("HALT switch at "));
+        Serial.println(x.currentPosition());
+    }
+    stop_was = s;
+    halt_was = h;
+    if (x.takeDone(at)) {
+        Serial.print(F("DONE "));
+        Serial.print(at);
+        Serial.print(F(" underruns="));
+        Serial.println(x.underruns());
+        delay(200);
+        direction = -direction;
+        set_off();
+    }
+}
