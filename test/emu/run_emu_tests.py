@@ -3,7 +3,7 @@
 
 Each check runs build/motionemu on a firmware ELF (the harness self-test program, lib's PID module
 with the PID_v1 float32 vectors, lib's number parser with decimal words and their nearest floats,
-then every sketch under firmware/), compares what the firmware's pins and serial port did with motionsim
+then every sketch under firmware/ and the MotionStepper library's examples), compares what the firmware's pins and serial port did with motionsim
 and the sketches' documented behaviour, and prints
     ok N - <check>            (or "not ok N - <check>" followed by "# <problem>" lines)
     # summary: <check>: <figures>
@@ -38,6 +38,7 @@ import checks_sketches  # noqa: E402
 import checks_multiaxis  # noqa: E402
 import checks_serial  # noqa: E402
 import checks_reliability  # noqa: E402
+import checks_library  # noqa: E402
 
 
 def main(argv):
@@ -54,7 +55,7 @@ def main(argv):
 
     checks = (list(checks_selftest.CHECKS) + list(checks_pid.CHECKS) + list(checks_text_parse.CHECKS)
               + checks_sketches.checks_for(env) + checks_multiaxis.checks_for(env) + checks_serial.checks_for(env)
-              + checks_reliability.checks_for(env))
+              + checks_reliability.checks_for(env) + checks_library.checks_for(env))
     checks = [(n, f) for n, f in checks if a.only in n]
     if a.list:
         for n, _ in checks:

@@ -1,0 +1,342 @@
+"""Emulator checks of the MotionStepper library's examples (firmware/libraries/MotionStepper/examples,
+built by tools/build_firmware.sh into build/firmware/<Example>/): issue 23's API, background planning
+and examples.
+
+The expectations come from outside the library:
+  - the constant-acceleration law of a move from rest (v0 = 0) of D steps at vmax v and accel a:
+    step n at t(n) = sqrt(2 n / a) while accelerating (n <= v^2 / 2a), then t(n1) + (n - n1) / v,
+    and T_end - sqrt(2 (D - n) / a) while decelerating, T_end = 2 v / a + (D - v^2 / a) / v
+    (the lab handout's uniform acceleration; step_exact.h plans every edge within 1 tick of it);
+  - the straight line of a coordinated move: at every step edge each axis is within one step of
+    the line from the start to the target (step_coord.h's bound, issue 23);
+  - a stop from the speed v at a decelerates over v^2 / 2a steps; a halt makes no step after it;
+  - the examples' own sketches (what they move where, at which parameters) and their serial lines.
+Edges are late, never early: the step interrupts wait for the core's millis and serial interrupts
+and the planner tick's few dozen cycles of entry; LATE_BOUND is the single-axis bound
+(checks_sketches.STEPPER_OTHER_ISR_CYCLES).
+"""
+import bisect
+import math
+import os
+import re
+
+import emulog
+import sketches
+from checks_selftest import CheckResult
+from emulog import F_CPU
+
+LATE_BOUND = 260  # cycles an edge may come after its plan (another interrupt running)
+LEAD_MS = 10      # BackgroundPlanner.h's MOTION_STEPPER_LEAD_MS
+LIB_EXAMPLES = os.path.join("firmware", "libraries", "MotionStepper", "examples")
+
+
+def law(D, v, a):
+    """t(n), n = 1..D, seconds, of a move from rest of D steps (vmax v, accel a, v0 = 0)"""
+    n1 = v * v / (2 * a)
+    if 2 * n1 >= D:  # a triangle: accelerate to the middle, decelerate from it
+        n1 = D / 2.0
+        t_end = 2 * math.sqrt(2 * n1 / a)
+    else:
+        t_end = 2 * v / a + (D - 2 * n1) / v
+    out = []
+    for n in range(1, D + 1):
+        if n <= n1:
+            out.append(math.sqrt(2 * n / a))
+        elif n < D - n1:
+            out.append(math.sqrt(2 * n1 / a) + (n - n1) / v)
+        else:
+            out.append(t_end - math.sqrt(2 * (D - n) / a))
+    return out
+
+
+def law_errors(edges, times):
+    """edge cycles against the law's times (s), aligned at the earliest (an edge is late, never early):
+    (worst late, worst early beyond 2 ticks, index of the worst)"""
+    errs = [g - t * F_CPU for g, t in zip(edges, times)]
+    t0 = min(errs)
+    errs = [e - t0 for e in errs]
+    worst = max(range(len(errs)), key=lambda i: errs[i])
+    return errs[worst], worst + 1
+
+
+def elf_of(env, name):
+    path = os.path.join(env.firmware_dir, name, name + ".ino.elf")
+    if not os.path.isfile(path):
+        raise sketches.SketchError(f"{path} is missing: build it (tools/build_firmware.sh {LIB_EXAMPLES}/{name})")
+    return path
+
+
+def run(env, name, script):
+    return emulog.run(elf_of(env, name), script, pins=sketches.multiaxis_pins(env), timeout=600)
+
+
+def common(log, problems):
+    for c, k, t in log.fails:
+        problems.append(f"harness reported {k} at {c / F_CPU:.4f} s: {t}")
+
+
+def check_move(log, problems, axis, e, frm, to, v, acc, what):
+    """the edges e of one move: count, DIR, ENABLE, the law; returns the worst late edge"""
+    D = abs(to - frm)
+    if len(e) != D:
+        problems.append(f"{what}: {len(e)} {axis} steps, expected |{to} - {frm}| = {D}")
+        return 0
+    fwd = to > frm
+    if log.level_before(axis + "DIR", e[0]) != (1 if fwd else 0):
+        problems.append(f"{what}: {axis} DIR {'low' if fwd else 'high'} at the first step (counting "
+                        f"{'up' if fwd else 'down'} needs it {'high' if fwd else 'low'})")
+    if any(log.level_before(axis + "DIR", c) != (1 if fwd else 0) for c in e):
+        problems.append(f"{what}: {axis} DIR changed during the move")
+    if log.level_before(axis + "ENABLE", e[0]) != 0:
+        problems.append(f"{what}: {axis} ENABLE high at the first step (the RAMPS driver enabled low)")
+    late, at = law_errors(e, law(D, v, acc))
+    if late > LATE_BOUND + 2:
+        problems.append(f"{what}: step {at} is {late:.0f} cycles after the constant-acceleration law "
+                        f"(bound {LATE_BOUND} + 2)")
+    return late
+
+
+def line_of(log, pattern, after=0):
+    ls = log.lines_matching(pattern, after)
+    return ls[0] if ls else None
+
+
+# ---- MoveAndBack ----------------------------------------------------------------------------
+
+def check_move_and_back(env):
+    """X to 10000 and back at 20,000 steps/s, 50,000 steps/s^2 (MoveAndBack.ino)"""
+    log = run(env, "MoveAndBack", "wait ^READY MoveAndBack$\ntimeout 20000\nwait ^FINISHED$\n")
+    problems = []
+    common(log, problems)
+    out = line_of(log, r"^moveTo 10000$")
+    back = line_of(log, r"^moveTo 0$")
+    done = log.lines_matching(r"^DONE ")
+    if not (out and back and len(done) == 2):
+        problems.append(f"expected 'moveTo 10000', 'moveTo 0' and two DONE lines; got {[l.text for l in log.rx]}")
+        return CheckResult(False, "no conversation", problems)
+    for d, want in zip(done, ("DONE 10000 underruns=0", "DONE 0 underruns=0")):
+        if d.text != want:
+            problems.append(f"'{d.text}', expected '{want}'")
+    # the moves follow each other (the second starts at the first's end, while its DONE line is still
+    # being sent): the first 10000 edges are the way out
+    e = log.rising("XSTEP")
+    n = len(e)
+    if n != 20000:
+        problems.append(f"{n} X steps, expected 10000 out and 10000 back")
+    late1 = check_move(log, problems, "X", e[:10000], 0, 10000, 20000, 50000, "out")
+    late2 = check_move(log, problems, "X", e[10000:], 10000, 0, 20000, 50000, "back")
+    return CheckResult(not problems, f"{n} steps (10000 out, 10000 back), every edge on the constant-acceleration "
+                       f"law within 2 ticks + {max(late1, late2):.0f} cycles late at most, DIR high/low, "
+                       f"0 underruns", problems)
+
+
+# ---- BlockingLoop ---------------------------------------------------------------------------
+
+def check_blocking_loop(env):
+    """20,000 steps at 20,000 steps/s while loop() is in delay(1000) (BlockingLoop.ino)"""
+    log = run(env, "BlockingLoop", "wait ^READY BlockingLoop$\ntimeout 20000\nwait ^DONE\n")
+    problems = []
+    common(log, problems)
+    done = line_of(log, r"^DONE ")
+    if not done or done.text != "DONE 20000 underruns=0":
+        problems.append(f"expected 'DONE 20000 underruns=0', got {done.text if done else None!r}")
+    e = log.rising("XSTEP")
+    polls = log.lines_matching(r"^pos=")
+    inside = [l for l in polls if e and l.cycle < e[-1]]
+    if not inside:
+        problems.append("no 'pos=' line while the move ran: loop() was not blocked in delay() during it")
+    late = check_move(log, problems, "X", e, 0, 20000, 20000, 50000, "move")
+    cruise = [b - a for a, b in zip(e[4001:15999], e[4002:16000])] if len(e) == 20000 else []
+    if cruise and (min(cruise) < 800 - LATE_BOUND - 2 or max(cruise) > 800 + LATE_BOUND + 2):
+        problems.append(f"cruise intervals {min(cruise)}..{max(cruise)} cycles, expected F/20000 = 800 "
+                        f"within {LATE_BOUND} + 2")
+    return CheckResult(not problems, f"{len(e)} steps at 20,000 steps/s with loop() in delay(1000) "
+                       f"({len(inside)} loop() pass(es) during the move), 0 underruns, edges at most "
+                       f"{late:.0f} cycles after the law", problems)
+
+
+# ---- TwoAxesLine ----------------------------------------------------------------------------
+
+TWO_AXES_LEGS = ((0, 0), (4000, 1500), (1000, 3000), (0, 0))  # TwoAxesLine.ino's TARGETS from (0, 0)
+TWO_AXES_VMAX = {"X": 10000.0, "Y": 5000.0}
+
+
+def positions(log, axis, frm, edges):
+    """[(cycle, position after the edge)] of an axis's edges, counted by DIR"""
+    out = []
+    p = frm
+    for c in edges:
+        p += 1 if log.level_before(axis + "DIR", c) == 1 else -1
+        out.append((c, p))
+    return out
+
+
+def check_two_axes_line(env):
+    """the StepperGroup's straight lines (TwoAxesLine.ino)"""
+    log = run(env, "TwoAxesLine", "wait ^READY TwoAxesLine$\ntimeout 20000\nwait ^FINISHED$\n")
+    problems = []
+    common(log, problems)
+    starts = log.lines_matching(r"^moveTo ")
+    dones = log.lines_matching(r"^DONE x=")
+    if len(starts) != 3 or len(dones) != 3:
+        return CheckResult(False, "no conversation", [f"expected 3 moveTo and 3 DONE lines; got "
+                                                      f"{[l.text for l in log.rx]}"])
+    worst = 0.0
+    min_iv = {"X": 1 << 30, "Y": 1 << 30}
+    # the legs follow each other (each starts at the end of the one before): split the edges by count
+    ex, ey = log.rising("XSTEP"), log.rising("YSTEP")
+    nx = [abs(TWO_AXES_LEGS[k + 1][0] - TWO_AXES_LEGS[k][0]) for k in range(3)]
+    ny = [abs(TWO_AXES_LEGS[k + 1][1] - TWO_AXES_LEGS[k][1]) for k in range(3)]
+    if len(ex) != sum(nx) or len(ey) != sum(ny):
+        problems.append(f"{len(ex)} X and {len(ey)} Y steps, expected {sum(nx)} and {sum(ny)}")
+        return CheckResult(False, "steps missing or extra", problems)
+    for k in range(3):
+        (x0, y0), (x1, y1) = TWO_AXES_LEGS[k], TWO_AXES_LEGS[k + 1]
+        want = f"DONE x={x1} y={y1} underruns=0"
+        if dones[k].text != want:
+            problems.append(f"leg {k + 1}: '{dones[k].text}', expected '{want}'")
+        px = positions(log, "X", x0, ex[sum(nx[:k]):sum(nx[:k + 1])])
+        py = positions(log, "Y", y0, ey[sum(ny[:k]):sum(ny[:k + 1])])
+        if px[-1][1] != x1 or py[-1][1] != y1:
+            problems.append(f"leg {k + 1}: ends at ({px[-1][1]}, {py[-1][1]}) by the pins, expected ({x1}, {y1})")
+        # every edge of either axis: the other axis within one step of the line (step_coord.h: each
+        # axis within 1 step of D_i s(t); at an edge the stepping axis is exactly on it), plus what
+        # the other moves while an edge of it may be late (LATE_BOUND cycles at its vmax)
+        xs = [c for c, _ in px]
+        ys = [c for c, _ in py]
+        dx, dy = x1 - x0, y1 - y0
+        for me, other, mine, theirs, d_me, d_other, o0, m0 in (("Y", "X", py, xs, dy, dx, x0, y0),
+                                                               ("X", "Y", px, ys, dx, dy, y0, x0)):
+            slack = 1.0 + TWO_AXES_VMAX[other] * LATE_BOUND / F_CPU
+            ops = px if other == "X" else py
+            for c, p in mine:
+                i = bisect.bisect_right(theirs, c)
+                o = ops[i - 1][1] if i else o0
+                dev = abs((o - o0) - (p - m0) * d_other / d_me)
+                worst = max(worst, dev)
+                if dev > slack:
+                    problems.append(f"leg {k + 1}: {me} edge at {c / F_CPU:.6f} s ({me} at {p}): {other} at {o} is "
+                                    f"{dev:.3f} steps off the line (bound {slack:.3f})")
+                    break
+        for ax, ts in (("X", xs), ("Y", ys)):
+            if len(ts) > 1:
+                min_iv[ax] = min(min_iv[ax], min(q - p for p, q in zip(ts, ts[1:])))
+    for ax, v in TWO_AXES_VMAX.items():
+        floor = F_CPU / v - LATE_BOUND - 2
+        if min_iv[ax] < floor:
+            problems.append(f"{ax}: an interval of {min_iv[ax]} cycles, above its vmax {v:.0f} steps/s "
+                            f"(F/vmax = {F_CPU / v:.0f} cycles, less {LATE_BOUND} + 2 for a late edge before it)")
+    return CheckResult(not problems, f"3 legs, at every edge of either axis the other within {worst:.3f} steps "
+                       f"of the line (bound 1 + a late edge's travel), shortest intervals X {min_iv['X']} / Y {min_iv['Y']} cycles (vmax: 1600 / "
+                       f"3200), 0 underruns", problems)
+
+
+# ---- StopOnSwitch ---------------------------------------------------------------------------
+
+STOP_SCRIPT = """\
+adc 3 5
+adc 4 5
+wait ^READY StopOnSwitch$
+wait ^MOVE towards 1000000$
+run 600
+adc 3 0
+timeout 20000
+wait ^DONE
+adc 3 5
+wait ^MOVE towards -1000000$
+run 300
+adc 4 0
+wait ^DONE
+adc 4 5
+wait ^MOVE
+"""
+
+
+def check_stop_on_switch(env):
+    """stop() at one switch, forceStop() at the other (StopOnSwitch.ino): the deceleration's length and
+    law, the latency from the switch, no step after a halt"""
+    log = run(env, "StopOnSwitch", STOP_SCRIPT)
+    problems = []
+    common(log, problems)
+    adc = [(c, r.split()) for c, t, r in log.events if t == "adc"]
+    closes = [c for c, w in adc if w[1] == "0"]
+    dones = log.lines_matching(r"^DONE ")
+    if len(closes) != 2 or len(dones) < 2:
+        return CheckResult(False, "no conversation", [f"switches closed at {closes}, lines "
+                                                      f"{[l.text for l in log.rx]}"])
+    v, a = 20000.0, 50000.0
+    e = log.rising("XSTEP")
+    # the stop: every step after the switch; the last v^2/2a of them are the deceleration
+    t_sw = closes[0]
+    after = [c for c in e if t_sw < c < dones[0].cycle]
+    before = len([c for c in e if c <= t_sw])
+    m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", dones[0].text)
+    n_dec = int(v * v / (2 * a))
+    latency_ms = None
+    if not m or int(m.group(1)) != before + len(after) or m.group(2) != "0":
+        problems.append(f"stop: '{dones[0].text}', expected 'DONE {before + len(after)} underruns=0' (the steps made)")
+    elif len(after) < n_dec:
+        problems.append(f"stop: {len(after)} steps after the switch, fewer than the deceleration's v^2/2a = {n_dec}")
+    else:
+        dec = after[-n_dec:]
+        start = after[-n_dec - 1]  # the last edge of the cruise
+        latency_ms = (start - t_sw) * 1000.0 / F_CPU
+        # the deceleration from v: t(n) = T_end - sqrt(2 (n_dec - n) / a), the cruise edge before it at T_end - v/a
+        times = [v / a - math.sqrt(2 * (n_dec - n) / a) for n in range(1, n_dec + 1)]
+        late, at = law_errors([start] + dec, [0.0] + times)
+        if late > LATE_BOUND + 2:
+            problems.append(f"stop: deceleration step {at} is {late:.0f} cycles off the law (bound {LATE_BOUND} + 2)")
+        cruise = [q - p for p, q in zip(after, after[1:len(after) - n_dec])]
+        if cruise and max(cruise) > F_CPU / v + LATE_BOUND + 2:
+            problems.append(f"stop: an interval of {max(cruise)} cycles before the deceleration (a velocity jump)")
+        if latency_ms > LEAD_MS + 3:
+            problems.append(f"stop: the deceleration began {latency_ms:.2f} ms after the switch, more than the "
+                            f"lead {LEAD_MS} ms + a command + a tick + loop()'s poll (3 ms)")
+    # the halt: no step after the switch (loop() reads two ADC channels per pass: <= 0.5 ms)
+    t_h = closes[1]
+    after_h = [c for c in e if t_h < c < dones[1].cycle]
+    halt_us = ((after_h[-1] - t_h) * 1e6 / F_CPU) if after_h else 0.0
+    hl = line_of(log, r"^HALT switch at ", t_h)
+    m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", dones[1].text)
+    pos = int(m.group(1)) if m else None
+    made = sum(1 if log.level_before("XDIR", c) else -1 for c in e if c < dones[1].cycle)
+    if not m or pos != made or m.group(2) != "0":
+        problems.append(f"halt: '{dones[1].text}', expected 'DONE {made} underruns=0' (the steps made)")
+    if halt_us > 1000:
+        problems.append(f"halt: steps until {halt_us:.0f} us after the switch (bound 1 ms)")
+    if hl is None:
+        problems.append("halt: no 'HALT switch at' line")
+    if not any(log.level_before("XDIR", c) == 0 for c in after_h or e[-1:]):
+        problems.append("halt: the move back did not step with DIR low")
+    figs = (f"stop: deceleration from 20,000 steps/s began {latency_ms:.2f} ms after the switch "
+            f"(lead {LEAD_MS} ms), v^2/2a = {n_dec} steps on the law; halt: last step {halt_us:.0f} us after "
+            f"the switch" if latency_ms is not None else "stop not measured")
+    return CheckResult(not problems, figs, problems)
+
+
+CHECKS_BY_EXAMPLE = (
+    ("MoveAndBack", "X to 10000 and back at 20,000 steps/s: positions, DIR, ENABLE, no underrun, the "
+                    "constant-acceleration law", check_move_and_back),
+    ("TwoAxesLine", "StepperGroup: at every X and Y edge the other axis within one step of the line, each "
+                    "axis's vmax held", check_two_axes_line),
+    ("StopOnSwitch", "stop() at a switch (latency, deceleration law), forceStop() at another (no step "
+                     "after)", check_stop_on_switch),
+    ("BlockingLoop", "delay(1000) in loop(): 20,000 steps at 20,000 steps/s, 0 underruns", check_blocking_loop),
+)
+
+
+def guarded(fn, env):
+    try:
+        return fn(env)
+    except sketches.SketchError as e:
+        return CheckResult(False, "not run", [str(e)])
+
+
+def checks_for(env):
+    root = os.path.join(env.source_dir, LIB_EXAMPLES)
+    checks = []
+    for name, what, fn in CHECKS_BY_EXAMPLE:
+        if not os.path.isfile(os.path.join(root, name, name + ".ino")):
+            continue
+        checks.append((f"MotionStepper library {name}: {what}", lambda fn=fn: guarded(fn, env)))
+    return checks
