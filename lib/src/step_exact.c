@@ -896,3 +896,185 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
         e->moving = 0;
     return 1;
 }
+
+/* ---- back to an earlier command boundary (step_exact_rewind) ---------------------------------- */
+
+int64_t step_exact_cmd_time16(const step_cmd_t *c)
+{
+    uint32_t l = c->count;
+    if (c->flags & STEP_CMD_WIDE)
+        return (int64_t)(mul32x32(c->rate, l) << 16);
+    /* sum of rate + (j - 1) add for j = 1..count */
+    return (int64_t)mul32x32(c->rate, l) + mul_s32_u32(c->add, l * (l - 1U) / 2U);
+}
+
+/* |acc16 - T(n)| the executor's timeline can be from the time law at a boundary: the planner keeps
+ * it within about a tick; more means n or acc16 is not one of the profile's boundaries */
+#define REWIND_ERR_MAX 0x100000L /* 16 ticks */
+
+/* y at a boundary of region A (nn: the step) or D (nn: the steps left) from its exact radicand q,
+ * as ramp_cmd works it out (the same float estimate, the same correction: the same bits) */
+static uint64_t y_at(const step_exact_t *s, uint64_t q, uint32_t nn, float *ih)
+{
+    float qf;
+    if (s->flags & F_SMALL) {
+        qf = (float)q;
+    } else {
+        float cn = s->k.cu_f * (float)nn;
+        qf = ((s->flags & F_IN_D) || !s->a_down) ? qbase_f(s) + cn : qbase_f(s) - cn;
+    }
+    return root_ih(q, qf, ih);
+}
+
+/* the span step_exact_next's loop arrives at, at step p of region A decelerating (the span fits
+ * while p + span < thr; the spans that fit only shrink as p grows, so it is the largest that fits) */
+static void fit_a_down(step_exact_t *s, uint32_t p, float ic)
+{
+    s->span_b = SEG_B;
+    s->thr = thr_a_down(s, ic);
+    while (s->span_b > 0U && !(p + SPAN(s->span_b) < s->thr)) {
+        s->span_b--;
+        s->thr = thr_a_down(s, ic);
+    }
+}
+
+/* the same in region D with m steps left (the span fits while m >= thr) */
+static void fit_d(step_exact_t *s, uint32_t m, float ic)
+{
+    s->span_b = SEG_B;
+    s->thr = thr_d(s, ic);
+    while (s->span_b > 0U && m < s->thr) {
+        s->span_b--;
+        s->thr = thr_d(s, ic);
+    }
+}
+
+/* log2 of a count of 1..2^SEG_B steps; SEG_B + 1 when it is no such power of two */
+static uint8_t span_of(uint16_t count)
+{
+    uint8_t b;
+    for (b = 0; b <= SEG_B; b++)
+        if (SPAN(b) == count)
+            return b;
+    return SEG_B + 1U;
+}
+
+/* the radicand region A left behind at step at (<= n1) */
+static uint64_t q_a(const step_exact_t *s, uint32_t at)
+{
+    uint64_t cl = mul64x32(s->k.cu, at), u2 = square64(s->us);
+    return s->a_down ? u2 - cl : u2 + cl;
+}
+
+uint8_t step_exact_profile_intact(const step_exact_t *e)
+{
+    step_exact_t s;
+    if (e == 0 || e->d == 0)
+        return 0;
+    /* the profile's constants again from its start (dir, d, us) */
+    s = *e;
+    setup_profile(&s, e->dir, e->d, e->us);
+    return s.n1 == e->n1 && s.n2 == e->n2 && s.up == e->up && s.t_end16 == e->t_end16 && s.a_down == e->a_down &&
+           fbits(s.zfit) == fbits(e->zfit) && fbits(s.f1p) == fbits(e->f1p) && s.ccap == e->ccap &&
+           s.clr == e->clr && s.cst_hi == e->cst_hi && s.cst_lo == e->cst_lo &&
+           (s.flags & (F_SMALL | F_CFAST)) == (e->flags & (F_SMALL | F_CFAST));
+}
+
+motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, uint16_t last_count)
+{
+    step_exact_t s;
+    uint32_t p;
+    uint8_t base, b;
+    uint64_t q_now;
+    int64_t t, er;
+    float ic, ih;
+    if (e == 0)
+        return MS_ERR_NULL;
+    if (e->d == 0 || (e->moving && e->n >= e->d) || n == 0 || n > e->n || last_count == 0 || last_count > n)
+        return MS_ERR_OUT_OF_RANGE;
+    s = *e;
+    base = (uint8_t)(s.flags & (F_SMALL | F_CFAST));
+    /* C (and v0) exactly as planned: the radicand of the state now */
+    if (e->flags & F_IN_D)
+        q_now = square64(e->k.u0) + mul64x32(e->k.cu, e->d - e->n);
+    else
+        q_now = q_a(e, e->n < e->n1 ? e->n : e->n1);
+    if (q_now != e->q)
+        return MS_ERR_OUT_OF_RANGE;
+    /* the state after the command of last_count steps from step p to step n */
+    p = n - last_count;
+    ic = 1.0f / s.k.cu_f;
+    b = span_of(last_count);
+    if (p < s.n1) {
+        /* region A: y, its slope and the span at step n */
+        if (n > s.n1 || b > SEG_B)
+            return MS_ERR_OUT_OF_RANGE;
+        s.flags = (uint8_t)(base | F_SLOPE | F_ERR);
+        s.q = q_a(&s, n);
+        s.y = y_at(&s, s.q, n, &ih);
+        s.slope_i = slope_int(s.k.cu_f * ih);
+        if (s.a_down) {
+            uint32_t lim = s.n1 - p;
+            fit_a_down(&s, p, ic);
+            if (b != (SPAN(s.span_b) > lim ? b_at_most(lim) : s.span_b)) {
+                if (b != 0U)
+                    return MS_ERR_OUT_OF_RANGE;
+                s.span_b = 0; /* the span did not fit the intervals: single steps from here on */
+                s.thr = UINT32_MAX;
+            }
+        } else {
+            /* the span grows by one a command at most, and a command has the span (or, near n1,
+             * fewer steps: then every later command of region A is as short as n1 - n allows,
+             * whatever the span; after a span that did not fit, 0 and growing again) */
+            s.span_b = b;
+            s.thr = thr_grow(&s, ic);
+        }
+        t = t16_y(&s, s.y);
+    } else if (p < s.n2) {
+        /* the cruise: T(n) = T(n1) + (n - n1) F/vmax, the fraction below 2^-16 ticks in cfrac */
+        if (n > s.n2 || last_count > s.ccap || (p == s.n1 && last_count != 1U))
+            return MS_ERR_OUT_OF_RANGE;
+        s.flags = (uint8_t)(base | F_ERR);
+        s.q = q_a(&s, s.n1);
+        s.y = 0;
+        s.cfrac = (uint16_t)mul64x32(s.k.p32, n - s.n1);
+        t = (int64_t)((s.a_down ? s.us - s.up : s.up - s.us) << 8) - (int64_t)s.f1p +
+            (int64_t)mulshr16(n - s.n1, s.k.p32);
+        /* span_b, thr and slope_i are not read in the cruise: region D sets its own */
+    } else {
+        /* region D */
+        uint32_t m = s.d - n, mp = s.d - p;
+        if (b > SEG_B)
+            return MS_ERR_OUT_OF_RANGE;
+        s.flags = (uint8_t)(base | F_IN_D | F_ERR);
+        s.q = square64(s.k.u0) + mul64x32(s.k.cu, m);
+        s.y = y_at(&s, s.q, m, &ih);
+        s.slope_i = slope_int(s.k.cu_f * ih);
+        if (p == s.n2) {
+            /* region D's first command: one step, the largest span next */
+            if (b != 0U)
+                return MS_ERR_OUT_OF_RANGE;
+            s.span_b = SEG_B;
+            s.thr = thr_d(&s, ic);
+        } else {
+            fit_d(&s, mp, ic);
+            if (b != (SPAN(s.span_b) > mp ? b_at_most(mp) : s.span_b)) {
+                if (b != 0U)
+                    return MS_ERR_OUT_OF_RANGE;
+                s.span_b = 0; /* as step_exact_next after a span that did not fit */
+                s.thr = 0;
+            }
+        }
+        t = t16_y(&s, s.y);
+    }
+    er = acc16 - t;
+    if (er > REWIND_ERR_MAX || er < -REWIND_ERR_MAX)
+        return MS_ERR_OUT_OF_RANGE;
+    s.err = (int32_t)er;
+    s.acc16 = acc16;
+    s.n = n;
+    s.pos = ramp_position_after(e->pos, (int8_t)-e->dir, e->n - n);
+    s.moving = n < s.d;
+    *e = s;
+    return MS_OK;
+}

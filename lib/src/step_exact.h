@@ -125,6 +125,36 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c);
 /* Speed after the last emitted step, steps/s (0 at rest). */
 float step_exact_speed_sps(const step_exact_t *e);
 
+/* The time command c takes in the executor (step_exec_next), 2^-16 ticks: count rate +
+ * add count (count - 1)/2, or for a WIDE command count rate 2^16 (exact below 2^47 ticks). The
+ * planner's acc16 grows by exactly this per command, from 0 at the profile's start. */
+int64_t step_exact_cmd_time16(const step_cmd_t *c);
+
+/* Back to an earlier command boundary of the profile in progress: the state right after the
+ * command that ended at step n of the profile (steps counted from its step_exact_plan or stop),
+ * as if the commands after it had never been emitted. acc16: the executor's time of step n from
+ * the profile's start, 2^-16 ticks = the sum of step_exact_cmd_time16 over the profile's commands
+ * up to step n = e->acc16 minus that sum over the commands dropped; last_count: the count of the
+ * command that ends at step n. From there step_exact_next, _stop, _plan and _change_params give
+ * the same commands, bit for bit, as on a planner that emitted only those commands: the state
+ * (y, the span, the error of the timeline...) is worked out from n in closed form, with one
+ * square root corrected by its exact residual (no replay). 1 <= last_count <= n <= e->n; n must
+ * be a command boundary of this profile. Refused, nothing changed (MS_ERR_OUT_OF_RANGE): no
+ * profile; n or last_count out of range or not a boundary the profile could have had; acc16 more
+ * than 16 ticks off the time law there; the profile ended by step_exact_change_params; C or v0
+ * not those it was planned with (checked exactly on the radicand). The constants must be the
+ * profile's: after a step_exact_set_params that may have changed them (a completed profile),
+ * ask step_exact_profile_intact first. A cut before the profile's first command boundary cannot
+ * be rewound here. Cost: one corrected square root (a float square root and division), one more
+ * float division, the span's thresholds (up to 8 of 2 float multiplications) and a few 64-bit
+ * products. */
+motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, uint16_t last_count);
+
+/* 1 when the profile's constants (from e->k) are still those it was planned with: it is planned
+ * again from its start on a copy and compared (the cost of a step_exact_plan: about 10 float
+ * divisions). 0 without a profile. */
+uint8_t step_exact_profile_intact(const step_exact_t *e);
+
 #ifdef __cplusplus
 }
 #endif

@@ -374,3 +374,21 @@ uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c)
         pl->active = 0;
     }
 }
+
+motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count)
+{
+    motion_status_t st;
+    if (pl == 0)
+        return MS_ERR_NULL;
+    if (pl->algo != RAMP_ALGO_EXACT)
+        return MS_ERR_UNKNOWN_COMMAND; /* not supported (yet) for the stepwise ramps */
+    /* k stays the profile's while it is handed out; after its last command a set may have changed it */
+    if (steps >= pl->exact.n || (!pl->active && !step_exact_profile_intact(&pl->exact)))
+        return MS_ERR_OUT_OF_RANGE;
+    st = step_exact_rewind(&pl->exact, pl->exact.n - steps, pl->exact.acc16 - time16, last_count);
+    if (st != MS_OK)
+        return st;
+    pl->pos = pl->exact.pos;
+    pl->active = 1; /* the profile has commands to hand out again (or ends at the next call) */
+    return MS_OK;
+}

@@ -85,6 +85,18 @@ void step_planner_halt(step_planner_t *pl, int32_t pos);
 /* The next command: 1 and *c, or 0 when nothing more is planned (the axis will be at rest). */
 uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c);
 
+/* Takes back the last `steps` steps handed out (the commands a step engine drops from its queue
+ * to act sooner on a stop or a new target), as if they had never been: then step_planner_stop,
+ * step_planner_move and step_planner_next give the same commands, bit for bit, as on a planner
+ * that handed out only the commands kept. time16: the time the dropped commands take in the
+ * executor, the sum of step_exact_cmd_time16 over them; last_count: the count of the last
+ * command kept. The exact ramp only (step_exact_rewind, which says what it refuses); the others
+ * return MS_ERR_UNKNOWN_COMMAND for now. The commands dropped must all be of the current profile
+ * and at least one of its commands must stay (steps < the profile's steps handed out): else
+ * MS_ERR_OUT_OF_RANGE, as when the profile has been handed out to its end and a set has changed
+ * the parameters since (step_exact_profile_intact). On error nothing changes. */
+motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count);
+
 /* Something is still to be handed out. */
 uint8_t step_planner_busy(const step_planner_t *pl);
 

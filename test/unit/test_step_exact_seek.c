@@ -1,0 +1,786 @@
+/* Unit tests: cutting the queued commands and replanning from the cut (step_exact_rewind,
+ * step_planner_rewind, step_exact_cmd_time16; issue 23 item 4, the planner's part).
+ * References: the executor itself (step_exec_next) for a command's time; a planner that never
+ * emitted the dropped commands (the same calls without them) for the commands after a rewind, bit
+ * for bit; the closed form of constant acceleration (closed_form.h, long double, independent of
+ * lib/) for the step times of a stop planned after a rewind and the speed at the cut. */
+#include "cmocka_all.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "step_exact.h"
+#include "step_planner.h"
+#include "step_queue.h"
+
+#define TEST_RNG_SEED 0x5EEC2026D1CEULL
+#include "closed_form.h"
+
+/* ---- a command's time in the executor -------------------------------------------------------- */
+
+/* runs c through the executor; returns the time its steps took, 2^-16 ticks, counted in 64 bits
+ * from the executor's own increments (WIDE: whole ticks) */
+static int64_t exec_time16(const step_cmd_t *c)
+{
+    step_exec_t x;
+    uint64_t sum = 0;
+    uint32_t before;
+    step_exec_init(&x, 0x8000U);
+    step_exec_load(&x, c);
+    while (x.left > 0U) {
+        uint32_t rate = x.rate;
+        before = x.acc;
+        (void)step_exec_next(&x);
+        if (c->flags & STEP_CMD_WIDE)
+            sum += (uint64_t)rate << 16;
+        else
+            sum += rate; /* the increment the executor made */
+        assert_int_equal((uint32_t)(x.acc - before), (uint32_t)((c->flags & STEP_CMD_WIDE) ? rate << 16 : rate));
+    }
+    return (int64_t)sum;
+}
+
+static void cmd_time_is_the_executors(void **state)
+{
+    uint32_t i;
+    step_cmd_t c;
+    (void)state;
+    /* 2.5, 3.75, 5.0 ticks: 11.25 ticks */
+    c.rate = 0x28000U;
+    c.add = 0x14000;
+    c.count = 3;
+    c.flags = 0;
+    assert_true(step_exact_cmd_time16(&c) == 11 * 65536 + 16384);
+    for (i = 0; i < 20000U; i++) {
+        uint32_t count = (i % 5U) == 0 ? 1U + (uint32_t)urand(0, 65535) : 1U + (uint32_t)lrand(1, 300);
+        c.count = (uint16_t)count;
+        c.flags = (uint8_t)((i & 1U) ? STEP_CMD_REVERSE : 0U);
+        if ((i % 7U) == 0) {
+            c.flags |= STEP_CMD_WIDE;
+            c.rate = 65536U + (uint32_t)lrand(1, 4.0e9);
+            c.add = 0;
+            c.count = (uint16_t)(1U + (uint32_t)urand(0, 4));
+        } else {
+            /* intervals from rate to rate + add (count - 1), all within 1..65535 ticks */
+            double r0 = lrand(1, 65535), r1 = (i % 3U) == 0 ? r0 : lrand(1, 65535);
+            int64_t add = count > 1U ? (int64_t)((r1 - r0) * 65536.0 / (double)(count - 1U)) : 0;
+            if (add != (int32_t)add)
+                add = 0; /* beyond what a command's add holds */
+            c.rate = (uint32_t)(r0 * 65536.0);
+            c.add = (int32_t)add;
+            if ((int64_t)c.rate + add * (int64_t)(count - 1U) < 65536)
+                c.add = 0;
+        }
+        if (step_exact_cmd_time16(&c) != exec_time16(&c))
+            fail_msg("rate %u add %d count %u flags %u: %lld, the executor %lld", c.rate, c.add, c.count, c.flags,
+                     (long long)step_exact_cmd_time16(&c), (long long)exec_time16(&c));
+    }
+}
+
+/* ---- planners A and B ------------------------------------------------------------------------ */
+
+static int cmd_eq(const step_cmd_t *a, const step_cmd_t *b)
+{
+    return a->rate == b->rate && a->add == b->add && a->count == b->count && a->flags == b->flags;
+}
+
+/* The state that decides what comes next, field by field (where B must equal A exactly) */
+static void expect_same_state(const step_exact_t *a, const step_exact_t *b, const char *what)
+{
+    if (a->pos != b->pos || a->n != b->n || a->moving != b->moving || a->acc16 != b->acc16 || a->y != b->y ||
+        a->q != b->q || a->err != b->err || a->d != b->d || a->dir != b->dir ||
+        (a->y != 0U && a->slope_i != b->slope_i) || (a->y == 0U && a->cfrac != b->cfrac))
+        fail_msg("%s: rewound state differs: n %u/%u pos %d/%d acc16 %lld/%lld y %llu/%llu q %llu/%llu err %d/%d "
+                 "slope %u/%u cfrac %u/%u moving %u/%u",
+                 what, a->n, b->n, a->pos, b->pos, (long long)a->acc16, (long long)b->acc16, (unsigned long long)a->y,
+                 (unsigned long long)b->y, (unsigned long long)a->q, (unsigned long long)b->q, a->err, b->err,
+                 a->slope_i, b->slope_i, a->cfrac, b->cfrac, a->moving, b->moving);
+}
+
+/* The span state where the rewind rebuilds it exactly: region A decelerating and region D (the
+ * span the rule allows, or 0 after a span whose intervals did not fit; both 0: the same) */
+static void expect_same_span(const step_exact_t *a, const step_exact_t *b, uint16_t last_count, const char *what)
+{
+    uint32_t p = a->n - last_count;
+    /* (at the end of the region the span is never read again) */
+    uint8_t in_d = p >= a->n1 && p >= a->n2 && a->n < a->d, in_a_down = a->a_down && a->n < a->n1;
+    if ((in_d || in_a_down) && (a->span_b != 0U || b->span_b != 0U) &&
+        (a->span_b != b->span_b || a->thr != b->thr))
+        fail_msg("%s: span %u/%u thr %u/%u after the rewind", what, a->span_b, b->span_b, a->thr, b->thr);
+}
+
+/* A and B hand out commands until both are done (or max commands): the same, bit for bit */
+static uint32_t expect_same_commands(step_planner_t *a, step_planner_t *b, uint32_t max, const char *what)
+{
+    step_cmd_t ca, cb;
+    uint32_t k = 0;
+    for (;;) {
+        uint8_t ra, rb;
+        if (k >= max)
+            break;
+        ra = step_planner_next(a, &ca);
+        rb = step_planner_next(b, &cb);
+        if (ra != rb)
+            fail_msg("%s: command %u: A %s, B %s", what, k, ra ? "one more" : "done", rb ? "one more" : "done");
+        if (!ra)
+            break;
+        if (!cmd_eq(&ca, &cb))
+            fail_msg("%s: command %u differs: A rate %u add %d count %u flags %u, B rate %u add %d count %u flags %u",
+                     what, k, ca.rate, ca.add, ca.count, ca.flags, cb.rate, cb.add, cb.count, cb.flags);
+        k++;
+    }
+    assert_int_equal(step_planner_position(a), step_planner_position(b));
+    assert_int_equal(step_planner_target(a), step_planner_target(b));
+    return k;
+}
+
+typedef enum { ACT_NONE, ACT_STOP, ACT_AHEAD, ACT_NEAR, ACT_BEHIND, ACT_SET_MOVE, ACT__N } act_t;
+
+static int32_t clamp_target(int64_t t)
+{
+    if (t > INT32_MAX)
+        return INT32_MAX;
+    if (t < INT32_MIN)
+        return INT32_MIN;
+    return (int32_t)t;
+}
+
+/* the same stop / new target on A and B */
+static void act(step_planner_t *a, step_planner_t *b, act_t what, const ramp_params_t *p2, uint32_t span)
+{
+    int32_t pos = step_planner_position(a);
+    int8_t dir = a->exact.dir != 0 ? a->exact.dir : 1;
+    int32_t to = pos;
+    motion_status_t sa, sb;
+    switch (what) {
+    case ACT_NONE:
+        return;
+    case ACT_STOP:
+        step_planner_stop(a);
+        step_planner_stop(b);
+        return;
+    case ACT_AHEAD:
+        to = clamp_target((int64_t)pos + dir * (int64_t)(span + 1U));
+        break;
+    case ACT_NEAR:
+        to = clamp_target((int64_t)pos + dir * (int64_t)(1U + span / 64U));
+        break;
+    case ACT_BEHIND:
+        to = clamp_target((int64_t)pos - dir * (int64_t)(1U + span / 8U));
+        break;
+    case ACT_SET_MOVE:
+        assert_int_equal(step_planner_set_params(a, p2), MS_OK);
+        assert_int_equal(step_planner_set_params(b, p2), MS_OK);
+        to = clamp_target((int64_t)pos + dir * (int64_t)(span / 2U + 1U));
+        break;
+    default:
+        break;
+    }
+    sa = step_planner_move(a, to);
+    sb = step_planner_move(b, to);
+    assert_int_equal(sa, sb);
+}
+
+static uint32_t stat_cases, stat_refused, stat_cmds;
+
+/* One cut: pl has handed out some commands; A = pl. B hands out `more` further commands, takes
+ * them back (step_planner_rewind with their steps and executor time, the last kept command's
+ * count), then A and B get the same stop or new target and must hand out the same commands. */
+static void cut_case(const step_planner_t *pl, const step_cmd_t *last_kept, uint32_t more, act_t what,
+                     const ramp_params_t *p2, uint32_t span, uint32_t max_after, const char *label)
+{
+    step_planner_t a = *pl, b = *pl, saved;
+    step_cmd_t c;
+    uint32_t steps = 0, i;
+    int64_t t16 = 0;
+    motion_status_t st;
+    char what_s[160];
+    for (i = 0; i < more && step_planner_next(&b, &c); i++) {
+        steps += c.count;
+        t16 += step_exact_cmd_time16(&c);
+    }
+    saved = b;
+    st = step_planner_rewind(&b, steps, t16, last_kept->count);
+    stat_cases++;
+    if (st != MS_OK) {
+        /* only when the dropped commands reach into another profile (a stop's move from rest) or
+         * the profile ended by a replan: then the planner is untouched */
+        assert_int_equal(st, MS_ERR_OUT_OF_RANGE);
+        assert_memory_equal(&saved, &b, sizeof b);
+        assert_true(steps >= saved.exact.n || a.exact.n == 0U || saved.exact.us != a.exact.us ||
+                    saved.exact.d != a.exact.d);
+        stat_refused++;
+        return;
+    }
+    snprintf(what_s, sizeof what_s, "%s: cut after %u steps of the profile, %u commands dropped, action %d", label,
+             a.exact.n, i, (int)what);
+    expect_same_state(&a.exact, &b.exact, what_s);
+    expect_same_span(&a.exact, &b.exact, last_kept->count, what_s);
+    assert_int_equal(step_planner_position(&a), step_planner_position(&b));
+    act(&a, &b, what, p2, span);
+    stat_cmds += expect_same_commands(&a, &b, max_after, what_s);
+}
+
+static void random_params(ramp_params_t *p, uint32_t i)
+{
+    uint32_t f = (i % 3U) == 0 ? 2000000U : 16000000U;
+    double a = lrand(50, 3e6);
+    double vmax = lrand(20, 160000);
+    double v0 = (i % 4U) == 0 ? 0.0 : vmax * urand(0, 0.6);
+    p->v0_sps = (float)v0;
+    p->vmax_sps = (float)vmax;
+    p->accel_sps2 = (float)a;
+    p->tick_hz = f;
+}
+
+/* hands out commands until the cut: k commands of the current profile (the last one in *last) */
+static uint8_t run_to_cut(step_planner_t *pl, uint32_t k, step_cmd_t *last)
+{
+    uint32_t i;
+    for (i = 0; i < k; i++)
+        if (!step_planner_next(pl, last))
+            return 0;
+    return 1;
+}
+
+static void random_cuts_bit_for_bit(void **state)
+{
+    uint32_t i, done = 0;
+    (void)state;
+    stat_cases = stat_refused = stat_cmds = 0;
+    for (i = 0; i < 2500U; i++) {
+        ramp_params_t p, p2;
+        step_planner_t pl;
+        step_cmd_t last;
+        uint32_t d = (uint32_t)lrand(1, 60000), k, more;
+        int32_t from = (int32_t)urand(-100000, 100000);
+        int8_t dir = (i & 1U) ? 1 : -1;
+        act_t what = (act_t)(i % ACT__N);
+        char label[200];
+        random_params(&p, i);
+        random_params(&p2, i + 1U);
+        if (step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, from) != MS_OK ||
+            step_planner_set_params(&pl, &p2) != MS_OK)
+            continue;
+        assert_int_equal(step_planner_set_params(&pl, &p), MS_OK);
+        assert_int_equal(step_planner_move(&pl, from + dir * (int32_t)d), MS_OK);
+        snprintf(label, sizeof label, "case %u: v0 %g vmax %g a %g F %u D %u dir %d", i, p.v0_sps, p.vmax_sps,
+                 p.accel_sps2, p.tick_hz, d, dir);
+        if ((i % 5U) == 1U) {
+            /* continued: a replan (new target, maybe new parameters) after some commands */
+            uint32_t j = 1U + (uint32_t)lrand(1, 200);
+            (void)run_to_cut(&pl, j, &last);
+            if ((i % 10U) == 1U)
+                assert_int_equal(step_planner_set_params(&pl, &p2), MS_OK);
+            if (step_planner_move(&pl, from + dir * (int32_t)(d + (uint32_t)lrand(1, 30000))) != MS_OK)
+                continue;
+        }
+        /* the cut: somewhere in the profile (k commands of it), often early, sometimes late */
+        k = 1U + (uint32_t)((i % 3U) == 0 ? urand(0, 8) : lrand(1, 3000));
+        if (!run_to_cut(&pl, k, &last))
+            continue;
+        more = (i % 9U) == 0 ? 0U : (uint32_t)lrand(1, 60);
+        cut_case(&pl, &last, more, what, &p2, d, 5000000U, label);
+        done++;
+    }
+    printf("# %u cuts (%u refused as they should be), %u commands compared after them\n", stat_cases, stat_refused,
+           stat_cmds);
+    assert_true(done > 1500U);
+    assert_true(stat_refused < stat_cases / 10U);
+}
+
+/* every boundary of some moves in turn (the spans' growth and shrinking, the cruise's entry, region
+ * D's first step, slow steps that do not fit a span): cut at each, B drops 1..9 commands */
+static void every_boundary(void **state)
+{
+    static const struct {
+        float v0, vmax, a;
+        uint32_t f, d;
+    } mv[] = {
+        {0.0f, 20000.0f, 50000.0f, 16000000U, 20000U},   /* the sketch's defaults */
+        {0.0f, 160000.0f, 3.0e6f, 16000000U, 30000U},    /* fast */
+        {0.0f, 300.0f, 60.0f, 2000000U, 3000U},          /* slow: long intervals, spans that fail */
+        {5.0f, 400.0f, 9.0f, 16000000U, 4000U},          /* slow from v0, WIDE steps */
+        {1000.0f, 5000.0f, 2.0e5f, 16000000U, 1000U},    /* short ramps, a long cruise */
+        {0.0f, 50000.0f, 1.0e5f, 16000000U, 7000U},      /* triangular */
+        {0.0f, 20000.0f, 50000.0f, 16000000U, 3U},       /* three steps */
+    };
+    uint32_t m;
+    (void)state;
+    for (m = 0; m < sizeof mv / sizeof mv[0]; m++) {
+        ramp_params_t p = {mv[m].v0, mv[m].vmax, mv[m].a, mv[m].f};
+        step_planner_t pl;
+        step_cmd_t last;
+        uint32_t k;
+        char label[160];
+        assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0), MS_OK);
+        assert_int_equal(step_planner_move(&pl, (int32_t)mv[m].d), MS_OK);
+        for (k = 0; step_planner_next(&pl, &last); k++) {
+            snprintf(label, sizeof label, "move %u command %u", m, k);
+            cut_case(&pl, &last, 1U + k % 9U, (act_t)(k % ACT__N), &p, mv[m].d, 100000U, label);
+        }
+    }
+}
+
+/* a move with a decelerating region A (entered above vmax after vmax is lowered while moving) */
+static void every_boundary_from_above_vmax(void **state)
+{
+    ramp_params_t p = {0.0f, 40000.0f, 80000.0f, 16000000U}, p2 = {0.0f, 6000.0f, 50000.0f, 16000000U};
+    step_planner_t pl;
+    step_cmd_t last;
+    uint32_t k, above = 0;
+    (void)state;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 100000), MS_OK);
+    while (step_planner_next(&pl, &last) && pl.exact.n < 9000U) {
+    }
+    assert_int_equal(step_planner_set_params(&pl, &p2), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 100000), MS_OK);
+    assert_true(pl.exact.a_down);
+    for (k = 0; step_planner_next(&pl, &last); k++) {
+        char label[80];
+        if (pl.exact.n <= pl.exact.n1)
+            above++;
+        snprintf(label, sizeof label, "from above vmax, command %u", k);
+        cut_case(&pl, &last, 1U + k % 7U, (act_t)(k % ACT__N), &p, 50000U, 100000U, label);
+    }
+    assert_true(above > 20U);
+}
+
+/* the same slow: region A's intervals too long for a span (single steps from there on) */
+static void every_boundary_from_above_vmax_slow(void **state)
+{
+    ramp_params_t p = {0.0f, 400.0f, 9.0f, 16000000U}, p2 = {0.0f, 150.0f, 9.0f, 16000000U};
+    step_planner_t pl;
+    step_cmd_t last;
+    uint32_t k, singles = 0;
+    (void)state;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 100000), MS_OK);
+    while (step_planner_next(&pl, &last) && pl.exact.n < 8800U) {
+    }
+    assert_int_equal(step_planner_set_params(&pl, &p2), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 100000), MS_OK);
+    assert_true(pl.exact.a_down);
+    for (k = 0; step_planner_next(&pl, &last) && k < 20000U; k++) {
+        char label[80];
+        if (pl.exact.n <= pl.exact.n1 && last.count == 1U)
+            singles++;
+        snprintf(label, sizeof label, "slow from above vmax, command %u", k);
+        cut_case(&pl, &last, 1U + k % 5U, (act_t)(k % ACT__N), &p, 50000U, 3000U, label);
+    }
+    assert_true(singles > 20U);
+}
+
+/* 2^31 - 1 steps: cuts early in region A, in the cruise and in region D */
+static void longest_move(void **state)
+{
+    ramp_params_t p = {0.0f, 100000.0f, 1000000.0f, 16000000U};
+    step_planner_t pl;
+    step_cmd_t last;
+    const uint32_t d = 2147483647U;
+    uint32_t cuts = 0;
+    (void)state;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, INT32_MIN), MS_OK);
+    assert_int_equal(step_planner_move(&pl, -1), MS_OK);
+    while (step_planner_next(&pl, &last)) {
+        uint32_t n = pl.exact.n;
+        if (n < 6000U || (n > 1000000000U && n < 1000050000U) || n > d - 6000U) {
+            if ((cuts % 7U) == 0U || n > d - 6000U)
+                cut_case(&pl, &last, 1U + cuts % 11U, (act_t)(cuts % ACT__N), &p, 100000U, 200U, "2^31 - 1 steps");
+            cuts++;
+        }
+    }
+    assert_int_equal(step_planner_position(&pl), -1);
+    assert_true(cuts > 100U);
+}
+
+/* ---- the exact level: n and acc16 from A's state, or from the kept commands ---------------- */
+
+static void exact_level_from_kept_commands(void **state)
+{
+    uint32_t i, ok = 0;
+    (void)state;
+    for (i = 0; i < 600U; i++) {
+        ramp_params_t p;
+        step_exact_t a, b;
+        step_cmd_t c, last = {0, 0, 0, 0};
+        uint32_t d = (uint32_t)lrand(1, 40000), k = 1U + (uint32_t)lrand(1, 500), j, more = (uint32_t)lrand(1, 40);
+        int64_t kept16 = 0;
+        random_params(&p, i);
+        memset(&a, 0, sizeof a);
+        if (step_exact_set_params(&a, &p) != MS_OK)
+            continue;
+        step_exact_reset(&a, 0);
+        assert_int_equal(step_exact_plan(&a, (int32_t)d), MS_OK);
+        for (j = 0; j < k && step_exact_next(&a, &c); j++) {
+            kept16 += step_exact_cmd_time16(&c);
+            last = c;
+        }
+        assert_true(kept16 == a.acc16); /* the planner's timeline is the executor's */
+        b = a;
+        for (j = 0; j < more && step_exact_next(&b, &c); j++) {
+        }
+        assert_int_equal(step_exact_rewind(&b, a.n, kept16, last.count), MS_OK);
+        expect_same_state(&a, &b, "exact level");
+        expect_same_span(&a, &b, last.count, "exact level");
+        if (i & 1U) {
+            step_exact_stop(&a);
+            step_exact_stop(&b);
+        }
+        for (;;) {
+            step_cmd_t ca, cb;
+            uint8_t ra = step_exact_next(&a, &ca), rb = step_exact_next(&b, &cb);
+            assert_int_equal(ra, rb);
+            if (!ra)
+                break;
+            assert_true(cmd_eq(&ca, &cb));
+        }
+        ok++;
+    }
+    assert_true(ok > 300U);
+}
+
+/* ---- refusals change nothing ---------------------------------------------------------------- */
+
+static void expect_refused(step_exact_t *e, uint32_t n, int64_t acc16, uint16_t count, const char *why)
+{
+    step_exact_t before;
+    motion_status_t st;
+    memcpy(&before, e, sizeof before);
+    st = step_exact_rewind(e, n, acc16, count);
+    if (st != MS_ERR_OUT_OF_RANGE)
+        fail_msg("%s: status %d, not refused", why, (int)st);
+    assert_memory_equal(&before, e, sizeof before);
+}
+
+static void refusals_change_nothing(void **state)
+{
+    ramp_params_t p = {0.0f, 20000.0f, 50000.0f, 16000000U}, p2 = {0.0f, 20000.0f, 60000.0f, 16000000U};
+    step_exact_t e, f;
+    step_planner_t pl, before;
+    step_cmd_t c, last = {0, 0, 0, 0};
+    int64_t acc_at_n1 = 0;
+    uint32_t n_at_n1 = 0, count_at_n1 = 0;
+    (void)state;
+    assert_int_equal(step_exact_rewind(0, 1, 0, 1), MS_ERR_NULL);
+    memset(&e, 0, sizeof e);
+    assert_int_equal(step_exact_set_params(&e, &p), MS_OK);
+    step_exact_reset(&e, 0);
+    expect_refused(&e, 1, 0, 1, "no profile");
+    assert_int_equal(step_exact_plan(&e, 20000), MS_OK);
+    expect_refused(&e, 0, 0, 1, "no command emitted yet");
+    while (step_exact_next(&e, &c) && e.n < 12000U) {
+        if (e.n == e.n1) {
+            acc_at_n1 = e.acc16;
+            n_at_n1 = e.n;
+            count_at_n1 = c.count;
+        }
+        last = c;
+    }
+    assert_true(n_at_n1 > 0U && e.n > e.n1);
+    /* the last command's own boundary is fine (and a no-op) */
+    f = e;
+    assert_int_equal(step_exact_rewind(&f, e.n, e.acc16, last.count), MS_OK);
+    expect_same_state(&e, &f, "rewind to the state itself");
+    f = e;
+    assert_int_equal(step_exact_rewind(&f, n_at_n1, acc_at_n1, (uint16_t)count_at_n1), MS_OK);
+    expect_refused(&e, 0, 0, 1, "n = 0");
+    expect_refused(&e, e.n + 1U, e.acc16, 1, "n beyond the steps emitted");
+    expect_refused(&e, e.n, e.acc16, 0, "count 0");
+    expect_refused(&e, n_at_n1, acc_at_n1, (uint16_t)(n_at_n1 + 1U), "count beyond n");
+    expect_refused(&e, n_at_n1 + 1U, acc_at_n1, 2, "a command across the end of region A");
+    expect_refused(&e, n_at_n1, acc_at_n1, 3, "region A: no span of 3 steps");
+    expect_refused(&e, n_at_n1, acc_at_n1 + (1LL << 21), (uint16_t)count_at_n1, "acc16 32 ticks off");
+    expect_refused(&e, n_at_n1, acc_at_n1 - (1LL << 21), (uint16_t)count_at_n1, "acc16 32 ticks early");
+    /* region D: its first command is one step, and spans as the rule allows */
+    while (step_exact_next(&e, &c) && e.n < e.n2 + 1U) {
+    }
+    assert_true(e.n == e.n2 + 1U);
+    expect_refused(&e, e.n, e.acc16, 2, "region D's first command is one step");
+    while (step_exact_next(&e, &c) && c.count < 64U) {
+    }
+    assert_true(c.count >= 64U);
+    expect_refused(&e, e.n, e.acc16, (uint16_t)(c.count / 2U), "region D: the span was larger");
+    assert_int_equal(step_exact_rewind(&e, e.n, e.acc16, c.count), MS_OK);
+    /* the constants changed: by change_params (the profile ends) or set_params (at rest) */
+    f = e;
+    assert_int_equal(step_exact_change_params(&f, &p2), MS_OK);
+    expect_refused(&f, e.n, e.acc16, c.count, "after change_params");
+    while (step_exact_next(&e, &c)) {
+        last = c;
+    }
+    assert_int_equal(e.moving, 0);
+    f = e;
+    assert_int_equal(step_exact_rewind(&f, e.n, e.acc16, last.count), MS_OK); /* the end itself */
+    /* after a set the constants may not be the profile's any more: step_exact_profile_intact */
+    assert_int_equal(step_exact_profile_intact(&e), 1);
+    f = e;
+    assert_int_equal(step_exact_set_params(&f, &p2), MS_OK);
+    assert_int_equal(step_exact_profile_intact(&f), 0); /* a new accel */
+    p2.accel_sps2 = 50000.0f;
+    p2.vmax_sps = 20001.0f; /* the cruise's interval */
+    f = e;
+    assert_int_equal(step_exact_set_params(&f, &p2), MS_OK);
+    assert_int_equal(step_exact_profile_intact(&f), 0);
+    p2.vmax_sps = 20000.0f;
+    p2.v0_sps = 1.0f;
+    f = e;
+    assert_int_equal(step_exact_set_params(&f, &p2), MS_OK);
+    assert_int_equal(step_exact_profile_intact(&f), 0);
+    expect_refused(&f, e.n, e.acc16, last.count, "after set_params with a new v0 (the radicand shows it)");
+    /* an accel one float step (ulp) away: C differs in its last bits only */
+    p2 = p;
+    p2.accel_sps2 = nextafterf(p.accel_sps2, 1e9f);
+    f = e;
+    assert_int_equal(step_exact_set_params(&f, &p2), MS_OK);
+    assert_true(f.k.cu != e.k.cu);
+    assert_int_equal(step_exact_profile_intact(&f), 0);
+    /* C a few units different, its float the same (and so every float of the profile): short moves,
+     * where nothing but the radicand shows it */
+    {
+        float a1 = 50000.0f, a2 = 0.0f;
+        uint32_t dd, tried = 0;
+        step_exact_t g;
+        for (;;) {
+            ramp_params_t q1 = {0.0f, 20000.0f, a1, 16000000U};
+            a2 = nextafterf(a1, 1e9f);
+            q1.accel_sps2 = a2;
+            memset(&g, 0, sizeof g);
+            assert_int_equal(step_exact_set_params(&g, &q1), MS_OK);
+            q1.accel_sps2 = a1;
+            memset(&f, 0, sizeof f);
+            assert_int_equal(step_exact_set_params(&f, &q1), MS_OK);
+            if (f.k.cu != g.k.cu && f.k.cu_f == g.k.cu_f)
+                break;
+            a1 = a2;
+        }
+        for (dd = 2; dd < 40U; dd++) {
+            ramp_params_t q1 = {0.0f, 20000.0f, a1, 16000000U}, q2 = {0.0f, 20000.0f, a2, 16000000U};
+            memset(&f, 0, sizeof f);
+            assert_int_equal(step_exact_set_params(&f, &q1), MS_OK);
+            step_exact_reset(&f, 0);
+            assert_int_equal(step_exact_plan(&f, (int32_t)dd), MS_OK);
+            assert_int_equal(step_exact_next(&f, &c), 1);
+            g = f;
+            assert_int_equal(step_exact_set_params(&g, &q2), MS_OK);
+            expect_refused(&g, f.n, f.acc16, c.count, "after set_params with C a few units off");
+            tried++;
+        }
+        assert_true(tried > 30U);
+    }
+    f = e;
+    assert_int_equal(step_exact_set_params(&f, &p), MS_OK); /* the same values: fine */
+    assert_int_equal(step_exact_profile_intact(&f), 1);
+    assert_int_equal(step_exact_rewind(&f, e.n, e.acc16, last.count), MS_OK);
+    /* the planner: a move handed out to its end, then a set: refused (with the same values: fine) */
+    p2 = p;
+    p2.accel_sps2 = 40000.0f;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 3000), MS_OK);
+    while (step_planner_next(&pl, &c)) {
+        last = c;
+    }
+    assert_int_equal(pl.active, 0);
+    assert_int_equal(step_planner_set_params(&pl, &p2), MS_OK);
+    before = pl;
+    assert_int_equal(step_planner_rewind(&pl, last.count, step_exact_cmd_time16(&last), 1), MS_ERR_OUT_OF_RANGE);
+    assert_memory_equal(&before, &pl, sizeof pl);
+    assert_int_equal(step_planner_set_params(&pl, &p), MS_OK);
+    assert_int_equal(step_planner_rewind(&pl, 0, 0, last.count), MS_OK);
+    assert_int_equal(pl.active, 1);
+    assert_int_equal(step_planner_next(&pl, &c), 0); /* the end: nothing more */
+    /* the planner: other ramps not (yet); dropping the whole profile refused */
+    assert_int_equal(step_planner_rewind(0, 0, 0, 1), MS_ERR_NULL);
+    p.v0_sps = 100.0f;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_LEIB, &p, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 1000), MS_OK);
+    assert_int_equal(step_planner_next(&pl, &c), 1);
+    before = pl;
+    assert_int_equal(step_planner_rewind(&pl, 0, 0, c.count), MS_ERR_UNKNOWN_COMMAND);
+    assert_memory_equal(&before, &pl, sizeof pl);
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 1000), MS_OK);
+    assert_int_equal(step_planner_next(&pl, &c), 1);
+    before = pl;
+    assert_int_equal(step_planner_rewind(&pl, c.count, step_exact_cmd_time16(&c), c.count), MS_ERR_OUT_OF_RANGE);
+    assert_memory_equal(&before, &pl, sizeof pl);
+}
+
+/* ---- the stop after a cut follows the law; the speed at the cut is continuous --------------- */
+
+/* a profile from speed vs over D steps to v0 (peak min(vmax, what D allows)), seconds at step j */
+typedef struct {
+    long double vs, v0, a, vp, xa, xd, ta, tc, tt, d;
+} prof_t;
+
+static prof_t prof_plan(long double vs, long double v0, long double vmax, long double a, uint32_t d)
+{
+    prof_t r;
+    long double vp2 = (2.0L * a * d + vs * vs + v0 * v0) / 2.0L;
+    r.vs = vs;
+    r.v0 = v0;
+    r.a = a;
+    r.d = d;
+    r.vp = sqrtl(vp2);
+    if (r.vp > vmax)
+        r.vp = vmax;
+    if (r.vp < vs)
+        r.vp = vs;
+    r.xa = (r.vp * r.vp - vs * vs) / (2.0L * a);
+    r.xd = (r.vp * r.vp - v0 * v0) / (2.0L * a);
+    r.ta = (r.vp - vs) / a;
+    r.tc = (d - r.xa - r.xd) / r.vp;
+    if (r.tc < 0.0L)
+        r.tc = 0.0L;
+    r.tt = r.ta + r.tc + (r.vp - v0) / a;
+    return r;
+}
+
+static long double prof_time(const prof_t *r, long double j)
+{
+    if (j <= r->xa)
+        return (sqrtl(r->vs * r->vs + 2.0L * r->a * j) - r->vs) / r->a;
+    if (j <= r->d - r->xd)
+        return r->ta + (j - r->xa) / r->vp;
+    return r->tt - (sqrtl(r->v0 * r->v0 + 2.0L * r->a * (r->d - j)) - r->v0) / r->a;
+}
+
+/* the closed-form speed of the move cf after x steps */
+static long double closed_speed(const closed_t *cf, long double x)
+{
+    if (x <= cf->xa)
+        return sqrtl(cf->v0 * cf->v0 + 2.0L * cf->a * x);
+    if (x <= cf->d - cf->xa)
+        return cf->vp;
+    return sqrtl(cf->v0 * cf->v0 + 2.0L * cf->a * (cf->d - x));
+}
+
+static void stop_after_cut_follows_the_law(void **state)
+{
+    uint32_t i, checked = 0, kept_profile = 0;
+    long double worst = 0.0L, worst_jump = 0.0L;
+    uint64_t *edges = calloc(60001U, sizeof *edges);
+    uint8_t *wide = calloc(60001U, 1U);
+    (void)state;
+    assert_non_null(edges);
+    assert_non_null(wide);
+    for (i = 0; i < 1500U; i++) {
+        ramp_params_t p;
+        step_planner_t pl, b;
+        step_cmd_t c, last;
+        closed_t cf;
+        uint32_t d = (uint32_t)lrand(3, 60000), k = 1U + (uint32_t)lrand(1, 2000), j, n = 0, more, steps = 0, ds;
+        int64_t t16 = 0;
+        uint64_t abs16 = 0x8000U, cut16;
+        long double f, v_cut, x_stop, t_prev = 0.0L, t_prev2 = 0.0L, law_before, law_after, act_before, act_after;
+        uint64_t e_prev = 0, e_prev2 = 0;
+        uint32_t s;
+        int near_whole;
+        prof_t sp;
+        random_params(&p, i);
+        if (step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0) != MS_OK)
+            continue;
+        assert_int_equal(step_planner_move(&pl, (int32_t)d), MS_OK);
+        f = p.tick_hz;
+        cf = closed_plan(p.v0_sps, p.vmax_sps, p.accel_sps2, d);
+        /* the kept commands, through the executor's arithmetic */
+        for (j = 0; j < k && pl.exact.n < d - 1U && step_planner_next(&pl, &last); j++) {
+            uint32_t rate = last.rate, s;
+            for (s = 0; s < last.count; s++) {
+                abs16 += (last.flags & STEP_CMD_WIDE) ? (uint64_t)rate << 16 : rate;
+                rate += (uint32_t)last.add;
+                n++;
+                e_prev2 = e_prev;
+                e_prev = abs16 >> 16;
+            }
+        }
+        if (n < 2U || n >= d)
+            continue;
+        cut16 = abs16;
+        /* B: further commands, then taken back */
+        b = pl;
+        more = (uint32_t)lrand(1, 40);
+        for (j = 0; j < more && step_planner_next(&b, &c); j++) {
+            steps += c.count;
+            t16 += step_exact_cmd_time16(&c);
+        }
+        assert_int_equal(step_planner_rewind(&b, steps, t16, last.count), MS_OK);
+        step_planner_stop(&b);
+        /* the stop's step times (the executor's arithmetic, from the cut) */
+        j = 0;
+        while (step_planner_next(&b, &c)) {
+            uint32_t rate = c.rate, s;
+            for (s = 0; s < c.count; s++) {
+                abs16 += (c.flags & STEP_CMD_WIDE) ? (uint64_t)rate << 16 : rate;
+                rate += (uint32_t)c.add;
+                assert_true(j < d);
+                edges[j] = abs16 >> 16;
+                wide[j] = (c.flags & STEP_CMD_WIDE) != 0U;
+                j++;
+            }
+        }
+        /* the law at the cut: the move's speed after n steps; a stop of ceil(x_stop) steps (or, x_stop
+         * a whole number to a few ulps, one more or less), or the move's own end if that comes as soon */
+        t_prev = closed_time(&cf, n);
+        t_prev2 = closed_time(&cf, n - 1U);
+        v_cut = closed_speed(&cf, n);
+        x_stop = (v_cut * v_cut - cf.v0 * cf.v0) / (2.0L * cf.a);
+        ds = (uint32_t)ceill(x_stop);
+        near_whole = fabsl(x_stop - roundl(x_stop)) < 1e-6L * (x_stop + 1.0L);
+        if (j == d - n && (ds >= d - n || (near_whole && ds + 1U >= d - n)))
+            kept_profile++;
+        else if (!(j == ds || (near_whole && fabsl((long double)j - x_stop) <= 1.0L + 1e-6L * (x_stop + 1.0L))))
+            fail_msg("case %u (v0 %g vmax %g a %g F %u D %u, cut at %u): the stop took %u steps, the law %.6Lf", i,
+                     p.v0_sps, p.vmax_sps, p.accel_sps2, p.tick_hz, d, n, j, x_stop);
+        sp = prof_plan(v_cut, cf.v0, p.vmax_sps, cf.a, j);
+        for (s = 1; s <= j; s++) {
+            long double want = floorl((long double)cut16 / 65536.0L + prof_time(&sp, s) * f), err;
+            if (wide[s - 1U])
+                continue; /* whole ticks by design */
+            err = (long double)edges[s - 1U] - want;
+            if (fabsl(err) > worst)
+                worst = fabsl(err);
+            if (fabsl(err) > 1.0L)
+                fail_msg("case %u (v0 %g vmax %g a %g F %u D %u, cut at %u): stop step %u of %u at %llu, the law %.1Lf",
+                         i, p.v0_sps, p.vmax_sps, p.accel_sps2, p.tick_hz, d, n, s, j,
+                         (unsigned long long)edges[s - 1U], want);
+        }
+        act_after = (long double)edges[0] - (long double)e_prev;
+        /* the speed at the cut: the interval before and after it, each as the law has it */
+        act_before = (long double)e_prev - (long double)e_prev2;
+        law_before = (t_prev - t_prev2) * f;
+        law_after = prof_time(&sp, 1) * f;
+        if (fabsl(act_before - law_before) > 2.0L || fabsl(act_after - law_after) > 2.0L ||
+            fabsl(act_after - act_before) > fabsl(law_after - law_before) + 2.0L)
+            fail_msg("case %u: interval before the cut %.0Lf (law %.1Lf), after %.0Lf (law %.1Lf)", i, act_before,
+                     law_before, act_after, law_after);
+        if (fabsl(act_after - act_before) - fabsl(law_after - law_before) > worst_jump)
+            worst_jump = fabsl(act_after - act_before) - fabsl(law_after - law_before);
+        checked++;
+    }
+    printf("# %u stops after a cut (%u kept the move's own deceleration): worst edge %.0Lf tick from the law, "
+           "interval change at the cut at most %.0Lf tick more than the law's\n",
+           checked, kept_profile, worst, worst_jump);
+    free(edges);
+    free(wide);
+    assert_true(checked > 800U);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(cmd_time_is_the_executors),
+        cmocka_unit_test(refusals_change_nothing),
+        cmocka_unit_test(exact_level_from_kept_commands),
+        cmocka_unit_test(every_boundary),
+        cmocka_unit_test(every_boundary_from_above_vmax),
+        cmocka_unit_test(every_boundary_from_above_vmax_slow),
+        cmocka_unit_test(random_cuts_bit_for_bit),
+        cmocka_unit_test(stop_after_cut_follows_the_law),
+        cmocka_unit_test(longest_move),
+    };
+    return cmocka_run_group_tests(tests, 0, 0);
+}
