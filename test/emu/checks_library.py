@@ -233,6 +233,19 @@ def check_two_axes_line(env):
 
 # ---- StopOnSwitch ---------------------------------------------------------------------------
 
+DOC_DRIFT_MS = 0.5  # how far docs/library.md's quoted stop latency may lie from the measurement
+
+
+def doc_stop_latency(env):
+    """the stop latency docs/library.md quotes ('stop latency **9.2 ms**'), or None"""
+    try:
+        with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
+            m = re.search(r"stop latency \*\*([0-9.]+) ms\*\*", f.read())
+    except OSError:
+        return None
+    return float(m.group(1)) if m else None
+
+
 STOP_SCRIPT = """\
 adc 3 5
 adc 4 5
@@ -289,6 +302,12 @@ def check_stop_on_switch(env):
         cruise = [q - p for p, q in zip(after, after[1:len(after) - n_dec])]
         if cruise and max(cruise) > F_CPU / v + LATE_BOUND + 2:
             problems.append(f"stop: an interval of {max(cruise)} cycles before the deceleration (a velocity jump)")
+        doc = doc_stop_latency(env)
+        if doc is None:
+            problems.append(f"docs/library.md quotes no 'stop latency **<ms> ms**' (measured {latency_ms:.2f} ms)")
+        elif abs(doc - latency_ms) > DOC_DRIFT_MS:
+            problems.append(f"docs/library.md quotes a stop latency of {doc} ms, measured {latency_ms:.2f} ms "
+                            f"(more than {DOC_DRIFT_MS} ms apart): update the page")
         if latency_ms > LEAD_MS + 3:
             problems.append(f"stop: the deceleration began {latency_ms:.2f} ms after the switch, more than the "
                             f"lead {LEAD_MS} ms + a command + a tick + loop()'s poll (3 ms)")

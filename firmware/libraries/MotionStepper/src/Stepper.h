@@ -82,6 +82,8 @@ public:
     /* Idle only (MS_ERR_BUSY while moving): the position is now `position` (nothing moves). */
     motion_status_t setCurrentPosition(long position);
     long targetPosition() const;
+    /* targetPosition() - currentPosition(), steps (AccelStepper's distanceToGo) */
+    long distanceToGo() const { return targetPosition() - currentPosition(); }
     /* The speed being stepped now, steps/s, negative counting down; 0 at rest. */
     float speed() const;
     /* The end of a move: true once for each move that came to rest (a move replaced by a new
