@@ -276,6 +276,12 @@ static void random_cuts_bit_for_bit(void **state)
                 assert_int_equal(step_planner_set_params(&pl, &p2), MS_OK);
             if (step_planner_move(&pl, from + dir * (int32_t)(d + (uint32_t)lrand(1, 30000))) != MS_OK)
                 continue;
+        } else if ((i % 5U) == 3U) {
+            /* reversed: a stop, then the move back from rest (the cut in either) */
+            uint32_t j = 1U + (uint32_t)lrand(1, 200);
+            (void)run_to_cut(&pl, j, &last);
+            if (step_planner_move(&pl, from - dir * (int32_t)(uint32_t)lrand(1, 30000)) != MS_OK)
+                continue;
         }
         /* the cut: somewhere in the profile (k commands of it), often early, sometimes late */
         k = 1U + (uint32_t)((i % 3U) == 0 ? urand(0, 8) : lrand(1, 3000));
