@@ -432,9 +432,13 @@ static void exact_level_from_kept_commands(void **state)
         assert_int_equal(step_exact_rewind(&b, a.n, kept16, last.count), MS_OK);
         expect_same_state(&a, &b, "exact level");
         expect_same_span(&a, &b, last.count, "exact level");
-        if (i & 1U) {
+        if ((i % 3U) == 1U) {
             step_exact_stop(&a);
             step_exact_stop(&b);
+        } else if ((i % 3U) == 2U) {
+            /* a new target ahead (or, nearer than the stopping distance, MS_ERR_BUSY on both) */
+            int32_t to = a.pos + (int32_t)(uint32_t)lrand(1, 80000);
+            assert_int_equal(step_exact_plan(&a, to), step_exact_plan(&b, to));
         }
         for (;;) {
             step_cmd_t ca, cb;
