@@ -333,6 +333,102 @@ def check_stop_on_switch(env):
     return CheckResult(not problems, figs, problems)
 
 
+# ---- ApiTour -------------------------------------------------------------------------------
+
+def status_texts(env):
+    """MOTION_STATUS_LIST's sentences by id (lib/src/motion_status.h: the texts of the ERR lines)"""
+    with open(os.path.join(env.source_dir, "lib", "src", "motion_status.h"), encoding="utf-8") as f:
+        return dict(re.findall(r'X\((MS_[A-Z0-9_]+), "((?:[^"\\]|\\.)*)"\)', f.read()))
+
+
+# each call of ApiTour.ino and the status its documented rule gives (docs/library.md, Stepper.h):
+# before begin() moves refuse; vmax <= MULTI_MAX_SPS 25,000; accel <= 1e6 and >= 8; v0 <= 10,000 and
+# below vmax; one Stepper per axis; idle-only calls refused while moving
+API_TOUR = (
+    ("moveTo(100) before begin()", "MS_ERR_NULL"),
+    ("setMaxSpeed(30000)", "MS_ERR_OUT_OF_RANGE"),
+    ("setMaxSpeed(NAN)", "MS_ERR_NOT_FINITE"),
+    ("setAcceleration(2000000)", "MS_ERR_OUT_OF_RANGE"),
+    ("setAcceleration(4)", "MS_ERR_ACCEL_TOO_LOW"),
+    ("setMinSpeed(20000)", "MS_ERR_OUT_OF_RANGE"),
+    ("setMinSpeed(5000)", "MS_OK"),
+    ("setMaxSpeed(4000)", "MS_ERR_VMAX_NOT_ABOVE_V0"),
+    ("setMinSpeed(0)", "MS_OK"),
+    ("setMaxSpeed(8000)", "MS_OK"),
+    ("setAcceleration(40000)", "MS_OK"),
+    ("begin()", "MS_OK"),
+    ("begin() of a second X", "MS_ERR_BUSY"),
+    ("setDirectionInverted(true)", "MS_OK"),
+    ("moveTo(-2000)", "MS_OK"),
+    ("setCurrentPosition(5) while moving", "MS_ERR_BUSY"),
+    ("setDirectionInverted(false) while moving", "MS_ERR_BUSY"),
+    ("setDirectionInverted(false)", "MS_OK"),
+    ("setDirectionHook", "MS_OK"),
+    ("moveTo(-3000)", "MS_OK"),
+    ("moveTo(0) while moving", "MS_OK"),
+    ("setDirectionHook(NULL)", "MS_OK"),
+    ("setCurrentPosition(100)", "MS_OK"),
+    ("move(-300)", "MS_OK"),
+    ("stop() at rest", "MS_OK"),
+    ("forceStop() at rest", "MS_OK"),
+)
+
+
+def check_api_tour(env):
+    """every Stepper call's status, inversion, auto-disable, the direction hook, setCurrentPosition, move"""
+    pins = dict(sketches.multiaxis_pins(env), HOOK="D32")
+    log = emulog.run(elf_of(env, "ApiTour"), "wait ^READY ApiTour$\ntimeout 20000\nwait ^FINISHED$\n",
+                     pins=pins, timeout=600)
+    problems = []
+    common(log, problems)
+    texts = status_texts(env)
+    for call, st in API_TOUR:
+        want = f"{call}: OK" if st == "MS_OK" else f"{call}: ERR {texts[st]}"
+        got = line_of(log, "^" + re.escape(call) + ": ")
+        if got is None or got.text != want:
+            problems.append(f"'{got.text if got else None}', expected '{want}'")
+    dones = log.lines_matching(r"^DONE ")
+    want_dones = ["DONE -2000 position=-2000 underruns=0", "DONE 0 position=0 underruns=0",
+                  "DONE -200 position=-200 underruns=0"]
+    if [d.text for d in dones] != want_dones:
+        return CheckResult(False, "moves", problems + [f"DONE lines {[d.text for d in dones]}, expected {want_dones}"])
+    sp = line_of(log, r"^speed ")
+    m = re.match(r"^speed (-?\d+) target (-?\d+)$", sp.text) if sp else None
+    if not m or not (-8000 * 1.01 <= int(m.group(1)) < 0) or m.group(2) != "-2000":
+        problems.append(f"'{sp.text if sp else None}': expected a negative speed of at most 8000 steps/s "
+                        f"(counting down) and target -2000")
+    e = log.rising("XSTEP")
+    m1 = [c for c in e if c < dones[0].cycle]
+    m2 = [c for c in e if dones[0].cycle < c < dones[1].cycle]
+    m3 = [c for c in e if dones[1].cycle < c]
+    # 1: inverted, counting down = DIR high; ENABLE on (low) only while moving (auto-disable)
+    if len(m1) != 2000 or any(log.level_before("XDIR", c) != 1 for c in m1):
+        problems.append(f"move 1 (inverted, to -2000): {len(m1)} steps, DIR levels "
+                        f"{sorted(set(log.level_before('XDIR', c) for c in m1))}; expected 2000 with DIR high")
+    en = log.pins.get("XENABLE", [])
+    if m1 and (not any(lv == 1 for c, lv in en if c < m1[0]) or log.level_before("XENABLE", m1[0]) != 0
+               or log.level_before("XENABLE", m1[-1] + F_CPU // 1000) != 1):
+        problems.append("move 1: ENABLE not high (off) before, low during and high 1 ms after the move (auto-disable)")
+    # 2: the hook sets the direction (D32), the engine leaves DIR alone; a turn within the move
+    if m2:
+        dirs = [log.level_before("HOOK", c) for c in m2]
+        net = sum(1 if d else -1 for d in dirs)
+        turns = sum(1 for a, b in zip(dirs, dirs[1:]) if a != b)
+        if net != 2000 or turns != 1 or dirs[0] != 0:
+            problems.append(f"move 2 (hook): {len(m2)} steps, net {net:+d} by the hook's pin (expected +2000), "
+                            f"{turns} turn(s) (expected 1, first steps down)")
+        if log.changes_between("XDIR", m2[0] - 1, m2[-1] + 1):
+            problems.append("move 2: DIR changed while a hook was set (the hook, not the engine, sets the direction)")
+    else:
+        problems.append("move 2: no steps")
+    # 3: setCurrentPosition(100), move(-300): 300 steps down, DIR low (the engine again)
+    if len(m3) != 300 or any(log.level_before("XDIR", c) != 0 for c in m3):
+        problems.append(f"move 3 (100 -> -200): {len(m3)} steps; expected 300 with DIR low")
+    return CheckResult(not problems, f"{len(API_TOUR)} calls answered as documented; inverted move with "
+                       f"auto-disable, hook-driven move with one turn ({len(m2)} steps), "
+                       f"setCurrentPosition + move: {len(e)} steps", problems)
+
+
 CHECKS_BY_EXAMPLE = (
     ("MoveAndBack", "X to 10000 and back at 20,000 steps/s: positions, DIR, ENABLE, no underrun, the "
                     "constant-acceleration law", check_move_and_back),
@@ -341,6 +437,8 @@ CHECKS_BY_EXAMPLE = (
     ("StopOnSwitch", "stop() at a switch (latency, deceleration law), forceStop() at another (no step "
                      "after)", check_stop_on_switch),
     ("BlockingLoop", "delay(1000) in loop(): 20,000 steps at 20,000 steps/s, 0 underruns", check_blocking_loop),
+    ("ApiTour", "every call's status as documented, inversion, auto-disable, the direction hook, "
+                "setCurrentPosition, move", check_api_tour),
 )
 
 

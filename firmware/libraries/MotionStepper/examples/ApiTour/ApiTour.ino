@@ -1,0 +1,99 @@
+/* ApiTour - every Stepper call once, with what it answers: the refusals (their statuses print as the
+ * sketches' serial ERR sentences), the limits, direction inversion, auto-disable, a direction hook,
+ * a new target while moving, setCurrentPosition and move. The RAMPS X axis; Serial Monitor at 9600.
+ * The hook writes D32 (a free pin): with a hook, the engine leaves DIR (D55) alone.
+ */
+#include <MotionStepper.h>
+
+Stepper x(Stepper::X);
+Stepper x2(Stepper::X); /* a second Stepper for the same axis: its begin() is refused */
+static const uint8_t HOOK_PIN = 32;
+
+static void say(const __FlashStringHelper *call, motion_status_t st)
+{
+    Serial.print(call);
+    Serial.print(F(": "));
+    if (st == MS_OK) {
+        Serial.println(F("OK"));
+    } else {
+        Serial.print(F("ERR "));
+        Serial.println(Stepper::statusText(st));
+    }
+}
+
+static void my_direction(bool forward)
+{
+    digitalWrite(HOOK_PIN, forward ? HIGH : LOW);
+}
+
+static void wait_done()
+{
+    long at;
+    while (!x.takeDone(at)) {
+    }
+    Serial.print(F("DONE "));
+    Serial.print(at);
+    Serial.print(F(" position="));
+    Serial.print(x.currentPosition());
+    Serial.print(F(" underruns="));
+    Serial.println(x.underruns());
+}
+
+void setup()
+{
+    Serial.begin(9600);
+    pinMode(HOOK_PIN, OUTPUT);
+    Serial.println(F("READY ApiTour"));
+    say(F("moveTo(100) before begin()"), x.moveTo(100));
+    say(F("setMaxSpeed(30000)"), x.setMaxSpeed(30000));
+    say(F("setMaxSpeed(NAN)"), x.setMaxSpeed(NAN));
+    say(F("setAcceleration(2000000)"), x.setAcceleration(2000000));
+    say(F("setAcceleration(4)"), x.setAcceleration(4));
+    say(F("setMinSpeed(20000)"), x.setMinSpeed(20000));
+    say(F("setMinSpeed(5000)"), x.setMinSpeed(5000));
+    say(F("setMaxSpeed(4000)"), x.setMaxSpeed(4000));
+    say(F("setMinSpeed(0)"), x.setMinSpeed(0));
+    say(F("setMaxSpeed(8000)"), x.setMaxSpeed(8000));
+    say(F("setAcceleration(40000)"), x.setAcceleration(40000));
+    say(F("begin()"), x.begin());
+    say(F("begin() of a second X"), x2.begin());
+
+    /* inverted, auto-disable: counting down is DIR high, ENABLE only while moving */
+    say(F("setDirectionInverted(true)"), x.setDirectionInverted(true));
+    x.setAutoDisable(true);
+    say(F("moveTo(-2000)"), x.moveTo(-2000));
+    delay(100);
+    say(F("setCurrentPosition(5) while moving"), x.setCurrentPosition(5));
+    say(F("setDirectionInverted(false) while moving"), x.setDirectionInverted(false));
+    Serial.print(F("speed "));
+    Serial.print(x.speed(), 0);
+    Serial.print(F(" target "));
+    Serial.println(x.targetPosition());
+    wait_done();
+
+    /* a hook drives the direction; a new target behind turns the move */
+    say(F("setDirectionInverted(false)"), x.setDirectionInverted(false));
+    say(F("setDirectionHook"), x.setDirectionHook(my_direction));
+    say(F("moveTo(-3000)"), x.moveTo(-3000));
+    delay(100);
+    say(F("moveTo(0) while moving"), x.moveTo(0));
+    wait_done();
+    say(F("setDirectionHook(NULL)"), x.setDirectionHook(NULL));
+
+    say(F("setCurrentPosition(100)"), x.setCurrentPosition(100));
+    Serial.print(F("position "));
+    Serial.println(x.currentPosition());
+    say(F("move(-300)"), x.move(-300));
+    Serial.print(F("target "));
+    Serial.print(x.targetPosition());
+    Serial.print(F(" distanceToGo "));
+    Serial.println(x.distanceToGo());
+    wait_done();
+    say(F("stop() at rest"), x.stop());
+    say(F("forceStop() at rest"), x.forceStop());
+    Serial.println(F("FINISHED"));
+}
+
+void loop()
+{
+}
