@@ -70,6 +70,20 @@ def run(env, name, script):
     return emulog.run(elf_of(env, name), script, pins=sketches.multiaxis_pins(env), timeout=600)
 
 
+CALL_BOUND_US = 1000  # issue 23: no call blocks loop() for more than 1 ms
+
+
+def call_times(log, problems):
+    """the '... returned in N us' the examples print around their calls: each within CALL_BOUND_US"""
+    worst = 0
+    for l in log.lines_matching(r"returned in \d+ us"):
+        us = int(re.search(r"returned in (\d+) us", l.text).group(1))
+        worst = max(worst, us)
+        if us > CALL_BOUND_US:
+            problems.append(f"'{l.text}': a call held loop() longer than {CALL_BOUND_US} us")
+    return worst
+
+
 def common(log, problems):
     for c, k, t in log.fails:
         problems.append(f"harness reported {k} at {c / F_CPU:.4f} s: {t}")
@@ -177,6 +191,7 @@ def check_two_axes_line(env):
     problems = []
     common(log, problems)
     starts = log.lines_matching(r"^moveTo ")
+    took = call_times(log, problems)
     dones = log.lines_matching(r"^DONE x=")
     if len(starts) != 3 or len(dones) != 3:
         return CheckResult(False, "no conversation", [f"expected 3 moveTo and 3 DONE lines; got "
@@ -228,7 +243,7 @@ def check_two_axes_line(env):
                             f"(F/vmax = {F_CPU / v:.0f} cycles, less {LATE_BOUND} + 2 for a late edge before it)")
     return CheckResult(not problems, f"3 legs, at every edge of either axis the other within {worst:.3f} steps "
                        f"of the line (bound 1 + a late edge's travel), shortest intervals X {min_iv['X']} / Y {min_iv['Y']} cycles (vmax: 1600 / "
-                       f"3200), 0 underruns", problems)
+                       f"3200), 0 underruns; moveTo returned within {took} us", problems)
 
 
 # ---- StopOnSwitch ---------------------------------------------------------------------------
@@ -250,13 +265,13 @@ STOP_SCRIPT = """\
 adc 3 5
 adc 4 5
 wait ^READY StopOnSwitch$
-wait ^MOVE towards 1000000$
+wait ^MOVE towards 1000000 
 run 600
 adc 3 0
 timeout 20000
 wait ^DONE
 adc 3 5
-wait ^MOVE towards -1000000$
+wait ^MOVE towards -1000000 
 run 300
 adc 4 0
 wait ^DONE
@@ -316,6 +331,7 @@ def check_stop_on_switch(env):
     after_h = [c for c in e if t_h < c < dones[1].cycle]
     halt_us = ((after_h[-1] - t_h) * 1e6 / F_CPU) if after_h else 0.0
     hl = line_of(log, r"^HALT switch at ", t_h)
+    took = call_times(log, problems)
     m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", dones[1].text)
     pos = int(m.group(1)) if m else None
     made = sum(1 if log.level_before("XDIR", c) else -1 for c in e if c < dones[1].cycle)
@@ -329,7 +345,8 @@ def check_stop_on_switch(env):
         problems.append("halt: the move back did not step with DIR low")
     figs = (f"stop: deceleration from 20,000 steps/s began {latency_ms:.2f} ms after the switch "
             f"(lead {LEAD_MS} ms), v^2/2a = {n_dec} steps on the law; halt: last step {halt_us:.0f} us after "
-            f"the switch" if latency_ms is not None else "stop not measured")
+            f"the switch; moveTo/stop/forceStop returned within {took} us"
+            if latency_ms is not None else "stop not measured")
     return CheckResult(not problems, figs, problems)
 
 

@@ -23,9 +23,14 @@ static bool closed(uint8_t pin)
 
 static void set_off()
 {
-    Serial.print(F("MOVE towards "));
-    Serial.println(direction * FAR);
+    unsigned long t0 = micros();
     motion_status_t st = x.moveTo(direction * FAR);
+    unsigned long took = micros() - t0;
+    Serial.print(F("MOVE towards "));
+    Serial.print(direction * FAR);
+    Serial.print(F(" (moveTo() returned in "));
+    Serial.print(took);
+    Serial.println(F(" us)"));
     if (st != MS_OK) {
         Serial.print(F("ERR "));
         Serial.println(Stepper::statusText(st));
@@ -49,14 +54,24 @@ void loop()
     long at;
     bool s = closed(STOP_PIN), h = closed(HALT_PIN);
     if (s && !stop_was && x.isRunning()) {
-        x.stop();
+        unsigned long t0 = micros();
+        x.stop(); /* returns at once: the planner interrupt plans the deceleration */
+        unsigned long took = micros() - t0;
         Serial.print(F("STOP switch at "));
-        Serial.println(x.currentPosition());
+        Serial.print(x.currentPosition());
+        Serial.print(F(" (stop() returned in "));
+        Serial.print(took);
+        Serial.println(F(" us)"));
     }
     if (h && !halt_was && x.isRunning()) {
+        unsigned long t0 = micros();
         x.forceStop();
+        unsigned long took = micros() - t0;
         Serial.print(F("HALT switch at "));
-        Serial.println(x.currentPosition());
+        Serial.print(x.currentPosition());
+        Serial.print(F(" (forceStop() returned in "));
+        Serial.print(took);
+        Serial.println(F(" us)"));
     }
     stop_was = s;
     halt_was = h;

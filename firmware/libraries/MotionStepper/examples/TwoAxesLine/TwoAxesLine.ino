@@ -13,11 +13,16 @@ static uint8_t leg = 0;
 
 static void go()
 {
-    motion_status_t st = xy.moveTo(TARGETS[leg][0], TARGETS[leg][1]);
+    unsigned long t0 = micros();
+    motion_status_t st = xy.moveTo(TARGETS[leg][0], TARGETS[leg][1]); /* planned by the planner interrupt */
+    unsigned long took = micros() - t0;
     Serial.print(F("moveTo "));
     Serial.print(TARGETS[leg][0]);
     Serial.print(' ');
-    Serial.println(TARGETS[leg][1]);
+    Serial.print(TARGETS[leg][1]);
+    Serial.print(F(" (returned in "));
+    Serial.print(took);
+    Serial.println(F(" us)"));
     if (st != MS_OK) {
         Serial.print(F("ERR "));
         Serial.println(Stepper::statusText(st));
