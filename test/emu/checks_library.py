@@ -128,7 +128,7 @@ def check_move_and_back(env):
     if not (out and back and len(done) == 2):
         problems.append(f"expected 'moveTo 10000', 'moveTo 0' and two DONE lines; got {[l.text for l in log.rx]}")
         return CheckResult(False, "no conversation", problems)
-    for d, want in zip(done, ("DONE 10000 underruns=0", "DONE 0 underruns=0")):
+    for d, want in zip(done, ("DONE 10000 farthest=10000 underruns=0", "DONE 0 farthest=10000 underruns=0")):
         if d.text != want:
             problems.append(f"'{d.text}', expected '{want}'")
     # the moves follow each other (the second starts at the first's end, while its DONE line is still

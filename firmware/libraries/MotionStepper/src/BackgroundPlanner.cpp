@@ -17,8 +17,10 @@ static volatile uint8_t s_in_tick;  /* the re-entrancy guard */
 static volatile uint8_t s_locks;    /* PlannerLocks alive */
 static volatile uint8_t s_deferred; /* a tick came while loop() held a lock */
 
-/* A tick that finds a lock held returns and asks for itself again at the unlock. (A flag rather
- * than TIMSK3: the match that comes while the interrupt is masked would also wait for the unmask on
+/* A tick that finds a lock held returns and leaves itself to the unlock, which runs it there (as
+ * the interrupt would have, at that moment: loop() waits for it either way). Not a retry of the
+ * interrupt: a loop() that takes locks often would meet the retry inside its next lock again and
+ * again. (Nor TIMSK3: the match that comes while the interrupt is masked would wait for the unmask on
  * the chip, but libsimavr drops it.) The count is changed by loop() and, around its own changes, by
  * the tick, which leaves it as it found it: no atomic block needed. */
 PlannerLock::PlannerLock()
@@ -31,10 +33,9 @@ PlannerLock::~PlannerLock()
     s_locks = s_locks - 1U;
     if (s_locks == 0 && s_deferred && !s_in_tick) {
         s_deferred = 0;
-        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-        {
-            TCNT3 = OCR3A - 1U; /* the tick comes 8 us from now */
-        }
+        s_in_tick = 1;
+        BackgroundPlanner::tick();
+        s_in_tick = 0;
     }
 }
 
@@ -173,7 +174,7 @@ static bool step_isr_active()
 }
 
 /* Timer3's compare match, 1 kHz. Entered with interrupts off for a few dozen cycles: a tick during a
- * tick returns; one while loop() holds a PlannerLock comes at the unlock; a tick that has interrupted a step interrupt comes back 8 us later (TCNT3 two counts
+ * tick returns; one while loop() holds a PlannerLock runs at the unlock; a tick that has interrupted a step interrupt comes back 8 us later (TCNT3 two counts
  * before the match); otherwise interrupts are enabled at once and the tick runs, the step interrupts
  * and the core's millis and serial interrupts nesting in it. */
 ISR(TIMER3_COMPA_vect)

@@ -71,7 +71,7 @@ private:
 /* Holds the planner interrupt off while it lives (loop()'s changes to a planner): the planner
  * interrupt is not running when loop() runs (it preempts loop(), never the other way), so keeping it
  * from starting is all the synchronisation the planners need; a tick that comes meanwhile runs at the
- * unlock. Nests. */
+ * unlock, in the caller (with interrupts on: do not hold a lock with them off). Nests. */
 class PlannerLock {
 public:
     PlannerLock();

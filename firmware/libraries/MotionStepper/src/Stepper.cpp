@@ -4,6 +4,8 @@
  * counts up); an inverted axis shows the user their negation. */
 #include "Stepper.h"
 
+#include <util/atomic.h>
+
 #include "StepperGroup.h"
 
 namespace {
@@ -219,11 +221,26 @@ bool Stepper::isRunning() const
     return req_ == REQ_MOVE || has_next_ || group_ != 0 || MultiStepEngine::moving(axis_);
 }
 
+/* The group the axis moves in, read whole (the planner interrupt clears it at the move's end). */
+StepperGroup *Stepper::group_now() const
+{
+    StepperGroup *g;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        g = group_;
+    }
+    return g;
+}
+
+/* Polled calls take the PlannerLock only in a group's move: a loop() polling them alone never keeps
+ * the planner interrupt waiting. */
 long Stepper::currentPosition() const
 {
-    PlannerLock lock;
-    if (group_)
-        return to_user(group_->position_of(axis_));
+    if (group_now()) {
+        PlannerLock lock;
+        if (group_)
+            return to_user(group_->position_of(axis_));
+    }
     return to_user(MultiStepEngine::position(axis_));
 }
 
@@ -242,12 +259,19 @@ motion_status_t Stepper::setCurrentPosition(long position)
 
 long Stepper::targetPosition() const
 {
-    PlannerLock lock;
+    int32_t t;
     if (!begun_)
         return 0;
-    if (group_)
-        return to_user(group_->target_of(axis_));
-    return to_user(req_ == REQ_MOVE ? req_target_ : has_next_ ? next_target_ : step_planner_target(&planner_));
+    if (group_now()) {
+        PlannerLock lock;
+        if (group_)
+            return to_user(group_->target_of(axis_));
+    }
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        t = req_ == REQ_MOVE ? req_target_ : has_next_ ? next_target_ : step_planner_target(&planner_);
+    }
+    return to_user(t);
 }
 
 float Stepper::speed() const
@@ -257,7 +281,7 @@ float Stepper::speed() const
     bool flip = false;
     if (!begun_)
         return 0.0f;
-    {
+    if (group_now()) {
         PlannerLock lock;
         if (group_)
             a = group_->interrupt_of(axis_, flip);

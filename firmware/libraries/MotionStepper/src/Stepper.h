@@ -117,6 +117,7 @@ private:
     friend class StepperGroup;
     enum { REQ_NONE, REQ_MOVE, REQ_STOP };
     AxisSource source();
+    StepperGroup *group_now() const;
     void run_request(); /* planner interrupt: carries out req_ */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
     void record_done(int32_t engine_position);

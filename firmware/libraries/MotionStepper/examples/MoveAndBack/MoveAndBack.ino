@@ -6,6 +6,7 @@
 
 Stepper x(Stepper::X);
 static uint8_t leg = 0; /* 0: going out, 1: coming back, 2: done */
+static long farthest = 0;
 
 static void report(const __FlashStringHelper *what, motion_status_t st)
 {
@@ -30,10 +31,14 @@ void setup()
 
 void loop()
 {
-    long at;
+    long at, p = x.currentPosition(); /* polled as fast as loop() turns: the steps do not mind */
+    if (p > farthest)
+        farthest = p;
     if (leg < 2 && x.takeDone(at)) {
         Serial.print(F("DONE "));
         Serial.print(at);
+        Serial.print(F(" farthest="));
+        Serial.print(farthest);
         Serial.print(F(" underruns="));
         Serial.println(x.underruns());
         if (leg == 0) {
