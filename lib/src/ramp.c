@@ -143,12 +143,20 @@ uint32_t ramp_stop_steps(const ramp_t *m)
     return lv > 1U ? lv - 1U : 0U;
 }
 
-/* a level from a float count of steps, rounded, at least 1 */
+/* a level from a float count of steps, rounded up, at least 1: the continuation then has at most
+ * the steps of acceleration left that reach its vmax, never one more (a level rounded down left up
+ * to one level too many: past vmax by up to a simplistic dp, 126 ticks at v0 20, vmax 12,000) */
 static uint32_t level_from(float lf)
 {
-    if (!(lf >= 0.5f))
+    uint32_t k;
+    if (!(lf > 0.0f))
         return 1U;
-    return lf < 4.0e9f ? (uint32_t)(lf + 0.5f) + 1U : UINT32_MAX - 1U;
+    if (!(lf < 4.0e9f))
+        return UINT32_MAX - 1U;
+    k = (uint32_t)lf;
+    if ((float)k < lf)
+        k++;
+    return k + 1U;
 }
 
 /* The level a continuation of the moving m under params starts at. A level counts steps from v0

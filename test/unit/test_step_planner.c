@@ -603,6 +603,80 @@ static void replan_with_new_params_keeps_speed(void **state)
     replan_case(RAMP_ALGO_SIMPLISTIC, 50000.0, 10000.0, 5000.0, 60000, 0);
 }
 
+/* A continued Leib or simplistic move under new parameters (a new v0 or accel: `set` while moving,
+ * then a target) starts at the level of its speed under them, and never runs faster than vmax: the
+ * level rounded to the nearest left the ramp up to half a level too many steps, and a simplistic
+ * level is dp = (F/v0 - F/vmax)/S ticks of interval (126 ticks at v0 20, vmax 12,000, accel 90,824:
+ * make fuzz found 12,500 steps/s at vmax 12,000). Random parameter changes at random steps of the
+ * acceleration; every interval after the change at least F/vmax less the half tick of rounding. */
+static uint32_t lcg_next(uint32_t *x)
+{
+    *x = *x * 1664525U + 1013904223U;
+    return *x >> 8;
+}
+
+static double log_uniform(uint32_t *x, double lo, double hi)
+{
+    return lo * pow(hi / lo, (double)(lcg_next(x) & 0xFFFFU) / 65535.0);
+}
+
+static void continued_ramp_never_above_vmax(void **state)
+{
+    const ramp_algo_t algos[] = {RAMP_ALGO_SIMPLISTIC, RAMP_ALGO_LEIB};
+    uint32_t x = 12345U, i, trial, bad = 0, cases = 0;
+    (void)state;
+    for (i = 0; i < 2U; i++) {
+        for (trial = 0; trial < 120U; trial++) {
+            ramp_params_t p, q;
+            step_planner_t pl;
+            trace_t tr;
+            uint32_t k, n, n0;
+            double pmin;
+            p.tick_hz = q.tick_hz = 2000000U;
+            p.vmax_sps = q.vmax_sps = (float)log_uniform(&x, 2000.0, 12000.0);
+            p.v0_sps = (float)log_uniform(&x, 1.0, 1500.0);
+            q.v0_sps = trial == 0 ? 20.0f : (float)log_uniform(&x, 1.0, 1500.0);
+            p.accel_sps2 = (float)log_uniform(&x, 2000.0, 1e6);
+            q.accel_sps2 = (float)log_uniform(&x, 2000.0, 1e6);
+            if (trial == 0) {
+                /* the fuzz case */
+                p.vmax_sps = q.vmax_sps = 12000.0f;
+                p.v0_sps = 500.0f;
+                p.accel_sps2 = q.accel_sps2 = 90824.0f;
+            }
+            if (step_planner_init_trapezoid(&pl, algos[i], &p, 0) != MS_OK)
+                continue;
+            assert_int_equal(step_planner_move(&pl, 300000), MS_OK);
+            trace_init(&tr, 400000);
+            k = 1U + lcg_next(&x) % 1500U;
+            drain_steps(&pl, &tr, k);
+            n0 = tr.n;
+            if (step_planner_set_params(&pl, &q) != MS_OK || step_planner_move(&pl, 350000) != MS_OK) {
+                trace_free(&tr);
+                continue;
+            }
+            drain(&pl, &tr, UINT32_MAX);
+            cases++;
+            pmin = (double)q.tick_hz / (double)q.vmax_sps;
+            for (n = n0 + 1U; n <= tr.n; n++) {
+                uint64_t w = tr.t[n] - tr.t[n - 1];
+                if ((double)w < pmin - 0.5 - 1e-6) {
+                    if (bad++ < 3)
+                        print_message("%s: v0 %g -> %g, accel %g -> %g, vmax %g, changed after step %u: step %u "
+                                      "at %llu ticks, below F/vmax = %.2f\n",
+                                      ramp_algo_name(algos[i]), (double)p.v0_sps, (double)q.v0_sps,
+                                      (double)p.accel_sps2, (double)q.accel_sps2, (double)q.vmax_sps, n0, n,
+                                      (unsigned long long)w, pmin);
+                    break;
+                }
+            }
+            trace_free(&tr);
+        }
+    }
+    assert_true(cases > 150U);
+    assert_int_equal(bad, 0);
+}
+
 static void stop_decelerates_to_rest(void **state)
 {
     const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_LEIB, RAMP_ALGO_SIMPLISTIC};
@@ -939,6 +1013,7 @@ int main(void)
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
         cmocka_unit_test(replan_with_new_params_keeps_speed),
+        cmocka_unit_test(continued_ramp_never_above_vmax),
         cmocka_unit_test(stop_decelerates_to_rest),
         cmocka_unit_test(stop_never_passes_the_target),
         cmocka_unit_test(stop_at_rest_does_nothing),

@@ -425,6 +425,11 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
         for p in late:
             o.bad(f"{name}edge late: {p}")
         splits = fo.done_splits(pos_after, dones[ax] + [(h, fo.position_at(pos_after, h)) for h in halts[ax]])
+        if table:
+            # SCurveStepper: a move from rest takes the table in force when the last move ended (a
+            # `set` while moving waits for rest; one sent after that end counts through the bound's
+            # largest-value rule), whatever targets continued it (docs/serial.md)
+            plans[ax] = [0] + [d[0] for d in dones[ax]] + list(halts[ax])
         params = fo.Params(lim.axes.get(ax, {}), sets[ax])
         tick = int(round(emulog.F_CPU / lim.tick_hz))
         probs, pairs, worst, rev = fo.speed_law(planned, [e[1] for e in edges], splits, params, tick, lim.exact,
