@@ -6,6 +6,7 @@
 static void clear_state(step_planner_t *pl, int32_t pos)
 {
     pl->active = 0;
+    pl->params_new = 0;
     pl->has_carry = 0;
     pl->has_ready = 0;
     pl->has_then = 0;
@@ -78,6 +79,8 @@ motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t 
         /* the profile in progress keeps its constants until the next plan */
         if (!pl->active && !pl->has_then)
             pl->exact.k = e.k;
+        else
+            pl->params_new = 1;
     } else {
         st = ramp_plan_hooked(&probe, pl->algo, params, pl->hooks, 0, 1);
         if (st != MS_OK)
@@ -150,6 +153,7 @@ static motion_status_t plan_from_rest(step_planner_t *pl, int32_t to)
         if (st != MS_OK)
             return st;
         pl->exact = e;
+        pl->params_new = 0;
     } else if (pl->algo == RAMP_ALGO_SIGMOID) {
         st = ramp_plan_sigmoid(&pl->ramp, &pl->sig, pl->table, pl->table_len, pl->pos, to);
     } else {
@@ -191,9 +195,14 @@ motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
         step_exact_t e = pl->exact;
         if (!e.moving || !pl->active)
             return (pl->has_then = 0, plan_from_rest(pl, to));
-        st = step_exact_change_params(&e, &pl->params); /* the speed carried into set's new values */
-        if (st != MS_OK)
-            return st;
+        if (pl->params_new) {
+            /* the speed carried into set's new values (several 64-bit divisions: only when there are
+             * new values, so that a stop or a new target is planned fast) */
+            st = step_exact_change_params(&e, &pl->params);
+            if (st != MS_OK)
+                return st;
+        }
+        pl->params_new = 0;
         if (step_exact_plan(&e, to) == MS_OK) {
             pl->exact = e;
             pl->has_then = 0;
@@ -240,9 +249,11 @@ void step_planner_stop(step_planner_t *pl)
         if (pl->active && pl->exact.moving) {
             step_exact_t e = pl->exact;
             /* a stop is a plan: it decelerates at the accel in force now (set while moving) */
-            if (step_exact_change_params(&e, &pl->params) == MS_OK &&
-                (e.k.cu != pl->exact.k.cu || e.k.u0 != pl->exact.k.u0 || e.k.vu != pl->exact.k.vu))
-                pl->exact = e; /* unchanged: the profile stays (a stop then never passes the target) */
+            if (pl->params_new && step_exact_change_params(&e, &pl->params) == MS_OK) {
+                if (e.k.cu != pl->exact.k.cu || e.k.u0 != pl->exact.k.u0 || e.k.vu != pl->exact.k.vu)
+                    pl->exact = e; /* unchanged: the profile stays (a stop then never passes the target) */
+                pl->params_new = 0;
+            }
             step_exact_stop(&pl->exact);
             pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d - pl->exact.n);
         }

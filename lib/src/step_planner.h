@@ -45,6 +45,8 @@ typedef struct {
     step_exact_t exact;
     ramp_t ramp;
     uint8_t active;                  /* a profile is being handed out */
+    uint8_t params_new;              /* exact: params set after the profile in progress was planned
+                                        (its constants are older: the next plan converts them) */
     uint8_t has_carry;               /* a step taken from the ramp, not yet in a command */
     ramp_step_t carry;
     uint8_t has_ready;               /* a command waiting to be handed out first */
