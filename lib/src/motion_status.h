@@ -1,7 +1,8 @@
 /* motion_status.h - one status type for every lib/ module, and one function that turns a status
  * into a sentence (shared by the sketches' "ERR <reason>" replies and motionsim's messages).
  *
- * Add a status by adding one X(...) line to MOTION_STATUS_LIST, in its module's group.
+ * Add a status by adding one X(...) line at the END of MOTION_STATUS_LIST (the numbers of the
+ * existing ones stay as they are: code built against an older list keeps its meaning).
  * On AVR the sentences live in flash (PROGMEM), so they cost no SRAM; use motion_status_copy()
  * to get one into a RAM buffer on either platform. Cost: a table lookup and a string copy.
  */
@@ -65,7 +66,10 @@ extern "C" {
     X(MS_ERR_UNKNOWN_COMMAND, "unknown command")                                               \
     X(MS_ERR_BUSY, "busy: a move is in progress")                                              \
     X(MS_ERR_UNDERFLOW, "number too close to 0 (underflow)")                                    \
-    X(MS_ERR_INPUT_OVERRUN, "input overrun")
+    X(MS_ERR_INPUT_OVERRUN, "input overrun")                                                   \
+    /* added later: kept at the end so that no earlier status changes its number */            \
+    X(MS_ERR_NOT_BEGUN, "begin() has not been called: nothing moves before it")                \
+    X(MS_ERR_NOT_SUPPORTED, "not supported by this ramp algorithm (the exact ramp only)")
 
 #define MOTION_STATUS_ENUM_ITEM(id, text) id,
 typedef enum { MOTION_STATUS_LIST(MOTION_STATUS_ENUM_ITEM) MS__COUNT } motion_status_t;

@@ -392,7 +392,7 @@ motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t 
     if (pl == 0)
         return MS_ERR_NULL;
     if (pl->algo != RAMP_ALGO_EXACT)
-        return MS_ERR_UNKNOWN_COMMAND; /* not supported (yet) for the stepwise ramps */
+        return MS_ERR_NOT_SUPPORTED; /* the stepwise ramps cannot (yet) go back to a boundary */
     /* k stays the profile's while it is handed out; after its last command a set may have changed it */
     if (steps >= pl->exact.n || (!pl->active && !step_exact_profile_intact(&pl->exact)))
         return MS_ERR_OUT_OF_RANGE;

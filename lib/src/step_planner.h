@@ -93,7 +93,7 @@ uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c);
  * that handed out only the commands kept. time16: the time the dropped commands take in the
  * executor, the sum of step_exact_cmd_time16 over them; last_count: the count of the last
  * command kept. The exact ramp only (step_exact_rewind, which says what it refuses); the others
- * return MS_ERR_UNKNOWN_COMMAND for now. The commands dropped must all be of the current profile
+ * return MS_ERR_NOT_SUPPORTED for now. The commands dropped must all be of the current profile
  * and at least one of its commands must stay (steps < the profile's steps handed out): else
  * MS_ERR_OUT_OF_RANGE, as when the profile has been handed out to its end and a set has changed
  * the parameters since (step_exact_profile_intact). On error nothing changes. */

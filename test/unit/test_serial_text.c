@@ -25,6 +25,19 @@ static void status_every_code_has_a_distinct_sentence(void **state)
     assert_string_equal(motion_status_text((motion_status_t)MS__COUNT), "unknown status");
 }
 
+/* Statuses added after the first release go at the end of the list (motion_status.h's rule), so
+ * that no earlier one changes its number: MS_ERR_INPUT_OVERRUN was the last of the first list. */
+static void status_later_additions_at_the_end_with_their_sentences(void **state)
+{
+    (void)state;
+    assert_int_equal(MS_ERR_NOT_BEGUN, MS_ERR_INPUT_OVERRUN + 1);
+    assert_int_equal(MS_ERR_NOT_SUPPORTED, MS_ERR_INPUT_OVERRUN + 2);
+    assert_int_equal(MS__COUNT, MS_ERR_NOT_SUPPORTED + 1);
+    /* the sentence must say what is wrong: begin() missing; a ramp that cannot do this */
+    assert_non_null(strstr(motion_status_text(MS_ERR_NOT_BEGUN), "begin() has not been called"));
+    assert_non_null(strstr(motion_status_text(MS_ERR_NOT_SUPPORTED), "not supported by this ramp"));
+}
+
 static void status_copy_truncates_and_terminates(void **state)
 {
     char buf[8];
@@ -463,6 +476,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(status_every_code_has_a_distinct_sentence),
+        cmocka_unit_test(status_later_additions_at_the_end_with_their_sentences),
         cmocka_unit_test(status_copy_truncates_and_terminates),
         cmocka_unit_test(line_endings_cr_lf_crlf_all_end_one_line),
         cmocka_unit_test(long_line_without_newline_gives_one_error_and_no_command),
