@@ -5,6 +5,7 @@
 #   build/emu/pid_v1_avr.elf        lib's PID module + the PID_v1 float32 vectors, for the ATmega2560
 #   build/emu/text_parse_avr.elf    lib's text_parse_real + decimal words and their nearest floats
 #   make emulate SKETCH=<name> [INPUT=<file>] [EMULATE_OUT=<dir>]   run a sketch in the emulator -> build/emulate/
+#                                                                   (or a library example: SKETCH=MoveAndBack)
 #   make emulate SKETCH=<name> LIVE=1                               ... as a board on a pseudo-terminal
 #
 # EMU_DEPS is what `make test` builds first; EMU_SUITES is the emulator suite for tools/run_tests.py
@@ -104,21 +105,31 @@ EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 
 # make emulate SKETCH=X builds only X: its ELF is remade when X's own files, the libraries every
-# sketch is built with (lib/src, firmware/libraries) or the build script changed, or a file of
+# sketch is built with (lib/src, firmware/libraries but their examples) or the build script changed, or a file of
 # those was added, removed or renamed (EMULATE_LIST, rewritten only when the list of names changes).
 # Not the other sketches, not the test-only builds. An unknown SKETCH is left to emulate.py, which
 # says so in one line. LIVE=1: an interactive board on a pseudo-terminal (tools/emu/emulate.py --live).
 # EMULATE_OUT: where the outputs go (default build/emulate)
+# SKETCH may also name a library example (lib/examples/X, firmware/libraries/<Lib>/examples/X, as
+# tools/build_firmware.sh builds them; a sketch of that name comes first): EMULATE_DIR is its folder,
+# EMULATE_ARG what build_firmware.sh is given (a sketch's name, an example's folder). A name with
+# glob characters matches nothing (the folder found must be named SKETCH).
 EMULATE_OUT ?= $(BUILD)/emulate
-EMULATE_OK  := $(and $(SKETCH),$(filter 1,$(words $(SKETCH))),$(wildcard firmware/$(SKETCH)/$(SKETCH).ino))
+EMULATE_INO := $(and $(SKETCH),$(filter 1,$(words $(SKETCH))),$(firstword $(wildcard firmware/$(SKETCH)/$(SKETCH).ino \
+                 lib/examples/$(SKETCH)/$(SKETCH).ino firmware/libraries/*/examples/$(SKETCH)/$(SKETCH).ino)))
+EMULATE_DIR := $(patsubst %/,%,$(dir $(EMULATE_INO)))
+EMULATE_OK  := $(if $(filter $(SKETCH),$(notdir $(EMULATE_DIR))),$(EMULATE_INO))
 ifneq ($(EMULATE_OK),)
+EMULATE_ARG  := $(if $(filter firmware/$(SKETCH),$(EMULATE_DIR)),$(SKETCH),$(EMULATE_DIR))
 EMULATE_ELF  := $(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.elf
-EMULATE_SRCS := $(shell find firmware/$(SKETCH) lib/src lib/library.properties firmware/libraries -type f 2>/dev/null | LC_ALL=C sort)
+# the libraries' own examples are no source of another sketch or example
+EMULATE_SRCS := $(shell { find $(EMULATE_DIR) lib/src lib/library.properties -type f; \
+                  find firmware/libraries -path 'firmware/libraries/*/examples' -prune -o -type f -print; } 2>/dev/null | LC_ALL=C sort -u)
 EMULATE_LIST := $(BUILD)/emu/files-$(SKETCH).list
 $(shell mkdir -p $(BUILD)/emu && printf '%s\n' $(EMULATE_SRCS) | cmp -s - $(EMULATE_LIST) || printf '%s\n' $(EMULATE_SRCS) > $(EMULATE_LIST))
 $(EMULATE_ELF): $(EMULATE_SRCS) $(EMULATE_LIST) tools/build_firmware.sh
 	@echo "make emulate: building $(SKETCH) (arduino-cli; log: $(BUILD)/firmware/$(SKETCH).log) ..."
-	@start=$$(date +%s); bash tools/build_firmware.sh $(SKETCH) >$(BUILD)/emu/build-$(SKETCH).log 2>&1 \
+	@start=$$(date +%s); bash tools/build_firmware.sh $(EMULATE_ARG) >$(BUILD)/emu/build-$(SKETCH).log 2>&1 \
 	  || { cat $(BUILD)/emu/build-$(SKETCH).log; exit 1; }; \
 	  echo "make emulate: built $(SKETCH) in $$(( $$(date +%s) - start )) s"
 endif

@@ -34,6 +34,10 @@ known). Then it writes into the output folder:
                     memory (P, or PID with Ki = Kd = 0); motionsim then runs the step from 0 and is
                     shifted by the position at the start. motionsim's t = 0 (its first sample) is
                     placed at the firmware's first encoder read that drove a new duty.
+A library example (lib/examples/<S>, firmware/libraries/<Lib>/examples/<S>; sketches.example_dirs)
+is no console: it is not asked `?`, its default script lets it run by itself for 5 s (or what
+sketches.EXAMPLE_INPUTS gives it, e.g. StopOnSwitch's switches), and its RAMPS X, Y, Z pins give the
+multiaxis CSV and plot (t_s,axis,step,position; <S>.positions.csv).
 Earlier outputs of the same sketch are deleted first. Exit status: 0 ok, 1 the firmware or
 motionsim failed, 2 bad SKETCH or INPUT.
 """
@@ -474,7 +478,9 @@ def main(argv):
     a = ap.parse_args(argv)
     env = sketches.Env(source_dir=a.source_dir)
     names = env.sketch_names()
-    if not a.sketch or a.sketch not in names:
+    examples = sketches.example_dirs(env)
+    example = a.sketch not in names and a.sketch in examples
+    if not a.sketch or (a.sketch not in names and not example):
         folder = os.path.join(env.source_dir, "firmware", a.sketch or "")
         inos = sorted(f for f in os.listdir(folder) if f.endswith(".ino")) if a.sketch and os.path.isdir(folder) else []
         if len(inos) == 1:
@@ -482,13 +488,19 @@ def main(argv):
                   "(a sketch's .ino must be named like its folder)", file=sys.stderr)
             return 2
         what = f"unknown ('{a.sketch}')" if a.sketch else "missing"
-        print(f"make emulate: SKETCH=<name> is {what}; sketches: {' '.join(names)}", file=sys.stderr)
+        print(f"make emulate: SKETCH=<name> is {what}; sketches: {' '.join(names)}; library examples: "
+              f"{' '.join(sorted(examples))}", file=sys.stderr)
         return 2
     s = a.sketch
     try:
-        fam = sketches.family_of(env, s)
-        elf = env.elf(s)
-        hargs = sketches.harness_args(env, s)
+        if example:  # a library example: the RAMPS axes' pins, no console to ask
+            fam = sketches.EXAMPLE_FAMILY
+            elf = env.elf(s)
+            hargs = {"pins": sketches.multiaxis_pins(env)}
+        else:
+            fam = sketches.family_of(env, s)
+            elf = env.elf(s)
+            hargs = sketches.harness_args(env, s)
     except sketches.SketchError as e:
         print(f"make emulate: {e}", file=sys.stderr)
         return 2
@@ -517,9 +529,14 @@ def main(argv):
     os.makedirs(a.out, exist_ok=True)
     remove_old_outputs(a.out, s)
     base = os.path.join(a.out, s)
-    print(f"emulating {s} ({shown(elf)}): asking it `?` at boot ...", flush=True)
-    ready, defaults = probe(elf, fam, hargs)
-    if not defaults:
+    if example:
+        print(f"emulating {s} ({shown(elf)}), the example {examples[s]}: it runs by itself (no `?` asked); "
+              "its X, Y and Z pins are logged and plotted", flush=True)
+        ready, defaults = True, {}
+    else:
+        print(f"emulating {s} ({shown(elf)}): asking it `?` at boot ...", flush=True)
+        ready, defaults = probe(elf, fam, hargs)
+    if not defaults and not example:
         print(f"  {s} did not answer `?` at boot: its parameters are unknown (overlays need a `?` reply); "
               "its pins are logged and plotted all the same")
     if a.live:
@@ -527,7 +544,8 @@ def main(argv):
         script = None
     else:
         if not a.input:
-            script = sketches.default_input(env, s) if defaults else blind_input(s, fam, ready)
+            script = sketches.example_input(s) if example else \
+                sketches.default_input(env, s) if defaults else blind_input(s, fam, ready)
         with open(base + ".input.emu", "w") as f:
             f.write(script)
         print(f"  running {a.input or 'the default input (' + shown(base) + '.input.emu)'}; "
@@ -609,8 +627,11 @@ def main(argv):
             steps[ax] = steps.get(ax, 0) + 1
             rows.append(((c - t0) / F_CPU, ax.lower(), steps[ax], pos[ax]))
         write_csv(base + ".csv", "t_s,axis,step,position", rows)
-        print(f"  {base}.csv: {len(rows)} edges ({', '.join(f'{k.lower()} {v}' for k, v in sorted(steps.items()))}); "
-              "compare with `motionsim move` (docs/multi-axis.md)")
+        if rows:
+            print(f"  {base}.csv: {len(rows)} edges ({', '.join(f'{k.lower()} {v}' for k, v in sorted(steps.items()))}); "
+                  "compare with `motionsim move` (docs/multi-axis.md)")
+        else:
+            print(f"  {base}.csv: no STEP edge on X, Y or Z")
         # the three positions after every edge, for the plot
         cur, prows = {"x": 0, "y": 0, "z": 0}, []
         for t, ax, _, p in rows:

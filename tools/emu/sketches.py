@@ -253,3 +253,62 @@ def multiaxis_pins(env):
                 raise SketchError(f"MultiAxisPins.h does not define MULTI_{ax}_{sig}_PORT PORT<x>")
             pins[ax + sig] = f"P{mp.group(1)}{env.header_int('multiaxis', f'MULTI_{ax}_{sig}_BIT')}"
     return pins
+
+
+# ---- library examples ------------------------------------------------------------------------
+# The examples of our Arduino libraries (lib/examples/<Name> for MotionCore, firmware/libraries/<Lib>/
+# examples/<Name>), built by tools/build_firmware.sh into build/firmware/<Name>/ like the sketches.
+# They need no marker line: they are not consoles (no `?`, no protocol) but programs that run by
+# themselves; the harness watches the RAMPS X, Y and Z pins (MultiAxisPins.h, the MotionStepper
+# library's axes) and `make emulate` draws their positions as for the multiaxis family.
+EXAMPLE_PARENTS = ("lib/examples", "firmware/libraries/*/examples")
+EXAMPLE_FAMILY = "multiaxis"
+
+# What `make emulate SKETCH=<Example>` runs without INPUT=: the example's first 5 s (every shipped
+# example has ended or shown its moves by then), unless it needs the host for more (below).
+EXAMPLE_DEFAULT_INPUT = """\
+# {sketch}: the example runs by itself; its first 5 s of emulated time
+until 5000
+"""
+
+# StopOnSwitch reads its switches (A3 STOP, A4 HALT, closed = low: the pull-up holds an open one
+# high) through the ADC, which reads 0 V unless told: open them both, then close STOP while the axis
+# runs, then HALT on the way back.
+EXAMPLE_INPUTS = {
+    "StopOnSwitch": """\
+# StopOnSwitch: both switches open (5 V), STOP closed 600 ms into the first move (stop()), HALT
+# 300 ms into the move back (forceStop())
+adc 3 5
+adc 4 5
+wait ^READY
+wait ^MOVE towards
+run 600
+adc 3 0
+timeout 20000
+wait ^DONE
+adc 3 5
+wait ^MOVE towards
+run 300
+adc 4 0
+wait ^DONE
+adc 4 5
+wait ^MOVE towards
+run 200
+""",
+}
+
+
+def example_dirs(env):
+    """{name: folder relative to the source tree} of every library example (<folder>/<name>.ino)"""
+    import glob
+    out = {}
+    for parent in EXAMPLE_PARENTS:
+        for d in sorted(glob.glob(os.path.join(env.source_dir, parent, "*", ""))):
+            name = os.path.basename(os.path.dirname(d))
+            if os.path.isfile(os.path.join(d, name + ".ino")):
+                out.setdefault(name, os.path.relpath(os.path.dirname(d), env.source_dir))
+    return out
+
+
+def example_input(sketch):
+    return EXAMPLE_INPUTS.get(sketch, EXAMPLE_DEFAULT_INPUT.format(sketch=sketch))
