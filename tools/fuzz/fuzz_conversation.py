@@ -301,6 +301,35 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
     # table (its vmax and accel) changes only for a move from rest, so there only such moves count
     plans = {ax: [] for ax in axes}
     table = lim is not None and lim.algo == "sigmoid"
+    # when each line has arrived whole at the sketch: a flood's lines are all sent at one cycle and
+    # come in one after the other at 9600 baud, so their order in time is their order in the flood
+    byte_cycles = emulog.F_CPU * 10 // 9600
+    arrive, queued, last_send = [], 0, None
+    for i, snd in enumerate(sends):
+        queued = queued if snd.cycle == last_send else 0
+        queued += len(lines[i][1])
+        last_send = snd.cycle
+        arrive.append(snd.cycle + queued * byte_cycles)
+    used = set()
+
+    def line_of(gi, pattern, value):
+        """the line of group gi a reply answers: a solo line is its group; in a flood, the first
+        line not yet matched whose text is pattern with this number (else the flood's first)"""
+        a, b, g = groups[gi]
+        if g is None:
+            return a
+        for i in range(a, b + 1):
+            if i in used:
+                continue
+            m = re.fullmatch(pattern, lines[i][1].decode("latin-1").strip())
+            if m:
+                try:
+                    if float(m.group(1)) == value:
+                        used.add(i)
+                        return i
+                except ValueError:
+                    continue
+        return a
 
     def close(ax, p, c):
         dones[ax].append((c, p))
@@ -314,7 +343,8 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
     def move(ax, to, chained, gi):
         o.accepted_moves += 1
         if not table or not open_moves[ax] or chained:
-            plans[ax].append(sends[groups[gi][0]].cycle)
+            pat = (r"(?:[xyz] )?(" + NUM + ")") if family == "multiaxis" else "(" + NUM + ")"
+            plans[ax].append((arrive[line_of(gi, pat, float(to))], c))
         if not open_moves[ax]:
             open_moves[ax] = [to]
             open_at[ax], open_line[ax] = sends[groups[gi][0]].cycle, groups[gi][0]
@@ -354,7 +384,8 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
         if m:
             # in force from when the sketch read the line, before its reply went out: a move the
             # sketch plans meanwhile (a target waiting for a DONE) already has it
-            when = min(c, sends[a].cycle)
+            when = min(c, arrive[line_of(gi, r"set (?:[xyz] )?" + m.group(2) + r"\s+(" + NUM + r")",
+                                         float(m.group(3)))])
             for ax in ([m.group(1)] if m.group(1) else axes):
                 sets[ax].append((when, m.group(2), float(m.group(3))))
             continue
@@ -367,7 +398,7 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
                 if t == "OK halt":
                     halts[ax].append(c)
                 elif not table:
-                    plans[ax].append(min(c, sends[a].cycle))
+                    plans[ax].append((min(c, arrive[a]), c))
                 if family == "stepper" and not open_moves[ax]:
                     o.bad(f"line {a + 1} {sent!r} was answered {t!r} (stopping a move) while none was in progress", a)
                 del open_moves[ax][1:]

@@ -21,7 +21,6 @@ them synthetic traces. The bounds come from the documented guarantees, not from 
   fast. (Not for the S-curve, whose largest acceleration `?` does not give: its `accel=` is the
   average.)
 """
-import bisect
 import math
 
 F_CPU = 16_000_000
@@ -145,7 +144,7 @@ def undo_late_edges(times, runs, late=STEP_LATE_CYCLES):
 def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit=3, reversals=True, plans=()):
     """The speed-continuity oracle on planned edge times (cycles). Returns (problems, pairs
     checked, worst fraction of the allowance used, reversals checked).
-    plans: the cycles at which plans were made (a target's or a stop's line sent). A run of edges
+    plans: when plans were made: cycles, or (line arrived, reply) pairs. A run of edges
     belongs to the plan made before it started (a reversal is planned with the target that caused
     it), and that plan has the parameters in force then: the values in force are taken from that
     plan's time on, not from the run's first edge (a `set` after the plan is "from the next plan").
@@ -162,12 +161,18 @@ def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit
 
     runs = list(split_runs(times, dirs, split_after))
     times = undo_late_edges(times, runs)
-    plans = sorted(plans)
+    # a plan: (the line arrived, its reply): the sketch made it in between (lines are taken in order)
+    plans = sorted((p, p) if isinstance(p, (int, float)) else tuple(p) for p in plans)
 
     def since(c):
-        """the time from which the parameters of the run starting at cycle c are in force"""
-        i = bisect.bisect_right(plans, c) - 1
-        return plans[i] if i >= 0 else c
+        """the time from which the parameters of the run starting at cycle c are in force: the run's
+        plan is the last one made before c, which is the last one answered before c or a later one
+        (arrived before c, answered after it); the earliest of these is the honest bound"""
+        sure = [a for a, e in plans if e <= c]
+        if sure:
+            return sure[-1]
+        maybe = [a for a, e in plans if a <= c < e]
+        return maybe[0] if maybe else c
 
     for r in runs:
         r_from = since(times[r[0]])

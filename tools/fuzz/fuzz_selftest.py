@@ -89,6 +89,11 @@ def run():
            law(turn, 500000, 1e6, dirs=dirs, events=[(set_at, "accel", 50000.0)], plans=[0, plan_at])[0], False)
     expect("the same reversal with the lower accel set before its plan",
            law(turn, 500000, 1e6, dirs=dirs, events=[(plan_at - 1, "accel", 50000.0)], plans=[0, plan_at])[0], True)
+    # 1d. in a flood a later target's line has arrived before the turn but is answered after it (the
+    # sketch may read it after the turn): the turn's plan is the earlier one, answered before it
+    expect("a line arrived before the turn and answered after it does not replace the turn's plan",
+           law(turn, 500000, 1e6, dirs=dirs, events=[(set_at, "accel", 50000.0)],
+               plans=[0, (plan_at, plan_at), (set_at + 5, again[-1] + F)])[0], False)
     # 2. issue 22 item 1: after the replan the interval drops from 200 us to 50 us (4x vmax)
     jump = cruise_then(good, 20000, 50)
     expect("a 4x speed jump at a replan (5,000 -> 20,000 steps/s)",
