@@ -3,8 +3,8 @@
  *
  * The harness is a plain C program around libsimavr 1.6. Pieces, one file each:
  *   motionemu.c     command line, ELF validation and loading, the run loop, reset/crash detection
- *   emu_log.c       the event log (one line per event, format in README "Emulator")
- *   emu_pins.c      Arduino Mega pin names (D54, A0, PF0) and pin edge recording
+ *   emu_log.c       the event log (one line per event, format in docs/emulator.md)
+ *   emu_pins.c      Arduino Mega pin names (D54, A0, PF0), pin edge recording, inputs driven from outside
  *   emu_uart.c      UART0: paced input bytes, output lines; fixes simavr's 11-bit frame quirk
  *   emu_script.c    the INPUT script (send lines at given times, wait for replies, ...)
  *   emu_spi.c       the SPI master with true transfer timing, talking to an attached device
@@ -65,6 +65,14 @@ int emu_pin_level(avr_t *avr, emu_pin_t pin);
  * on = 0: the pin follows PORT again. `cycle` is when the edge happens (an emulated timer's
  * exact compare-match cycle; simavr calls back at the next instruction boundary). */
 void emu_pin_drive(avr_t *avr, emu_pin_t pin, int on, int level, uint64_t cycle);
+
+/* The outside world drives the pin (a switch, an endstop; script command "pin"): while the pin is
+ * an input its PINx bit reads `level` whatever its pull-up (PORTx bit) says, as a switch to GND
+ * beats the internal pull-up; pin change and external interrupts see the edge. While the firmware
+ * makes it an output, PORT wins (PINx reads PORTx, as simavr does) and the level applies again
+ * when it becomes an input. From the call on, until the next call for the pin. *was_output: 1 if
+ * the pin is an output now. 0 ok, -1 if the port does not answer. */
+int emu_pin_input(avr_t *avr, emu_pin_t pin, int level, int *was_output);
 
 /* ---- phase-correct PWM outputs (emu_pwm.c) ---- */
 /* Emulates the output compare pin if `pin` is OCnA/B/C of timers 1, 3, 4, 5 (no-op otherwise). */

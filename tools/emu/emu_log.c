@@ -1,5 +1,5 @@
 /* emu_log.c - the event log: one line per event, "<tag> <cycle> <fields...>".
- * The format is documented in README.md (Emulator) and read by tools/emu/emulog.py. */
+ * The format is documented in docs/emulator.md and read by tools/emu/emulog.py. */
 #include <stdarg.h>
 #include <string.h>
 #include <time.h>

@@ -191,3 +191,30 @@ int emu_pin_level(avr_t *avr, emu_pin_t pin)
     pin_state_t *p = pin_get(avr, pin);
     return p ? p->level : 0;
 }
+
+/* Inputs driven from outside: simavr 1.6's "external" state of a port (AVR_IOCTL_IOPORT_SET_EXTERNAL,
+ * a mask and a value per port). avr_ioport_update_irqs, run at every PORTx and DDRx write, raises
+ * an input pin's IRQ with the external value when its mask bit is set (instead of the pull-up's 1),
+ * and the IRQ sets the PINx bit; so the level holds across the firmware's pinMode/pull-up writes.
+ * Raising the pin's IRQ now sets PINx at once (and runs the pin change / INTn logic, and our
+ * pin_changed, which logs a watched pin's edge). */
+static uint8_t ext_mask[12], ext_value[12]; /* ports 'A'..'L' */
+
+int emu_pin_input(avr_t *avr, emu_pin_t pin, int level, int *was_output)
+{
+    int k = pin.port - 'A';
+    uint8_t bit = (uint8_t)(1u << pin.bit);
+    avr_ioport_state_t st;
+    avr_irq_t *irq = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(pin.port), pin.bit);
+    if (k < 0 || k >= 12 || !irq || avr_ioctl(avr, AVR_IOCTL_IOPORT_GETSTATE(pin.port), &st) != 0)
+        return -1;
+    ext_mask[k] |= bit;
+    ext_value[k] = (uint8_t)(level ? ext_value[k] | bit : ext_value[k] & ~bit);
+    avr_ioport_external_t ext = {.name = (unsigned long)pin.port, .mask = ext_mask[k], .value = ext_value[k]};
+    if (avr_ioctl(avr, AVR_IOCTL_IOPORT_SET_EXTERNAL(pin.port), &ext) != 0)
+        return -1;
+    *was_output = (st.ddr & bit) != 0;
+    if (!*was_output)
+        avr_raise_irq(irq, level ? 1 : 0);
+    return 0;
+}

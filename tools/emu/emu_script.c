@@ -14,6 +14,8 @@
  *   run <ms>           let <ms> of emulated time pass
  *   until <ms>         run until time <ms>
  *   adc <ch> <volts>   set analog input A<ch> (0..15) to <volts> (0..5 V)
+ *   pin <pin> <0|1>    drive a digital input from outside (a switch): D3, A0, PE5 or E5 reads 0 or 1
+ *                      from now on, whatever its pull-up (emu_pin_input); logged "input <cycle> <pin> <PXn> <level>"
  *   encoder <counts>   with --ls7366r (no motor): move the encoder to <counts> (x4 quadrature);
  *                      motionemu refuses a script that has it without --ls7366r
  *   mark <text>        log "mark <cycle> <text>" (to split a run into sections)
@@ -31,7 +33,8 @@
 #include "emu.h"
 #include "text_parse.h"
 
-enum op { OP_AT, OP_SEND, OP_RAW, OP_REPEAT, OP_WAIT, OP_TIMEOUT, OP_DRAIN, OP_RUN, OP_UNTIL, OP_ADC, OP_ENCODER, OP_MARK, OP_END };
+enum op { OP_AT, OP_SEND, OP_RAW, OP_REPEAT, OP_WAIT, OP_TIMEOUT, OP_DRAIN, OP_RUN, OP_UNTIL, OP_ADC, OP_PIN, OP_ENCODER, OP_MARK,
+          OP_END };
 
 typedef struct {
     enum op op;
@@ -42,6 +45,8 @@ typedef struct {
     size_t len;
     char *src;        /* the text as written (for the log) */
     const char *name; /* the script it came from (file or --exec) */
+    emu_pin_t pin;    /* pin */
+    char pin_name[8]; /* the pin as written */
     regex_t re;
 } cmd_t;
 
@@ -199,6 +204,19 @@ static int add_cmd(char *line, int lineno)
             fprintf(stderr, "%s:%d: adc channel must be a whole number\n", script_name, lineno);
             rc = -1;
         }
+    } else if (!strcmp(word, "pin")) {
+        c->op = OP_PIN;
+        char name[16] = {0}, level[16] = {0}, extra[2] = {0};
+        int got = sscanf(arg, "%15s %15s %1s", name, level, extra);
+        if (got != 2 || emu_pin_parse(name, &c->pin) != 0 || strlen(name) >= sizeof c->pin_name ||
+            (strcmp(level, "0") && strcmp(level, "1"))) {
+            fprintf(stderr, "%s:%d: pin wants a pin (D3, A0, PE5 or E5) and a level 0 or 1, not '%s'\n", script_name,
+                    lineno, arg);
+            rc = -1;
+        } else {
+            strcpy(c->pin_name, name);
+            c->num = level[0] - '0';
+        }
     } else if (!strcmp(word, "encoder")) {
         c->op = OP_ENCODER;
         rc = parse_num(arg, -9.2e18, 9.2e18, &c->num, "encoder count", lineno);
@@ -212,7 +230,7 @@ static int add_cmd(char *line, int lineno)
         c->op = OP_END;
     } else {
         fprintf(stderr, "%s:%d: unknown command '%s' (want @<ms>, send, raw, repeat, wait, timeout, drain, run, "
-                        "until, adc, encoder, mark, end)\n",
+                        "until, adc, pin, encoder, mark, end)\n",
                 script_name, lineno, word);
         rc = -1;
     }
@@ -365,6 +383,15 @@ uint64_t emu_script_step(avr_t *avr, int *finished)
             if (irq)
                 avr_raise_irq(irq, mv);
             emu_log(now, "adc", "%d %g code=%u", (int)c->num, c->num2, code);
+            break;
+        }
+        case OP_PIN: {
+            int output = 0;
+            if (emu_pin_input(avr, c->pin, (int)c->num, &output) != 0)
+                emu_fail(now, "script", "%s:%d: pin %s: the port does not answer", c->name, c->lineno, c->pin_name);
+            else
+                emu_log(now, "input", "%s P%c%d %d%s", c->pin_name, c->pin.port, c->pin.bit, (int)c->num,
+                        output ? " output" : "");
             break;
         }
         case OP_ENCODER:

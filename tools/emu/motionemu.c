@@ -6,8 +6,9 @@
  * The log (stdout or -o) has one event per line, "<tag> <cycle> <fields>"; cycles are CPU cycles
  * since power-on (16 per microsecond). Tags: boot, uart, tx/txraw/txrepeat (host -> firmware),
  * rx (a line from the firmware), pin (an edge of a watched pin), match (a compare match of Timer1,
- * with --matches), motor (duty/count samples), adc, mark, warn, fail, end. Failures (reset, crash, halt, stack overflow, a wait that timed out,
- * an SPI mode the device cannot talk) are "fail" lines and make the exit status 1.
+ * with --matches), motor (duty/count samples), adc, input (a pin driven by the script), mark, warn,
+ * fail, end. Failures (reset, crash, halt, stack overflow, a wait that timed out, an SPI mode the
+ * device cannot talk) are "fail" lines and make the exit status 1.
  * --echo prints the serial conversation on stdout as it happens ("[  0.512 s] > 50",
  * "[  0.530 s] < OK 0 50"; the log then goes to -o). --pty runs the firmware in real time with UART0
  * on a pseudo-terminal (emu_pty.c): it prints "pty <path>" on stdout, starts the CPU when a program
@@ -33,7 +34,7 @@
 static const char usage[] =
     "usage: motionemu FIRMWARE.elf [options]\n"
     "Runs an Arduino Mega 2560 sketch (arduino-cli ELF) in simavr at 16 MHz; writes an event log.\n"
-    "  -i, --input FILE       INPUT script: serial lines to send and when (format: README, Emulator)\n"
+    "  -i, --input FILE       INPUT script: serial lines to send, pins to drive, and when (docs/emulator.md)\n"
     "  -e, --exec TEXT        one script command (repeatable; runs after --input)\n"
     "  -o, --output FILE      event log file (default: stdout)\n"
     "  -p, --pin NAME=PIN     log the edges of a pin; PIN is D54, A0, PF0 or F0 (repeatable)\n"

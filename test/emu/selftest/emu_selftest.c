@@ -21,6 +21,9 @@
  * 65536 - TCNT5 + k cycles after the write, plus the ISR's entry, whatever k; replies "OK wrap k"),
  * tifr (Timer5, interrupts off, OCIE5A on: OCR5A and OCR5B match, both flags set, then TIFR5 = OCF5B,
  * which clears only OCF5B; PF3 toggled, interrupts on: the compare A ISR toggles PF3 at once),
+ * pins ("OK pins d2=<PINE4> d18=<PIND3> int4=<n>": two inputs, D2 = PE4 with its pull-up on, D18 = PD3
+ * without, and n, the falling edges of D2 counted by INT4's interrupt since boot: what the harness's
+ * 'pin' command drives from outside),
  * anything else -> "ERR unknown".
  */
 #include <avr/interrupt.h>
@@ -99,6 +102,13 @@ ISR(TIMER1_COMPA_vect)
     PINF = _BV(PF0);
 }
 
+static volatile uint16_t int4_falls;
+
+ISR(INT4_vect)
+{
+    int4_falls++;
+}
+
 static void __attribute__((noinline)) call_nothing(void)
 {
     __asm__ __volatile__("");
@@ -159,6 +169,10 @@ int main(void)
 
     TCCR3A = _BV(WGM30);                     /* phase-correct 8-bit, OC3C off until 'pwm' */
     TCCR3B = _BV(CS31) | _BV(CS30);          /* clk/64 */
+    PORTE |= _BV(PE4);                       /* D2: input with pull-up; D18 (PD3): input, none */
+    EICRB = _BV(ISC41);                      /* INT4 (D2) on a falling edge */
+    EIFR = _BV(INTF4);
+    EIMSK = _BV(INT4);
     sei();
 
     println("READY EmuSelfTest");
@@ -316,6 +330,14 @@ int main(void)
             __builtin_avr_delay_cycles(1000);
             TIMSK5 = 0;
             println("OK tifr");
+        } else if (!strcmp(line, "pins")) {
+            uint16_t n;
+            cli();
+            n = int4_falls;
+            sei();
+            snprintf(buf, sizeof buf, "OK pins d2=%u d18=%u int4=%u", (unsigned)((PINE >> PE4) & 1),
+                     (unsigned)((PIND >> PD3) & 1), (unsigned)n);
+            println(buf);
         } else if (!strcmp(line, "dig1")) {
             TCCR3A = _BV(WGM30);   /* analogWrite(pin, 255): OC3C off, PE5 high by PORT */
             PORTE |= _BV(PE5);
