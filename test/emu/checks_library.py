@@ -248,19 +248,25 @@ def check_two_axes_line(env):
 
 # ---- StopOnSwitch ---------------------------------------------------------------------------
 
-DOC_DRIFT_MS = 0.5  # how far docs/library.md's quoted stop latency may lie from the measurement
+DOC_DRIFT_MS = 0.5  # how far below docs/library.md's quoted stop latency the measurement may lie
+STOP_RATES = (20000, 10000, 25000)  # the speeds of the script's three stops, in its order
+STOP_ACCEL = 50000.0  # StopOnSwitch.ino's setAcceleration
 
 
 def doc_stop_latency(env):
-    """the stop latency docs/library.md quotes ('stop latency **9.2 ms**'), or None"""
+    """the stop latencies docs/library.md quotes ('stop latency **4.1 ms** at 10,000 steps/s, **4.2 ms** at
+    20,000 and **4.3 ms** at 25,000'): {rate: ms}, or None"""
     try:
         with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
-            m = re.search(r"stop latency \*\*([0-9.]+) ms\*\*", f.read())
+            m = re.search(r"stop\s+latency\s+\*\*([0-9.]+) ms\*\*\s+at\s+10,000\s+steps/s,\s+\*\*([0-9.]+) ms\*\*\s+at\s+"
+                          r"20,000\s+and\s+\*\*([0-9.]+) ms\*\*\s+at\s+25,000", f.read())
     except OSError:
         return None
-    return float(m.group(1)) if m else None
+    return {10000: float(m.group(1)), 20000: float(m.group(2)), 25000: float(m.group(3))} if m else None
 
 
+# three stops (20,000, then 10,000 and 25,000 steps/s: a speed line sent during the move back, which a
+# halt ends) and two halts
 STOP_SCRIPT = """\
 adc 3 5
 adc 4 5
@@ -272,81 +278,122 @@ timeout 20000
 wait ^DONE
 adc 3 5
 wait ^MOVE towards -1000000 
+send 10000
+wait ^SPEED 10000$
 run 300
 adc 4 0
 wait ^DONE
 adc 4 5
+wait ^MOVE towards 1000000 
+run 600
+adc 3 0
+wait ^DONE
+adc 3 5
+wait ^MOVE towards -1000000 
+send 25000
+wait ^SPEED 25000$
+run 300
+adc 4 0
+wait ^DONE
+adc 4 5
+wait ^MOVE towards 1000000 
+run 800
+adc 3 0
+wait ^DONE
+adc 3 5
 wait ^MOVE
 """
 
 
+def check_one_stop(log, problems, e, made_before, t_sw, done, v, a):
+    """one stop() from the cruise at v: the steps made (DONE), the cruise up to the deceleration, the
+    deceleration's v^2/2a steps on the law t(n) = T_end - sqrt(2 (n_dec - n) / a) (every edge within the
+    late bound: no velocity jump), and the latency from the switch to the deceleration's start, ms (None:
+    not measured)"""
+    after = [c for c in e if t_sw < c < done.cycle]
+    n_dec = int(round(v * v / (2 * a)))
+    m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", done.text)
+    want = made_before + len(after)
+    if not m or abs(int(m.group(1))) != abs(want) or m.group(2) != "0":
+        problems.append(f"stop at {v:.0f}: '{done.text}', expected 'DONE {want}' (the steps made) with underruns=0")
+        return None
+    if len(after) < n_dec + 2:
+        problems.append(f"stop at {v:.0f}: {len(after)} steps after the switch, fewer than the deceleration's "
+                        f"v^2/2a = {n_dec}")
+        return None
+    dec = after[-n_dec:]
+    start = after[-n_dec - 1]  # the last edge of the cruise: the deceleration's first interval starts here
+    times = [v / a - math.sqrt(2 * (n_dec - n) / a) for n in range(1, n_dec + 1)]
+    late, at = law_errors([start] + dec, [0.0] + times)
+    if late > LATE_BOUND + 2:
+        problems.append(f"stop at {v:.0f}: deceleration step {at} is {late:.0f} cycles off the law (bound "
+                        f"{LATE_BOUND} + 2): not the deceleration from v at a")
+    cruise = [q - p for p, q in zip(after, after[1:len(after) - n_dec])]
+    if cruise and (max(cruise) > F_CPU / v + LATE_BOUND + 2 or min(cruise) < F_CPU / v - LATE_BOUND - 2):
+        problems.append(f"stop at {v:.0f}: intervals of {min(cruise)}..{max(cruise)} cycles before the "
+                        f"deceleration, not the cruise's {F_CPU / v:.0f} (a velocity jump)")
+    return (start - t_sw) * 1000.0 / F_CPU
+
+
 def check_stop_on_switch(env):
-    """stop() at one switch, forceStop() at the other (StopOnSwitch.ino): the deceleration's length and
-    law, the latency from the switch, no step after a halt"""
+    """stop() at one switch at three speeds, forceStop() at another (StopOnSwitch.ino): the deceleration's
+    length and law, the latency from the switch against docs/library.md, no step after a halt"""
     log = run(env, "StopOnSwitch", STOP_SCRIPT)
     problems = []
     common(log, problems)
     adc = [(c, r.split()) for c, t, r in log.events if t == "adc"]
-    closes = [c for c, w in adc if w[1] == "0"]
+    stops = [c for c, w in adc if w[0] == "3" and w[1] == "0"]
+    halts = [c for c, w in adc if w[0] == "4" and w[1] == "0"]
     dones = log.lines_matching(r"^DONE ")
-    if len(closes) != 2 or len(dones) < 2:
-        return CheckResult(False, "no conversation", [f"switches closed at {closes}, lines "
+    if len(stops) != len(STOP_RATES) or len(halts) != 2 or len(dones) < len(STOP_RATES) + 2:
+        return CheckResult(False, "no conversation", [f"stop switch closed at {stops}, halt at {halts}, lines "
                                                       f"{[l.text for l in log.rx]}"])
-    v, a = 20000.0, 50000.0
     e = log.rising("XSTEP")
-    # the stop: every step after the switch; the last v^2/2a of them are the deceleration
-    t_sw = closes[0]
-    after = [c for c in e if t_sw < c < dones[0].cycle]
-    before = len([c for c in e if c <= t_sw])
-    m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", dones[0].text)
-    n_dec = int(v * v / (2 * a))
-    latency_ms = None
-    if not m or int(m.group(1)) != before + len(after) or m.group(2) != "0":
-        problems.append(f"stop: '{dones[0].text}', expected 'DONE {before + len(after)} underruns=0' (the steps made)")
-    elif len(after) < n_dec:
-        problems.append(f"stop: {len(after)} steps after the switch, fewer than the deceleration's v^2/2a = {n_dec}")
+
+    def done_after(c):
+        return next(d for d in dones if d.cycle > c)
+
+    def position_at(c):
+        return sum(1 if log.level_before("XDIR", x) else -1 for x in e if x < c)
+
+    latency = {}
+    for t_sw, v in zip(stops, STOP_RATES):
+        d = done_after(t_sw)
+        lat = check_one_stop(log, problems, e, position_at(t_sw), t_sw, d, float(v), STOP_ACCEL)
+        if lat is not None:
+            latency[v] = lat
+    doc = doc_stop_latency(env)
+    if doc is None:
+        problems.append("docs/library.md quotes no 'stop latency **<ms> ms** at 10,000 steps/s, **<ms> ms** at "
+                        f"20,000 and **<ms> ms** at 25,000' (measured {latency})")
     else:
-        dec = after[-n_dec:]
-        start = after[-n_dec - 1]  # the last edge of the cruise
-        latency_ms = (start - t_sw) * 1000.0 / F_CPU
-        # the deceleration from v: t(n) = T_end - sqrt(2 (n_dec - n) / a), the cruise edge before it at T_end - v/a
-        times = [v / a - math.sqrt(2 * (n_dec - n) / a) for n in range(1, n_dec + 1)]
-        late, at = law_errors([start] + dec, [0.0] + times)
-        if late > LATE_BOUND + 2:
-            problems.append(f"stop: deceleration step {at} is {late:.0f} cycles off the law (bound {LATE_BOUND} + 2)")
-        cruise = [q - p for p, q in zip(after, after[1:len(after) - n_dec])]
-        if cruise and max(cruise) > F_CPU / v + LATE_BOUND + 2:
-            problems.append(f"stop: an interval of {max(cruise)} cycles before the deceleration (a velocity jump)")
-        doc = doc_stop_latency(env)
-        if doc is None:
-            problems.append(f"docs/library.md quotes no 'stop latency **<ms> ms**' (measured {latency_ms:.2f} ms)")
-        elif abs(doc - latency_ms) > DOC_DRIFT_MS:
-            problems.append(f"docs/library.md quotes a stop latency of {doc} ms, measured {latency_ms:.2f} ms "
-                            f"(more than {DOC_DRIFT_MS} ms apart): update the page")
-        if latency_ms > LEAD_MS + 3:
-            problems.append(f"stop: the deceleration began {latency_ms:.2f} ms after the switch, more than the "
-                            f"lead {LEAD_MS} ms + a command + a tick + loop()'s poll (3 ms)")
-    # the halt: no step after the switch (loop() reads two ADC channels per pass: <= 0.5 ms)
-    t_h = closes[1]
-    after_h = [c for c in e if t_h < c < dones[1].cycle]
-    halt_us = ((after_h[-1] - t_h) * 1e6 / F_CPU) if after_h else 0.0
-    hl = line_of(log, r"^HALT switch at ", t_h)
+        for v, lat in sorted(latency.items()):
+            if lat > doc[v]:
+                problems.append(f"stop at {v}: the deceleration began {lat:.2f} ms after the switch, more than the "
+                                f"{doc[v]} ms docs/library.md promises")
+            elif doc[v] - lat > DOC_DRIFT_MS:
+                problems.append(f"docs/library.md quotes a stop latency of {doc[v]} ms at {v}, measured {lat:.2f} ms "
+                                f"(more than {DOC_DRIFT_MS} ms below): update the page")
+    # the halts: no step after the switch (loop() reads two ADC channels per pass: <= 0.5 ms)
+    halt_us = []
+    for t_h in halts:
+        d = done_after(t_h)
+        after_h = [c for c in e if t_h < c < d.cycle]
+        halt_us.append(((after_h[-1] - t_h) * 1e6 / F_CPU) if after_h else 0.0)
+        m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", d.text)
+        made = position_at(d.cycle)
+        if not m or int(m.group(1)) != made or m.group(2) != "0":
+            problems.append(f"halt: '{d.text}', expected 'DONE {made} underruns=0' (the steps made)")
+        if halt_us[-1] > 1000:
+            problems.append(f"halt: steps until {halt_us[-1]:.0f} us after the switch (bound 1 ms)")
+        if not any(log.level_before("XDIR", c) == 0 for c in after_h or e[-1:]):
+            problems.append("halt: the move back did not step with DIR low")
+        if line_of(log, r"^HALT switch at ", t_h) is None:
+            problems.append("halt: no 'HALT switch at' line")
     took = call_times(log, problems)
-    m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", dones[1].text)
-    pos = int(m.group(1)) if m else None
-    made = sum(1 if log.level_before("XDIR", c) else -1 for c in e if c < dones[1].cycle)
-    if not m or pos != made or m.group(2) != "0":
-        problems.append(f"halt: '{dones[1].text}', expected 'DONE {made} underruns=0' (the steps made)")
-    if halt_us > 1000:
-        problems.append(f"halt: steps until {halt_us:.0f} us after the switch (bound 1 ms)")
-    if hl is None:
-        problems.append("halt: no 'HALT switch at' line")
-    if not any(log.level_before("XDIR", c) == 0 for c in after_h or e[-1:]):
-        problems.append("halt: the move back did not step with DIR low")
-    figs = (f"stop: deceleration from 20,000 steps/s began {latency_ms:.2f} ms after the switch "
-            f"(lead {LEAD_MS} ms), v^2/2a = {n_dec} steps on the law; halt: last step {halt_us:.0f} us after "
-            f"the switch; moveTo/stop/forceStop returned within {took} us"
-            if latency_ms is not None else "stop not measured")
+    figs = ("stop: deceleration began " + ", ".join(f"{latency[v]:.2f} ms at {v}" for v in sorted(latency)) +
+            f" steps/s after the switch (lead {LEAD_MS} ms), v^2/2a steps on the law; halts: last step "
+            f"{max(halt_us):.0f} us after the switch; moveTo/stop/forceStop returned within {took} us")
     return CheckResult(not problems, figs, problems)
 
 

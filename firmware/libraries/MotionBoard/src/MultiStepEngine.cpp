@@ -801,3 +801,165 @@ float MultiStepEngine::speed(uint8_t axis)
     v = (flags & _BV(AXIS_SLOT_WIDE)) ? (float)MULTI_TICK_HZ / (float)rate : (float)MULTI_TICK_HZ * 65536.0f / (float)rate;
     return (flags & _BV(AXIS_SLOT_FORWARD)) ? v : -v;
 }
+
+/* ---- cutting the queue (see MultiStepEngine.h) ---- */
+namespace {
+/* what the last cut of each axis changed, for uncut() */
+struct CutUndo {
+    uint8_t first;  /* the first slot dropped */
+    uint8_t cmds;   /* 0: nothing to undo */
+    uint8_t finishing;
+    uint8_t last_forward;
+    uint32_t ticks; /* their part of queued_ticks */
+};
+CutUndo s_cut[MULTI_AXES];
+
+inline uint8_t prev_slot(uint8_t i)
+{
+    return (uint8_t)((i + MULTI_SLOTS - 1U) % MULTI_SLOTS);
+}
+
+inline uint32_t slot_count(const AxisSlot &t)
+{
+    return (uint32_t)t.left + 1U;
+}
+
+/* the time slot t's command takes in the executor, 2^-16 ticks (step_exec_next adds rate, then add,
+ * count times: count rate + add count (count - 1)/2; WIDE: count whole intervals) */
+int64_t slot_time16(const AxisSlot &t)
+{
+    uint32_t l = slot_count(t);
+    if (t.flags & _BV(AXIS_SLOT_WIDE))
+        return (int64_t)(((uint64_t)t.rate * l) << 16);
+    /* laid out less add: the command's rate is t.rate + add */
+    return (int64_t)((uint64_t)(t.rate + (uint32_t)t.add) * l) + (int64_t)t.add * (int64_t)(l * (l - 1U) / 2U);
+}
+} // namespace
+
+uint8_t MultiStepEngine::cut(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r)
+{
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    CutUndo &u = s_cut[axis];
+    uint8_t curi, i, first, k, taken;
+    uint16_t left;
+    uint32_t rate, per, ahead, steps;
+    bool wide;
+    r.steps = 0;
+    r.time16 = 0;
+    r.last_count = 0;
+    r.cmds = 0;
+    u.cmds = 0;
+    if (axis >= MULTI_AXES)
+        return 0;
+    retire_consumed(s, f);
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        curi = cur_index(s);
+        left = s.left;
+        rate = s.rate + (uint32_t)s.add; /* the next interval */
+        wide = (s.flags & _BV(AXIS_SLOT_WIDE)) != 0;
+        taken = s.running && !f.held;
+    }
+    if (!taken)
+        return 0;
+    /* the first step of the slot after the current command: its steps not armed yet, after the armed edge */
+    per = wide ? rate : (rate >> 16);
+    ahead = per > 0xFFFFUL ? UINT32_MAX : (uint32_t)left * per;
+    /* the first slot beyond min_ticks_ahead */
+    first = f.head;
+    for (i = next_slot(curi); i != f.head && s.slot[i].ready; i = next_slot(i)) {
+        if (ahead > min_ticks_ahead) {
+            first = i;
+            break;
+        }
+        ahead += f.duration[i];
+    }
+    if (first == f.head)
+        return 0;
+    /* at most max_steps steps: keep more from the front */
+    steps = 0;
+    for (i = first; i != f.head; i = next_slot(i))
+        steps += slot_count(s.slot[i]);
+    while (first != f.head && steps > max_steps) {
+        steps -= slot_count(s.slot[first]);
+        first = next_slot(first);
+    }
+    if (first == f.head)
+        return 0;
+    /* from the newest back: each slot still ready is dropped; one the interrupt has taken (it
+     * stepped everything before it meanwhile) is kept, and so are those before it */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        u.finishing = s.finishing;
+        s.finishing = 0;
+    }
+    k = f.head;
+    do {
+        uint8_t ok;
+        k = prev_slot(k);
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+        {
+            ok = s.slot[k].ready;
+            s.slot[k].ready = 0;
+        }
+        if (!ok) {
+            k = next_slot(k);
+            break;
+        }
+    } while (k != first);
+    if (k == f.head) {
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+        {
+            if (s.running)
+                s.finishing = u.finishing;
+        }
+        return 0;
+    }
+    /* the engine's books without the dropped slots (k .. head) */
+    u.first = k;
+    u.last_forward = f.last_forward;
+    u.ticks = 0;
+    for (i = k; i != f.head; i = next_slot(i)) {
+        const AxisSlot &t = s.slot[i];
+        r.steps += slot_count(t);
+        r.time16 += slot_time16(t);
+        u.ticks += f.duration[i];
+        r.cmds++;
+    }
+    r.last_count = (uint16_t)slot_count(s.slot[prev_slot(k)]);
+    u.cmds = r.cmds;
+    f.queued_ticks -= u.ticks;
+    f.ready = (uint8_t)(f.ready - r.cmds);
+    f.head = k;
+    f.next_p_start = s.slot[k].p_start;
+    f.last_forward = (s.slot[prev_slot(k)].flags & _BV(AXIS_SLOT_FORWARD)) != 0;
+    return r.cmds;
+}
+
+void MultiStepEngine::uncut(uint8_t axis)
+{
+    if (axis >= MULTI_AXES || s_cut[axis].cmds == 0)
+        return;
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    CutUndo &u = s_cut[axis];
+    uint8_t i = u.first;
+    for (uint8_t n = 0; n < u.cmds; n++) {
+        s.slot[i].ready = 1; /* in order: the interrupt may take each at once */
+        i = next_slot(i);
+    }
+    f.head = i;
+    f.ready = (uint8_t)(f.ready + u.cmds);
+    f.queued_ticks += u.ticks;
+    f.next_p_start = s.slot[prev_slot(i)].p_start + ((s.slot[prev_slot(i)].flags & _BV(AXIS_SLOT_FORWARD))
+                                                          ? (int32_t)slot_count(s.slot[prev_slot(i)])
+                                                          : -(int32_t)slot_count(s.slot[prev_slot(i)]));
+    f.last_forward = u.last_forward;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (s.running)
+            s.finishing = u.finishing;
+    }
+    u.cmds = 0;
+}

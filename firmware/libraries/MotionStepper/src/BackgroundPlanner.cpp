@@ -39,6 +39,18 @@ PlannerLock::~PlannerLock()
     }
 }
 
+void BackgroundPlanner::kick()
+{
+    if (!begun_)
+        return;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        /* the match two counts (8 us) from now, unless it comes sooner anyway */
+        if (!s_in_tick && !s_locks && TCNT3 < OCR3A - 2U)
+            TCNT3 = OCR3A - 2U;
+    }
+}
+
 void BackgroundPlanner::begin()
 {
     if (begun_)
@@ -190,13 +202,13 @@ ISR(TIMER3_COMPA_vect)
         return;
     }
     s_in_tick = 1;
-#if MOTION_STEPPER_TRACE
+#if MOTION_STEPPER_TRACE == 1
     PORTG |= _BV(5); /* D4 high while the tick runs */
 #endif
     sei();
     BackgroundPlanner::tick();
     cli();
-#if MOTION_STEPPER_TRACE
+#if MOTION_STEPPER_TRACE == 1
     PORTG &= (uint8_t)~_BV(5);
 #endif
     s_in_tick = 0;

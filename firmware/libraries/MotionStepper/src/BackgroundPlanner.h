@@ -17,8 +17,9 @@
  * wait for it.
  *
  * Lead: each stepping axis keeps leadMs() of steps queued ahead (setLeadMs, default
- * MOTION_STEPPER_LEAD_MS): a stop() or a new target acts after the steps already queued, so the lead
- * is its latency (docs/library.md has the measured figure). 10 ms, because a plan costs up to about
+ * MOTION_STEPPER_LEAD_MS). A stop() or a new target of a Stepper cuts the queue
+ * (Stepper.h's MOTION_STEPPER_CUT_US) and acts sooner; a StepperGroup's acts after the steps already
+ * queued (docs/library.md has the measured figures). 10 ms, because a plan costs up to about
  * 4 ms of the AVR (a stop at 20,000 steps/s, made by the tick while the queue runs on) and a
  * coordinated move's commands cover up to 4 ms each: at 8 ms a StepperGroup move of the TwoAxesLine
  * example ran dry once, at 6 ms a stop() at 20,000 steps/s did too (emulator, test/emu/checks_library.py).
@@ -36,7 +37,9 @@
 #ifndef MOTION_STEPPER_CMDS_PER_TICK
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
 #endif
-/* MOTION_STEPPER_TRACE = 1: D4 (PG5) is high while a planner tick runs (nested interrupts included) */
+/* MOTION_STEPPER_TRACE = 1: D4 (PG5) is high while a planner tick runs (nested interrupts included);
+ * 2: D4 is high from a stop's or a new target's cut of the queue (Stepper::cut_queue) until the
+ * planner hands out the new plan's first command (what MOTION_STEPPER_CUT_US must cover) */
 #ifndef MOTION_STEPPER_TRACE
 #define MOTION_STEPPER_TRACE 0
 #endif
@@ -56,6 +59,11 @@ public:
     /* Registers s as the stepper of its axis; false when another holds it. */
     static bool claim(uint8_t axis, Stepper *s);
     static Stepper *stepper(uint8_t axis) { return axis < 3 ? axes_[axis] : 0; }
+
+    /* Brings the next tick forward to within about 10 us (a stop or a new target left by loop()):
+     * it then acts without waiting up to a millisecond for the tick. Call it with no PlannerLock
+     * held (the tick would run in the caller, at the unlock). */
+    static void kick();
 
     /* One tick's work (the interrupt calls it; public for the vector only). */
     static void tick();

@@ -13,7 +13,14 @@ const uint8_t ENABLE_PIN[3] = {38, 56, 62}; /* MultiAxisPins.h: PD7, PF2, PK0 */
 
 uint8_t planner_next(void *ctx, step_cmd_t *c)
 {
-    return step_planner_next(static_cast<step_planner_t *>(ctx), c);
+    uint8_t r = step_planner_next(static_cast<step_planner_t *>(ctx), c);
+#if MOTION_STEPPER_TRACE == 2
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        PORTG &= (uint8_t)~_BV(5); /* the first command after a cut (BackgroundPlanner.h) */
+    }
+#endif
+    return r;
 }
 uint8_t planner_busy(void *ctx)
 {
@@ -26,7 +33,7 @@ enum { P_VMAX, P_ACCEL, P_V0 };
 Stepper::Stepper(Axis axis)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
-      last_status_(MS_OK), hook_(0), group_(0)
+      last_status_(MS_OK), cut_refusals_(0), hook_(0), group_(0)
 {
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
@@ -119,13 +126,16 @@ motion_status_t Stepper::moveTo(long target)
 {
     if (!begun_)
         return MS_ERR_NULL;
-    PlannerLock lock;
-    if (group_)
-        return MS_ERR_BUSY;
-    req_target_ = to_engine(target);
-    req_ = REQ_MOVE;
-    if (auto_disable_)
-        write_enable(true);
+    {
+        PlannerLock lock;
+        if (group_)
+            return MS_ERR_BUSY;
+        req_target_ = to_engine(target);
+        req_ = REQ_MOVE;
+        if (auto_disable_)
+            write_enable(true);
+    }
+    BackgroundPlanner::kick(); /* planned within microseconds, not at the next tick */
     return MS_OK;
 }
 
@@ -138,14 +148,17 @@ motion_status_t Stepper::stop()
 {
     if (!begun_)
         return MS_ERR_NULL;
-    PlannerLock lock;
-    if (group_)
-        return group_->stop();
-    has_next_ = false; /* a target waiting for the move's end is dropped */
-    if (!MultiStepEngine::moving(axis_))
-        req_ = REQ_NONE; /* a move not started yet: it never starts */
-    else
-        req_ = REQ_STOP;
+    {
+        PlannerLock lock;
+        if (group_)
+            return group_->stop();
+        has_next_ = false; /* a target waiting for the move's end is dropped */
+        if (!MultiStepEngine::moving(axis_))
+            req_ = REQ_NONE; /* a move not started yet: it never starts */
+        else
+            req_ = REQ_STOP;
+    }
+    BackgroundPlanner::kick();
     return MS_OK;
 }
 
@@ -177,12 +190,15 @@ void Stepper::run_request()
     req_ = REQ_NONE;
     if (r == REQ_STOP) {
         c = MultiStepEngine::extend(axis_, ended);
-        if (c == MultiStepEngine::CONTINUES)
+        if (c == MultiStepEngine::CONTINUES) {
+            cut_queue();
             step_planner_stop(&planner_);
-        else if (c == MultiStepEngine::ENDED)
+        } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
         return;
     }
+    if (MultiStepEngine::moving(axis_))
+        cut_queue(); /* the planner then has the dropped steps to plan again: busy */
     if (MultiStepEngine::moving(axis_) && !step_planner_busy(&planner_)) {
         /* every step of the move is queued already: the new move starts from rest at its end */
         has_next_ = true;
@@ -212,6 +228,35 @@ void Stepper::run_request()
         done_ = false;
         MultiStepEngine::open_move(axis_, false);
     }
+}
+
+/* planner interrupt, before a stop or a new target is planned: the engine drops the commands queued
+ * beyond MOTION_STEPPER_CUT_US from now and the planner goes back to where the kept ones end, so the
+ * new plan starts there (bit for bit as if planned there: step_planner_rewind) instead of after the
+ * whole lead. Only commands of the profile in progress are dropped, one of them at least kept
+ * (step_planner_rewind's rule); if the planner refuses all the same, the engine lays them out again
+ * and the new plan starts after the lead, as without a cut. */
+void Stepper::cut_queue()
+{
+    MultiStepEngine::Cut cut;
+#if MOTION_STEPPER_CUT_US
+    if (planner_.algo != RAMP_ALGO_EXACT || planner_.exact.n < 2U)
+        return;
+#if MOTION_STEPPER_TRACE == 2
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        PORTG |= _BV(5);
+    }
+#endif
+    if (MultiStepEngine::cut(axis_, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_US, planner_.exact.n - 1U, cut) == 0)
+        return;
+    if (step_planner_rewind(&planner_, cut.steps, cut.time16, cut.last_count) != MS_OK) {
+        MultiStepEngine::uncut(axis_);
+        cut_refusals_++;
+    }
+#else
+    (void)cut;
+#endif
 }
 
 /* ---- state ---- */

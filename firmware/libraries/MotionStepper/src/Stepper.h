@@ -39,6 +39,15 @@
 
 class StepperGroup;
 
+/* A stop() or a new target while moving cuts the queue: the commands whose first step lies more than
+ * this many microseconds ahead are dropped and planned again (the stop or the new move starts
+ * there), so it acts after about this time instead of after the lead. It must cover the planner
+ * interrupt's time to plan the stop or the new move and lay out its first command, with the step
+ * interrupts running (docs/library.md has the measured figures). 0: no cut (acts after the lead). */
+#ifndef MOTION_STEPPER_CUT_US
+#define MOTION_STEPPER_CUT_US 5000UL
+#endif
+
 /* The longest time one step command of a Stepper moving alone covers, ms (a cruise is cut into
  * such commands): with the lead, what a stop or a new target waits for. */
 #ifndef MOTION_STEPPER_CMD_MS
@@ -71,7 +80,8 @@ public:
      * Returns at once (a few microseconds): the planner interrupt plans the move at its next tick. */
     motion_status_t moveTo(long target);
     motion_status_t move(long distance);
-    /* Decelerate to rest at the acceleration in force (after the steps already queued: the lead). */
+    /* Decelerate to rest at the acceleration in force, from the step where the queue is cut
+     * (MOTION_STEPPER_CUT_US ahead; docs/library.md has the measured latency). */
     motion_status_t stop();
     /* Halt now: no further step (the position keeps every step made). */
     motion_status_t forceStop();
@@ -95,6 +105,8 @@ public:
     motion_status_t lastStatus() const { return last_status_; }
     /* Steps the queue ran dry before they were planned (0 on a healthy machine). */
     uint16_t underruns() const;
+    /* Cuts of the queue the planner refused (the stop or new target then acted after the lead): 0. */
+    uint16_t cutRefusals() const { return cut_refusals_; }
 
     /* ENABLE: on / off now; auto-disable: off after each move ends, on before each starts. */
     void enableOutputs();
@@ -119,6 +131,7 @@ private:
     AxisSource source();
     StepperGroup *group_now() const;
     void run_request(); /* planner interrupt: carries out req_ */
+    void cut_queue();   /* planner interrupt: drops the queued commands beyond MOTION_STEPPER_CUT_US */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
     void record_done(int32_t engine_position);
     void write_enable(bool on);
@@ -143,6 +156,7 @@ private:
     int32_t next_target_; /* engine coordinates: the target accepted while the last steps ran */
     int32_t req_target_;  /* engine coordinates: REQ_MOVE's target */
     motion_status_t last_status_;
+    uint16_t cut_refusals_;
     DirectionHook hook_;
     StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */
     ramp_params_t params_;

@@ -6,6 +6,7 @@
  * pins are read through the ADC (A3 and A4, on the RAMPS AUX-1 header), a closed switch reading
  * below half scale: the ATmega2560 emulator drives them with its 'adc' script command
  * (test/emu/checks_library.py). digitalRead() on the RAMPS endstop pins (D3, D2, ...) works the same.
+ * Send a number (steps/s, a line) to change the speed of the moves that follow (20,000 at the start).
  */
 #include <MotionStepper.h>
 
@@ -15,6 +16,7 @@ static const uint8_t HALT_PIN = A4;
 static const long FAR = 1000000L;
 static bool stop_was = false, halt_was = false;
 static long direction = 1;
+static long typed = 0; /* digits of a speed line so far */
 
 static bool closed(uint8_t pin)
 {
@@ -75,6 +77,22 @@ void loop()
     }
     stop_was = s;
     halt_was = h;
+    while (Serial.available()) {
+        int ch = Serial.read();
+        if (ch >= '0' && ch <= '9') {
+            typed = typed * 10 + (ch - '0');
+        } else if (ch == '\n') {
+            motion_status_t st = x.setMaxSpeed((float)typed);
+            if (st == MS_OK) {
+                Serial.print(F("SPEED "));
+                Serial.println(typed);
+            } else {
+                Serial.print(F("ERR "));
+                Serial.println(Stepper::statusText(st));
+            }
+            typed = 0;
+        }
+    }
     if (x.takeDone(at)) {
         Serial.print(F("DONE "));
         Serial.print(at);
