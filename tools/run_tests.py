@@ -7,7 +7,8 @@ KIND is one of
   tap-dir   every executable file in directory TARGET is a cmocka test program printing TAP
   tap       TARGET is a shell command printing TAP (the emulator harness does this)
   pytest    TARGET is a directory of pytest files (results read from a JUnit XML report)
-  firmware  TARGET is tools/build_firmware.sh; each sketch build (firmware/*, lib/examples/*) is one test
+  firmware  TARGET is tools/build_firmware.sh; each build is one test: the sketches (firmware/*), the
+            libraries' examples (lib/examples/*, firmware/libraries/*/examples/*)
 
 A suite line "NAME: P passed, F failed" is printed per suite, failing tests are listed with
 their messages, and the last line is "N passed, N failed". While a suite runs, its progress is
@@ -217,13 +218,26 @@ def suite_pytest(target, res):
             res.fail(f"{target} (pytest exit status {rc})", out[-3000:])
 
 
+def firmware_builds(root=ROOT):
+    """what tools/build_firmware.sh builds, one argument each: the sketches (firmware/<S>), then the
+    libraries' Arduino examples, a user's own sketch using them: lib/examples/<X> (MotionCore) and
+    firmware/libraries/<Lib>/examples/<X> (MotionStepper's, ...), as folders"""
+    def with_ino(parent):
+        path = os.path.join(root, parent)
+        return sorted(d for d in os.listdir(path) if os.path.isfile(os.path.join(path, d, d + ".ino"))) \
+            if os.path.isdir(path) else []
+    builds = with_ino("firmware")
+    libraries = os.path.join(root, "firmware", "libraries")
+    parents = ["lib/examples"]
+    if os.path.isdir(libraries):
+        parents += [f"firmware/libraries/{lib}/examples" for lib in sorted(os.listdir(libraries))]
+    for parent in parents:
+        builds += [f"{parent}/{d}" for d in with_ino(parent)]
+    return builds
+
+
 def suite_firmware(target, res):
-    sketches = sorted(d for d in os.listdir(os.path.join(ROOT, "firmware"))
-                      if os.path.isfile(os.path.join(ROOT, "firmware", d, d + ".ino")))
-    examples = os.path.join(ROOT, "lib", "examples")
-    if os.path.isdir(examples):   # lib's Arduino examples: a user's own sketch using lib
-        sketches += sorted("lib/examples/" + d for d in os.listdir(examples)
-                           if os.path.isfile(os.path.join(examples, d, d + ".ino")))
+    sketches = firmware_builds()
     if not sketches:
         res.fail("firmware (no sketches)")
     for i, s in enumerate(sketches, 1):
