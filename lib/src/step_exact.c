@@ -166,8 +166,14 @@ static int64_t mul_s32_u32(int32_t a, uint32_t b)
 /* x = (ua^2 - ub^2)/C for ua >= ub, as n + r/C with 0 <= r < C; n saturates at 2^32 - 1. */
 static uint32_t steps_between(const step_exact_consts_t *k, uint64_t ua, uint64_t ub, uint64_t *r)
 {
-    float xf = ((float)ua - (float)ub) * ((float)ua + (float)ub) / k->cu_f;
+    float xf;
     int64_t n, rr, adj;
+    if (ua == ub) {
+        /* what the arithmetic below gives then (x = 0, no remainder), without its cost */
+        *r = 0;
+        return 0;
+    }
+    xf = ((float)ua - (float)ub) * ((float)ua + (float)ub) / k->cu_f;
     if (xf >= 4.0e9f) {
         *r = 0;
         return UINT32_MAX;
@@ -240,6 +246,7 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
         return MS_ERR_OUT_OF_RANGE;
     k.cu_f = (float)k.cu;
     e->k = k;
+    e->zfit_cu = 0.0f; /* setup_profile works zfit out again */
     if (e->max_cmd_ticks == 0)
         e->max_cmd_ticks = (uint32_t)(f / 250U); /* 4 ms */
     return MS_OK;
@@ -262,6 +269,7 @@ void step_exact_reset(step_exact_t *e, int32_t pos)
     e->acc16 = 0;
     e->y = 0;
     e->moving = 0;
+    e->zfit_cu = 0.0f; /* (an object set up by hand: zfit is worked out at its first profile) */
 }
 
 /* the speed after the last emitted step, u (0 at rest) */
@@ -369,7 +377,9 @@ static uint8_t b_at_most(uint32_t lim)
 /* ---- setting up a profile ------------------------------------------------------------------ */
 
 /* sets up a profile of d steps in direction dir from speed us (d >= the stopping distance) */
-static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
+/* have_n3: the caller has steps_between(k, vu, u0) already (n3k, r3k: a stop from vmax) */
+static void setup_profile_n3(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us, uint8_t have_n3, uint32_t n3k,
+                             uint64_t r3k)
 {
     const step_exact_consts_t *k = &e->k;
     uint64_t ue = k->u0, vu = k->vu, r1 = 0, r3 = 0, up;
@@ -383,13 +393,17 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
     e->us = us;
     e->y = us;
     e->a_down = us > vu;
+    if (have_n3) {
+        n3 = n3k;
+        r3 = r3k;
+    } else {
+        n3 = steps_between(k, vu, ue, &r3);
+    }
     if (e->a_down) {
         n1 = steps_between(k, us, vu, &r1);
-        n3 = steps_between(k, vu, ue, &r3);
         trapezoid = 1;
     } else {
         n1 = steps_between(k, vu, us, &r1);
-        n3 = steps_between(k, vu, ue, &r3);
         if (n1 == UINT32_MAX || n3 == UINT32_MAX || (uint64_t)n1 + n3 > d)
             trapezoid = 0;
         else if ((uint64_t)n1 + n3 + 2U <= d)
@@ -425,7 +439,12 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
     if ((us >> 31) == 0 && (up >> 31) == 0)
         e->flags |= F_SMALL;
     e->err = 0;
-    e->zfit = k->cu_f * root5(k->cu_f) * FIT_K;
+    /* a function of C alone (a float root and a division): worked out again only when C changed
+     * (set_params, or step_coord scaling the constants) */
+    if (fbits(e->zfit_cu) != fbits(k->cu_f)) {
+        e->zfit = k->cu_f * root5(k->cu_f) * FIT_K;
+        e->zfit_cu = k->cu_f;
+    }
     /* region A */
     e->q = square64(us);
     ic = 1.0f / k->cu_f;
@@ -433,13 +452,21 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
         e->span_b = SEG_B;
         e->thr = thr_a_down(e, ic);
     } else {
-        /* from rest one step; when already moving, the span that fits there */
-        e->span_b = 0;
-        e->thr = thr_grow(e, ic);
-        while (e->span_b < SEG_B && e->thr == 0U) {
-            e->span_b++;
-            e->thr = thr_grow(e, ic);
+        /* from rest one step; when already moving, the span that fits there: the first whose
+         * threshold (thr_grow) is not already passed, the radicand at the start converted once.
+         * The test is monotone in b (span_pow grows, float rounding keeps the order): the first is
+         * found by bisection, three tests (a stop, or a move continued from speed) instead of seven */
+        float qb = qbase_f(e);
+        uint8_t b = 0, hi = SEG_B;
+        while (b < hi) {
+            uint8_t mid = (uint8_t)((b + hi) / 2U);
+            if ((e->zfit * span_pow[mid + 1U] - qb) * ic > 0.0f)
+                hi = mid;
+            else
+                b = (uint8_t)(mid + 1U);
         }
+        e->span_b = b;
+        e->thr = thr_grow(e, ic);
     }
     /* cruise: T(n) = +-((up - us) << 8) - f1p + (n - n1) F/vmax */
     e->f1p = (float)r1 * ic * p16;
@@ -455,6 +482,11 @@ static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
         if (e->ccap > 1U && (k->p32 >> 48) == 0U && (cstep >> 48) == 0U && (clr >> 32) == 0U)
             e->flags |= F_CFAST;
     }
+}
+
+static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
+{
+    setup_profile_n3(e, dir, d, us, 0, 0, 0);
 }
 
 motion_status_t step_exact_change_params(step_exact_t *e, const ramp_params_t *p)
@@ -508,7 +540,13 @@ uint32_t step_exact_stop_steps(const step_exact_t *e)
 
 void step_exact_stop(step_exact_t *e)
 {
-    uint32_t ds = step_exact_stop_steps(e);
+    /* step_exact_stop_steps, keeping its steps_between: from vmax it is the profile's n3 too */
+    uint64_t r = 0, u = speed_u(e);
+    uint32_t n = 0, ds = 0;
+    if (u > e->k.u0) {
+        n = steps_between(&e->k, u, e->k.u0, &r);
+        ds = n + (r > 0 && n < UINT32_MAX ? 1U : 0U);
+    }
     if (!e->moving) {
         e->d = e->n = 0;
         return;
@@ -522,7 +560,7 @@ void step_exact_stop(step_exact_t *e)
      * whole steps): keep that profile, so that a stop never passes the target */
     if (e->n < e->d && ds >= e->d - e->n)
         return;
-    setup_profile(e, e->dir, ds, speed_u(e));
+    setup_profile_n3(e, e->dir, ds, u, u == e->k.vu, n, r);
 }
 
 float step_exact_speed_sps(const step_exact_t *e)

@@ -83,6 +83,7 @@ typedef struct {
     int32_t err;      /* acc16 - T(n), 2^-16 ticks (the cruise: always; A and D: when F_ERR) */
     uint32_t slope_i; /* the interval at step n, 16.16 ticks per step (0x40000000: that or more) */
     float zfit;       /* the span rule's scale: y^2 (u^2) from which one step fits (step_exact.c) */
+    float zfit_cu;    /* the k.cu_f zfit was worked out from (0: none yet): it is kept while that stays */
     float f1p;        /* (x1 - n1) F/vmax, 2^-16 ticks: where the cruise's line starts */
     uint32_t clr;     /* ccap floor(F/vmax), 16.16 */
     uint32_t cst_hi;  /* ccap F/vmax in 2^-16 ticks, and the fraction below */
