@@ -804,16 +804,6 @@ float MultiStepEngine::speed(uint8_t axis)
 
 /* ---- cutting the queue (see MultiStepEngine.h) ---- */
 namespace {
-/* what the last cut of each axis changed, for uncut() */
-struct CutUndo {
-    uint8_t first;  /* the first slot dropped */
-    uint8_t cmds;   /* 0: nothing to undo */
-    uint8_t finishing;
-    uint8_t last_forward;
-    uint32_t ticks; /* their part of queued_ticks */
-};
-CutUndo s_cut[MULTI_AXES];
-
 inline uint8_t prev_slot(uint8_t i)
 {
     return (uint8_t)((i + MULTI_SLOTS - 1U) % MULTI_SLOTS);
@@ -824,59 +814,93 @@ inline uint32_t slot_count(const AxisSlot &t)
     return (uint32_t)t.left + 1U;
 }
 
+/* a b exactly: in 32 bits when it fits there (a command's time is below 65536 ticks as a rule),
+ * avr-gcc's 64-bit multiplication (several hundred cycles) otherwise */
+uint64_t mul32x32(uint32_t a, uint32_t b)
+{
+    if (b < 0x10000UL && ((a >> 16) + 1U) * b <= 0x10000UL)
+        return a * b; /* a < ((a >> 16) + 1) 2^16: below 2^32 */
+    return (uint64_t)a * b;
+}
+
 /* the time slot t's command takes in the executor, 2^-16 ticks (step_exec_next adds rate, then add,
  * count times: count rate + add count (count - 1)/2; WIDE: count whole intervals) */
 int64_t slot_time16(const AxisSlot &t)
 {
-    uint32_t l = slot_count(t);
+    uint32_t l = slot_count(t), tri;
+    int64_t sum;
     if (t.flags & _BV(AXIS_SLOT_WIDE))
-        return (int64_t)(((uint64_t)t.rate * l) << 16);
+        return (int64_t)(mul32x32(t.rate, l) << 16);
     /* laid out less add: the command's rate is t.rate + add */
-    return (int64_t)((uint64_t)(t.rate + (uint32_t)t.add) * l) + (int64_t)t.add * (int64_t)(l * (l - 1U) / 2U);
+    sum = (int64_t)mul32x32(t.rate + (uint32_t)t.add, l);
+    if (t.add != 0) {
+        tri = l * (l - 1U) / 2U;
+        if (t.add > 0)
+            sum += (int64_t)mul32x32((uint32_t)t.add, tri);
+        else
+            sum -= (int64_t)mul32x32(0U - (uint32_t)t.add, tri);
+    }
+    return sum;
 }
 } // namespace
 
-uint8_t MultiStepEngine::cut(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r)
+/* the time from the edge armed now to the first step of slot `to`, ticks (UINT32_MAX: not before it,
+ * or the interrupt has taken it already); cur: its current slot */
+static uint32_t ticks_until(uint8_t axis, uint8_t to)
 {
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
-    CutUndo &u = s_cut[axis];
-    uint8_t curi, i, first, k, taken;
+    uint8_t curi, i, running;
     uint16_t left;
-    uint32_t rate, per, ahead, steps;
+    uint32_t rate, per, ahead;
     bool wide;
-    r.steps = 0;
-    r.time16 = 0;
-    r.last_count = 0;
-    r.cmds = 0;
-    u.cmds = 0;
-    if (axis >= MULTI_AXES)
-        return 0;
-    retire_consumed(s, f);
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         curi = cur_index(s);
         left = s.left;
         rate = s.rate + (uint32_t)s.add; /* the next interval */
         wide = (s.flags & _BV(AXIS_SLOT_WIDE)) != 0;
-        taken = s.running && !f.held;
+        running = s.running && !f.held && s.slot[to].ready;
     }
-    if (!taken)
-        return 0;
-    /* the first step of the slot after the current command: its steps not armed yet, after the armed edge */
+    if (!running)
+        return UINT32_MAX;
+    /* the current command's steps not armed yet, then the slots between */
     per = wide ? rate : (rate >> 16);
-    ahead = per > 0xFFFFUL ? UINT32_MAX : (uint32_t)left * per;
-    /* the first slot beyond min_ticks_ahead */
-    first = f.head;
-    for (i = next_slot(curi); i != f.head && s.slot[i].ready; i = next_slot(i)) {
-        if (ahead > min_ticks_ahead) {
-            first = i;
-            break;
-        }
+    ahead = per > 0xFFFFUL ? 0xFFFFFFUL : (uint32_t)left * per;
+    for (i = next_slot(curi); i != to; i = next_slot(i))
         ahead += f.duration[i];
-    }
-    if (first == f.head)
+    return ahead;
+}
+
+uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r)
+{
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    uint8_t curi, i, first;
+    uint32_t ahead, steps;
+    r.steps = 0;
+    r.time16 = 0;
+    r.last_count = 0;
+    r.cmds = 0;
+    r.first = 0;
+    if (axis >= MULTI_AXES)
         return 0;
+    retire_consumed(s, f);
+    curi = cur_index(s);
+    i = next_slot(curi);
+    if (i == f.head || !s.slot[i].ready)
+        return 0;
+    /* the first slot whose first step lies beyond min_ticks_ahead */
+    ahead = ticks_until(axis, i);
+    if (ahead == UINT32_MAX)
+        return 0;
+    while (ahead <= min_ticks_ahead) {
+        ahead += f.duration[i];
+        i = next_slot(i);
+        if (i == f.head)
+            return 0;
+    }
+    first = i;
     /* at most max_steps steps: keep more from the front */
     steps = 0;
     for (i = first; i != f.head; i = next_slot(i))
@@ -887,13 +911,35 @@ uint8_t MultiStepEngine::cut(uint8_t axis, uint32_t min_ticks_ahead, uint32_t ma
     }
     if (first == f.head)
         return 0;
-    /* from the newest back: each slot still ready is dropped; one the interrupt has taken (it
-     * stepped everything before it meanwhile) is kept, and so are those before it */
+    for (i = first; i != f.head; i = next_slot(i)) {
+        r.time16 += slot_time16(s.slot[i]);
+        r.cmds++;
+    }
+    r.steps = steps;
+    r.last_count = (uint16_t)slot_count(s.slot[prev_slot(first)]);
+    r.first = first;
+    return r.cmds;
+}
+
+bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n)
+{
+    if (axis >= MULTI_AXES || r.cmds == 0 || n == 0)
+        return false;
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    uint8_t k, i, fin;
+    uint32_t ticks = 0, left = ticks_until(axis, r.first);
+    /* the interrupt must still be that far from the cut: else the planning took too long, and the
+     * queue stays as it was */
+    if (left == UINT32_MAX || left < min_ticks_left || (uint8_t)(f.ready - r.cmds + n) >= MULTI_SLOTS - 1U)
+        return false;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        u.finishing = s.finishing;
-        s.finishing = 0;
+        fin = s.finishing;
+        s.finishing = 0; /* the move goes on with c */
     }
+    /* from the newest back, each slot with interrupts off for a few cycles while the interrupt keeps
+     * stepping; one it has taken after all (it cannot, that far ahead) puts the others back */
     k = f.head;
     do {
         uint8_t ok;
@@ -904,62 +950,25 @@ uint8_t MultiStepEngine::cut(uint8_t axis, uint32_t min_ticks_ahead, uint32_t ma
             s.slot[k].ready = 0;
         }
         if (!ok) {
-            k = next_slot(k);
-            break;
+            for (i = next_slot(k); i != f.head; i = next_slot(i))
+                s.slot[i].ready = 1; /* in order */
+            ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+            {
+                if (s.running)
+                    s.finishing = fin;
+            }
+            return false;
         }
-    } while (k != first);
-    if (k == f.head) {
-        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-        {
-            if (s.running)
-                s.finishing = u.finishing;
-        }
-        return 0;
-    }
-    /* the engine's books without the dropped slots (k .. head) */
-    u.first = k;
-    u.last_forward = f.last_forward;
-    u.ticks = 0;
-    for (i = k; i != f.head; i = next_slot(i)) {
-        const AxisSlot &t = s.slot[i];
-        r.steps += slot_count(t);
-        r.time16 += slot_time16(t);
-        u.ticks += f.duration[i];
-        r.cmds++;
-    }
-    r.last_count = (uint16_t)slot_count(s.slot[prev_slot(k)]);
-    u.cmds = r.cmds;
-    f.queued_ticks -= u.ticks;
+    } while (k != r.first);
+    /* the engine's books without the dropped slots, then c where they began */
+    for (i = r.first; i != f.head; i = next_slot(i))
+        ticks += f.duration[i];
+    f.queued_ticks -= ticks;
     f.ready = (uint8_t)(f.ready - r.cmds);
-    f.head = k;
-    f.next_p_start = s.slot[k].p_start;
-    f.last_forward = (s.slot[prev_slot(k)].flags & _BV(AXIS_SLOT_FORWARD)) != 0;
-    return r.cmds;
-}
-
-void MultiStepEngine::uncut(uint8_t axis)
-{
-    if (axis >= MULTI_AXES || s_cut[axis].cmds == 0)
-        return;
-    AxisState &s = state(axis);
-    AxisFeed &f = s_feed[axis];
-    CutUndo &u = s_cut[axis];
-    uint8_t i = u.first;
-    for (uint8_t n = 0; n < u.cmds; n++) {
-        s.slot[i].ready = 1; /* in order: the interrupt may take each at once */
-        i = next_slot(i);
-    }
-    f.head = i;
-    f.ready = (uint8_t)(f.ready + u.cmds);
-    f.queued_ticks += u.ticks;
-    f.next_p_start = s.slot[prev_slot(i)].p_start + ((s.slot[prev_slot(i)].flags & _BV(AXIS_SLOT_FORWARD))
-                                                          ? (int32_t)slot_count(s.slot[prev_slot(i)])
-                                                          : -(int32_t)slot_count(s.slot[prev_slot(i)]));
-    f.last_forward = u.last_forward;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        if (s.running)
-            s.finishing = u.finishing;
-    }
-    u.cmds = 0;
+    f.head = r.first;
+    f.next_p_start = s.slot[r.first].p_start;
+    f.last_forward = (s.slot[prev_slot(r.first)].flags & _BV(AXIS_SLOT_FORWARD)) != 0;
+    for (i = 0; i < n; i++)
+        lay_one(axis, s, f, c[i]);
+    return true;
 }

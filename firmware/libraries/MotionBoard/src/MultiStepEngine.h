@@ -183,30 +183,31 @@ public:
     static float speed(uint8_t axis);
 
     /* Cutting the queue (a stop or a new target acting sooner than the lead: issue 23, the
-     * MotionStepper library; docs/stepper-engine.md "Cutting the queue"). What cut() dropped: the
-     * steps of the dropped commands, their time in the executor's arithmetic (step_exec_next's sum,
-     * 2^-16 ticks: count rate + add count (count - 1)/2, WIDE: count rate 2^16; lib's
-     * step_exact_cmd_time16, bit for bit) and the count of the last command kept. */
+     * MotionStepper library; docs/stepper-engine.md "Cutting the queue"), in two calls from the
+     * planner's context, with interrupts on (the axis keeps stepping):
+     * cut_find() chooses where: the first command laid out whose first step lies more than
+     * min_ticks_ahead ticks after the edge armed now, keeping at least the command being stepped and
+     * dropping at most max_steps steps (the planner's limit: the dropped ones must belong to its
+     * current plan); it changes nothing, and tells what would be dropped: their steps, their time in
+     * the executor's arithmetic (step_exec_next's sum, 2^-16 ticks: count rate + add count
+     * (count - 1)/2, WIDE: count rate 2^16; lib's step_exact_cmd_time16, bit for bit) and the
+     * count of the last command kept. Returns r.cmds (0: no cut: not stepping, or nothing that far).
+     * The planner then goes back there and plans the new commands c[0..n-1] from there (taking its
+     * time); cut_apply() drops those commands and lays c out in their place, if the interrupt is
+     * still at least min_ticks_left ticks from them and the ring has room (else it changes nothing
+     * and returns false: the planner's work is discarded and the queue goes on as it was).
+     * Nothing else may lay out commands for the axis between the two calls. The drop runs from the newest command back, each slot with interrupts off for a few
+     * cycles; the engine's bookkeeping (queue length and time, positions, direction) then stands
+     * as if c had followed the kept ones all along, and the move's end mark is withdrawn. */
     struct Cut {
         uint32_t steps;
         int64_t time16;
         uint16_t last_count;
-        uint8_t cmds; /* commands dropped (0: nothing was) */
+        uint8_t cmds; /* commands dropped (0: no cut) */
+        uint8_t first; /* the first slot dropped */
     };
-    /* Drops the commands laid out for the axis whose first step lies more than min_ticks_ahead
-     * ticks after the edge armed now, at most max_steps steps of them (the planner's own limit:
-     * the dropped ones must all belong to its current plan), keeping at least the command being
-     * stepped. Called from the planner's context with interrupts on: its interrupt keeps stepping
-     * meanwhile (the slots are dropped from the newest back, each with interrupts off for a few
-     * cycles; one the interrupt reached meanwhile is kept). The engine's bookkeeping (queue
-     * length and time, positions, direction, the end mark) then stands as if they had never been
-     * laid out; the move's end mark is withdrawn (extend()). Returns r.cmds; nothing dropped when
-     * the axis is not stepping or no command lies that far ahead. */
-    static uint8_t cut(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r);
-    /* Lays the commands of the last cut() out again, in order (the planner refused to go back):
-     * call before laying out anything else. If the interrupt ran dry meanwhile, that counts as an
-     * underrun and the move resumes with them. */
-    static void uncut(uint8_t axis);
+    static uint8_t cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r);
+    static bool cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n);
 };
 
 #endif

@@ -38,8 +38,8 @@
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
 #endif
 /* MOTION_STEPPER_TRACE = 1: D4 (PG5) is high while a planner tick runs (nested interrupts included);
- * 2: D4 is high from a stop's or a new target's cut of the queue (Stepper::cut_queue) until the
- * planner hands out the new plan's first command (what MOTION_STEPPER_CUT_US must cover) */
+ * 2: D4 is high from a stop's or a new target's cut of the queue (Stepper::plan_at_cut) until the
+ * new plan's first commands are laid out (what MOTION_STEPPER_CUT_US must cover) */
 #ifndef MOTION_STEPPER_TRACE
 #define MOTION_STEPPER_TRACE 0
 #endif

@@ -13,14 +13,7 @@ const uint8_t ENABLE_PIN[3] = {38, 56, 62}; /* MultiAxisPins.h: PD7, PF2, PK0 */
 
 uint8_t planner_next(void *ctx, step_cmd_t *c)
 {
-    uint8_t r = step_planner_next(static_cast<step_planner_t *>(ctx), c);
-#if MOTION_STEPPER_TRACE == 2
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        PORTG &= (uint8_t)~_BV(5); /* the first command after a cut (BackgroundPlanner.h) */
-    }
-#endif
-    return r;
+    return step_planner_next(static_cast<step_planner_t *>(ctx), c);
 }
 uint8_t planner_busy(void *ctx)
 {
@@ -33,7 +26,7 @@ enum { P_VMAX, P_ACCEL, P_V0 };
 Stepper::Stepper(Axis axis)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
-      last_status_(MS_OK), cut_refusals_(0), hook_(0), group_(0)
+      last_status_(MS_OK), cuts_missed_(0), hook_(0), group_(0)
 {
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
@@ -191,14 +184,18 @@ void Stepper::run_request()
     if (r == REQ_STOP) {
         c = MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
-            cut_queue();
-            step_planner_stop(&planner_);
+            if (!plan_at_cut(REQ_STOP, 0))
+                step_planner_stop(&planner_);
         } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
         return;
     }
-    if (MultiStepEngine::moving(axis_))
-        cut_queue(); /* the planner then has the dropped steps to plan again: busy */
+    if (MultiStepEngine::moving(axis_) && plan_at_cut(REQ_MOVE, req_target_)) {
+        /* the move continues into the new plan from the cut */
+        has_next_ = false;
+        last_status_ = MS_OK;
+        return;
+    }
     if (MultiStepEngine::moving(axis_) && !step_planner_busy(&planner_)) {
         /* every step of the move is queued already: the new move starts from rest at its end */
         has_next_ = true;
@@ -230,32 +227,72 @@ void Stepper::run_request()
     }
 }
 
-/* planner interrupt, before a stop or a new target is planned: the engine drops the commands queued
- * beyond MOTION_STEPPER_CUT_US from now and the planner goes back to where the kept ones end, so the
- * new plan starts there (bit for bit as if planned there: step_planner_rewind) instead of after the
- * whole lead. Only commands of the profile in progress are dropped, one of them at least kept
- * (step_planner_rewind's rule); if the planner refuses all the same, the engine lays them out again
- * and the new plan starts after the lead, as without a cut. */
-void Stepper::cut_queue()
+/* planner interrupt: a stop (REQ_STOP) or a new target (REQ_MOVE) while moving, planned from where the
+ * engine can cut its queue, MOTION_STEPPER_CUT_US from now: the planner goes back to where
+ * the kept commands end (step_planner_rewind: bit for bit as if it had planned only those), plans the
+ * stop or the move from there and hands out its first commands, which the engine lays out in place
+ * of the dropped ones, if the step interrupt has not come too close to them meanwhile. True when so;
+ * false when nothing changed (not stepping, nothing queued that far, parameters set since the
+ * profile was planned, the planner refuses the cut, or the planning took too long): then it is
+ * planned after the steps already queued, as without a cut. */
+bool Stepper::plan_at_cut(uint8_t req, int32_t target)
 {
-    MultiStepEngine::Cut cut;
 #if MOTION_STEPPER_CUT_US
-    if (planner_.algo != RAMP_ALGO_EXACT || planner_.exact.n < 2U)
-        return;
+    static step_planner_t saved; /* the planner interrupt plans one axis at a time */
+    MultiStepEngine::Cut cut;
+    step_cmd_t first[MOTION_STEPPER_CUT_CMDS];
+    uint32_t ticks = 0;
+    uint8_t n = 0;
+    uint32_t ahead_us;
+    if (planner_.algo != RAMP_ALGO_EXACT || planner_.exact.n < 2U || planner_.params_new)
+        return false; /* new parameters: converting them costs milliseconds more (after the lead then) */
+    /* a stop from the cruise (y = 0) is the cheapest plan; a stop while the speed changes, or a new
+     * target (a move plan, maybe a reversal), costs up to twice as much */
+    ahead_us = (req == REQ_STOP && planner_.exact.y == 0) ? MOTION_STEPPER_CUT_US : MOTION_STEPPER_CUT_SLOW_US;
 #if MOTION_STEPPER_TRACE == 2
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         PORTG |= _BV(5);
     }
 #endif
-    if (MultiStepEngine::cut(axis_, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_US, planner_.exact.n - 1U, cut) == 0)
-        return;
+    if (MultiStepEngine::cut_find(axis_, MULTI_TICK_HZ / 1000000UL * ahead_us, planner_.exact.n - 1U, cut) == 0)
+        return false;
+    saved = planner_; /* planned in place: put back if the cut does not come off */
     if (step_planner_rewind(&planner_, cut.steps, cut.time16, cut.last_count) != MS_OK) {
-        MultiStepEngine::uncut(axis_);
-        cut_refusals_++;
+        cuts_missed_++;
+        return false; /* nothing changed */
     }
+    if (req == REQ_STOP)
+        step_planner_stop(&planner_);
+    else if (step_planner_move(&planner_, target) != MS_OK) {
+        planner_ = saved; /* planned again the usual way, which reports the status */
+        return false;
+    }
+    /* its first commands, MOTION_STEPPER_CUT_NEW_US of steps (a stop's first is one step): the planner
+     * then has that long to plan the next one (a few hundred microseconds) */
+    while (n < MOTION_STEPPER_CUT_CMDS && ticks < MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_NEW_US &&
+           step_planner_next(&planner_, &first[n])) {
+        uint32_t per = (first[n].flags & STEP_CMD_WIDE) ? first[n].rate : (first[n].rate >> 16);
+        ticks += per * first[n].count;
+        n++;
+    }
+    if (n == 0 ||
+        !MultiStepEngine::cut_apply(axis_, cut, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_MARGIN_US, first, n)) {
+        planner_ = saved;
+        cuts_missed_++;
+        return false;
+    }
+#if MOTION_STEPPER_TRACE == 2
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        PORTG &= (uint8_t)~_BV(5);
+    }
+#endif
+    return true;
 #else
-    (void)cut;
+    (void)req;
+    (void)target;
+    return false;
 #endif
 }
 

@@ -40,12 +40,31 @@
 class StepperGroup;
 
 /* A stop() or a new target while moving cuts the queue: the commands whose first step lies more than
- * this many microseconds ahead are dropped and planned again (the stop or the new move starts
- * there), so it acts after about this time instead of after the lead. It must cover the planner
- * interrupt's time to plan the stop or the new move and lay out its first command, with the step
- * interrupts running (docs/library.md has the measured figures). 0: no cut (acts after the lead). */
+ * this many microseconds ahead are dropped and the stop or the new move starts there, so it acts
+ * after about this time instead of after the lead. The planner interrupt plans it meanwhile and
+ * the cut is made only if that plan is ready MOTION_STEPPER_CUT_MARGIN_US before the step where it
+ * lands; a plan that takes longer is discarded and made again after the steps already queued
+ * (cutsMissed() counts it). No cut when parameters were set since the move was planned (their
+ * conversion costs milliseconds more). docs/library.md has the measured times.
+ * MOTION_STEPPER_CUT_US: a stop from the cruise; 0: no cut (a stop acts after the lead). */
 #ifndef MOTION_STEPPER_CUT_US
-#define MOTION_STEPPER_CUT_US 5000UL
+#define MOTION_STEPPER_CUT_US 4000UL
+#endif
+/* the same for the costlier plans: a stop while the speed changes, a new target */
+#ifndef MOTION_STEPPER_CUT_SLOW_US
+#define MOTION_STEPPER_CUT_SLOW_US 5000UL
+#endif
+#ifndef MOTION_STEPPER_CUT_MARGIN_US
+#define MOTION_STEPPER_CUT_MARGIN_US 200UL
+#endif
+/* At the cut, the new plan's first commands are laid out together, at least this many microseconds
+ * of steps (at most MOTION_STEPPER_CUT_CMDS commands), so that the queue holds enough for the
+ * planner to plan the next one: a stop's first command is a single step. */
+#ifndef MOTION_STEPPER_CUT_NEW_US
+#define MOTION_STEPPER_CUT_NEW_US 1000UL
+#endif
+#ifndef MOTION_STEPPER_CUT_CMDS
+#define MOTION_STEPPER_CUT_CMDS 4U
 #endif
 
 /* The longest time one step command of a Stepper moving alone covers, ms (a cruise is cut into
@@ -105,8 +124,9 @@ public:
     motion_status_t lastStatus() const { return last_status_; }
     /* Steps the queue ran dry before they were planned (0 on a healthy machine). */
     uint16_t underruns() const;
-    /* Cuts of the queue the planner refused (the stop or new target then acted after the lead): 0. */
-    uint16_t cutRefusals() const { return cut_refusals_; }
+    /* Stops and new targets that could not cut the queue in time (their plan took longer than
+     * MOTION_STEPPER_CUT_US, or the planner refused the cut): they acted after the lead instead. */
+    uint16_t cutsMissed() const { return cuts_missed_; }
 
     /* ENABLE: on / off now; auto-disable: off after each move ends, on before each starts. */
     void enableOutputs();
@@ -131,7 +151,7 @@ private:
     AxisSource source();
     StepperGroup *group_now() const;
     void run_request(); /* planner interrupt: carries out req_ */
-    void cut_queue();   /* planner interrupt: drops the queued commands beyond MOTION_STEPPER_CUT_US */
+    bool plan_at_cut(uint8_t req, int32_t target); /* planner interrupt: a stop or a move from a cut */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
     void record_done(int32_t engine_position);
     void write_enable(bool on);
@@ -156,7 +176,7 @@ private:
     int32_t next_target_; /* engine coordinates: the target accepted while the last steps ran */
     int32_t req_target_;  /* engine coordinates: REQ_MOVE's target */
     motion_status_t last_status_;
-    uint16_t cut_refusals_;
+    uint16_t cuts_missed_;
     DirectionHook hook_;
     StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */
     ramp_params_t params_;
