@@ -854,9 +854,10 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     uint16_t left;
     uint32_t rate, per, ahead;
     bool wide;
+    AxisSlot *cp;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        curi = cur_index(s);
+        cp = s.cur; /* its index (a division by the slot's size) with interrupts on */
         left = s.left;
         rate = s.rate + (uint32_t)s.add; /* the next interval */
         wide = (s.flags & _BV(AXIS_SLOT_WIDE)) != 0;
@@ -864,6 +865,7 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     }
     if (!running)
         return UINT32_MAX;
+    curi = (uint8_t)(cp - s.slot);
     /* the current command's steps not armed yet, then the slots between */
     per = wide ? rate : (rate >> 16);
     ahead = per > 0xFFFFUL ? 0xFFFFFFUL : (uint32_t)left * per;
