@@ -1041,12 +1041,12 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
         return MS_ERR_OUT_OF_RANGE;
     /* the state after the command of last_count steps from step p to step n */
     p = n - last_count;
-    ic = 1.0f / s.k.cu_f;
     b = span_of(last_count);
     if (p < s.n1) {
         /* region A: y, its slope and the span at step n */
         if (n > s.n1 || b > SEG_B)
             return MS_ERR_OUT_OF_RANGE;
+        ic = 1.0f / s.k.cu_f;
         s.flags = (uint8_t)(base | F_SLOPE | F_ERR);
         s.q = q_a(&s, n);
         s.y = y_at(&s, s.q, n, &ih);
@@ -1073,7 +1073,8 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
         if (n > s.n2 || last_count > s.ccap || (p == s.n1 && last_count != 1U))
             return MS_ERR_OUT_OF_RANGE;
         s.flags = (uint8_t)(base | F_ERR);
-        s.q = q_a(&s, s.n1);
+        /* q_a(&s, s.n1): the state's own radicand (checked above) unless it is already in region D */
+        s.q = (e->flags & F_IN_D) ? q_a(&s, s.n1) : q_now;
         s.y = 0;
         s.cfrac = (uint16_t)mul64x32(s.k.p32, n - s.n1);
         t = (int64_t)((s.a_down ? s.us - s.up : s.up - s.us) << 8) - (int64_t)s.f1p +
@@ -1084,6 +1085,7 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
         uint32_t m = s.d - n, mp = s.d - p;
         if (b > SEG_B)
             return MS_ERR_OUT_OF_RANGE;
+        ic = 1.0f / s.k.cu_f;
         s.flags = (uint8_t)(base | F_IN_D | F_ERR);
         s.q = square64(s.k.u0) + mul64x32(s.k.cu, m);
         s.y = y_at(&s, s.q, m, &ih);
