@@ -20,6 +20,7 @@ import math
 import os
 import re
 
+import emulate
 import emulog
 import sketches
 from checks_selftest import CheckResult
@@ -397,6 +398,88 @@ def check_stop_on_switch(env):
     return CheckResult(not problems, figs, problems)
 
 
+# ---- FollowTarget ---------------------------------------------------------------------------
+
+FOLLOW_SCRIPT = """\
+wait ^READY FollowTarget$
+send 100000
+wait ^MOVE 100000$
+run 600
+send 30000
+timeout 20000
+wait ^DONE
+send 0
+wait ^MOVE 0$
+run 600
+send 40000
+wait ^DONE
+"""
+
+
+def doc_retarget_latency(env):
+    """the reversal latency docs/library.md quotes ('retarget latency **5.1 ms**'), or None"""
+    try:
+        with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
+            m = re.search(r"retarget\s+latency\s+\*\*([0-9.]+) ms\*\*", f.read())
+    except OSError:
+        return None
+    return float(m.group(1)) if m else None
+
+
+def check_follow_target(env):
+    """new targets while moving (FollowTarget.ino, 20,000 steps/s, 50,000 steps/s^2): a nearer target
+    ahead, sent while cruising towards 100000, makes the move one of 30000 steps from rest (every edge
+    on that law); a target behind, sent while cruising from 30000 towards 0, stops on the law (no
+    velocity jump) after a latency against docs/library.md, and the move back is one from rest"""
+    log = run(env, "FollowTarget", FOLLOW_SCRIPT)
+    problems = []
+    common(log, problems)
+    dones = log.lines_matching(r"^DONE ")
+    line = next((t for t in log.tx if t.text == "40000"), None)
+    if len(dones) != 2 or line is None:
+        return CheckResult(False, "no conversation", [f"lines {[l.text for l in log.rx]}"])
+    v, a = 20000.0, 50000.0
+    for d, want in zip(dones, ("DONE 30000 underruns=0 missed=0", "DONE 40000 underruns=0 missed=0")):
+        if d.text != want:
+            problems.append(f"'{d.text}', expected '{want}' (no underrun, no cut missed)")
+    e = log.rising("XSTEP")
+    late1 = check_move(log, problems, "X", [c for c in e if c < dones[0].cycle], 0, 30000, v, a,
+                       "a nearer target ahead (30000, sent while cruising towards 100000)")
+    leg = [c for c in e if dones[0].cycle < c < dones[1].cycle]
+    turn = next((i for i, c in enumerate(leg) if log.level_before("XDIR", c) == 1), None)
+    n_dec = int(round(v * v / (2 * a)))
+    latency_ms = None
+    if turn is None or turn < n_dec + 2:
+        problems.append(f"a target behind: {turn} steps down before the turn, fewer than the stop's v^2/2a = {n_dec}")
+    else:
+        down, up = leg[:turn], leg[turn:]
+        start = down[-n_dec - 1]  # the last edge before the deceleration
+        late, at = law_errors(down[:-n_dec], law(30000, v, a)[:len(down) - n_dec])
+        if late > LATE_BOUND + 2:
+            problems.append(f"a target behind: step {at} towards 0 is {late:.0f} cycles off the move's law")
+        times = [v / a - math.sqrt(2 * (n_dec - n) / a) for n in range(1, n_dec + 1)]
+        late, at = law_errors([start] + down[-n_dec:], [0.0] + times)
+        if late > LATE_BOUND + 2:
+            problems.append(f"a target behind: deceleration step {at} is {late:.0f} cycles off the stop's law")
+        check_move(log, problems, "X", up, 30000 - len(down), 40000, v, a, "back to 40000 after the turn")
+        # from the line's end (its LF arrives (len + CR LF) frames after its first byte) to the deceleration
+        arrival = line.cycle + (len(line.text) + 2) * emulate.frame_cycles(log)
+        latency_ms = (start - arrival) * 1000.0 / F_CPU
+        doc = doc_retarget_latency(env)
+        if doc is None:
+            problems.append(f"docs/library.md quotes no 'retarget latency **<ms> ms**' (measured {latency_ms:.2f} ms)")
+        elif latency_ms > doc:
+            problems.append(f"a target behind: the deceleration began {latency_ms:.2f} ms after the line, more than "
+                            f"the {doc} ms docs/library.md promises")
+        elif doc - latency_ms > DOC_DRIFT_MS:
+            problems.append(f"docs/library.md quotes a retarget latency of {doc} ms, measured {latency_ms:.2f} ms "
+                            f"(more than {DOC_DRIFT_MS} ms below): update the page")
+    figs = (f"target 100000 -> 30000 while cruising: 30000 steps on the law of that move ({late1:.0f} cycles late "
+            f"at most); 30000 -> 0, then 40000 behind: stop on the law {latency_ms:.2f} ms after the line, back "
+            f"from rest; 0 underruns, 0 missed cuts" if latency_ms is not None else "reversal not measured")
+    return CheckResult(not problems, figs, problems)
+
+
 # ---- ApiTour -------------------------------------------------------------------------------
 
 def status_texts(env):
@@ -500,6 +583,8 @@ CHECKS_BY_EXAMPLE = (
                     "axis's vmax held", check_two_axes_line),
     ("StopOnSwitch", "stop() at a switch (latency, deceleration law), forceStop() at another (no step "
                      "after)", check_stop_on_switch),
+    ("FollowTarget", "new targets while moving: one ahead (the law of the shorter move), one behind (stop on "
+                     "the law, latency, back from rest)", check_follow_target),
     ("BlockingLoop", "delay(1000) in loop(): 20,000 steps at 20,000 steps/s, 0 underruns", check_blocking_loop),
     ("ApiTour", "every call's status as documented, inversion, auto-disable, the direction hook, "
                 "setCurrentPosition, move", check_api_tour),
