@@ -112,9 +112,9 @@ motion_status_t Stepper::setMinSpeed(float steps_per_s)
 }
 
 /* ---- moves ----
- * A plan costs milliseconds on the AVR (a stop's about 4 ms at 20,000 steps/s), so loop() only
- * leaves a request; the planner interrupt carries it out at its next tick (run_request), before it
- * lays out commands. */
+ * A plan costs milliseconds on the AVR, so loop() only leaves a request and brings the planner
+ * interrupt's next tick forward (kick); the tick carries it out (run_request) before it lays out
+ * commands. */
 motion_status_t Stepper::moveTo(long target)
 {
     if (!begun_)

@@ -96,7 +96,8 @@ public:
     /* Move to an absolute position / by a distance (from the target in force, as AccelStepper's move).
      * While moving, the move continues from its speed to the new target (no stop in between when
      * it lies ahead beyond the stopping distance); MS_ERR_BUSY while in a StepperGroup's move.
-     * Returns at once (a few microseconds): the planner interrupt plans the move at its next tick. */
+     * Returns at once (a few microseconds); the planner interrupt, brought forward, plans it about
+     * 10 us later. */
     motion_status_t moveTo(long target);
     motion_status_t move(long distance);
     /* Decelerate to rest at the acceleration in force, from the step where the queue is cut
