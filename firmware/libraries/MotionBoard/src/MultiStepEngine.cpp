@@ -401,18 +401,28 @@ uint32_t base_ahead(uint16_t ticks)
  * in the past, no match is pending and the interrupt has not moved on. Fire it now and count it as
  * late, instead of waiting a whole wrap. A first look with interrupts on (a torn read only costs the careful look below), so the
  * check, made on every service() call of every axis, does not delay step edges. */
+/* The armed edge lies 65 to 16384 ticks in the past (16-bit times): a match missed not long ago. Not
+ * "any amount up to half a wrap": a move's first edge may be armed more than 32768 ticks ahead (a
+ * coordinated start is 4096 ticks ahead, plus a first interval of up to 32767), which in 16 bits
+ * looks like the past; taking it for a missed match fired the first step at once, a whole interval
+ * early (found by `make fuzz`: x stepped twice within 201 cycles at a coordinated start). */
+inline bool missed_by(uint16_t now, uint16_t edge)
+{
+    return (uint16_t)(now - edge) - 65U < 16320U;
+}
+
 void catch_missed_match(uint8_t axis)
 {
     AxisState &s = state(axis);
     if (!s.running || (s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) || (TIFR1 & ocf_bit(axis)) ||
-        (int16_t)(TCNT1 - (uint16_t)(s.acc >> 16)) <= 64)
+        !missed_by(TCNT1, (uint16_t)(s.acc >> 16)))
         return;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         if (s.running && !(s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) && !(TIFR1 & ocf_bit(axis))) {
             uint16_t now = TCNT1;
             /* and not re-armed by an earlier look (its match still to come) */
-            if ((int16_t)(now - (uint16_t)(s.acc >> 16)) > 64 && (int16_t)(read_ocr(axis) - now) <= 0) {
+            if (missed_by(now, (uint16_t)(s.acc >> 16)) && (int16_t)(read_ocr(axis) - now) <= 0) {
                 write_ocr(axis, now + s.late_ticks);
                 s.late = s.late + 1U;
             }
@@ -874,7 +884,7 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     return ahead;
 }
 
-uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r)
+uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16)
 {
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
@@ -914,7 +924,8 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
     if (first == f.head)
         return 0;
     for (i = first; i != f.head; i = next_slot(i)) {
-        r.time16 += slot_time16(s.slot[i]);
+        if (time16)
+            r.time16 += slot_time16(s.slot[i]);
         r.cmds++;
     }
     r.steps = steps;

@@ -191,7 +191,8 @@ public:
      * current plan); it changes nothing, and tells what would be dropped: their steps, their time in
      * the executor's arithmetic (step_exec_next's sum, 2^-16 ticks: count rate + add count
      * (count - 1)/2, WIDE: count rate 2^16; lib's step_exact_cmd_time16, bit for bit) and the
-     * count of the last command kept. Returns r.cmds (0: no cut: not stepping, or nothing that far).
+     * count of the last command kept (the time only with time16: a few hundred cycles a command).
+     * Returns r.cmds (0: no cut: not stepping, or nothing that far).
      * The planner then goes back there and plans the new commands c[0..n-1] from there (taking its
      * time); cut_apply() drops those commands and lays c out in their place, if the interrupt is
      * still at least min_ticks_left ticks from them and the ring has room (else it changes nothing
@@ -206,7 +207,7 @@ public:
         uint8_t cmds; /* commands dropped (0: no cut) */
         uint8_t first; /* the first slot dropped */
     };
-    static uint8_t cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r);
+    static uint8_t cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16 = true);
     static bool cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n);
 };
 

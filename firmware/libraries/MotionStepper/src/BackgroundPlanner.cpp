@@ -162,6 +162,9 @@ void BackgroundPlanner::tick()
     }
     feed();
     collect_done();
+    for (uint8_t i = 0; i < 3; i++)
+        if (axes_[i])
+            axes_[i]->prepare_stop(); /* once a move cruises: its stop planned ahead */
 }
 
 /* A step interrupt is between its compare match and the arming of its next edge: its match has

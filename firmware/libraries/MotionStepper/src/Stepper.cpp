@@ -4,6 +4,7 @@
  * counts up); an inverted axis shows the user their negation. */
 #include "Stepper.h"
 
+#include <string.h>
 #include <util/atomic.h>
 
 #include "StepperGroup.h"
@@ -26,7 +27,8 @@ enum { P_VMAX, P_ACCEL, P_V0 };
 Stepper::Stepper(Axis axis)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
-      last_status_(MS_OK), cuts_missed_(0), hook_(0), group_(0)
+      last_status_(MS_OK), cuts_missed_(0), stop_up_(0), stop_from_(0), stop_pos_(0), stop_target_(0), stop_n_(0),
+      stop_active_(0), hook_(0), group_(0)
 {
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
@@ -184,7 +186,7 @@ void Stepper::run_request()
     if (r == REQ_STOP) {
         c = MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
-            if (!plan_at_cut(REQ_STOP, 0))
+            if (!stop_in_cruise() && !plan_at_cut(REQ_STOP, 0))
                 step_planner_stop(&planner_);
         } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
@@ -235,14 +237,111 @@ void Stepper::run_request()
  * false when nothing changed (not stepping, nothing queued that far, parameters set since the
  * profile was planned, the planner refuses the cut, or the planning took too long): then it is
  * planned after the steps already queued, as without a cut. */
+#if MOTION_STEPPER_CUT_US
+static step_planner_t s_scratch; /* the planner interrupt plans one axis at a time */
+
+/* the first commands of the plan in pl, at least MOTION_STEPPER_CUT_NEW_US of steps (a stop's first
+ * is one step): the planner then has that long to plan the next one */
+static uint8_t first_cmds(step_planner_t *pl, step_cmd_t *c)
+{
+    uint32_t ticks = 0;
+    uint8_t n = 0;
+    while (n < MOTION_STEPPER_CUT_CMDS && ticks < MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_NEW_US &&
+           step_planner_next(pl, &c[n])) {
+        uint32_t per = (c[n].flags & STEP_CMD_WIDE) ? c[n].rate : (c[n].rate >> 16);
+        ticks += per * c[n].count;
+        n++;
+    }
+    return n;
+}
+#endif
+
+/* planner interrupt, after it has laid out commands: while a Stepper cruises (its planner in the
+ * cruise of an exact profile, parameters unchanged), the stop from there is planned ahead, unless
+ * it is already for these constants, direction and speed. A stop from the cruise is one profile
+ * wherever it starts: the planner's state after it and its commands differ only by the position
+ * (checked on the host: 496 random profiles, a stop at two cruise boundaries each, natural and
+ * rewound, every command the same). */
+void Stepper::prepare_stop()
+{
+#if MOTION_STEPPER_CUT_US
+    const step_exact_t &e = planner_.exact;
+    if (group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
+        !(e.n > e.n1 && e.n < e.n2))
+        return;
+    if (stop_n_ != 0 && stop_up_ == e.up && stop_exact_.dir == e.dir && stop_exact_.max_cmd_ticks == e.max_cmd_ticks &&
+        memcmp(&stop_exact_.k, &e.k, sizeof e.k) == 0)
+        return;
+    s_scratch = planner_;
+    step_planner_stop(&s_scratch);
+    stop_n_ = 0;
+    stop_n_ = first_cmds(&s_scratch, stop_cmds_);
+    stop_exact_ = s_scratch.exact;
+    stop_up_ = e.up;
+    stop_from_ = planner_.pos;
+    stop_pos_ = s_scratch.pos;
+    stop_target_ = s_scratch.target;
+    stop_active_ = s_scratch.active;
+#endif
+}
+
+/* planner interrupt: a stop in the cruise with the stop planned ahead for it: a cut
+ * MOTION_STEPPER_CUT_CRUISE_US ahead, in the cruise, and that stop laid out there. False: nothing
+ * changed. */
+bool Stepper::stop_in_cruise()
+{
+#if MOTION_STEPPER_CUT_US
+    const step_exact_t &e = planner_.exact;
+    MultiStepEngine::Cut cut;
+    uint32_t nb;
+    int32_t dp;
+    if (stop_n_ == 0 || planner_.params_new || e.y != 0 || e.n <= e.n1 || stop_up_ != e.up || stop_exact_.dir != e.dir ||
+        stop_exact_.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_exact_.k, &e.k, sizeof e.k) != 0)
+        return false;
+#if MOTION_STEPPER_TRACE == 2
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        PORTG |= _BV(5);
+    }
+#endif
+    if (MultiStepEngine::cut_find(axis_, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_CRUISE_US, e.n - 1U, cut, false) ==
+        0)
+        return false;
+    /* the kept commands end in the cruise: its last one starts there, and nothing of the
+     * deceleration is kept */
+    nb = e.n - cut.steps;
+    if (nb - cut.last_count < e.n1 || nb > e.n2)
+        return false;
+    if (!MultiStepEngine::cut_apply(axis_, cut, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_MARGIN_US, stop_cmds_,
+                                    stop_n_))
+        return false;
+    /* the stop planned ahead, moved to where the cut lands */
+    dp = (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps) + planner_.pos - stop_from_;
+    planner_.exact = stop_exact_;
+    planner_.exact.pos += dp;
+    planner_.pos = stop_pos_ + dp;
+    planner_.target = stop_target_ + dp;
+    planner_.active = stop_active_;
+    planner_.has_then = 0;
+#if MOTION_STEPPER_TRACE == 2
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        PORTG &= (uint8_t)~_BV(5);
+    }
+#endif
+    return true;
+#else
+    return false;
+#endif
+}
+
 bool Stepper::plan_at_cut(uint8_t req, int32_t target)
 {
 #if MOTION_STEPPER_CUT_US
-    static step_planner_t saved; /* the planner interrupt plans one axis at a time */
+    step_planner_t &saved = s_scratch;
     MultiStepEngine::Cut cut;
     step_cmd_t first[MOTION_STEPPER_CUT_CMDS];
-    uint32_t ticks = 0;
-    uint8_t n = 0;
+    uint8_t n;
     uint32_t ahead_us;
     if (planner_.algo != RAMP_ALGO_EXACT || planner_.exact.n < 2U || planner_.params_new)
         return false; /* new parameters: converting them costs milliseconds more (after the lead then) */
@@ -268,14 +367,7 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
         planner_ = saved; /* planned again the usual way, which reports the status */
         return false;
     }
-    /* its first commands, MOTION_STEPPER_CUT_NEW_US of steps (a stop's first is one step): the planner
-     * then has that long to plan the next one (a few hundred microseconds) */
-    while (n < MOTION_STEPPER_CUT_CMDS && ticks < MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_NEW_US &&
-           step_planner_next(&planner_, &first[n])) {
-        uint32_t per = (first[n].flags & STEP_CMD_WIDE) ? first[n].rate : (first[n].rate >> 16);
-        ticks += per * first[n].count;
-        n++;
-    }
+    n = first_cmds(&planner_, first);
     if (n == 0 ||
         !MultiStepEngine::cut_apply(axis_, cut, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_MARGIN_US, first, n)) {
         planner_ = saved;

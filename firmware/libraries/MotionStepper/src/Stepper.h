@@ -46,9 +46,16 @@ class StepperGroup;
  * lands; a plan that takes longer is discarded and made again after the steps already queued
  * (cutsMissed() counts it). No cut when parameters were set since the move was planned (their
  * conversion costs milliseconds more). docs/library.md has the measured times.
- * MOTION_STEPPER_CUT_US: a stop from the cruise; 0: no cut (a stop acts after the lead). */
+ * MOTION_STEPPER_CUT_US: a stop from the cruise planned at the cut (when the one planned ahead,
+ * below, does not fit); 0: no cut at all (a stop acts after the lead). */
 #ifndef MOTION_STEPPER_CUT_US
 #define MOTION_STEPPER_CUT_US 4000UL
+#endif
+/* A stop from the cruise is the same profile wherever the cut lands (only the position differs):
+ * the planner interrupt plans it ahead, once the cruise has begun, and a stop() in the cruise then
+ * only cuts and lays it out: this many microseconds ahead. */
+#ifndef MOTION_STEPPER_CUT_CRUISE_US
+#define MOTION_STEPPER_CUT_CRUISE_US 800UL
 #endif
 /* the same for the costlier plans: a stop while the speed changes, a new target */
 #ifndef MOTION_STEPPER_CUT_SLOW_US
@@ -153,6 +160,8 @@ private:
     StepperGroup *group_now() const;
     void run_request(); /* planner interrupt: carries out req_ */
     bool plan_at_cut(uint8_t req, int32_t target); /* planner interrupt: a stop or a move from a cut */
+    bool stop_in_cruise();                         /* planner interrupt: the stop planned ahead, at a cut */
+    void prepare_stop();                           /* planner interrupt: plans that stop ahead */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
     void record_done(int32_t engine_position);
     void write_enable(bool on);
@@ -178,6 +187,14 @@ private:
     int32_t req_target_;  /* engine coordinates: REQ_MOVE's target */
     motion_status_t last_status_;
     uint16_t cuts_missed_;
+    /* the stop from the cruise, planned ahead (prepare_stop) from position stop_from_: the planner's
+     * state after it and its first commands; valid for any profile whose constants, direction and
+     * cruise speed are stop_exact_'s (k, dir) and stop_up_ */
+    step_exact_t stop_exact_;
+    step_cmd_t stop_cmds_[MOTION_STEPPER_CUT_CMDS];
+    uint64_t stop_up_;
+    int32_t stop_from_, stop_pos_, stop_target_;
+    uint8_t stop_n_, stop_active_;
     DirectionHook hook_;
     StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */
     ramp_params_t params_;
