@@ -2,7 +2,8 @@
  * history (lib/src/step_exact.c keeps the span rule's scale zfit, a function of C = 2F^2/a, from
  * one profile to the next while C stays, to make a stop cheaper on the AVR). Expected values: the
  * commands of a fresh planner given the same constants, position and plan: whatever the planner
- * did before with other constants must not show in them. */
+ * did before with other constants must not show in them. And a stop from the cruise is one
+ * profile wherever it starts (what the MotionStepper library's planned-ahead stop relies on). */
 #include "cmocka_all.h"
 
 #include <stdio.h>
@@ -106,11 +107,65 @@ static void random_histories(void **state)
     }
 }
 
+/* The MotionStepper library plans the stop from the cruise once and, at a stop, lays it out moved to
+ * where its queue is cut (Stepper::stop_in_cruise): that needs a stop from the cruise to be the same
+ * profile wherever it starts. Expected: the commands of a stop at one cruise boundary (the planner
+ * as it stands) equal those of a stop at another (the planner rewound there), command by command,
+ * and the positions differ by the boundaries' distance. */
+static void stop_from_the_cruise_is_one_profile(void **state)
+{
+    static step_cmd_t hist[4000];
+    uint32_t i, tried = 0;
+    (void)state;
+    for (i = 0; i < 300U; i++) {
+        step_planner_t a, b;
+        ramp_params_t p;
+        uint32_t k = 0, drop, steps = 0, j;
+        int64_t t16 = 0;
+        int32_t shift;
+        params(&p, urand(1000.0, 40000.0), lrand(1000.0, 300000.0));
+        if (urand(0.0, 1.0) < 0.3)
+            p.v0_sps = urand(0.0, 500.0);
+        assert_int_equal(step_planner_init_trapezoid(&a, RAMP_ALGO_EXACT, &p, (int32_t)urand(-1000.0, 1000.0)), MS_OK);
+        a.max_cmd_ticks = a.exact.max_cmd_ticks = urand(0.0, 1.0) < 0.5 ? 16000U : 64000U;
+        assert_int_equal(step_planner_move(&a, a.pos + (urand(0.0, 1.0) < 0.5 ? 1 : -1) * (int32_t)urand(200000.0, 300000.0)),
+                         MS_OK);
+        /* into the cruise, then some commands more */
+        while (k < 3900U && !(a.exact.y == 0 && a.exact.n > a.exact.n1 + 10U) && step_planner_next(&a, &hist[k]))
+            k++;
+        for (j = 0; j < 30U && k < 4000U && step_planner_next(&a, &hist[k]); j++)
+            k++;
+        if (!(a.exact.y == 0 && a.exact.n > a.exact.n1 + 10U && a.exact.n < a.exact.n2))
+            continue; /* no cruise there (a triangle, or a long acceleration) */
+        /* b: back to an earlier cruise boundary */
+        drop = 1U + (uint32_t)urand(0.0, 20.0);
+        for (j = k - drop; j < k; j++) {
+            steps += hist[j].count;
+            t16 += step_exact_cmd_time16(&hist[j]);
+        }
+        b = a;
+        if (step_planner_rewind(&b, steps, t16, hist[k - drop - 1U].count) != MS_OK || b.exact.y != 0 ||
+            b.exact.n <= b.exact.n1)
+            continue;
+        tried++;
+        shift = a.pos - b.pos;
+        step_planner_stop(&a);
+        step_planner_stop(&b);
+        assert_int_equal(a.target - b.target, shift);
+        drain(&a, &got, 0);
+        drain(&b, &want, 0);
+        same(&got, &want, "a stop from the cruise at two boundaries");
+        assert_int_equal(a.pos - b.pos, shift);
+    }
+    assert_true(tried > 150U);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(new_accel_after_a_stop),
         cmocka_unit_test(random_histories),
+        cmocka_unit_test(stop_from_the_cruise_is_one_profile),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
