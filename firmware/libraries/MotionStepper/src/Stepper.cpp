@@ -186,13 +186,13 @@ void Stepper::run_request()
     if (r == REQ_STOP) {
         c = MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
-            if (!stop_in_cruise() && !plan_at_cut(REQ_STOP, 0))
+            if (!stop_in_cruise(false, 0) && !plan_at_cut(REQ_STOP, 0))
                 step_planner_stop(&planner_);
         } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
         return;
     }
-    if (MultiStepEngine::moving(axis_) && plan_at_cut(REQ_MOVE, req_target_)) {
+    if (MultiStepEngine::moving(axis_) && (stop_in_cruise(true, req_target_) || plan_at_cut(REQ_MOVE, req_target_))) {
         /* the move continues into the new plan from the cut */
         has_next_ = false;
         last_status_ = MS_OK;
@@ -286,9 +286,11 @@ void Stepper::prepare_stop()
 }
 
 /* planner interrupt: a stop in the cruise with the stop planned ahead for it: a cut
- * MOTION_STEPPER_CUT_CRUISE_US ahead, in the cruise, and that stop laid out there. False: nothing
- * changed. */
-bool Stepper::stop_in_cruise()
+ * MOTION_STEPPER_CUT_CRUISE_US ahead, in the cruise, and that stop laid out there. then: a new
+ * target `to` that lies behind the cut (a reversal: lib's step_planner_move then plans that same
+ * stop, and the move to `to` from rest after it); one that does not is left to plan_at_cut. False:
+ * nothing changed. */
+bool Stepper::stop_in_cruise(bool then, int32_t to)
 {
 #if MOTION_STEPPER_CUT_US
     const step_exact_t &e = planner_.exact;
@@ -312,17 +314,22 @@ bool Stepper::stop_in_cruise()
     nb = e.n - cut.steps;
     if (nb - cut.last_count < e.n1 || nb > e.n2)
         return false;
+    /* the position at the cut */
+    dp = planner_.pos + (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps);
+    if (then && (e.dir > 0 ? to > dp : to < dp))
+        return false; /* ahead of the cut: a plan of its own */
     if (!MultiStepEngine::cut_apply(axis_, cut, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_MARGIN_US, stop_cmds_,
                                     stop_n_))
         return false;
     /* the stop planned ahead, moved to where the cut lands */
-    dp = (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps) + planner_.pos - stop_from_;
+    dp -= stop_from_;
     planner_.exact = stop_exact_;
     planner_.exact.pos += dp;
     planner_.pos = stop_pos_ + dp;
-    planner_.target = stop_target_ + dp;
+    planner_.target = then ? to : stop_target_ + dp;
     planner_.active = stop_active_;
-    planner_.has_then = 0;
+    planner_.has_then = then ? 1 : 0;
+    planner_.then_target = to;
 #if MOTION_STEPPER_TRACE == 2
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
@@ -331,6 +338,8 @@ bool Stepper::stop_in_cruise()
 #endif
     return true;
 #else
+    (void)then;
+    (void)to;
     return false;
 #endif
 }

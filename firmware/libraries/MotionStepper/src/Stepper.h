@@ -160,7 +160,7 @@ private:
     StepperGroup *group_now() const;
     void run_request(); /* planner interrupt: carries out req_ */
     bool plan_at_cut(uint8_t req, int32_t target); /* planner interrupt: a stop or a move from a cut */
-    bool stop_in_cruise();                         /* planner interrupt: the stop planned ahead, at a cut */
+    bool stop_in_cruise(bool then, int32_t to);    /* planner interrupt: the stop planned ahead, at a cut */
     void prepare_stop();                           /* planner interrupt: plans that stop ahead */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
     void record_done(int32_t engine_position);
