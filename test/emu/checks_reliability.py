@@ -182,6 +182,9 @@ def checks_for(env):
             checks.append((f"{s}: a long ramp just below max_sps (v0 near vmax, a small accel): the planner keeps "
                            f"up, no underrun", lambda s=s: check_long_ramp_at_limit(env, s)))
         if fam == "multiaxis":
+            checks.append((f"{s}: a coordinated start whose first step lies more than half a timer wrap ahead: "
+                           f"every first edge on its plan", lambda s=s: check_far_first_step(env, s)))
+        if fam == "multiaxis":
             checks.append((f"{s}: a halt of one axis holds no other axis's edge beyond the bound",
                            lambda s=s: check_multiaxis_halt_latency(env, s)))
         if fam == "stepper" and "SCurveRamp" in open(env.ino(s)).read():
@@ -372,3 +375,48 @@ def check_long_ramp_at_limit(env, sketch):
         problems.append(f"{edges} STEP edges, want {steps}")
     return CheckResult(not problems, f"v0 {v0:g} -> vmax {vmax:g} at accel {accel:.0f}: {edges} steps, "
                        f"underruns={f.get('underruns')}", problems)
+
+
+# A coordinated move starts 4096 ticks ahead; the axis that moves least has its first step one of its
+# intervals later, here 31,300 ticks: its first compare lies more than 32,768 ticks ahead, which in
+# 16-bit times looks like the past. The engine's watch for missed matches took it for one and fired
+# the step at once (`make fuzz`, seed 22: x stepped twice 201 cycles apart, its first step 32,580
+# cycles early). The plan: `motionsim move` of the same move (lib's step_coord, the same commands).
+FAR_FIRST = {"x": -13915, "y": -32618}
+FAR_FIRST_LIMITS = {"x": (5895, 23567, 200000), "y": (1128, 1225, 90000)}
+
+
+def check_far_first_step(env, sketch):
+    import subprocess
+    lines = ["wait ^READY [^ ]+$", "timeout 20000"]
+    args = [env.motionsim, "move", "--max-rows", "100000", "-o", "-"]
+    for ax, (v0, vmax, acc) in FAR_FIRST_LIMITS.items():
+        lines += [f"send set {ax} v0 {v0}", "wait ^OK", f"send set {ax} vmax {vmax}", "wait ^OK",
+                  f"send set {ax} accel {acc}", "wait ^OK"]
+        args += [f"--{ax}", str(FAR_FIRST[ax]), f"--{ax}-v0", str(v0), f"--{ax}-vmax", str(vmax),
+                 f"--{ax}-accel", str(acc)]
+    lines += ["send move " + " ".join(f"{ax}{d}" for ax, d in FAR_FIRST.items()), "wait ^OK move", "run 60",
+              "send !", "wait ^OK halt"]
+    log = emulog.run(env.elf(sketch), "\n".join(lines) + "\n", pins=sketches.multiaxis_pins(env))
+    problems = []
+    fails_of(log, problems)
+    r = subprocess.run(args, capture_output=True, text=True, timeout=120)
+    plan = {"x": [], "y": []}
+    for row in r.stdout.splitlines()[1:]:
+        w = row.split(",")
+        if w[1] in plan and len(plan[w[1]]) < 12:
+            plan[w[1]].append(round(float(w[0]) * F_CPU))
+    got = {ax: log.rising(ax.upper() + "STEP")[:12] for ax in plan}
+    if r.returncode != 0 or any(len(plan[ax]) < 12 or len(got[ax]) < 12 for ax in plan):
+        return CheckResult(False, "no edges", [f"motionsim exit {r.returncode}: {r.stderr.strip()[:200]}; edges "
+                                               f"{ {ax: len(v) for ax, v in got.items()} }"])
+    t0 = got["y"][0] - plan["y"][0]  # the plan's t = 0 on the board's timeline, from y's first edge
+    worst = 0
+    for ax in plan:
+        for k, (p, g) in enumerate(zip(plan[ax], got[ax])):
+            off = g - t0 - p
+            worst = max(worst, abs(off))
+            if abs(off) > 8 and len(problems) < 4:
+                problems.append(f"{ax} step {k + 1}: {off:+d} cycles off its plan")
+    return CheckResult(not problems, f"x's first step {plan['x'][0]} ticks after the start (more than 32,768 with "
+                       f"the start's 4096): the first 12 edges of x and y within {worst} cycles of the plan", problems)

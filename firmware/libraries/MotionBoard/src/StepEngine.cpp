@@ -344,6 +344,14 @@ static void start_stepping()
  * modelled the chip there: tools/emu/emu_timer.c; kept as a safety net): the armed edge lies well
  * in the past, no match is pending and the interrupt has not moved on. Fire it now and count it as
  * late, instead of waiting a whole wrap. Checked every 8th call, briefly with interrupts off. */
+/* The armed edge lies 65 to 16384 ticks in the past (16-bit times): a match missed not long ago. A
+ * move's first edge may be armed up to 32831 ticks ahead (64 plus a first interval below 32768),
+ * which in 16 bits can look like the past: it must not be fired at once. */
+static inline bool missed_by(uint16_t now, uint16_t edge)
+{
+    return (uint16_t)(now - edge) - 65U < 16320U;
+}
+
 static void catch_missed_match()
 {
     static uint8_t every;
@@ -352,14 +360,13 @@ static void catch_missed_match()
         return;
     /* a first look with interrupts on (a torn read only costs the careful look below): interrupts
      * stay on unless a match really seems missed, so this check does not delay step edges */
-    if (!s.running || s.waiting || (TIFR1 & _BV(OCF1A)) ||
-        (int16_t)(TCNT1 - (uint16_t)(s.acc >> 16)) <= 64)
+    if (!s.running || s.waiting || (TIFR1 & _BV(OCF1A)) || !missed_by(TCNT1, (uint16_t)(s.acc >> 16)))
         return;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         if (s.running && !s.waiting && !(s.cur->flags & _BV(STEP_SLOT_SLOW)) && !(TIFR1 & _BV(OCF1A))) {
             uint16_t now = TCNT1;
-            if ((int16_t)(now - (uint16_t)(s.acc >> 16)) > 64) {
+            if (missed_by(now, (uint16_t)(s.acc >> 16))) {
                 OCR1A = now + s.late_ticks;
                 s.late = s.late + 1U;
             }
