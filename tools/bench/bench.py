@@ -515,6 +515,43 @@ def multi_section(motionsim, out_dir, only, rates=None):
     return lines
 
 
+def library_section(out_dir):
+    """The MotionStepper library's examples (issue 23): built as shipped into out_dir/library, each run by
+    its own emulator check (test/emu/checks_library.py); their figures go into bench.md as measured:
+    the stop latency from the switch at three speeds, the blocking loop(), the straight line."""
+    sys.path.insert(0, os.path.join(ROOT, "test", "emu"))
+    import checks_library  # the examples' checks: expected values from formulas, docs drift
+    lib_dir = os.path.join(ROOT, checks_library.LIB_EXAMPLES)
+    names = sorted(n for n in os.listdir(lib_dir) if os.path.isfile(os.path.join(lib_dir, n, n + ".ino")))
+    if not names:
+        return []
+    out = os.path.join(out_dir, "library")
+    r = subprocess.run([os.path.join(ROOT, "tools", "build_firmware.sh")] + [os.path.join(checks_library.LIB_EXAMPLES, n)
+                       for n in names], cwd=ROOT, env=dict(os.environ, FIRMWARE_OUT=out),
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit("bench: the library examples did not build:\n" + r.stdout[-2000:])
+    env = sketches.Env(firmware_dir=out, source_dir=ROOT)
+    rows = []
+    for title, fn in (("StopOnSwitch: stop() at a switch at 10,000, 20,000 and 25,000 steps/s, forceStop()",
+                       checks_library.check_stop_on_switch),
+                      ("BlockingLoop: a 20,000-step move at 20,000 steps/s with delay(1000) in loop()",
+                       checks_library.check_blocking_loop),
+                      ("MoveAndBack: X to 10,000 and back at 20,000 steps/s, 50,000 steps/s^2",
+                       checks_library.check_move_and_back),
+                      ("TwoAxesLine: StepperGroup's straight lines", checks_library.check_two_axes_line)):
+        res = fn(env)
+        verdict = "as checked" if res.ok else "FAILED: " + "; ".join(res.details[:3])
+        rows.append(f"| {title} | {res.summary} | {verdict} |")
+        print(rows[-1], flush=True)
+    return ["## The MotionStepper library (docs/library.md)", "",
+            "Each example as shipped (Timer3 plans in the background, Timer1 steps; X on a RAMPS 1.4) run by its "
+            "emulator check of `make test` (test/emu/checks_library.py: the constant-acceleration law, v^2/2a, the "
+            "line's geometry and the call times are its expected values); the stop latency is from the switch's "
+            "edge to the first interval longer than the cruise's.", "",
+            "| example | measured | verdict |", "|---|---|---|"] + rows + [""]
+
+
 def made_from():
     """What the figures were made from: the commit, whether the measured sources (firmware/, lib/,
     tools/bench, tools/emu) differed from it, and the date (UTC)."""
@@ -585,6 +622,8 @@ def main(argv):
     lines += ["", "Highest clean rate per sketch: " + (", ".join(f"{k} {v:,} steps/s" for k, v in best.items()) or "none"),
               ""]
     lines += multi_section(a.motionsim, a.out, a.only)
+    if not a.only:
+        lines += library_section(a.out)
     pc = planner_costs(a.planner_elf)
     if pc:
         lines += ["Planner on the AVR (lib/src/step_planner.c, test/emu/step_avr): cycles per command and per step of "
