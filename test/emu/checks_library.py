@@ -492,7 +492,12 @@ def status_texts(env):
 # before begin() moves refuse; vmax <= MULTI_MAX_SPS 25,000; accel <= 1e6 and >= 8; v0 <= 10,000 and
 # below vmax; one Stepper per axis; idle-only calls refused while moving
 API_TOUR = (
-    ("moveTo(100) before begin()", "MS_ERR_NULL"),
+    ("moveTo(100) before begin()", "MS_ERR_NOT_BEGUN"),
+    ("move(100) before begin()", "MS_ERR_NOT_BEGUN"),
+    ("stop() before begin()", "MS_ERR_NOT_BEGUN"),
+    ("forceStop() before begin()", "MS_ERR_NOT_BEGUN"),
+    ("setCurrentPosition(5) before begin()", "MS_ERR_NOT_BEGUN"),
+    ("group moveTo(100, 100) before begin()", "MS_ERR_NOT_BEGUN"),
     ("setMaxSpeed(30000)", "MS_ERR_OUT_OF_RANGE"),
     ("setMaxSpeed(NAN)", "MS_ERR_NOT_FINITE"),
     ("setAcceleration(2000000)", "MS_ERR_OUT_OF_RANGE"),

@@ -120,7 +120,7 @@ motion_status_t Stepper::setMinSpeed(float steps_per_s)
 motion_status_t Stepper::moveTo(long target)
 {
     if (!begun_)
-        return MS_ERR_NULL;
+        return MS_ERR_NOT_BEGUN;
     {
         PlannerLock lock;
         if (group_)
@@ -142,7 +142,7 @@ motion_status_t Stepper::move(long distance)
 motion_status_t Stepper::stop()
 {
     if (!begun_)
-        return MS_ERR_NULL;
+        return MS_ERR_NOT_BEGUN;
     {
         PlannerLock lock;
         if (group_)
@@ -160,7 +160,7 @@ motion_status_t Stepper::stop()
 motion_status_t Stepper::forceStop()
 {
     if (!begun_)
-        return MS_ERR_NULL;
+        return MS_ERR_NOT_BEGUN;
     PlannerLock lock;
     if (group_)
         return group_->forceStop();
@@ -431,7 +431,7 @@ motion_status_t Stepper::setCurrentPosition(long position)
 {
     int32_t p = to_engine(position);
     if (!begun_)
-        return MS_ERR_NULL;
+        return MS_ERR_NOT_BEGUN;
     PlannerLock lock;
     if (req_ != REQ_NONE || has_next_ || group_ || MultiStepEngine::moving(axis_))
         return MS_ERR_BUSY;

@@ -14,7 +14,7 @@
  * planner refuses (vmax not above v0, accel below 8 steps/s^2, ...) get its own status. New
  * parameters take effect at the next moveTo/move/stop (the move in progress keeps its own).
  * Before begin() nothing moves: moveTo, move, stop, forceStop, setCurrentPosition return
- * MS_ERR_NULL ("a required argument is missing": the engine); the setters only keep their values.
+ * MS_ERR_NOT_BEGUN ("begin() has not been called"); the setters only keep their values.
  * Call the methods from loop() or setup() (not from an interrupt).
  *
  * Pins (fixed by the RAMPS board, MultiAxisPins.h): X STEP D54 DIR D55 EN D38; Y STEP D60 DIR D61

@@ -79,7 +79,7 @@ motion_status_t StepperGroup::move_all(const long *targets, uint8_t given)
     uint8_t mask = 0;
     for (uint8_t j = 0; j < n_; j++) {
         if (!member_[j]->begun_)
-            return MS_ERR_NULL;
+            return MS_ERR_NOT_BEGUN;
         for (uint8_t k = 0; k < j; k++)
             if (member_[k]->axis_ == member_[j]->axis_)
                 return MS_ERR_BUSY; /* the same axis twice */

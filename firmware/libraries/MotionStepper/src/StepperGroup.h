@@ -6,7 +6,7 @@
  *
  *   StepperGroup xy(x, y);   xy.moveTo(4000, 1000);   while (xy.isRunning()) ...
  *
- * moveTo refuses (nothing moves): MS_ERR_NULL before every member's begin(), MS_ERR_BUSY while a
+ * moveTo refuses (nothing moves): MS_ERR_NOT_BEGUN before every member's begin(), MS_ERR_BUSY while a
  * member is moving (alone or in a group's move), MS_ERR_OUT_OF_RANGE for three targets to a group of
  * two. It returns at once: the plan is made by the planner interrupt at its next tick, and a plan
  * refused there (MS_ERR_COORD_RATIO: an axis moves too few steps for the longest, step_coord.h's

@@ -7,6 +7,8 @@
 
 Stepper x(Stepper::X);
 Stepper x2(Stepper::X); /* a second Stepper for the same axis: its begin() is refused */
+Stepper y(Stepper::Y);  /* never begun: a group with it refuses to move */
+StepperGroup xy(x, y);
 static const uint8_t HOOK_PIN = 32;
 
 static void say(const __FlashStringHelper *call, motion_status_t st)
@@ -45,6 +47,11 @@ void setup()
     pinMode(HOOK_PIN, OUTPUT);
     Serial.println(F("READY ApiTour"));
     say(F("moveTo(100) before begin()"), x.moveTo(100));
+    say(F("move(100) before begin()"), x.move(100));
+    say(F("stop() before begin()"), x.stop());
+    say(F("forceStop() before begin()"), x.forceStop());
+    say(F("setCurrentPosition(5) before begin()"), x.setCurrentPosition(5));
+    say(F("group moveTo(100, 100) before begin()"), xy.moveTo(100, 100));
     say(F("setMaxSpeed(30000)"), x.setMaxSpeed(30000));
     say(F("setMaxSpeed(NAN)"), x.setMaxSpeed(NAN));
     say(F("setAcceleration(2000000)"), x.setAcceleration(2000000));
