@@ -477,7 +477,27 @@ def check_follow_target(env):
     figs = (f"target 100000 -> 30000 while cruising: 30000 steps on the law of that move ({late1:.0f} cycles late "
             f"at most); 30000 -> 0, then 40000 behind: stop on the law {latency_ms:.2f} ms after the line, back "
             f"from rest; 0 underruns, 0 missed cuts" if latency_ms is not None else "reversal not measured")
+    figs += "; " + check_follow_target_default(env, problems)
     return CheckResult(not problems, figs, problems)
+
+
+def check_follow_target_default(env, problems):
+    """`make emulate SKETCH=FollowTarget`'s default script (sketches.EXAMPLE_INPUTS, docs/emulator.md): 20000,
+    5000 behind while cruising, then 40000 and 25000 ahead while cruising: two moves come to rest (at 5000 and
+    25000), X goes up, down, up (two turns) and ends at 25000"""
+    log = run(env, "FollowTarget", sketches.example_input("FollowTarget"))
+    common(log, problems)
+    dones = [d.text for d in log.lines_matching(r"^DONE ")]
+    want = ["DONE 5000 underruns=0 missed=0", "DONE 25000 underruns=0 missed=0"]
+    if dones != want:
+        problems.append(f"make emulate's default script: DONE lines {dones}, expected {want}")
+    dirs = [log.level_before("XDIR", c) for c in log.rising("XSTEP")]
+    end = sum(1 if d else -1 for d in dirs)
+    turns = sum(1 for a, b in zip(dirs, dirs[1:]) if a != b)
+    if end != 25000 or turns != 2 or not dirs or dirs[0] != 1:
+        problems.append(f"make emulate's default script: X ends at {end} after {turns} turn(s) (expected 25000 "
+                        f"after 2: up, down, up)")
+    return f"make emulate's default script: {len(dirs)} steps, {turns} turns, ends at {end}"
 
 
 # ---- ApiTour -------------------------------------------------------------------------------

@@ -295,6 +295,25 @@ adc 4 5
 wait ^MOVE towards
 run 200
 """,
+    # FollowTarget takes targets over serial (115200 baud, one a line) and answers MOVE <target>;
+    # a replaced move has no DONE, only the move that comes to rest
+    "FollowTarget": """\
+# FollowTarget: 20000, then, 600 ms in (cruising at 20,000 steps/s), 5000 behind: it stops on its
+# ramp and comes back to 5000; then 40000, and 700 ms in 25000 ahead: it slows down sooner
+wait ^READY
+send 20000
+wait ^MOVE 20000
+run 600
+send 5000
+timeout 20000
+wait ^DONE
+send 40000
+wait ^MOVE 40000
+run 700
+send 25000
+wait ^DONE
+run 100
+""",
 }
 
 
