@@ -271,27 +271,27 @@ EXAMPLE_DEFAULT_INPUT = """\
 until 5000
 """
 
-# StopOnSwitch reads its switches (A3 STOP, A4 HALT, closed = low: the pull-up holds an open one
-# high) through the ADC, which reads 0 V unless told: open them both, then close STOP while the axis
-# runs, then HALT on the way back.
+# StopOnSwitch reads its switches on the RAMPS X endstop pins (D3 X-min STOP, D2 X-max HALT, closed =
+# low: the pull-up holds an open one high): open them both, then close STOP while the axis runs, then
+# HALT on the way back.
 EXAMPLE_INPUTS = {
     "StopOnSwitch": """\
-# StopOnSwitch: both switches open (5 V), STOP closed 600 ms into the first move (stop()), HALT
+# StopOnSwitch: both switches open, STOP (D3) closed 600 ms into the first move (stop()), HALT (D2)
 # 300 ms into the move back (forceStop())
-adc 3 5
-adc 4 5
+pin D3 1
+pin D2 1
 wait ^READY
 wait ^MOVE towards
 run 600
-adc 3 0
+pin D3 0
 timeout 20000
 wait ^DONE
-adc 3 5
+pin D3 1
 wait ^MOVE towards
 run 300
-adc 4 0
+pin D2 0
 wait ^DONE
-adc 4 5
+pin D2 1
 wait ^MOVE towards
 run 200
 """,

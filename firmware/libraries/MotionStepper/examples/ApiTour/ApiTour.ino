@@ -7,8 +7,6 @@
 
 Stepper x(Stepper::X);
 Stepper x2(Stepper::X); /* a second Stepper for the same axis: its begin() is refused */
-Stepper y(Stepper::Y);  /* never begun: a group with it refuses to move */
-StepperGroup xy(x, y);
 static const uint8_t HOOK_PIN = 32;
 
 static void say(const __FlashStringHelper *call, motion_status_t st)
@@ -51,7 +49,6 @@ void setup()
     say(F("stop() before begin()"), x.stop());
     say(F("forceStop() before begin()"), x.forceStop());
     say(F("setCurrentPosition(5) before begin()"), x.setCurrentPosition(5));
-    say(F("group moveTo(100, 100) before begin()"), xy.moveTo(100, 100));
     say(F("setMaxSpeed(30000)"), x.setMaxSpeed(30000));
     say(F("setMaxSpeed(NAN)"), x.setMaxSpeed(NAN));
     say(F("setAcceleration(2000000)"), x.setAcceleration(2000000));

@@ -2,17 +2,18 @@
  * the STOP switch closes it decelerates to rest (stop()), when the HALT switch closes it stops at
  * once (forceStop()). After each end it sets off the other way. Serial Monitor at 9600 baud.
  *
- * Wiring: each switch between its pin and GND (the pin's pull-up holds it high while open). The
- * pins are read through the ADC (A3 and A4, on the RAMPS AUX-1 header), a closed switch reading
- * below half scale: the ATmega2560 emulator drives them with its 'adc' script command
- * (test/emu/checks_library.py). digitalRead() on the RAMPS endstop pins (D3, D2, ...) works the same.
+ * Wiring: the RAMPS 1.4 X endstop connectors, each switch between the signal pin and GND (the
+ * pin's pull-up holds it high while open, a closed switch reads low): STOP on X-min (D3), HALT on
+ * X-max (D2). The ATmega2560 emulator closes them with its 'pin D3 0' script command
+ * (test/emu/checks_library.py). The library's planner takes Timer3, which only costs D2 and D3
+ * their analogWrite(): digitalRead() is theirs.
  * Send a number (steps/s, a line) to change the speed of the moves that follow (20,000 at the start).
  */
 #include <MotionStepper.h>
 
 Stepper x(Stepper::X);
-static const uint8_t STOP_PIN = A3;
-static const uint8_t HALT_PIN = A4;
+static const uint8_t STOP_PIN = 3; /* RAMPS X-min */
+static const uint8_t HALT_PIN = 2; /* RAMPS X-max */
 static const long FAR = 1000000L;
 static bool stop_was = false, halt_was = false;
 static long direction = 1;
@@ -20,7 +21,7 @@ static long typed = 0; /* digits of a speed line so far */
 
 static bool closed(uint8_t pin)
 {
-    return analogRead(pin) < 512;
+    return digitalRead(pin) == LOW;
 }
 
 static void set_off()

@@ -11,6 +11,15 @@ StepperGroup xy(x, y);
 static const long TARGETS[][2] = {{4000, 1500}, {1000, 3000}, {0, 0}};
 static uint8_t leg = 0;
 
+static void refused(const __FlashStringHelper *when, motion_status_t st)
+{
+    Serial.print(when);
+    Serial.print(st == MS_OK ? F(": OK") : F(": ERR "));
+    if (st != MS_OK)
+        Serial.print(Stepper::statusText(st));
+    Serial.println();
+}
+
 static void go()
 {
     unsigned long t0 = micros();
@@ -36,7 +45,10 @@ void setup()
     x.setAcceleration(20000);
     y.setMaxSpeed(5000);
     y.setAcceleration(20000);
+    /* a group moves only once every member has begun: before that nothing moves */
+    refused(F("group moveTo before begin()"), xy.moveTo(TARGETS[0][0], TARGETS[0][1]));
     x.begin();
+    refused(F("group moveTo with only x begun"), xy.moveTo(TARGETS[0][0], TARGETS[0][1]));
     y.begin();
     Serial.println(F("READY TwoAxesLine"));
     go();
