@@ -350,10 +350,18 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
         return;
     }
     load_slot(s, *next);
+    if (next->flags & _BV(AXIS_SLOT_TURN)) {
+        /* DIR while STEP is still high, as the asm path writes it (>= 1.5 us after the rising edge:
+         * the interrupt's entry and this call took longer), before the arming: interrupts are off
+         * only for the port write, not after the arming with the rest of the stretch (a Z turn
+         * there held an X edge 267 cycles, `make fuzz`; the bound is 260) */
+        ATOMIC_BLOCK(ATOMIC_FORCEON)
+        {
+            set_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
+        }
+    }
     arm_step(axis, s);
     step_low(axis);
-    if (next->flags & _BV(AXIS_SLOT_TURN))
-        set_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
 }
 
 /* takes the first laid-out slot and arms its first step from t = base. Called from loop() with
