@@ -285,6 +285,22 @@ void Stepper::prepare_stop()
 #endif
 }
 
+/* MOTION_STEPPER_TRACE = 2: D4 (PG5) high while a cut is planned (BackgroundPlanner.h) */
+static inline void trace_cut(bool on)
+{
+#if MOTION_STEPPER_TRACE == 2
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (on)
+            PORTG |= _BV(5);
+        else
+            PORTG &= (uint8_t)~_BV(5);
+    }
+#else
+    (void)on;
+#endif
+}
+
 /* planner interrupt: a stop in the cruise with the stop planned ahead for it: a cut
  * MOTION_STEPPER_CUT_CRUISE_US ahead, in the cruise, and that stop laid out there. then: a new
  * target `to` that lies behind the cut (a reversal: lib's step_planner_move then plans that same
@@ -300,12 +316,7 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     if (stop_n_ == 0 || planner_.params_new || e.y != 0 || e.n <= e.n1 || stop_up_ != e.up || stop_exact_.dir != e.dir ||
         stop_exact_.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_exact_.k, &e.k, sizeof e.k) != 0)
         return false;
-#if MOTION_STEPPER_TRACE == 2
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        PORTG |= _BV(5);
-    }
-#endif
+    trace_cut(true);
     if (MultiStepEngine::cut_find(axis_, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_CRUISE_US, e.n - 1U, cut, false) ==
         0)
         return false;
@@ -330,12 +341,7 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     planner_.active = stop_active_;
     planner_.has_then = then ? 1 : 0;
     planner_.then_target = to;
-#if MOTION_STEPPER_TRACE == 2
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        PORTG &= (uint8_t)~_BV(5);
-    }
-#endif
+    trace_cut(false);
     return true;
 #else
     (void)then;
@@ -357,12 +363,7 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
     /* a stop from the cruise (y = 0) is the cheapest plan; a stop while the speed changes, or a new
      * target (a move plan, maybe a reversal), costs up to twice as much */
     ahead_us = (req == REQ_STOP && planner_.exact.y == 0) ? MOTION_STEPPER_CUT_US : MOTION_STEPPER_CUT_SLOW_US;
-#if MOTION_STEPPER_TRACE == 2
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        PORTG |= _BV(5);
-    }
-#endif
+    trace_cut(true);
     if (MultiStepEngine::cut_find(axis_, MULTI_TICK_HZ / 1000000UL * ahead_us, planner_.exact.n - 1U, cut) == 0)
         return false;
     saved = planner_; /* planned in place: put back if the cut does not come off */
@@ -383,12 +384,7 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
         cuts_missed_++;
         return false;
     }
-#if MOTION_STEPPER_TRACE == 2
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        PORTG &= (uint8_t)~_BV(5);
-    }
-#endif
+    trace_cut(false);
     return true;
 #else
     (void)req;
