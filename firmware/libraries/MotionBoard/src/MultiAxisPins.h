@@ -21,8 +21,25 @@
 
 #include <avr/io.h>
 
+/* A build with STEPPER_TRACE=1 (what `make bench` gives the one-axis sketches) traces X's step
+ * interrupt on D40, as StepEngine did: the same pin as MULTI_TRACE's X. */
+#if !defined(MULTI_TRACE) && defined(STEPPER_TRACE)
+#if STEPPER_TRACE
+#define MULTI_TRACE 1
+#endif
+#endif
 #ifndef MULTI_TRACE
 #define MULTI_TRACE 0
+#endif
+/* Timed-loop mode (STEPPER_TIMED_LOOP = 1, the lab's original structure): no step interrupt; loop()
+ * calls MultiStepEngine::poll(), which makes X's steps that are due by micros() (F = 1 MHz). */
+#if defined(STEPPER_TIMED_LOOP) && !defined(MULTI_TIMED_LOOP)
+#if STEPPER_TIMED_LOOP
+#define MULTI_TIMED_LOOP 1
+#endif
+#endif
+#ifndef MULTI_TIMED_LOOP
+#define MULTI_TIMED_LOOP 0
 #endif
 
 #define MULTI_X_STEP_PORT PORTF
@@ -55,19 +72,26 @@
 #define MULTI_TRACE_Y_BIT 0 /* D41 */
 #define MULTI_TRACE_Z_BIT 2 /* D39 */
 
+/* LED  D13 PB7: with set_led_mirror(true), toggles on every step X's interrupt makes (writing 1 to a
+ *      PINx bit toggles the output): the lab watches it blink at half the step rate */
+#define MULTI_LED_PIN PINB
+#define MULTI_LED_DDR DDRB
+#define MULTI_LED_BIT 7 /* D13 */
+
 #define MULTI_TICK_HZ 16000000UL
 
 /* GPIOR0 (the one bit-addressable general-purpose I/O register: sbi, cbi, sbis, sbic touch no
  * register and no flag) belongs to the step interrupts (MultiStepEngineIsr.S), which read it before
  * saving a register: ANY is a copy of "the axis's mode byte is not zero" (not the common path);
  * OWNOFF is set when a match of the axis must not raise its STEP: its mode's AXIS_MODE_OWN_OFF (and,
- * harmlessly, while it is not running). No other code of the sketch may use GPIOR0. */
+ * harmlessly, while it is not running); LED_X mirrors X's steps on D13. No other code of the sketch may use GPIOR0. */
 #define MULTI_G_ANY_X 0
 #define MULTI_G_ANY_Y 1
 #define MULTI_G_ANY_Z 2
 #define MULTI_G_OWNOFF_X 3
 #define MULTI_G_OWNOFF_Y 4
 #define MULTI_G_OWNOFF_Z 5
+#define MULTI_G_LED_X 6 /* set_led_mirror(true): X's interrupt toggles the LED at each of its steps */
 
 /* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which three independent moves
  * at once (each axis with its own plan and interrupt, issue 13's case) are clean in `make bench`

@@ -36,6 +36,7 @@ struct AxisFeed {
 };
 AxisFeed s_feed[MULTI_AXES];
 uint32_t s_lead_ticks;
+uint32_t s_tick_hz = MULTI_TICK_HZ; /* begin(): 16 MHz or 2 MHz */
 MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: the sketch sets DIR */
 
 AxisState &state(uint8_t axis)
@@ -331,6 +332,8 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
         return;
     }
     /* STEP is high: this match made a step */
+    if (axis == 0 && (s.mode & _BV(AXIS_MODE_SLOW)) && (GPIOR0 & _BV(MULTI_G_LED_X)))
+        MULTI_LED_PIN = _BV(MULTI_LED_BIT); /* the LED mirror of a slow step (the asm path mirrors the others) */
     if ((s.flags & _BV(AXIS_SLOT_SLOW)) && s.left != 0) {
         s.left = s.left - 1U;
         arm_step(axis, s);
@@ -409,9 +412,10 @@ uint32_t base_ahead(uint16_t ticks)
  * in the past, no match is pending and the interrupt has not moved on. Fire it now and count it as
  * late, instead of waiting a whole wrap. A first look with interrupts on (a torn read only costs the careful look below), so the
  * check, made on every service() call of every axis, does not delay step edges. */
-/* The armed edge lies 65 to 16384 ticks in the past (16-bit times): a match missed not long ago. Not
+/* The armed edge lies 65 to 16384 ticks in the past (16-bit times: 4 us to 1 ms at 16 MHz, 32 us to
+ * 8 ms at 2 MHz): a match missed not long ago. Not
  * "any amount up to half a wrap": a move's first edge may be armed more than 32768 ticks ahead (a
- * coordinated start is 4096 ticks ahead, plus a first interval of up to 32767), which in 16 bits
+ * coordinated start is 256 us ahead, 4096 or 512 ticks, plus a first interval of up to 32767), which in 16 bits
  * looks like the past; taking it for a missed match fired the first step at once, a whole interval
  * early (found by `make fuzz`: x stepped twice within 201 cycles at a coordinated start). */
 inline bool missed_by(uint16_t now, uint16_t edge)
@@ -460,8 +464,10 @@ void multi_cold_z(void)
     cli();
 }
 
-void MultiStepEngine::begin()
+void MultiStepEngine::begin(uint32_t tick_hz)
 {
+    /* 2 MHz (prescaler 8: the lab ramps' ticks) or 16 MHz (prescaler 1) */
+    s_tick_hz = tick_hz == 2000000UL ? 2000000UL : 16000000UL;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         DDRF |= _BV(MULTI_X_STEP_BIT) | _BV(MULTI_X_DIR_BIT) | _BV(MULTI_Y_STEP_BIT) | _BV(MULTI_Y_DIR_BIT);
@@ -488,7 +494,7 @@ void MultiStepEngine::begin()
             s.cur = &s.slot[0];
             s.mode = 0;
             s.pos_rest = 0;
-            s.late_ticks = (uint8_t)(MULTI_TICK_HZ / 500000UL);
+            s.late_ticks = (uint8_t)(s_tick_hz / 500000UL); /* 2 us: 32 or 4 ticks */
             own_masks(a);
             f.next_p_start = 0;
             f.last_forward = 1;
@@ -499,15 +505,22 @@ void MultiStepEngine::begin()
             f.open = 0;
             f.held = 0;
         }
-        GPIOR0 = _BV(MULTI_G_OWNOFF_X) | _BV(MULTI_G_OWNOFF_Y) | _BV(MULTI_G_OWNOFF_Z); /* none running */
+        /* none running; the LED mirror as set */
+        GPIOR0 = (uint8_t)((GPIOR0 & _BV(MULTI_G_LED_X)) | _BV(MULTI_G_OWNOFF_X) | _BV(MULTI_G_OWNOFF_Y) |
+                           _BV(MULTI_G_OWNOFF_Z));
         /* the Arduino core leaves Timer1 in 8-bit PWM mode for analogWrite(): take it over */
         TIMSK1 = 0;
         TCCR1A = 0;
         TCCR1C = 0;
-        TCCR1B = _BV(CS10); /* normal mode, prescaler 1 */
+        TCCR1B = s_tick_hz == 16000000UL ? _BV(CS10) : _BV(CS11); /* normal mode, prescaler 1 or 8 */
         TIFR1 = _BV(OCF1A) | _BV(OCF1B) | _BV(OCF1C) | _BV(TOV1);
     }
-    s_lead_ticks = MULTI_TICK_HZ / 1000UL * MULTI_LEAD_MS;
+    s_lead_ticks = s_tick_hz / 1000UL * MULTI_LEAD_MS;
+}
+
+uint32_t MultiStepEngine::tick_hz()
+{
+    return s_tick_hz;
 }
 
 static bool has_room(AxisState &s, AxisFeed &f)
@@ -637,8 +650,8 @@ bool MultiStepEngine::stepping(uint8_t axis)
 void MultiStepEngine::start_together(uint8_t mask)
 {
     /* far enough ahead (256 us) for three first steps to be armed (a few hundred cycles each, with
-     * interrupts on: other axes moving meanwhile keep stepping) */
-    uint32_t base = base_ahead(4096);
+     * interrupts on: other axes moving meanwhile keep stepping): 4096 ticks at 16 MHz, 512 at 2 MHz */
+    uint32_t base = base_ahead((uint16_t)(s_tick_hz / 3906UL));
     for (uint8_t a = 0; a < MULTI_AXES; a++) {
         if (!(mask & (1U << a)))
             continue;
@@ -792,9 +805,19 @@ void MultiStepEngine::set_direction_hook(uint8_t axis, DirectionHook hook)
     }
 }
 
+void MultiStepEngine::set_led_mirror(bool on)
+{
+    if (on) {
+        MULTI_LED_DDR |= _BV(MULTI_LED_BIT);
+        GPIOR0 |= _BV(MULTI_G_LED_X); /* sbi: one instruction, atomic */
+    } else {
+        GPIOR0 &= (uint8_t)~_BV(MULTI_G_LED_X);
+    }
+}
+
 void MultiStepEngine::set_lead_ms(uint16_t ms)
 {
-    uint32_t t = MULTI_TICK_HZ / 1000UL * (ms ? ms : 1U);
+    uint32_t t = s_tick_hz / 1000UL * (ms ? ms : 1U);
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         s_lead_ticks = t;
@@ -816,7 +839,7 @@ float MultiStepEngine::speed(uint8_t axis)
     if (!running || rate == 0)
         return 0.0f;
     /* rate: the interval armed last, 16.16 ticks (WIDE: whole ticks) */
-    v = (flags & _BV(AXIS_SLOT_WIDE)) ? (float)MULTI_TICK_HZ / (float)rate : (float)MULTI_TICK_HZ * 65536.0f / (float)rate;
+    v = (flags & _BV(AXIS_SLOT_WIDE)) ? (float)s_tick_hz / (float)rate : (float)s_tick_hz * 65536.0f / (float)rate;
     return (flags & _BV(AXIS_SLOT_FORWARD)) ? v : -v;
 }
 

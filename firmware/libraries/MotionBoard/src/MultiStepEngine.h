@@ -115,8 +115,21 @@ struct AxisSource {
 
 class MultiStepEngine {
 public:
-    /* Pins as outputs (STEP low, DIR high, ENABLE low = on), Timer1 in normal mode at 16 MHz. */
-    static void begin();
+    /* Pins as outputs (STEP low, DIR high, ENABLE low = on), Timer1 in normal mode at tick_hz:
+     * 16000000 (prescaler 1, MULTI_TICK_HZ) or 2000000 (prescaler 8: the lab ramps'
+     * STEPPER_TICK_HZ_LAB); any other value means 16 MHz. Step commands are in these ticks. */
+    static void begin(uint32_t tick_hz = MULTI_TICK_HZ);
+    /* The timeline's ticks per second, as begin() set it (timed-loop mode: 1000000). */
+    static uint32_t tick_hz();
+
+    /* Timed-loop mode (MULTI_TIMED_LOOP, from STEPPER_TIMED_LOOP = 1): makes X's steps that are due
+     * by micros(); call on every pass of loop() (and service() calls it between commands). With
+     * the step interrupts (every other build) it does nothing. */
+#if MULTI_TIMED_LOOP
+    static void poll();
+#else
+    static inline void poll() {}
+#endif
 
     /* loop()'s part for one axis: lays out at most max_cmds commands from src while the queue
      * needs them, starts the interrupt (unless the move is held for a common start) and marks the
@@ -174,10 +187,14 @@ public:
      * is stepped by the C path while a hook is set). Keep it short. NULL: the engine writes DIR. */
     typedef void (*DirectionHook)(bool forward);
     static void set_direction_hook(uint8_t axis, DirectionHook hook);
+    /* The LED mirror (off until called): D13 (MultiAxisPins.h) toggles on every step X's interrupt
+     * makes (STEPPER_LED_MIRROR of the one-axis sketches); costs X's interrupt 2 cycles a step when
+     * off, 3 when on, Y's and Z's nothing. on: D13 becomes an output. */
+    static void set_led_mirror(bool on);
     /* Steps kept queued ahead of each interrupt, ms (MULTI_LEAD_MS until called): how late a stop
      * or a new target takes effect; at least 1. */
     static void set_lead_ms(uint16_t ms);
-    /* The speed being stepped now, steps/s: F over the interval armed last, signed by its
+    /* The speed being stepped now, steps/s: F (tick_hz()) over the interval armed last, signed by its
      * direction (DIR high = positive); 0 when the axis's own interrupt is not stepping (at rest, or a
      * follower: ask its master). */
     static float speed(uint8_t axis);

@@ -140,6 +140,15 @@ multi_axis_z:
 #endif
 .endm
 
+/* the LED mirror (led = 1: X's interrupt only): D13 toggles at a step while GPIOR0's LED_X bit is set
+ * (MultiStepEngine::set_led_mirror); 2 cycles when off, 3 when on (writing 1 to PINB7 toggles it) */
+.macro LED_MIRROR led
+.if \led
+    sbic G0, MULTI_G_LED_X
+    sbi _SFR_IO_ADDR(MULTI_LED_PIN), MULTI_LED_BIT
+.endif
+.endm
+
 /* st += src (4 bytes, state fields; lds/sts leave the carry alone) through r24, r25 */
 .macro ADD32_STATE dst, src
     lds r24, \dst
@@ -370,7 +379,7 @@ multi_axis_z:
 /* io: the STEP port is in the I/O space (X, Y: the entry raises STEP before saving a register, by
  * the GPIOR0 copy `ownoff`); Z's PORTL is read-modify-written. any: the GPIOR0 copy of "mode not
  * zero"; trace: the axis's TRACE bit. */
-.macro AXIS_ISR name, vector, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold, trace, ownoff, any
+.macro AXIS_ISR name, vector, st, io, step_port, step_bit, dir_port, dir_bit, ocrl, ocrh, ocf, cold, trace, ownoff, any, led
     .section .text.\name,"ax",@progbits
     .global \name
     .global \vector
@@ -395,6 +404,7 @@ multi_axis_z:
 .if \io
     sbic G0, \any
     rjmp .L\name\()_any
+    LED_MIRROR \led
     sei                          /* the common path: another axis's edge may interrupt from here */
     push r24
     in r24, _SFR_IO_ADDR(SREG)
@@ -482,11 +492,12 @@ multi_axis_z:
     sts _SFR_MEM_ADDR(PORTL), r24
     lds r24, \st + MODE
     sbrc r24, M_SLOW
-    rjmp .L\name\()_cold
+    rjmp .L\name\()_cold         /* (the C path mirrors its steps on the LED itself) */
+    LED_MIRROR \led
     sei
     rjmp .L\name\()_left1
 .endm
 
-AXIS_ISR multi_step_isr_x, TIMER1_COMPA_vect, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, multi_cold_x, MULTI_TRACE_X_BIT, MULTI_G_OWNOFF_X, MULTI_G_ANY_X
-AXIS_ISR multi_step_isr_y, TIMER1_COMPB_vect, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, multi_cold_y, MULTI_TRACE_Y_BIT, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y
-AXIS_ISR multi_step_isr_z, TIMER1_COMPC_vect, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, multi_cold_z, MULTI_TRACE_Z_BIT, MULTI_G_OWNOFF_Z, MULTI_G_ANY_Z
+AXIS_ISR multi_step_isr_x, TIMER1_COMPA_vect, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, multi_cold_x, MULTI_TRACE_X_BIT, MULTI_G_OWNOFF_X, MULTI_G_ANY_X, 1
+AXIS_ISR multi_step_isr_y, TIMER1_COMPB_vect, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, multi_cold_y, MULTI_TRACE_Y_BIT, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y, 0
+AXIS_ISR multi_step_isr_z, TIMER1_COMPC_vect, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, multi_cold_z, MULTI_TRACE_Z_BIT, MULTI_G_OWNOFF_Z, MULTI_G_ANY_Z, 0
