@@ -6,7 +6,7 @@
  *
  * How: the planner (lib/src/step_planner.h, step_exact.h) runs here in loop() and keeps a queue of
  * step commands STEP_ENGINE_LEAD_MS ahead; Timer1's compare interrupt only takes the next command and
- * makes the step (StepEngine.h). Defaults: v0 = 0, vmax = 20,000 steps/s, accel = 50,000
+ * makes the step (MultiStepEngine.h, axis 0). Defaults: v0 = 0, vmax = 20,000 steps/s, accel = 50,000
  * steps/s^2. Serial Monitor at 9600 baud, "Both NL & CR":
  *   20000         move to absolute position 20000: "OK 0 20000", then "DONE 20000"
  *   5000          sent while moving: the move continues from its speed to 5000 (decelerating,
@@ -24,13 +24,6 @@
 static TrapezoidRamp ramp(RAMP_ALGO_EXACT, 0.0, 20000.0, 50000.0, STEPPER_MAX_SPS_EXACT, STEPPER_TICK_HZ_EXACT);
 static StepperConsole console(ramp);
 
-/* Timer1's compare interrupt makes the steps the planner queued (StepEngine.h) */
-#if !STEPPER_TIMED_LOOP
-ISR(TIMER1_COMPA_vect, ISR_NAKED)
-{
-    StepEngine::on_step_timer(); /* jumps to the step routine, which returns from the interrupt */
-}
-#endif
 
 void setup()
 {

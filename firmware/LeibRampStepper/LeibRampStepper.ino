@@ -22,14 +22,16 @@
  * `motionsim ramp --algo leib` runs: change it here and the board follows your version.
  *
  * Following this sketch from setup()/loop() to the STEP pin takes these 5 files:
- *   1. LeibRampStepper.ino (this file)  setup(), loop(), the three functions of the handout, the ISR
- *   2. StepperConsole.cpp   begin(): serial, StepEngine::begin, the planner given your functions;
- *                           poll(): a target line -> step_planner_move(), then StepEngine::service()
+ *   1. LeibRampStepper.ino (this file)  setup(), loop(), the three functions of the handout
+ *   2. StepConsole.cpp      begin(): serial, MultiStepEngine::begin, the planner given your
+ *                           functions; poll(): a target line -> step_planner_move(), then feed():
+ *                           MultiStepEngine::service() (the one console of the 1- and 3-axis sketches)
  *   3. step_planner.c       a move into step commands: step_planner_next() asks ramp_next_ticks()
  *                           for each interval, which is your preComputation()/computeNewSpeed()
- *   4. StepEngine.cpp       service(): the queue; start_stepping() and the reversals call
+ *   4. MultiStepEngine.cpp  service(): the queue of axis 0 (X); the start and the reversals call
  *                           moveOneStep(); the interrupt's rare path (slow steps, the end)
- *   5. StepEngineIsr.S      the step interrupt itself: STEP high, the next edge, STEP low
+ *   5. MultiStepEngineIsr.S the step interrupt itself (Timer1 compare A): STEP high, the next edge,
+ *                           STEP low
  * Their headers only declare these; pins, timer and the compile-time options (STEPPER_TIMED_LOOP,
  * STEPPER_LED_MIRROR, STEPPER_TRACE, given to every file through FIRMWARE_DEFINES) are in
  * MotionBoard's StepperPins.h: STEP D54, DIR D55, ENABLE D38 (the RAMPS 1.4 X axis).
@@ -65,7 +67,7 @@ float computeNewSpeed(ramp_leib_t *ramp, ramp_phase_t phase)
 // ---- moveOneStep() (step 11): the direction pin, for the steps that follow ----
 // The engine calls this with direction = FWDS or BWDS before the first step of every move and at
 // every reversal (then inside the step interrupt, after the last step the old way); the STEP pulses
-// themselves come from the step interrupt below, up to thousands a second.
+// themselves come from the step interrupt (MultiStepEngineIsr.S), up to thousands a second.
 const uint8_t dirPin = 55;  // RAMPS 1.4 X axis DIR (A1); the driver runs forwards when it is high
 const bool FWDS = true;     // forwards: the position counts up
 const bool BWDS = false;    // backwards
@@ -82,17 +84,10 @@ static TrapezoidRamp ramp(RAMP_ALGO_LEIB, minSpeed, maxPermisSpeed, maxAccel, ST
                           STEPPER_TICK_HZ_LAB, &labCode);
 static StepperConsole console(ramp);
 
-// Timer1's compare interrupt: makes the steps the planner queued (StepEngineIsr.S)
-#if !STEPPER_TIMED_LOOP
-ISR(TIMER1_COMPA_vect, ISR_NAKED)
-{
-    StepEngine::on_step_timer(); /* jumps to the step routine, which returns from the interrupt */
-}
-#endif
 
 void setup()
 {
-    StepEngine::set_direction_hook(moveOneStep); // DIR is yours: the engine calls moveOneStep()
+    MultiStepEngine::set_direction_hook(0, moveOneStep); // DIR is yours: the engine calls moveOneStep()
     console.begin(F("LeibRampStepper"));
 }
 

@@ -20,13 +20,6 @@
 
 static SCurveRamp ramp(250, 4, 200.0f, 4000.0f, 5.0f, STEPPER_MAX_SPS_SCURVE, STEPPER_TICK_HZ_LAB);
 static StepperConsole console(ramp);
-/* Timer1's compare interrupt makes the steps the planner queued (StepEngine.h) */
-#if !STEPPER_TIMED_LOOP
-ISR(TIMER1_COMPA_vect, ISR_NAKED)
-{
-    StepEngine::on_step_timer(); /* jumps to the step routine, which returns from the interrupt */
-}
-#endif
 
 void setup()
 {

@@ -21,7 +21,7 @@
  * the step commands the planner made of their intervals. The arithmetic is lib's
  * ramp_simplistic.c, the code `motionsim ramp --algo simplistic` runs; `motionsim ramp --compare`
  * shows how far it is from ideal. From setup()/loop() to the STEP pin: this file,
- * StepperConsole.cpp, step_planner.c, StepEngine.cpp, StepEngineIsr.S (what each does: the list in
+ * StepConsole.cpp, step_planner.c, MultiStepEngine.cpp, MultiStepEngineIsr.S (what each does: the list in
  * LeibRampStepper.ino). Pins, timer and compile-time options: StepperPins.h.
  */
 #include <StepperConsole.h>
@@ -68,17 +68,10 @@ static TrapezoidRamp ramp(RAMP_ALGO_SIMPLISTIC, minSpeed, maxPermisSpeed, maxAcc
                           STEPPER_TICK_HZ_LAB, &labCode);
 static StepperConsole console(ramp);
 
-// Timer1's compare interrupt: makes the steps the planner queued (StepEngineIsr.S)
-#if !STEPPER_TIMED_LOOP
-ISR(TIMER1_COMPA_vect, ISR_NAKED)
-{
-    StepEngine::on_step_timer(); /* jumps to the step routine, which returns from the interrupt */
-}
-#endif
 
 void setup()
 {
-    StepEngine::set_direction_hook(moveOneStep); // DIR is yours: the engine calls moveOneStep()
+    MultiStepEngine::set_direction_hook(0, moveOneStep); // DIR is yours: the engine calls moveOneStep()
     console.begin(F("SimplisticRampStepper"));
 }
 

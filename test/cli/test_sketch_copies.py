@@ -117,11 +117,12 @@ def test_a_lab_stepper_sketch_is_followed_to_the_step_pin_in_five_files():
              for f in os.listdir(d) for p in [os.path.join(d, f)]}
     assert all(f in where for f in listed), listed
     body = {f: open(where[f]).read() for f in listed}
-    assert "StepEngine::service" in body["StepperConsole.cpp"] and "step_planner_move" in body["StepperConsole.cpp"]
+    assert "MultiStepEngine::service" in body["StepConsole.cpp"] and "step_planner_move" in body["StepConsole.cpp"]
     assert "ramp_next_ticks" in body["step_planner.c"]
-    assert "s_dir_hook(forward)" in body["StepEngine.cpp"]
-    assert "sbi _SFR_IO_ADDR(STEPPER_STEP_PORT)" in body["StepEngineIsr.S"]
-    assert "StepEngine::set_direction_hook(moveOneStep)" in text
+    assert "s_dir_hook[axis](forward)" in body["MultiStepEngine.cpp"]
+    assert "sbi \\step_port, \\step_bit" in body["MultiStepEngineIsr.S"]
+    assert "TIMER1_COMPA_vect" in body["MultiStepEngineIsr.S"]
+    assert "MultiStepEngine::set_direction_hook(0, moveOneStep)" in text
 
 
 def test_a_sketch_without_the_marker_is_refused_in_one_line_naming_the_marker(tmp_path):

@@ -51,7 +51,7 @@ import sketches  # noqa: E402
 
 F_CPU = 16_000_000
 MOVE = 20000
-# What TRACE cannot see of each step interrupt (StepEngineIsr.S): before it rises, the vector's and the
+# What TRACE cannot see of each step interrupt (MultiStepEngineIsr.S): before it rises, the vector's and the
 # naked ISR's jumps (3 + 3), push/in/push (5), the waiting test (5) and STEP's sbi (2); after it falls,
 # six pops, out and pop (15) and reti (5); and the chip's own 5 cycles of interrupt entry, which
 # simavr does not charge: 43 cycles in all, added to every traced interval.

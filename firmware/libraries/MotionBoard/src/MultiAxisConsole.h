@@ -1,6 +1,7 @@
-/* MultiAxisConsole.h - MultiAxisStepper's serial protocol (9600 baud, lines ending in CR, LF or
- * CRLF, through MotionSerial; replies through a SerialOutQueue, so printing never holds up the
- * planners). The axes are x, y and z; <a> below is one of them.
+/* MultiAxisConsole.h - MultiAxisStepper's serial protocol (the console itself is StepConsole.h, shared
+ * with the one-axis StepperConsole; this file adds the coordinated move). 9600 baud, lines ending
+ * in CR, LF or CRLF, through MotionSerial; replies through a SerialOutQueue, so printing never
+ * holds up the planners. The axes are x, y and z; <a> below is one of them.
  *
  *   <a> <integer>        independent move of one axis to an absolute target: "OK <a> <from> <to>",
  *                        later "DONE <a> <position>"; other axes may move meanwhile. While the axis
@@ -27,15 +28,9 @@
 #ifndef MULTI_AXIS_CONSOLE_H
 #define MULTI_AXIS_CONSOLE_H
 
-#include <Arduino.h>
-
 #include <step_coord.h>
-#include <step_planner.h>
 
-#include "MotionSerial.h"
-#include "MultiStepEngine.h"
-#include "SerialOutQueue.h"
-#include "StepperRamps.h"
+#include "StepConsole.h"
 
 /* An axis's part of the coordinated move, as a command source's context. */
 struct AxisCoordRef {
@@ -45,49 +40,45 @@ struct AxisCoordRef {
     uint8_t clones;  /* master: the axes that follow it (bit i: axis i) */
 };
 
-class MultiAxisConsole {
+/* The coordinated move (`move x<t> y<t> z<t>`): lib's step_coord.h plans it, every axis starts on
+ * one tick (MultiStepEngine::start_together), an axis moving as far as the master follows it. */
+class MultiAxisCoord : public StepConsoleCoord {
 public:
-    MultiAxisConsole(TrapezoidRamp &x, TrapezoidRamp &y, TrapezoidRamp &z);
-
-    /* Serial at 9600 baud, the engine's pins and timer, the planners; prints "READY <name>". */
-    void begin(const __FlashStringHelper *sketch_name);
-
-    /* Call on every pass of loop(): feeds the step queues, reports DONEs, handles command lines. */
-    void poll();
-
-    /* Lays out step commands for every axis (what poll() does first; also called while slow
-     * replies are formatted). */
-    void feed();
+    MultiAxisCoord();
+    AxisSource source(uint8_t axis) override;
+    void handle_move(StepConsole &c, const char *cursor) override;
+    void axis_done(StepConsole &c, uint8_t axis, int32_t pos) override;
+    void stop(StepConsole &c, bool halt) override;
+    void start_if_ready() override;
+    int32_t position_of(uint8_t axis) override;
+    int32_t target_of(uint8_t axis) override;
 
 private:
-    AxisSource source(uint8_t axis);
-    void handle(const char *line);
-    void handle_target(uint8_t axis, const char *word);
-    void handle_move(const char *cursor);
-    void handle_stop(const char *cursor, bool halt);
-    void handle_set(uint8_t axis, const char *cursor);
-    void print_status(uint8_t axis);
-    void report_done(uint8_t axis, int32_t position);
-    void collect_done();
-    void print_coord_positions(Print &out, bool with_from);
+    void print_positions(Print &out, bool with_from);
     int32_t follower_position(uint8_t axis, int32_t master_pos);
-    int32_t position_of(uint8_t axis);
 
-    TrapezoidRamp *ramp_[MULTI_AXES];
-    step_planner_t planner_[MULTI_AXES];
     step_coord_t coord_;
-    AxisCoordRef coord_ctx_[MULTI_AXES];
-    uint8_t coord_named_;   /* axes named in the coordinated move (reported in OK/DONE) */
-    uint8_t coord_mask_;    /* of those, the axes that move (fed from coord_) */
-    uint8_t coord_own_;     /* of those, the axes stepped by their own interrupt (the others follow one) */
-    uint8_t coord_done_;    /* axes of the move that have ended */
-    bool coord_starting_;   /* held, waiting for every axis's first commands */
-    int32_t coord_end_[MULTI_AXES];
-    bool has_next_[MULTI_AXES];
-    int32_t next_target_[MULTI_AXES];
-    uint8_t status_pending_; /* axes whose `?` line is still to print */
-    SerialOutQueue queue_;   /* before serial_, which is built on it */
-    MotionSerial serial_;
+    AxisCoordRef ctx_[MULTI_AXES];
+    uint8_t named_;   /* axes named in the move (reported in OK/DONE); mask: of those, the ones that move */
+    uint8_t own_;     /* of those, the axes stepped by their own interrupt (the others follow one) */
+    uint8_t done_;    /* axes of the move that have ended */
+    bool starting_;   /* held, waiting for every axis's first commands */
+    int32_t end_[MULTI_AXES];
+};
+
+class MultiAxisConsole : public StepConsole {
+public:
+    MultiAxisConsole(StepperRamp &x, StepperRamp &y, StepperRamp &z) : StepConsole(MULTI_AXES, ramps_, planners_, &coord_)
+    {
+        ramps_[0] = &x;
+        ramps_[1] = &y;
+        ramps_[2] = &z;
+    }
+
+private:
+    StepperRamp *ramps_[MULTI_AXES];
+    step_planner_t planners_[MULTI_AXES];
+    MultiAxisCoord coord_;
 };
 
 #endif

@@ -1,6 +1,8 @@
-/* StepperConsole.h - the serial protocol shared by the stepper sketches (9600 baud, lines ending in
- * CR, LF or CRLF, through MotionSerial; replies through a SerialOutQueue, so printing never holds
- * up the planner):
+/* StepperConsole.h - the one-axis stepper sketches' serial protocol (SimplisticRampStepper,
+ * LeibRampStepper, SCurveStepper, ExactRampStepper: the RAMPS 1.4 X axis, axis 0 of the step engine,
+ * MultiStepEngine.h; the console itself is StepConsole.h, shared with MultiAxisConsole). 9600 baud,
+ * lines ending in CR, LF or CRLF, through MotionSerial; replies through a SerialOutQueue, so
+ * printing never holds up the planner:
  *
  *   <integer>            absolute target (any int32): "OK <from> <to>", later "DONE <position>".
  *                        While moving, the move continues from its current speed to the new target
@@ -30,46 +32,15 @@
 #ifndef STEPPER_CONSOLE_H
 #define STEPPER_CONSOLE_H
 
-#include <Arduino.h>
+#include "StepConsole.h"
 
-#include <step_planner.h>
-
-#include "MotionSerial.h"
-#include "SerialOutQueue.h"
-#include "StepEngine.h"
-#include "StepperRamps.h"
-
-class StepperConsole {
+class StepperConsole : public StepConsole {
 public:
-    explicit StepperConsole(StepperRamp &ramp)
-        : ramp_(ramp), queue_(Serial), serial_(Serial, queue_, 240), has_next_(false), next_due_(false),
-          next_target_(0)
-    {
-    }
-
-    /* Serial at 9600 baud, the engine's pins and timer, the planner; prints "READY <name>". */
-    void begin(const __FlashStringHelper *sketch_name);
-
-    /* Call on every pass of loop(): feeds the step queue, reports DONE, handles command lines. */
-    void poll();
-
-    step_planner_t &planner() { return planner_; }
+    explicit StepperConsole(StepperRamp &ramp) : StepConsole(1, ramps_, &planner_, 0) { ramps_[0] = &ramp; }
 
 private:
-    void handle(const char *line);
-    void handle_target(const char *word);
-    void handle_stop(bool halt);
-    void handle_set(const char *cursor);
-    void reply_status();
-    void report_done(int32_t position);
-
-    StepperRamp &ramp_;
+    StepperRamp *ramps_[1];
     step_planner_t planner_;
-    SerialOutQueue queue_; /* before serial_, which is built on it */
-    MotionSerial serial_;
-    bool has_next_;       /* a target accepted while the move's last steps were queued */
-    bool next_due_;       /* ... whose move starts as soon as nothing is in the way (poll()) */
-    int32_t next_target_;
 };
 
 #endif

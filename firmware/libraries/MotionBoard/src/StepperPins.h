@@ -15,7 +15,7 @@
  *                                   runs (its cost in the emulator, `make bench`, or on a scope)
  * To move the axis, change the port/bit pairs below (and the pin numbers in this table).
  *
- * Step timing (default, STEPPER_TIMED_LOOP = 0): the step engine (StepEngine.h) on Timer1 (16-bit)
+ * Step timing (default, STEPPER_TIMED_LOOP = 0): the step engine (MultiStepEngine.h, axis 0 = X) on Timer1 (16-bit)
  * in normal mode: F = 2,000,000 ticks/s (prescaler 8, 0.5 us) for the lab's ramps, whose float
  * intervals are defined in those ticks (STEPPER_TICK_HZ_LAB), and 16,000,000 (prescaler 1, one
  * CPU cycle) for the exact ramp (STEPPER_TICK_HZ_EXACT). Each edge lies on an absolute timeline
@@ -66,6 +66,16 @@
 #define STEPPER_TRACE_PORT PORTG
 #define STEPPER_TRACE_DDR DDRG
 #define STEPPER_TRACE_BIT 1 /* D40 */
+
+/* Steps kept queued ahead of the step interrupt, in milliseconds (MultiStepEngine::set_lead_ms): a
+ * stop or a new target takes effect after them. The Leib ramp's float update costs nearly a whole
+ * step's time near its top rate, so its sketch banks more (StepperRamp::lead_ms). */
+#ifndef STEP_ENGINE_LEAD_MS
+#define STEP_ENGINE_LEAD_MS 100U
+#endif
+#ifndef STEP_ENGINE_LEAD_MS_LEIB
+#define STEP_ENGINE_LEAD_MS_LEIB 200U
+#endif
 
 /* timing */
 #if STEPPER_TIMED_LOOP

@@ -25,7 +25,7 @@
 #include <ramp.h>
 #include <step_planner.h>
 
-#include "StepEngine.h" /* STEP_ENGINE_LEAD_MS */
+#include "StepperPins.h" /* STEP_ENGINE_LEAD_MS */
 
 class StepperRamp {
 public:
@@ -52,7 +52,7 @@ public:
     virtual void print_limit(Print &out, const char *key) const = 0;
     /* The step timer's rate for this algorithm, ticks/s. */
     virtual uint32_t tick_hz() const = 0;
-    /* How far ahead the step engine plans, ms (StepEngine.h). */
+    /* How far ahead the step engine plans, ms (MultiStepEngine::set_lead_ms). */
     virtual uint16_t lead_ms() const { return STEP_ENGINE_LEAD_MS; }
 
 protected:
