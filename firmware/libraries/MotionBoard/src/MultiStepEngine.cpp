@@ -2,10 +2,12 @@
  * wraps to count, the end, an underrun), each axis's queue on the loop() side, and the timer
  * set-up; see MultiStepEngine.h. The common path, new fast commands and late edges included, is
  * MultiStepEngineIsr.S. */
-#include "MultiStepEngine.h"
+#include "MultiStepEngineInternal.h"
 
 #include <stddef.h>
 #include <util/atomic.h>
+
+using namespace mse;
 
 /* multi_axis_x, _y, _z are reserved in MultiStepEngineIsr.S (a plain object file, so that the
  * library links as an archive with LTO) */
@@ -20,111 +22,14 @@ static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, rate) == 4 &&
                   offsetof(AxisSlot, flags) == 10 && offsetof(AxisSlot, ready) == 11 && offsetof(AxisSlot, other) == 12,
               "MultiStepEngineIsr.S reads these offsets");
 
-namespace {
-/* loop()'s side of one axis's queue */
-struct AxisFeed {
-    uint16_t duration[MULTI_SLOTS]; /* ticks of each slot's command (at most 65535: only for the lead) */
-    uint32_t queued_ticks;
-    uint8_t head;  /* the next slot loop() lays out */
-    uint8_t seen;  /* the oldest slot still counted in queued_ticks */
-    uint8_t ready; /* slots laid out and counted */
-    int32_t next_p_start;
-    uint8_t last_forward;
-    uint8_t open; /* a move is being fed (accepted, not yet reported done) */
-    uint8_t held; /* its start waits for start_together */
-    uint8_t started; /* the move has stepped (after an underrun it resumes at once) */
-};
+namespace mse {
 AxisFeed s_feed[MULTI_AXES];
 uint32_t s_lead_ticks;
 uint32_t s_tick_hz = MULTI_TICK_HZ; /* begin(): 16 MHz or 2 MHz */
 MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: the sketch sets DIR */
-
-AxisState &state(uint8_t axis)
-{
-    return axis == 0 ? multi_axis_x : axis == 1 ? multi_axis_y : multi_axis_z;
 }
 
-/* Pin writes: X and Y are in PORTF (I/O space: one instruction each); Z's PORTL is
- * read-modify-written, so only with interrupts off (every caller here runs with them off). */
-inline void write_dir(uint8_t axis, bool forward)
-{
-    if (axis == 0) {
-        if (forward)
-            MULTI_X_DIR_PORT |= _BV(MULTI_X_DIR_BIT);
-        else
-            MULTI_X_DIR_PORT &= (uint8_t)~_BV(MULTI_X_DIR_BIT);
-    } else if (axis == 1) {
-        if (forward)
-            MULTI_Y_DIR_PORT |= _BV(MULTI_Y_DIR_BIT);
-        else
-            MULTI_Y_DIR_PORT &= (uint8_t)~_BV(MULTI_Y_DIR_BIT);
-    } else {
-        if (forward)
-            MULTI_Z_DIR_PORT |= _BV(MULTI_Z_DIR_BIT);
-        else
-            MULTI_Z_DIR_PORT &= (uint8_t)~_BV(MULTI_Z_DIR_BIT);
-    }
-}
-
-/* DIR for the steps that follow: the sketch's hook if it set one, else the pin */
-inline void set_dir(uint8_t axis, bool forward)
-{
-    if (s_dir_hook[axis])
-        s_dir_hook[axis](forward);
-    else
-        write_dir(axis, forward);
-}
-
-inline bool dir_level(uint8_t axis)
-{
-    if (axis == 0)
-        return (MULTI_X_DIR_PORT & _BV(MULTI_X_DIR_BIT)) != 0;
-    if (axis == 1)
-        return (MULTI_Y_DIR_PORT & _BV(MULTI_Y_DIR_BIT)) != 0;
-    return (MULTI_Z_DIR_PORT & _BV(MULTI_Z_DIR_BIT)) != 0;
-}
-
-/* STEP low: the interrupt's pins (its axis's and its followers'); interrupts are off */
-inline void step_low(uint8_t axis)
-{
-    AxisState &s = state(axis);
-    PORTF &= (uint8_t)~s.mask_f;
-    if (s.mask_l)
-        PORTL &= (uint8_t)~s.mask_l;
-}
-
-inline void own_masks(uint8_t axis)
-{
-    AxisState &s = state(axis);
-    s.mask_f = axis == 0 ? _BV(MULTI_X_STEP_BIT) : axis == 1 ? _BV(MULTI_Y_STEP_BIT) : 0;
-    s.mask_l = axis == 2 ? _BV(MULTI_Z_STEP_BIT) : 0;
-}
-
-inline void write_ocr(uint8_t axis, uint16_t v)
-{
-    if (axis == 0)
-        OCR1A = v;
-    else if (axis == 1)
-        OCR1B = v;
-    else
-        OCR1C = v;
-}
-
-inline uint16_t read_ocr(uint8_t axis)
-{
-    return axis == 0 ? OCR1A : axis == 1 ? OCR1B : OCR1C;
-}
-
-inline uint8_t ocf_bit(uint8_t axis)
-{
-    return axis == 0 ? _BV(OCF1A) : axis == 1 ? _BV(OCF1B) : _BV(OCF1C);
-}
-
-inline uint8_t ocie_bit(uint8_t axis)
-{
-    return axis == 0 ? _BV(OCIE1A) : axis == 1 ? _BV(OCIE1B) : _BV(OCIE1C);
-}
-
+namespace {
 uint16_t duration_ticks(const step_cmd_t &c)
 {
     uint32_t per = (c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16), d;
@@ -132,27 +37,6 @@ uint16_t duration_ticks(const step_cmd_t &c)
         return 0xFFFFU;
     d = per * c.count;
     return d > 0xFFFFUL ? 0xFFFFU : (uint16_t)d;
-}
-
-inline uint8_t next_slot(uint8_t i)
-{
-    return (uint8_t)((i + 1U) % MULTI_SLOTS);
-}
-
-/* the interrupt's current slot, read twice until both agree (it changes at most once per command) */
-inline AxisSlot *cur_slot(AxisState &s)
-{
-    AxisSlot *a, *b;
-    do {
-        a = s.cur;
-        b = s.cur;
-    } while (a != b);
-    return a;
-}
-
-inline uint8_t cur_index(AxisState &s)
-{
-    return (uint8_t)(cur_slot(s) - s.slot);
 }
 
 void retire_consumed(AxisState &s, AxisFeed &f)
@@ -203,27 +87,10 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
     f.next_p_start += forward ? (int32_t)c.count : -(int32_t)c.count;
 }
 
-/* The GPIOR0 copies of an axis's mode (MultiAxisPins.h), after a change of its mode or of its running
- * (interrupts off): ANY = mode not zero; OWNOFF = OWN_OFF, or not running. */
-inline void sync_g0(AxisState &s)
-{
-    uint8_t any, off, bits;
-    if (&s == &multi_axis_x) {
-        any = _BV(MULTI_G_ANY_X);
-        off = _BV(MULTI_G_OWNOFF_X);
-    } else if (&s == &multi_axis_y) {
-        any = _BV(MULTI_G_ANY_Y);
-        off = _BV(MULTI_G_OWNOFF_Y);
-    } else {
-        any = _BV(MULTI_G_ANY_Z);
-        off = _BV(MULTI_G_OWNOFF_Z);
-    }
-    bits = (uint8_t)((s.mode ? any : 0) | (((s.mode & _BV(AXIS_MODE_OWN_OFF)) || !s.running) ? off : 0));
-    GPIOR0 = (uint8_t)((GPIOR0 & (uint8_t)~(any | off)) | bits);
-}
+} // namespace
 
 /* the last step of slot t is made and nothing follows: the move's end or an underrun (interrupts off) */
-void stop_after(AxisState &s, const AxisSlot &t)
+void mse::stop_after(AxisState &s, const AxisSlot &t)
 {
     int32_t made = (int32_t)t.left + 1;
     s.pos_rest = t.p_start + ((t.flags & _BV(AXIS_SLOT_FORWARD)) ? made : -made);
@@ -237,237 +104,8 @@ void stop_after(AxisState &s, const AxisSlot &t)
     }
 }
 
-/* Sets and clears mode bits (interrupts off), keeping OWN_OFF = WAITING or MASKED. */
-inline void change_mode(AxisState &s, uint8_t set, uint8_t clear)
-{
-    uint8_t m = (uint8_t)((s.mode | set) & (uint8_t)~clear) & (uint8_t)~_BV(AXIS_MODE_OWN_OFF);
-    if (m & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_MASKED)))
-        m |= _BV(AXIS_MODE_OWN_OFF);
-    s.mode = m;
-    sync_g0(s);
-}
-
-/* Makes slot t the interrupt's current command: its fields into the state (the interrupt's own
- * match cannot come before arm_step arms the next one). */
-__attribute__((always_inline)) inline void load_slot(AxisState &s, AxisSlot &t)
-{
-    t.ready = 0;
-    s.cur = &t;
-    s.rate = t.rate;
-    s.add = t.add;
-    s.left = t.left;
-    s.flags = t.flags;
-    /* its SLOW mode bit: arm_step */
-}
-
-/* Arms the next step of the current command by the executor's rule, counting a slow interval's wraps; a first
- * match already missed counts as passed, a step already due fires 2 us later; sets the mode bits SLOW
- * (the command's) and WAITING. `prev` (the edge the interval starts from) may lie ahead of TCNT1 at a
- * move's start: nothing has elapsed then, and a match before prev is one more to let pass. The arithmetic may run with interrupts on; from the arming
- * on they are off and stay off (cli, not restored): the interrupt ends so, and its next match, armed
- * here, may come at once (a late edge). */
-__attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
-{
-    uint16_t prev = (uint16_t)(s.acc >> 16), elapsed;
-    uint32_t interval, first;
-    int16_t since;
-    uint8_t set = 0, clear = 0;
-    if (s.flags & _BV(AXIS_SLOT_WIDE)) {
-        interval = s.rate;
-        s.acc += s.rate << 16;
-    } else {
-        uint32_t acc0 = s.acc;
-        s.rate += (uint32_t)s.add; /* the rate was laid out less add */
-        s.acc += s.rate;
-        interval = (uint16_t)((s.acc >> 16) - (acc0 >> 16));
-        if (interval == 0)
-            interval = 0x10000UL;
-    }
-    s.wraps = (uint16_t)((interval - 1U) >> 16);
-    first = ((interval - 1U) & 0xFFFFUL) + 1U;
-    cli();
-    write_ocr(axis, (uint16_t)(s.acc >> 16));
-    since = (int16_t)(TCNT1 - prev);
-    if (since < 0) {
-        /* prev (a move's start) is still ahead, by d ticks: the compare value comes round once before
-         * prev when first + d reaches past a wrap; that match is not this step's, let it pass too */
-        if (first > 0x10000UL - (uint16_t)-since)
-            s.wraps = s.wraps + 1U;
-    } else {
-        elapsed = (uint16_t)since;
-        if (elapsed >= first && !(TIFR1 & ocf_bit(axis))) {
-            if (s.wraps != 0) {
-                s.wraps = s.wraps - 1U;
-            } else {
-                write_ocr(axis, TCNT1 + s.late_ticks);
-                s.late = s.late + 1U;
-            }
-        }
-    }
-    if (s.wraps != 0)
-        set |= _BV(AXIS_MODE_WAITING);
-    else
-        clear |= _BV(AXIS_MODE_WAITING);
-    if (s.flags & _BV(AXIS_SLOT_SLOW))
-        set |= _BV(AXIS_MODE_SLOW);
-    else
-        clear |= _BV(AXIS_MODE_SLOW);
-    change_mode(s, set, clear);
-}
-
-/* the C path of one axis: a wrap to count, a slow command's step, or the slot used up without a
- * ready fast one. Called with interrupts on (its STEP raised by the asm path): other axes' edges do
- * not wait for it; shared registers (TIMSK1, GPIOR0, a port's read-modify-write) are written with
- * them off, and from the arming of the next edge (arm_step) they stay off. Its own match cannot come
- * before that: OCR1x still holds the edge that has just matched. */
-__attribute__((always_inline)) inline void cold_path(uint8_t axis)
-{
-    AxisState &s = state(axis);
-    AxisSlot *cur = s.cur, *next;
-    if (s.mode & _BV(AXIS_MODE_WAITING)) {
-        cli();
-        s.wraps = s.wraps - 1U;
-        if (s.wraps == 0)
-            change_mode(s, 0, _BV(AXIS_MODE_WAITING));
-        return;
-    }
-    /* STEP is high: this match made a step */
-    if (axis == 0 && (s.mode & _BV(AXIS_MODE_SLOW)) && (GPIOR0 & _BV(MULTI_G_LED_X)))
-        MULTI_LED_PIN = _BV(MULTI_LED_BIT); /* the LED mirror of a slow step (the asm path mirrors the others) */
-    if ((s.flags & _BV(AXIS_SLOT_SLOW)) && s.left != 0) {
-        s.left = s.left - 1U;
-        arm_step(axis, s);
-        step_low(axis);
-        return;
-    }
-    next = cur->other;
-    if (!next->ready) {
-        ATOMIC_BLOCK(ATOMIC_FORCEON)
-        {
-            TIMSK1 &= (uint8_t)~ocie_bit(axis);
-        }
-        __builtin_avr_delay_cycles(32); /* the STEP pulse: >= 2 us */
-        cli();
-        stop_after(s, *cur);
-        step_low(axis);
-        return;
-    }
-    load_slot(s, *next);
-    if (next->flags & _BV(AXIS_SLOT_TURN)) {
-        /* DIR while STEP is still high, as the asm path writes it (>= 1.5 us after the rising edge:
-         * the interrupt's entry and this call took longer), before the arming: interrupts are off
-         * only for the port write, not after the arming with the rest of the stretch (a Z turn
-         * there held an X edge 267 cycles, `make fuzz`; the bound is 260) */
-        ATOMIC_BLOCK(ATOMIC_FORCEON)
-        {
-            set_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
-        }
-    }
-    arm_step(axis, s);
-    step_low(axis);
-}
-
-/* takes the first laid-out slot and arms its first step from t = base. Called from loop() with
- * interrupts on (this axis's interrupt is off): the other axes keep stepping while it plans its
- * arithmetic; the arming and the shared registers (a port's read-modify-write, TIFR1, TIMSK1,
- * GPIOR0) run with interrupts off. */
-void start_axis(uint8_t axis, uint32_t base)
-{
-    AxisState &s = state(axis);
-    AxisSlot *t = s.cur->other;
-    uint8_t sreg;
-    if (!t->ready)
-        return;
-    load_slot(s, *t);
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        set_dir(axis, t->flags & _BV(AXIS_SLOT_FORWARD)); /* DIR is set here, before the first step */
-    }
-    s.acc = base;
-    s.wraps = 0;
-    sreg = SREG;
-    arm_step(axis, s); /* interrupts off from its arming on */
-    TIFR1 = ocf_bit(axis);
-    s.running = 1;
-    sync_g0(s);
-    TIMSK1 |= ocie_bit(axis);
-    SREG = sreg;
-    s_feed[axis].held = 0;
-    s_feed[axis].started = 1;
-}
-
-/* t = 0 a little ahead of now, half a tick into it (edges at round(F t)) */
-uint32_t base_ahead(uint16_t ticks)
-{
-    uint16_t now;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        now = TCNT1; /* through TEMP, which the step interrupts use too */
-    }
-    return ((uint32_t)(uint16_t)(now + ticks) << 16) | 0x8000UL;
-}
-
-/* A compare match that never came (libsimavr dropped some, after a timer wrap, until the harness
- * modelled the chip there: tools/emu/emu_timer.c; kept as a safety net): the armed edge lies well
- * in the past, no match is pending and the interrupt has not moved on. Fire it now and count it as
- * late, instead of waiting a whole wrap. A first look with interrupts on (a torn read only costs the careful look below), so the
- * check, made on every service() call of every axis, does not delay step edges. */
-/* The armed edge lies 65 to 16384 ticks in the past (16-bit times: 4 us to 1 ms at 16 MHz, 32 us to
- * 8 ms at 2 MHz): a match missed not long ago. Not
- * "any amount up to half a wrap": a move's first edge may be armed more than 32768 ticks ahead (a
- * coordinated start is 256 us ahead, 4096 or 512 ticks, plus a first interval of up to 32767), which in 16 bits
- * looks like the past; taking it for a missed match fired the first step at once, a whole interval
- * early (found by `make fuzz`: x stepped twice within 201 cycles at a coordinated start). */
-inline bool missed_by(uint16_t now, uint16_t edge)
-{
-    return (uint16_t)(now - edge) - 65U < 16320U;
-}
-
-void catch_missed_match(uint8_t axis)
-{
-    AxisState &s = state(axis);
-    if (!s.running || (s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) || (TIFR1 & ocf_bit(axis)) ||
-        !missed_by(TCNT1, (uint16_t)(s.acc >> 16)))
-        return;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        if (s.running && !(s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) && !(TIFR1 & ocf_bit(axis))) {
-            uint16_t now = TCNT1;
-            /* and not re-armed by an earlier look (its match still to come) */
-            if (missed_by(now, (uint16_t)(s.acc >> 16)) && (int16_t)(read_ocr(axis) - now) <= 0) {
-                write_ocr(axis, now + s.late_ticks);
-                s.late = s.late + 1U;
-            }
-        }
-    }
-}
-} // namespace
-
-/* The C path of each axis, called by its step interrupt (MultiStepEngineIsr.S) with interrupts on;
- * returns with them off. */
-extern "C" void multi_cold_x(void) __attribute__((used));
-extern "C" void multi_cold_y(void) __attribute__((used));
-extern "C" void multi_cold_z(void) __attribute__((used));
-void multi_cold_x(void)
-{
-    cold_path(0);
-    cli();
-}
-void multi_cold_y(void)
-{
-    cold_path(1);
-    cli();
-}
-void multi_cold_z(void)
-{
-    cold_path(2);
-    cli();
-}
-
 void MultiStepEngine::begin(uint32_t tick_hz)
 {
-    /* 2 MHz (prescaler 8: the lab ramps' ticks) or 16 MHz (prescaler 1) */
-    s_tick_hz = tick_hz == 2000000UL ? 2000000UL : 16000000UL;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         DDRF |= _BV(MULTI_X_STEP_BIT) | _BV(MULTI_X_DIR_BIT) | _BV(MULTI_Y_STEP_BIT) | _BV(MULTI_Y_DIR_BIT);
@@ -494,7 +132,6 @@ void MultiStepEngine::begin(uint32_t tick_hz)
             s.cur = &s.slot[0];
             s.mode = 0;
             s.pos_rest = 0;
-            s.late_ticks = (uint8_t)(s_tick_hz / 500000UL); /* 2 us: 32 or 4 ticks */
             own_masks(a);
             f.next_p_start = 0;
             f.last_forward = 1;
@@ -508,13 +145,10 @@ void MultiStepEngine::begin(uint32_t tick_hz)
         /* none running; the LED mirror as set */
         GPIOR0 = (uint8_t)((GPIOR0 & _BV(MULTI_G_LED_X)) | _BV(MULTI_G_OWNOFF_X) | _BV(MULTI_G_OWNOFF_Y) |
                            _BV(MULTI_G_OWNOFF_Z));
-        /* the Arduino core leaves Timer1 in 8-bit PWM mode for analogWrite(): take it over */
-        TIMSK1 = 0;
-        TCCR1A = 0;
-        TCCR1C = 0;
-        TCCR1B = s_tick_hz == 16000000UL ? _BV(CS10) : _BV(CS11); /* normal mode, prescaler 1 or 8 */
-        TIFR1 = _BV(OCF1A) | _BV(OCF1B) | _BV(OCF1C) | _BV(TOV1);
     }
+    hw_begin(tick_hz); /* the executor's time base (s_tick_hz) and timer */
+    for (uint8_t a = 0; a < MULTI_AXES; a++)
+        state(a).late_ticks = (uint8_t)(s_tick_hz / 500000UL); /* 2 us: 32 or 4 ticks */
     s_lead_ticks = s_tick_hz / 1000UL * MULTI_LEAD_MS;
 }
 
@@ -555,7 +189,7 @@ uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t ma
     catch_missed_match(axis);
     retire_consumed(s, f);
     while (laid < max_cmds && (f.ready < 2U || f.queued_ticks < s_lead_ticks)) {
-        if (!has_room(s, f))
+        if (!has_room(s, f) || !may_plan(axis))
             break;
         if (!src.next(src.ctx, &c))
             break;
@@ -705,7 +339,7 @@ void MultiStepEngine::halt(uint8_t axis)
     AxisFeed &f = s_feed[axis];
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        TIMSK1 &= (uint8_t)~ocie_bit(axis);
+        hw_stop(axis);
         s.pos_rest = position_now(s);
         s.running = 0;
         s.finishing = 0;

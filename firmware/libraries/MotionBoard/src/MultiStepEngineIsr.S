@@ -498,6 +498,9 @@ multi_axis_z:
     rjmp .L\name\()_left1
 .endm
 
+/* the three interrupts (none in timed-loop mode: MultiStepEngineLoop.cpp steps X from loop()) */
+#if !MULTI_TIMED_LOOP
 AXIS_ISR multi_step_isr_x, TIMER1_COMPA_vect, multi_axis_x, 1, _SFR_IO_ADDR(MULTI_X_STEP_PORT), MULTI_X_STEP_BIT, _SFR_IO_ADDR(MULTI_X_DIR_PORT), MULTI_X_DIR_BIT, _SFR_MEM_ADDR(OCR1AL), _SFR_MEM_ADDR(OCR1AH), OCF1A, multi_cold_x, MULTI_TRACE_X_BIT, MULTI_G_OWNOFF_X, MULTI_G_ANY_X, 1
 AXIS_ISR multi_step_isr_y, TIMER1_COMPB_vect, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, multi_cold_y, MULTI_TRACE_Y_BIT, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y, 0
 AXIS_ISR multi_step_isr_z, TIMER1_COMPC_vect, multi_axis_z, 0, _SFR_MEM_ADDR(MULTI_Z_STEP_PORT), MULTI_Z_STEP_BIT, _SFR_MEM_ADDR(MULTI_Z_DIR_PORT), MULTI_Z_DIR_BIT, _SFR_MEM_ADDR(OCR1CL), _SFR_MEM_ADDR(OCR1CH), OCF1C, multi_cold_z, MULTI_TRACE_Z_BIT, MULTI_G_OWNOFF_Z, MULTI_G_ANY_Z, 0
+#endif

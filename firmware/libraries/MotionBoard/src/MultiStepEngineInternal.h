@@ -1,0 +1,172 @@
+/* MultiStepEngineInternal.h - what the step engine's files share (not for sketches): loop()'s side of
+ * each axis's queue, the pin and mode helpers, and the few functions each variant of the executor
+ * defines: the step interrupts (MultiStepEngineTimer.cpp) or, in timed-loop mode (MULTI_TIMED_LOOP),
+ * loop()'s polling of micros() (MultiStepEngineLoop.cpp). MultiStepEngine.cpp, the queues and the
+ * public calls, is the same for both. */
+#ifndef MULTI_STEP_ENGINE_INTERNAL_H
+#define MULTI_STEP_ENGINE_INTERNAL_H
+
+#include "MultiStepEngine.h"
+
+namespace mse {
+/* loop()'s side of one axis's queue */
+struct AxisFeed {
+    uint16_t duration[MULTI_SLOTS]; /* ticks of each slot's command (at most 65535: only for the lead) */
+    uint32_t queued_ticks;
+    uint8_t head;  /* the next slot loop() lays out */
+    uint8_t seen;  /* the oldest slot still counted in queued_ticks */
+    uint8_t ready; /* slots laid out and counted */
+    int32_t next_p_start;
+    uint8_t last_forward;
+    uint8_t open; /* a move is being fed (accepted, not yet reported done) */
+    uint8_t held; /* its start waits for start_together */
+    uint8_t started; /* the move has stepped (after an underrun it resumes at once) */
+};
+extern AxisFeed s_feed[MULTI_AXES];
+extern uint32_t s_lead_ticks;
+extern uint32_t s_tick_hz; /* begin(): 16 MHz or 2 MHz (timed-loop mode: 1 MHz) */
+extern MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: the sketch sets DIR */
+
+inline AxisState &state(uint8_t axis)
+{
+    return axis == 0 ? multi_axis_x : axis == 1 ? multi_axis_y : multi_axis_z;
+}
+
+/* Pin writes: X and Y are in PORTF (I/O space: one instruction each); Z's PORTL is
+ * read-modify-written, so only with interrupts off (every caller here runs with them off). */
+inline void write_dir(uint8_t axis, bool forward)
+{
+    if (axis == 0) {
+        if (forward)
+            MULTI_X_DIR_PORT |= _BV(MULTI_X_DIR_BIT);
+        else
+            MULTI_X_DIR_PORT &= (uint8_t)~_BV(MULTI_X_DIR_BIT);
+    } else if (axis == 1) {
+        if (forward)
+            MULTI_Y_DIR_PORT |= _BV(MULTI_Y_DIR_BIT);
+        else
+            MULTI_Y_DIR_PORT &= (uint8_t)~_BV(MULTI_Y_DIR_BIT);
+    } else {
+        if (forward)
+            MULTI_Z_DIR_PORT |= _BV(MULTI_Z_DIR_BIT);
+        else
+            MULTI_Z_DIR_PORT &= (uint8_t)~_BV(MULTI_Z_DIR_BIT);
+    }
+}
+
+/* DIR for the steps that follow: the sketch's hook if it set one, else the pin */
+inline void set_dir(uint8_t axis, bool forward)
+{
+    if (s_dir_hook[axis])
+        s_dir_hook[axis](forward);
+    else
+        write_dir(axis, forward);
+}
+
+inline bool dir_level(uint8_t axis)
+{
+    if (axis == 0)
+        return (MULTI_X_DIR_PORT & _BV(MULTI_X_DIR_BIT)) != 0;
+    if (axis == 1)
+        return (MULTI_Y_DIR_PORT & _BV(MULTI_Y_DIR_BIT)) != 0;
+    return (MULTI_Z_DIR_PORT & _BV(MULTI_Z_DIR_BIT)) != 0;
+}
+
+/* STEP low: the interrupt's pins (its axis's and its followers'); interrupts are off */
+inline void step_low(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    PORTF &= (uint8_t)~s.mask_f;
+    if (s.mask_l)
+        PORTL &= (uint8_t)~s.mask_l;
+}
+
+inline void own_masks(uint8_t axis)
+{
+    AxisState &s = state(axis);
+    s.mask_f = axis == 0 ? _BV(MULTI_X_STEP_BIT) : axis == 1 ? _BV(MULTI_Y_STEP_BIT) : 0;
+    s.mask_l = axis == 2 ? _BV(MULTI_Z_STEP_BIT) : 0;
+}
+
+inline uint8_t next_slot(uint8_t i)
+{
+    return (uint8_t)((i + 1U) % MULTI_SLOTS);
+}
+
+/* the interrupt's current slot, read twice until both agree (it changes at most once per command) */
+inline AxisSlot *cur_slot(AxisState &s)
+{
+    AxisSlot *a, *b;
+    do {
+        a = s.cur;
+        b = s.cur;
+    } while (a != b);
+    return a;
+}
+
+inline uint8_t cur_index(AxisState &s)
+{
+    return (uint8_t)(cur_slot(s) - s.slot);
+}
+
+/* The GPIOR0 copies of an axis's mode (MultiAxisPins.h), after a change of its mode or of its running
+ * (interrupts off): ANY = mode not zero; OWNOFF = OWN_OFF, or not running. */
+inline void sync_g0(AxisState &s)
+{
+    uint8_t any, off, bits;
+    if (&s == &multi_axis_x) {
+        any = _BV(MULTI_G_ANY_X);
+        off = _BV(MULTI_G_OWNOFF_X);
+    } else if (&s == &multi_axis_y) {
+        any = _BV(MULTI_G_ANY_Y);
+        off = _BV(MULTI_G_OWNOFF_Y);
+    } else {
+        any = _BV(MULTI_G_ANY_Z);
+        off = _BV(MULTI_G_OWNOFF_Z);
+    }
+    bits = (uint8_t)((s.mode ? any : 0) | (((s.mode & _BV(AXIS_MODE_OWN_OFF)) || !s.running) ? off : 0));
+    GPIOR0 = (uint8_t)((GPIOR0 & (uint8_t)~(any | off)) | bits);
+}
+
+/* Sets and clears mode bits (interrupts off), keeping OWN_OFF = WAITING or MASKED. */
+inline void change_mode(AxisState &s, uint8_t set, uint8_t clear)
+{
+    uint8_t m = (uint8_t)((s.mode | set) & (uint8_t)~clear) & (uint8_t)~_BV(AXIS_MODE_OWN_OFF);
+    if (m & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_MASKED)))
+        m |= _BV(AXIS_MODE_OWN_OFF);
+    s.mode = m;
+    sync_g0(s);
+}
+
+/* Makes slot t the interrupt's current command: its fields into the state (the interrupt's own
+ * match cannot come before arm_step arms the next one). */
+__attribute__((always_inline)) inline void load_slot(AxisState &s, AxisSlot &t)
+{
+    t.ready = 0;
+    s.cur = &t;
+    s.rate = t.rate;
+    s.add = t.add;
+    s.left = t.left;
+    s.flags = t.flags;
+    /* its SLOW mode bit: arm_step */
+}
+
+/* the last step of slot t is made and nothing follows: the move's end or an underrun (interrupts off) */
+void stop_after(AxisState &s, const AxisSlot &t);
+
+/* The executor's variant (MultiStepEngineTimer.cpp or MultiStepEngineLoop.cpp): */
+/* begin()'s last step, after the states are reset: s_tick_hz set from tick_hz, the timer (if any) started */
+void hw_begin(uint32_t tick_hz);
+/* the axis's executor stops at once (interrupts off) */
+void hw_stop(uint8_t axis);
+/* takes the first laid-out slot and arms its first step from t = base (16.16 ticks) */
+void start_axis(uint8_t axis, uint32_t base);
+/* t = 0 that many ticks ahead of now */
+uint32_t base_ahead(uint16_t ticks);
+/* service()'s safety net for a compare match that never came */
+void catch_missed_match(uint8_t axis);
+/* service() may plan one more command now (timed-loop mode: only between deadlines) */
+bool may_plan(uint8_t axis);
+} // namespace mse
+
+#endif
