@@ -9,9 +9,9 @@
 
 using namespace mse;
 
-/* multi_axis_x, _y, _z are reserved in MultiStepEngineIsr.S (a plain object file, so that the
+/* multi_axis_x, _y, _z are reserved in MultiStepEngineX.S, Y.S, Z.S (plain object files, so that the
  * library links as an archive with LTO) */
-static_assert(sizeof(AxisState) == MULTI_AXIS_STATE_BYTES, "MultiStepEngineIsr.S reserves this size");
+static_assert(sizeof(AxisState) == MULTI_AXIS_STATE_BYTES, "MultiStepEngineX.S, Y.S, Z.S reserve this size");
 
 static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, rate) == 4 && offsetof(AxisState, add) == 8 &&
                   offsetof(AxisState, left) == 12 && offsetof(AxisState, flags) == 14 &&
@@ -24,6 +24,8 @@ static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, rate) == 4 &&
 
 namespace mse {
 AxisFeed s_feed[MULTI_AXES];
+AxisState *s_state[MULTI_AXES];
+uint8_t s_axes;
 uint32_t s_lead_ticks;
 uint32_t s_tick_hz = MULTI_TICK_HZ; /* begin(): 16 MHz or 2 MHz */
 MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: the sketch sets DIR */
@@ -44,7 +46,7 @@ void retire_consumed(AxisState &s, AxisFeed &f)
     uint8_t cur = cur_index(s);
     while (f.ready > 0 && !s.slot[f.seen].ready && (f.seen != cur || !s.running)) {
         f.queued_ticks -= f.duration[f.seen];
-        f.seen = next_slot(f.seen);
+        f.seen = next_slot(f, f.seen);
         f.ready--;
     }
 }
@@ -104,33 +106,65 @@ void mse::stop_after(AxisState &s, const AxisSlot &t)
     }
 }
 
-void MultiStepEngine::begin(uint32_t tick_hz)
+void MultiStepEngine::attach(uint8_t axis, AxisState &s, AxisSlot *ring, uint16_t *durations, uint8_t slots)
+{
+    static const uint8_t g_any[MULTI_AXES] = {_BV(MULTI_G_ANY_X), _BV(MULTI_G_ANY_Y), _BV(MULTI_G_ANY_Z)};
+    static const uint8_t g_off[MULTI_AXES] = {_BV(MULTI_G_OWNOFF_X), _BV(MULTI_G_OWNOFF_Y), _BV(MULTI_G_OWNOFF_Z)};
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        hw_stop(axis);
+        s.slot = ring;
+        s.g_any = g_any[axis];
+        s.g_off = g_off[axis];
+        s_feed[axis].duration = durations;
+        s_feed[axis].nslots = slots;
+        s_state[axis] = &s;
+    }
+}
+
+/* an axis's pins as outputs: STEP low, DIR high (forward), ENABLE low (on); interrupts are off */
+static void axis_pins(uint8_t axis)
+{
+    if (axis == 0) {
+        DDRF |= _BV(MULTI_X_STEP_BIT) | _BV(MULTI_X_DIR_BIT);
+        PORTF = (uint8_t)((PORTF & ~_BV(MULTI_X_STEP_BIT)) | _BV(MULTI_X_DIR_BIT));
+        MULTI_X_ENABLE_DDR |= _BV(MULTI_X_ENABLE_BIT);
+        MULTI_X_ENABLE_PORT &= (uint8_t)~_BV(MULTI_X_ENABLE_BIT);
+    } else if (axis == 1) {
+        DDRF |= _BV(MULTI_Y_STEP_BIT) | _BV(MULTI_Y_DIR_BIT);
+        PORTF = (uint8_t)((PORTF & ~_BV(MULTI_Y_STEP_BIT)) | _BV(MULTI_Y_DIR_BIT));
+        MULTI_Y_ENABLE_DDR |= _BV(MULTI_Y_ENABLE_BIT);
+        MULTI_Y_ENABLE_PORT &= (uint8_t)~_BV(MULTI_Y_ENABLE_BIT);
+    } else {
+        DDRL |= _BV(MULTI_Z_STEP_BIT) | _BV(MULTI_Z_DIR_BIT);
+        PORTL = (uint8_t)((PORTL & ~_BV(MULTI_Z_STEP_BIT)) | _BV(MULTI_Z_DIR_BIT));
+        MULTI_Z_ENABLE_DDR |= _BV(MULTI_Z_ENABLE_BIT);
+        MULTI_Z_ENABLE_PORT &= (uint8_t)~_BV(MULTI_Z_ENABLE_BIT);
+    }
+#if MULTI_TRACE
+    MULTI_TRACE_DDR |= axis == 0 ? _BV(MULTI_TRACE_X_BIT) : axis == 1 ? _BV(MULTI_TRACE_Y_BIT) : _BV(MULTI_TRACE_Z_BIT);
+#endif
+}
+
+void MultiStepEngine::begin_axes(uint32_t tick_hz)
 {
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        DDRF |= _BV(MULTI_X_STEP_BIT) | _BV(MULTI_X_DIR_BIT) | _BV(MULTI_Y_STEP_BIT) | _BV(MULTI_Y_DIR_BIT);
-        PORTF = (uint8_t)((PORTF & ~(_BV(MULTI_X_STEP_BIT) | _BV(MULTI_Y_STEP_BIT))) | _BV(MULTI_X_DIR_BIT) |
-                          _BV(MULTI_Y_DIR_BIT));
-        DDRL |= _BV(MULTI_Z_STEP_BIT) | _BV(MULTI_Z_DIR_BIT);
-        PORTL = (uint8_t)((PORTL & ~_BV(MULTI_Z_STEP_BIT)) | _BV(MULTI_Z_DIR_BIT));
-        MULTI_X_ENABLE_DDR |= _BV(MULTI_X_ENABLE_BIT);
-        MULTI_X_ENABLE_PORT &= (uint8_t)~_BV(MULTI_X_ENABLE_BIT);
-        MULTI_Y_ENABLE_DDR |= _BV(MULTI_Y_ENABLE_BIT);
-        MULTI_Y_ENABLE_PORT &= (uint8_t)~_BV(MULTI_Y_ENABLE_BIT);
-        MULTI_Z_ENABLE_DDR |= _BV(MULTI_Z_ENABLE_BIT);
-        MULTI_Z_ENABLE_PORT &= (uint8_t)~_BV(MULTI_Z_ENABLE_BIT);
-#if MULTI_TRACE
-        MULTI_TRACE_DDR |= _BV(MULTI_TRACE_X_BIT) | _BV(MULTI_TRACE_Y_BIT) | _BV(MULTI_TRACE_Z_BIT);
-#endif
+        s_axes = 0;
         for (uint8_t a = 0; a < MULTI_AXES; a++) {
+            if (!s_state[a])
+                continue;
             AxisState &s = state(a);
             AxisFeed &f = s_feed[a];
-            for (uint8_t i = 0; i < MULTI_SLOTS; i++) {
-                s.slot[i].other = &s.slot[next_slot(i)];
+            s_axes |= (uint8_t)(1U << a);
+            axis_pins(a);
+            for (uint8_t i = 0; i < f.nslots; i++) {
+                s.slot[i].other = &s.slot[next_slot(f, i)];
                 s.slot[i].ready = 0;
             }
             s.cur = &s.slot[0];
             s.mode = 0;
+            s.running = 0;
             s.pos_rest = 0;
             own_masks(a);
             f.next_p_start = 0;
@@ -148,7 +182,8 @@ void MultiStepEngine::begin(uint32_t tick_hz)
     }
     hw_begin(tick_hz); /* the executor's time base (s_tick_hz) and timer */
     for (uint8_t a = 0; a < MULTI_AXES; a++)
-        state(a).late_ticks = (uint8_t)(s_tick_hz / 500000UL); /* 2 us: 32 or 4 ticks */
+        if (s_state[a])
+            state(a).late_ticks = (uint8_t)(s_tick_hz / 500000UL); /* 2 us: 32 or 4 ticks */
     s_lead_ticks = s_tick_hz / 1000UL * MULTI_LEAD_MS;
 }
 
@@ -159,7 +194,7 @@ uint32_t MultiStepEngine::tick_hz()
 
 static bool has_room(AxisState &s, AxisFeed &f)
 {
-    return !s.slot[f.head].ready && !(s.running && f.head == cur_index(s)) && f.ready < MULTI_SLOTS - 1U;
+    return !s.slot[f.head].ready && !(s.running && f.head == cur_index(s)) && f.ready < f.nslots - 1U;
 }
 
 static void lay_one(uint8_t axis, AxisState &s, AxisFeed &f, const step_cmd_t &c)
@@ -177,7 +212,7 @@ static void lay_one(uint8_t axis, AxisState &s, AxisFeed &f, const step_cmd_t &c
     f.queued_ticks += f.duration[f.head];
     f.ready++;
     t.ready = 1; /* one byte, written last: the interrupt sees a complete slot */
-    f.head = next_slot(f.head);
+    f.head = next_slot(f, f.head);
 }
 
 uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t max_cmds)
@@ -221,7 +256,7 @@ uint32_t MultiStepEngine::queued_ticks(uint8_t axis)
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
     retire_consumed(s, f);
-    if (!(f.ready < 2U || f.queued_ticks < s_lead_ticks) || f.ready >= MULTI_SLOTS - 1U ||
+    if (!(f.ready < 2U || f.queued_ticks < s_lead_ticks) || f.ready >= f.nslots - 1U ||
         s.slot[f.head].ready || (s.running && f.head == cur_index(s)))
         return UINT32_MAX;
     return f.queued_ticks;
@@ -272,8 +307,8 @@ bool MultiStepEngine::ready_to_start(uint8_t axis, const AxisSource &src)
     /* alone, the first MULTI_START_SLOTS commands suffice: the CPU plans the rest faster than they are
      * stepped; while other axes step, it shares the CPU with their planning, so it starts with its
      * ring full (or its lead laid out) */
-    uint8_t want = others_stepping(axis) ? (uint8_t)(MULTI_SLOTS - 1U) : (uint8_t)MULTI_START_SLOTS;
-    return f.ready >= want || f.ready >= MULTI_SLOTS - 1U || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks;
+    uint8_t want = others_stepping(axis) ? (uint8_t)(f.nslots - 1U) : (uint8_t)MULTI_START_SLOTS;
+    return f.ready >= want || f.ready >= f.nslots - 1U || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks;
 }
 
 bool MultiStepEngine::stepping(uint8_t axis)
@@ -286,6 +321,7 @@ void MultiStepEngine::start_together(uint8_t mask)
     /* far enough ahead (256 us) for three first steps to be armed (a few hundred cycles each, with
      * interrupts on: other axes moving meanwhile keep stepping): 4096 ticks at 16 MHz, 512 at 2 MHz */
     uint32_t base = base_ahead((uint16_t)(s_tick_hz / 3906UL));
+    mask &= s_axes;
     for (uint8_t a = 0; a < MULTI_AXES; a++) {
         if (!(mask & (1U << a)))
             continue;
@@ -296,16 +332,26 @@ void MultiStepEngine::start_together(uint8_t mask)
     }
 }
 
+/* the move has ended: closed, its final position handed out (interrupts off: inlined, so that the
+ * stretch stays a few cycles) */
+__attribute__((always_inline)) static inline bool take_end(uint8_t axis, int32_t &at)
+{
+    AxisState &s = state(axis);
+    if (!s.done)
+        return false;
+    s.done = 0;
+    s_feed[axis].open = 0;
+    at = s.pos_rest;
+    return true;
+}
+
 MultiStepEngine::Continuation MultiStepEngine::extend(uint8_t axis, int32_t &ended_at)
 {
     AxisState &s = state(axis);
     Continuation r = CONTINUES;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        if (s.done) {
-            s.done = 0;
-            s_feed[axis].open = 0;
-            ended_at = s.pos_rest;
+        if (take_end(axis, ended_at)) {
             r = ENDED;
         } else if (!s_feed[axis].open) {
             r = AT_REST;
@@ -353,9 +399,9 @@ void MultiStepEngine::halt(uint8_t axis)
     /* its interrupt is off now, so nothing reads its slots: emptied with interrupts on (done inside
      * the block above, the loop held the other axes' edges back by up to 1,300 cycles: the fuzzer's
      * late edges at every `!`) */
-    for (uint8_t i = 0; i < MULTI_SLOTS; i++)
+    for (uint8_t i = 0; i < f.nslots; i++)
         s.slot[i].ready = 0;
-    f.head = next_slot(cur_index(s));
+    f.head = next_slot(f, cur_index(s));
     f.seen = f.head;
     f.ready = 0;
     f.queued_ticks = 0;
@@ -415,16 +461,12 @@ uint16_t MultiStepEngine::late_edges(uint8_t axis)
 
 bool MultiStepEngine::take_done(uint8_t axis, int32_t &position)
 {
-    bool done = false;
-    AxisState &s = state(axis);
+    bool done;
+    if (!state(axis).done)
+        return false; /* one byte, read with interrupts on: loop() asks on every pass */
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        if (s.done) {
-            s.done = 0;
-            s_feed[axis].open = 0;
-            position = s.pos_rest;
-            done = true;
-        }
+        done = take_end(axis, position);
     }
     return done;
 }
@@ -479,10 +521,6 @@ float MultiStepEngine::speed(uint8_t axis)
 
 /* ---- cutting the queue (see MultiStepEngine.h) ---- */
 namespace {
-inline uint8_t prev_slot(uint8_t i)
-{
-    return (uint8_t)((i + MULTI_SLOTS - 1U) % MULTI_SLOTS);
-}
 
 inline uint32_t slot_count(const AxisSlot &t)
 {
@@ -544,7 +582,7 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     /* the current command's steps not armed yet, then the slots between */
     per = wide ? rate : (rate >> 16);
     ahead = per > 0xFFFFUL ? 0xFFFFFFUL : (uint32_t)left * per;
-    for (i = next_slot(curi); i != to; i = next_slot(i))
+    for (i = next_slot(f, curi); i != to; i = next_slot(f, i))
         ahead += f.duration[i];
     return ahead;
 }
@@ -564,7 +602,7 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
         return 0;
     retire_consumed(s, f);
     curi = cur_index(s);
-    i = next_slot(curi);
+    i = next_slot(f, curi);
     if (i == f.head || !s.slot[i].ready)
         return 0;
     /* the first slot whose first step lies beyond min_ticks_ahead */
@@ -573,28 +611,28 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
         return 0;
     while (ahead <= min_ticks_ahead) {
         ahead += f.duration[i];
-        i = next_slot(i);
+        i = next_slot(f, i);
         if (i == f.head)
             return 0;
     }
     first = i;
     /* at most max_steps steps: keep more from the front */
     steps = 0;
-    for (i = first; i != f.head; i = next_slot(i))
+    for (i = first; i != f.head; i = next_slot(f, i))
         steps += slot_count(s.slot[i]);
     while (first != f.head && steps > max_steps) {
         steps -= slot_count(s.slot[first]);
-        first = next_slot(first);
+        first = next_slot(f, first);
     }
     if (first == f.head)
         return 0;
-    for (i = first; i != f.head; i = next_slot(i)) {
+    for (i = first; i != f.head; i = next_slot(f, i)) {
         if (time16)
             r.time16 += slot_time16(s.slot[i]);
         r.cmds++;
     }
     r.steps = steps;
-    r.last_count = (uint16_t)slot_count(s.slot[prev_slot(first)]);
+    r.last_count = (uint16_t)slot_count(s.slot[prev_slot(f, first)]);
     r.first = first;
     return r.cmds;
 }
@@ -609,7 +647,7 @@ bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_l
     uint32_t ticks = 0, left = ticks_until(axis, r.first);
     /* the interrupt must still be that far from the cut: else the planning took too long, and the
      * queue stays as it was */
-    if (left == UINT32_MAX || left < min_ticks_left || (uint8_t)(f.ready - r.cmds + n) >= MULTI_SLOTS - 1U)
+    if (left == UINT32_MAX || left < min_ticks_left || (uint8_t)(f.ready - r.cmds + n) >= f.nslots - 1U)
         return false;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
@@ -621,14 +659,14 @@ bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_l
     k = f.head;
     do {
         uint8_t ok;
-        k = prev_slot(k);
+        k = prev_slot(f, k);
         ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
         {
             ok = s.slot[k].ready;
             s.slot[k].ready = 0;
         }
         if (!ok) {
-            for (i = next_slot(k); i != f.head; i = next_slot(i))
+            for (i = next_slot(f, k); i != f.head; i = next_slot(f, i))
                 s.slot[i].ready = 1; /* in order */
             ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
             {
@@ -639,13 +677,13 @@ bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_l
         }
     } while (k != r.first);
     /* the engine's books without the dropped slots, then c where they began */
-    for (i = r.first; i != f.head; i = next_slot(i))
+    for (i = r.first; i != f.head; i = next_slot(f, i))
         ticks += f.duration[i];
     f.queued_ticks -= ticks;
     f.ready = (uint8_t)(f.ready - r.cmds);
     f.head = r.first;
     f.next_p_start = s.slot[r.first].p_start;
-    f.last_forward = (s.slot[prev_slot(r.first)].flags & _BV(AXIS_SLOT_FORWARD)) != 0;
+    f.last_forward = (s.slot[prev_slot(f, r.first)].flags & _BV(AXIS_SLOT_FORWARD)) != 0;
     for (i = 0; i < n; i++)
         lay_one(axis, s, f, c[i]);
     return true;

@@ -37,8 +37,15 @@
 
 #define MULTI_AXES 3U
 
+/* Axes a sketch uses (begin()'s axes): only their state, ring and interrupt are linked. */
+#define MULTI_AXIS_X 1U
+#define MULTI_AXIS_Y 2U
+#define MULTI_AXIS_Z 4U
+#define MULTI_AXES_ALL 7U
+
 /* MULTI_SLOTS (MultiAxisPins.h): commands each axis's ring holds (one is the interrupt's current
- * one); 18 bytes of SRAM each. */
+ * one); 18 bytes of SRAM each, and 2 for loop()'s bookkeeping. MULTI_X_ALONE_SLOTS: X's ring when it
+ * is the only axis (the one-axis sketches: the Leib planner's one command a step, 200 ms banked). */
 /* A move starts stepping once this many commands are laid out (or its planner has no more), when no
  * other axis is stepping; while another is, once its ring is full (MULTI_SLOTS - 1 commands) or its
  * lead is laid out: its planning shares the CPU with theirs, so it starts with all it can bank. */
@@ -101,9 +108,15 @@ struct AxisState {
     volatile uint8_t done;      /* the move has ended (cleared by take_done) */
     volatile uint16_t underruns;
     volatile int32_t pos_rest;  /* position when not stepping */
-    AxisSlot slot[MULTI_SLOTS];
+    AxisSlot *slot;             /* its ring (the interrupt follows the slots' `other` links) */
+    uint8_t g_any, g_off;       /* its GPIOR0 bits (MultiAxisPins.h) */
 };
-extern "C" AxisState multi_axis_x, multi_axis_y, multi_axis_z;
+/* Each axis's state and interrupt are one object (MultiStepEngineX.S, Y.S, Z.S), its ring another
+ * (MultiStepEngineRingX.cpp, ...): linked only when begin() names the axis (multi_use_*). */
+extern "C" void multi_use_x(void);
+extern "C" void multi_use_x_alone(void);
+extern "C" void multi_use_y(void);
+extern "C" void multi_use_z(void);
 
 /* Where an axis's commands come from: next() hands out one (1) or none (0, for now or for good),
  * busy() says whether the planner still has some to hand out. */
@@ -117,8 +130,27 @@ class MultiStepEngine {
 public:
     /* Pins as outputs (STEP low, DIR high, ENABLE low = on), Timer1 in normal mode at tick_hz:
      * 16000000 (prescaler 1, MULTI_TICK_HZ) or 2000000 (prescaler 8: the lab ramps'
-     * STEPPER_TICK_HZ_LAB); any other value means 16 MHz. Step commands are in these ticks. */
-    static void begin(uint32_t tick_hz = MULTI_TICK_HZ);
+     * STEPPER_TICK_HZ_LAB); any other value means 16 MHz. Step commands are in these ticks.
+     * axes: the axes the sketch uses (MULTI_AXIS_X | ..., a constant): the others' states, rings and
+     * interrupts are not linked (an axis not begun must not be passed to any call); X alone gets
+     * MULTI_X_ALONE_SLOTS slots, every other axis MULTI_SLOTS. */
+    static inline __attribute__((always_inline)) void begin(uint32_t tick_hz = MULTI_TICK_HZ,
+                                                            uint8_t axes = MULTI_AXES_ALL)
+    {
+        if (axes == MULTI_AXIS_X)
+            multi_use_x_alone();
+        else if (axes & MULTI_AXIS_X)
+            multi_use_x();
+        if (axes & MULTI_AXIS_Y)
+            multi_use_y();
+        if (axes & MULTI_AXIS_Z)
+            multi_use_z();
+        begin_axes(tick_hz);
+    }
+    /* begin()'s work once the axes' rings are registered (attach) */
+    static void begin_axes(uint32_t tick_hz);
+    /* multi_use_*: an axis's state and ring, registered before begin_axes */
+    static void attach(uint8_t axis, AxisState &s, AxisSlot *ring, uint16_t *durations, uint8_t slots);
     /* The timeline's ticks per second, as begin() set it (timed-loop mode: 1000000). */
     static uint32_t tick_hz();
 

@@ -11,7 +11,8 @@
 namespace mse {
 /* loop()'s side of one axis's queue */
 struct AxisFeed {
-    uint16_t duration[MULTI_SLOTS]; /* ticks of each slot's command (at most 65535: only for the lead) */
+    uint16_t *duration; /* ticks of each slot's command (at most 65535: only for the lead) */
+    uint8_t nslots;     /* the ring's slots (attach) */
     uint32_t queued_ticks;
     uint8_t head;  /* the next slot loop() lays out */
     uint8_t seen;  /* the oldest slot still counted in queued_ticks */
@@ -23,13 +24,15 @@ struct AxisFeed {
     uint8_t started; /* the move has stepped (after an underrun it resumes at once) */
 };
 extern AxisFeed s_feed[MULTI_AXES];
+extern AxisState *s_state[MULTI_AXES]; /* the axes begun (attach), NULL for the others */
+extern uint8_t s_axes;                 /* their mask (bit i: axis i) */
 extern uint32_t s_lead_ticks;
 extern uint32_t s_tick_hz; /* begin(): 16 MHz or 2 MHz (timed-loop mode: 1 MHz) */
 extern MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: the sketch sets DIR */
 
 inline AxisState &state(uint8_t axis)
 {
-    return axis == 0 ? multi_axis_x : axis == 1 ? multi_axis_y : multi_axis_z;
+    return *s_state[axis];
 }
 
 /* Pin writes: X and Y are in PORTF (I/O space: one instruction each); Z's PORTL is
@@ -88,9 +91,14 @@ inline void own_masks(uint8_t axis)
     s.mask_l = axis == 2 ? _BV(MULTI_Z_STEP_BIT) : 0;
 }
 
-inline uint8_t next_slot(uint8_t i)
+inline uint8_t next_slot(const AxisFeed &f, uint8_t i)
 {
-    return (uint8_t)((i + 1U) % MULTI_SLOTS);
+    return (uint8_t)(i + 1U == f.nslots ? 0U : i + 1U);
+}
+
+inline uint8_t prev_slot(const AxisFeed &f, uint8_t i)
+{
+    return (uint8_t)(i == 0U ? f.nslots - 1U : i - 1U);
 }
 
 /* the interrupt's current slot, read twice until both agree (it changes at most once per command) */
@@ -113,17 +121,7 @@ inline uint8_t cur_index(AxisState &s)
  * (interrupts off): ANY = mode not zero; OWNOFF = OWN_OFF, or not running. */
 inline void sync_g0(AxisState &s)
 {
-    uint8_t any, off, bits;
-    if (&s == &multi_axis_x) {
-        any = _BV(MULTI_G_ANY_X);
-        off = _BV(MULTI_G_OWNOFF_X);
-    } else if (&s == &multi_axis_y) {
-        any = _BV(MULTI_G_ANY_Y);
-        off = _BV(MULTI_G_OWNOFF_Y);
-    } else {
-        any = _BV(MULTI_G_ANY_Z);
-        off = _BV(MULTI_G_OWNOFF_Z);
-    }
+    uint8_t any = s.g_any, off = s.g_off, bits;
     bits = (uint8_t)((s.mode ? any : 0) | (((s.mode & _BV(AXIS_MODE_OWN_OFF)) || !s.running) ? off : 0));
     GPIOR0 = (uint8_t)((GPIOR0 & (uint8_t)~(any | off)) | bits);
 }

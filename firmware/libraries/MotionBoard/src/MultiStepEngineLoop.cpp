@@ -36,7 +36,6 @@ namespace mse {
 void hw_begin(uint32_t)
 {
     s_tick_hz = 1000000UL; /* micros() */
-    multi_axis_x.running = 0;
 }
 
 void hw_stop(uint8_t)
@@ -74,7 +73,7 @@ void catch_missed_match(uint8_t)
 bool may_plan(uint8_t axis)
 {
     MultiStepEngine::poll();
-    return axis != 0 || !multi_axis_x.running || s_feed[0].ready < 2U ||
+    return axis != 0 || !state(0).running || s_feed[0].ready < 2U ||
            (int32_t)(s_deadline_us - micros()) >= 400;
 }
 } // namespace mse
@@ -83,9 +82,11 @@ using namespace mse;
 
 void MultiStepEngine::poll()
 {
-    AxisState &s = multi_axis_x;
     AxisSlot *next;
     bool turn = false;
+    if (!s_state[0])
+        return; /* X not begun */
+    AxisState &s = state(0);
     if (!s.running || (int32_t)(micros() - s_deadline_us) < 0)
         return;
     MULTI_X_STEP_PORT |= _BV(MULTI_X_STEP_BIT); /* sbi: I/O space */

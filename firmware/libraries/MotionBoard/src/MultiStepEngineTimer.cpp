@@ -246,9 +246,9 @@ using namespace mse;
 
 /* The C path of each axis, called by its step interrupt (MultiStepEngineIsr.S) with interrupts on;
  * returns with them off. */
-extern "C" void multi_cold_x(void) __attribute__((used));
-extern "C" void multi_cold_y(void) __attribute__((used));
-extern "C" void multi_cold_z(void) __attribute__((used));
+extern "C" void multi_cold_x(void);
+extern "C" void multi_cold_y(void);
+extern "C" void multi_cold_z(void);
 void multi_cold_x(void)
 {
     cold_path(0);

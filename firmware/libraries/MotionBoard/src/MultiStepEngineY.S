@@ -1,0 +1,9 @@
+/* MultiStepEngineY.S - Y's step interrupt (Timer1 compare B) and its state: linked only when the
+ * sketch begins Y (MultiStepEngine::begin's axes, through multi_use_y; MultiStepEngineIsr.inc).
+ * No interrupt in timed-loop mode (only X steps there). */
+#include "MultiStepEngineIsr.inc"
+
+AXIS_STATE multi_axis_y
+#if !MULTI_TIMED_LOOP
+AXIS_ISR multi_step_isr_y, TIMER1_COMPB_vect, multi_axis_y, 1, _SFR_IO_ADDR(MULTI_Y_STEP_PORT), MULTI_Y_STEP_BIT, _SFR_IO_ADDR(MULTI_Y_DIR_PORT), MULTI_Y_DIR_BIT, _SFR_MEM_ADDR(OCR1BL), _SFR_MEM_ADDR(OCR1BH), OCF1B, multi_cold_y, MULTI_TRACE_Y_BIT, MULTI_G_OWNOFF_Y, MULTI_G_ANY_Y, 0
+#endif
