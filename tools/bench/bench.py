@@ -51,11 +51,11 @@ import sketches  # noqa: E402
 
 F_CPU = 16_000_000
 MOVE = 20000
-# What TRACE cannot see of each step interrupt (MultiStepEngineIsr.S): before it rises, the vector's and the
-# naked ISR's jumps (3 + 3), push/in/push (5), the waiting test (5) and STEP's sbi (2); after it falls,
-# six pops, out and pop (15) and reti (5); and the chip's own 5 cycles of interrupt entry, which
-# simavr does not charge: 43 cycles in all, added to every traced interval.
-ENTRY_CYCLES = 43
+# What TRACE cannot see of each step interrupt of the one-axis sketches (X's, MultiStepEngineIsr.inc):
+# before it rises, the chip's interrupt entry (5, not charged by simavr), the vector's jump (3) and
+# STEP's test and write (3); after it falls, the pops, SREG back and reti (15): 26 cycles, added to
+# every traced interval (Z's 34 of MULTI_ENTRY_CYCLES below, less its 8 cycles of PORTL)
+ENTRY_CYCLES = 26
 OTHER_ISR_CYCLES = 260     # the bound checks_sketches uses for edges that meet another interrupt
 LADDER = {"exact": [20000, 50000, 60000, 70000, 80000, 90000, 100000],
           "leib": [5000, 8000, 10000, 12000, 14000],

@@ -75,6 +75,13 @@ public:
         ramps_[2] = &z;
     }
 
+    /* Serial at 9600 baud, the engine (X, Y, Z at 16 MHz), the planners; prints "READY <name>". */
+    void begin(const __FlashStringHelper *sketch_name)
+    {
+        MultiStepEngine::begin(MULTI_TICK_HZ, MULTI_AXES_ALL);
+        begin_console(sketch_name);
+    }
+
 private:
     StepperRamp *ramps_[MULTI_AXES];
     step_planner_t planners_[MULTI_AXES];

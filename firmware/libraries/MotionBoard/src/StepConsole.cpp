@@ -43,13 +43,12 @@ StepConsole::StepConsole(uint8_t axes, StepperRamp **ramps, step_planner_t *plan
     }
 }
 
-void StepConsole::begin(const __FlashStringHelper *sketch_name)
+void StepConsole::begin_console(const __FlashStringHelper *sketch_name)
 {
     s_fed = this;
     stepper_print_hook = keep_fed;
     Serial.begin(9600);
     serial_.set_rx_interrupt(false); /* poll() drains the input on every pass (SerialRx.h) */
-    MultiStepEngine::begin(ramp_[0]->tick_hz());
     MultiStepEngine::set_lead_ms(ramp_[0]->lead_ms());
     MultiStepEngine::set_led_mirror(n_ == 1 && STEPPER_LED_MIRROR);
     for (uint8_t i = 0; i < n_; i++) {

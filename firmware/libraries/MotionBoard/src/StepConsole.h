@@ -51,9 +51,6 @@ protected:
 
 class StepConsole {
 public:
-    /* Serial at 9600 baud, the engine's pins and timer, the planners; prints "READY <name>". */
-    void begin(const __FlashStringHelper *sketch_name);
-
     /* Call on every pass of loop(): feeds the step queues, reports DONEs, handles command lines. */
     void poll();
 
@@ -65,6 +62,10 @@ public:
 
 protected:
     StepConsole(uint8_t axes, StepperRamp **ramps, step_planner_t *planners, StepConsoleCoord *coord);
+    /* begin() of the two consoles, after MultiStepEngine::begin() with their axes (a constant there,
+     * so a one-axis sketch links one axis's interrupt and ring): Serial at 9600 baud, the lead, the
+     * planners; prints "READY <name>". */
+    void begin_console(const __FlashStringHelper *sketch_name);
 
 private:
     friend class MultiAxisCoord;

@@ -38,6 +38,14 @@ class StepperConsole : public StepConsole {
 public:
     explicit StepperConsole(StepperRamp &ramp) : StepConsole(1, ramps_, &planner_, 0) { ramps_[0] = &ramp; }
 
+    /* Serial at 9600 baud, the engine (X alone, at the ramp's tick rate), the planner; prints
+     * "READY <name>". */
+    void begin(const __FlashStringHelper *sketch_name)
+    {
+        MultiStepEngine::begin(ramps_[0]->tick_hz(), MULTI_AXIS_X);
+        begin_console(sketch_name);
+    }
+
 private:
     StepperRamp *ramps_[1];
     step_planner_t planner_;
