@@ -221,6 +221,7 @@ uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t ma
     AxisFeed &f = s_feed[axis];
     step_cmd_t c;
     uint8_t laid = 0;
+    poll(); /* timed-loop mode: the steps due (loop()'s calls into the engine are its chances) */
     catch_missed_match(axis);
     retire_consumed(s, f);
     while (laid < max_cmds && (f.ready < 2U || f.queued_ticks < s_lead_ticks)) {
@@ -255,6 +256,7 @@ uint32_t MultiStepEngine::queued_ticks(uint8_t axis)
 {
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
+    poll();
     retire_consumed(s, f);
     if (!(f.ready < 2U || f.queued_ticks < s_lead_ticks) || f.ready >= f.nslots - 1U ||
         s.slot[f.head].ready || (s.running && f.head == cur_index(s)))
@@ -462,6 +464,7 @@ uint16_t MultiStepEngine::late_edges(uint8_t axis)
 bool MultiStepEngine::take_done(uint8_t axis, int32_t &position)
 {
     bool done;
+    poll();
     if (!state(axis).done)
         return false; /* one byte, read with interrupts on: loop() asks on every pass */
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
@@ -570,7 +573,7 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     AxisSlot *cp;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        cp = s.cur; /* its index (a division by the slot's size) with interrupts on */
+        cp = s.cur; /* its index (slot_index) with interrupts on */
         left = s.left;
         rate = s.rate + (uint32_t)s.add; /* the next interval */
         wide = (s.flags & _BV(AXIS_SLOT_WIDE)) != 0;
@@ -578,7 +581,7 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     }
     if (!running)
         return UINT32_MAX;
-    curi = (uint8_t)(cp - s.slot);
+    curi = slot_index(s, cp);
     /* the current command's steps not armed yet, then the slots between */
     per = wide ? rate : (rate >> 16);
     ahead = per > 0xFFFFUL ? 0xFFFFFFUL : (uint32_t)left * per;
