@@ -28,10 +28,11 @@
  *                           MultiStepEngine::service() (the one console of the 1- and 3-axis sketches)
  *   3. step_planner.c       a move into step commands: step_planner_next() asks ramp_next_ticks()
  *                           for each interval, which is your preComputation()/computeNewSpeed()
- *   4. MultiStepEngine.cpp  service(): the queue of axis 0 (X); the start and the reversals call
- *                           moveOneStep(); the interrupt's rare path (slow steps, the end)
- *   5. MultiStepEngineIsr.S the step interrupt itself (Timer1 compare A): STEP high, the next edge,
- *                           STEP low
+ *   4. MultiStepEngineInternal.h  the engine's C side shared by its files: set_dir() calls your
+ *                           moveOneStep() at a move's start (MultiStepEngine.cpp's service(), the
+ *                           queue of axis 0, X) and at a reversal (the interrupt's rare path)
+ *   5. MultiStepEngineIsr.inc  the step interrupt itself (Timer1 compare A, made for X by
+ *                           MultiStepEngineX.S): STEP high, the next edge, STEP low
  * Their headers only declare these; pins, timer and the compile-time options (STEPPER_TIMED_LOOP,
  * STEPPER_LED_MIRROR, STEPPER_TRACE, given to every file through FIRMWARE_DEFINES) are in
  * MotionBoard's StepperPins.h: STEP D54, DIR D55, ENABLE D38 (the RAMPS 1.4 X axis).
@@ -67,7 +68,7 @@ float computeNewSpeed(ramp_leib_t *ramp, ramp_phase_t phase)
 // ---- moveOneStep() (step 11): the direction pin, for the steps that follow ----
 // The engine calls this with direction = FWDS or BWDS before the first step of every move and at
 // every reversal (then inside the step interrupt, after the last step the old way); the STEP pulses
-// themselves come from the step interrupt (MultiStepEngineIsr.S), up to thousands a second.
+// themselves come from the step interrupt (MultiStepEngineIsr.inc), up to thousands a second.
 const uint8_t dirPin = 55;  // RAMPS 1.4 X axis DIR (A1); the driver runs forwards when it is high
 const bool FWDS = true;     // forwards: the position counts up
 const bool BWDS = false;    // backwards

@@ -29,7 +29,7 @@ static TrapezoidRamp zRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS
 static MultiAxisConsole console(xRamp, yRamp, zRamp);
 
 /* Timer1's compare interrupts (A: X, B: Y, C: Z) make the steps the planners queued: their vectors
- * are MotionBoard's MultiStepEngineIsr.S itself (MultiStepEngine.h), so this sketch defines no ISR()
+ * are MotionBoard's MultiStepEngineIsr.inc itself (MultiStepEngine.h), so this sketch defines no ISR()
  * for Timer1. */
 
 void setup()

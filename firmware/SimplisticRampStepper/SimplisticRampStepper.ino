@@ -21,7 +21,7 @@
  * the step commands the planner made of their intervals. The arithmetic is lib's
  * ramp_simplistic.c, the code `motionsim ramp --algo simplistic` runs; `motionsim ramp --compare`
  * shows how far it is from ideal. From setup()/loop() to the STEP pin: this file,
- * StepConsole.cpp, step_planner.c, MultiStepEngine.cpp, MultiStepEngineIsr.S (what each does: the list in
+ * StepConsole.cpp, step_planner.c, MultiStepEngineInternal.h, MultiStepEngineIsr.inc (what each does: the list in
  * LeibRampStepper.ino). Pins, timer and compile-time options: StepperPins.h.
  */
 #include <StepperConsole.h>

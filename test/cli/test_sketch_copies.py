@@ -119,9 +119,8 @@ def test_a_lab_stepper_sketch_is_followed_to_the_step_pin_in_five_files():
     body = {f: open(where[f]).read() for f in listed}
     assert "MultiStepEngine::service" in body["StepConsole.cpp"] and "step_planner_move" in body["StepConsole.cpp"]
     assert "ramp_next_ticks" in body["step_planner.c"]
-    assert "s_dir_hook[axis](forward)" in body["MultiStepEngine.cpp"]
-    assert "sbi \\step_port, \\step_bit" in body["MultiStepEngineIsr.S"]
-    assert "TIMER1_COMPA_vect" in body["MultiStepEngineIsr.S"]
+    assert "s_dir_hook[axis](forward)" in body["MultiStepEngineInternal.h"]
+    assert "sbi \\step_port, \\step_bit" in body["MultiStepEngineIsr.inc"]
     assert "MultiStepEngine::set_direction_hook(0, moveOneStep)" in text
 
 

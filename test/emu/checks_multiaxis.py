@@ -9,7 +9,7 @@ The expectations come from outside the firmware:
     the axes' limits scaled by D_max/D_i), computed here in Python;
   - the documented protocol (MultiAxisConsole.h): replies, one DONE per move, ERR for bad input
     with nothing moving.
-Edges: the three axes' step interrupts nest (MultiStepEngineIsr.S), so an edge never waits for
+Edges: the three axes' step interrupts nest (MultiStepEngineIsr.inc), so an edge never waits for
 another axis's step; it waits for the core's millis and serial interrupts, which do not nest, and
 for the few dozen cycles another axis's interrupt runs with interrupts off. An edge is "exact"
 within 1 tick of its plan; the others must be late (never early) by at most OTHER_ISR_CYCLES, the

@@ -197,7 +197,7 @@ def planner_costs(elf):
 
 
 # ---- MultiAxisStepper ---------------------------------------------------------------------------
-# What MULTI_TRACE cannot see of a stretch of step interrupts (MultiStepEngineIsr.S; they nest, each axis
+# What MULTI_TRACE cannot see of a stretch of step interrupts (MultiStepEngineIsr.inc; they nest, each axis
 # has its TRACE pin, and a stretch runs from the first rise of any of them to the last fall), added to
 # every stretch. Before its TRACE rises: the chip's interrupt entry (5, not charged by simavr), the
 # vector's jump (3), then X, Y: the STEP test and write (3); Z, whose PORTL is read-modify-written after

@@ -81,7 +81,7 @@
 #define MULTI_TICK_HZ 16000000UL
 
 /* GPIOR0 (the one bit-addressable general-purpose I/O register: sbi, cbi, sbis, sbic touch no
- * register and no flag) belongs to the step interrupts (MultiStepEngineIsr.S), which read it before
+ * register and no flag) belongs to the step interrupts (MultiStepEngineIsr.inc), which read it before
  * saving a register: ANY is a copy of "the axis's mode byte is not zero" (not the common path);
  * OWNOFF is set when a match of the axis must not raise its STEP: its mode's AXIS_MODE_OWN_OFF (and,
  * harmlessly, while it is not running); LED_X mirrors X's steps on D13. No other code of the sketch may use GPIOR0. */

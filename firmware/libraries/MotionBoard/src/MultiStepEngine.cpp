@@ -1,7 +1,7 @@
 /* MultiStepEngine.cpp - the step interrupts' rarer path (slow steps and a slow command's start,
  * wraps to count, the end, an underrun), each axis's queue on the loop() side, and the timer
  * set-up; see MultiStepEngine.h. The common path, new fast commands and late edges included, is
- * MultiStepEngineIsr.S. */
+ * MultiStepEngineIsr.inc. */
 #include "MultiStepEngineInternal.h"
 
 #include <stddef.h>
@@ -20,7 +20,7 @@ static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, rate) == 4 &&
                   offsetof(AxisState, mask_l) == 22 &&
                   offsetof(AxisSlot, rate) == 0 && offsetof(AxisSlot, add) == 4 && offsetof(AxisSlot, left) == 8 &&
                   offsetof(AxisSlot, flags) == 10 && offsetof(AxisSlot, ready) == 11 && offsetof(AxisSlot, other) == 12,
-              "MultiStepEngineIsr.S reads these offsets");
+              "MultiStepEngineIsr.inc reads these offsets");
 
 namespace mse {
 AxisFeed s_feed[MULTI_AXES];

@@ -7,7 +7,7 @@
  * STEP, adds the command's add to the rate and the rate to the axis's timeline (step_exec_next's
  * arithmetic), lowers STEP (>= 2 us later) and arms its OCR1x for the next edge; at a new command
  * that turns, it writes DIR (while STEP is high, >= 1.5 us after its rising edge, which belongs to
- * the old direction). That path is MultiStepEngineIsr.S, one copy per axis and itself the vector
+ * the old direction). That path is MultiStepEngineIsr.inc, one copy per axis and itself the vector
  * of TIMER1_COMPA/B/C (a sketch using this engine defines no ISR for them); slow steps (an
  * interval of 32768 ticks or more, WIDE ones counted out in wraps of the 16-bit timer), a slow
  * command's start, the end of a move and an underrun take the rarer path in C (MultiStepEngine.cpp);
@@ -62,7 +62,7 @@
 #endif
 
 /* A command as loop() lays it out for an interrupt (the first fields at the offsets
- * MultiStepEngineIsr.S reads, checked in MultiStepEngine.cpp); the interrupt copies rate, add,
+ * MultiStepEngineIsr.inc reads, checked in MultiStepEngine.cpp); the interrupt copies rate, add,
  * left and flags into its AxisState when it takes the slot. */
 #define AXIS_SLOT_HAS_ADD 0 /* flags bits */
 #define AXIS_SLOT_SLOW 1    /* WIDE, or an interval of 32768 ticks or more: the C path steps it */

@@ -1,7 +1,7 @@
 /* MultiStepEngineLoop.cpp - timed-loop mode (MULTI_TIMED_LOOP, from STEPPER_TIMED_LOOP = 1: the lab's
  * original structure): no step interrupt; loop() calls MultiStepEngine::poll(), which makes X's steps
  * that are due by micros(), F = 1 MHz. The queues, the planner's side and every public call are
- * MultiStepEngine.cpp's, as with the interrupts (MultiStepEngineTimer.cpp, MultiStepEngineIsr.S):
+ * MultiStepEngine.cpp's, as with the interrupts (MultiStepEngineTimer.cpp, MultiStepEngineIsr.inc):
  * only the executor differs. Each edge's deadline lies on an absolute timeline (the deadline of the
  * last one plus the interval the executor's arithmetic gives: no drift), so a step is late by 0 to
  * 4 us (micros() counts in 4 us) plus the longest pass of loop(): a mode for comparison, not for

@@ -1,7 +1,7 @@
 /* MultiStepEngineTimer.cpp - the step interrupts' rarer path in C (slow steps and a slow command's
  * start, wraps to count, the end, an underrun) and the Timer1 side of starting, stopping and
  * watching an axis; see MultiStepEngine.h. The common path, new fast commands and late edges
- * included, is MultiStepEngineIsr.S. Not in timed-loop mode (MULTI_TIMED_LOOP: MultiStepEngineLoop.cpp). */
+ * included, is MultiStepEngineIsr.inc. Not in timed-loop mode (MULTI_TIMED_LOOP: MultiStepEngineLoop.cpp). */
 #include "MultiStepEngineInternal.h"
 
 #if !MULTI_TIMED_LOOP
@@ -244,7 +244,7 @@ bool may_plan(uint8_t)
 
 using namespace mse;
 
-/* The C path of each axis, called by its step interrupt (MultiStepEngineIsr.S) with interrupts on;
+/* The C path of each axis, called by its step interrupt (MultiStepEngineIsr.inc) with interrupts on;
  * returns with them off. */
 extern "C" void multi_cold_x(void);
 extern "C" void multi_cold_y(void);

@@ -45,8 +45,11 @@ void BackgroundPlanner::kick()
         return;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        /* the match two counts (8 us) from now, unless it comes sooner anyway */
-        if (!s_in_tick && !s_locks && TCNT3 < OCR3A - 2U)
+        /* the match two counts (8 us) from now, unless it comes sooner anyway; under a PlannerLock
+         * the tick runs at the unlock */
+        if (s_locks)
+            s_deferred = 1;
+        else if (!s_in_tick && TCNT3 < OCR3A - 2U)
             TCNT3 = OCR3A - 2U;
     }
 }

@@ -61,8 +61,8 @@ public:
     static Stepper *stepper(uint8_t axis) { return axis < 3 ? axes_[axis] : 0; }
 
     /* Brings the next tick forward to within about 10 us (a stop or a new target left by loop()):
-     * it then acts without waiting up to a millisecond for the tick. Call it with no PlannerLock
-     * held (the tick would run in the caller, at the unlock). */
+     * it then acts without waiting up to a millisecond for the tick. Under a PlannerLock the tick
+     * runs at the unlock, in the caller. */
     static void kick();
 
     /* One tick's work (the interrupt calls it; public for the vector only). */

@@ -57,9 +57,15 @@ void loop()
     long at;
     bool s = closed(STOP_PIN), h = closed(HALT_PIN);
     if (s && !stop_was && x.isRunning()) {
-        unsigned long t0 = micros();
-        x.stop(); /* returns at once: the planner interrupt plans the deceleration */
-        unsigned long took = micros() - t0;
+        unsigned long t0, took;
+        {
+            /* the call's own time: the planner interrupt, which plans the deceleration right after
+             * it (a millisecond or two, preempting loop()), is held off until the lock goes */
+            PlannerLock measuring;
+            t0 = micros();
+            x.stop(); /* returns at once: the planner interrupt plans the deceleration */
+            took = micros() - t0;
+        }
         Serial.print(F("STOP switch at "));
         Serial.print(x.currentPosition());
         Serial.print(F(" (stop() returned in "));
@@ -67,9 +73,13 @@ void loop()
         Serial.println(F(" us)"));
     }
     if (h && !halt_was && x.isRunning()) {
-        unsigned long t0 = micros();
-        x.forceStop();
-        unsigned long took = micros() - t0;
+        unsigned long t0, took;
+        {
+            PlannerLock measuring; /* as for stop() */
+            t0 = micros();
+            x.forceStop();
+            took = micros() - t0;
+        }
         Serial.print(F("HALT switch at "));
         Serial.print(x.currentPosition());
         Serial.print(F(" (forceStop() returned in "));
