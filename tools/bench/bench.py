@@ -11,8 +11,8 @@ run it measures, from the emulated pins (cycle-exact):
              --queue for exact, --integer-ticks for the others), aligned at step 1, in ticks:
              the worst error, and how many edges are more than 8 CPU cycles (0.5 us) off
   vs exact   the same against the closed form of constant acceleration, in ticks (exact only)
-  ISR        cycles the step interrupt holds the CPU per step (TRACE high, plus the 43 cycles of
-             entry, jumps, register saving and return that TRACE cannot see): min / mean / max
+  ISR        cycles the step interrupt holds the CPU per step (TRACE high, plus the 26 cycles of
+             entry, jump, STEP, register saving and return that TRACE cannot see): min / mean / max
   CPU left   the share of the move's time the interrupt leaves to loop() (planner, serial)
 A run is clean when all steps come, with no underrun, and every edge is within 8 cycles of its
 plan except those that met another interrupt (at most 3 %, each within STEPPER_OTHER_ISR_CYCLES);
@@ -613,8 +613,8 @@ def main(argv):
              f"of {MOVE:,} steps from rest with acceleration vmax^2/10,000 steps/s^2, a `?` sent during the move, "
              "each sketch built with its speed limit lifted. Errors are in timer ticks (16 MHz for exact, 2 MHz for "
              "the others), aligned at the median edge; 'beyond 8 cycles' counts edges more than 0.5 us off their "
-             "plan (those that met another interrupt), with the worst in CPU cycles. ISR cycles include the 43 the "
-             "TRACE pin cannot see (entry, jumps, register saving, return).", "",
+             "plan (those that met another interrupt), with the worst in CPU cycles. ISR cycles include the "
+             f"{ENTRY_CYCLES} the TRACE pin cannot see (entry, jump, STEP, register saving, return).", "",
              "| sketch | algorithm | steps/s | steps | worst vs plan (ticks) | beyond 8 cycles | worst vs exact (ticks) "
              "| underruns | late | ISR cycles min / mean / max | CPU left | verdict |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
