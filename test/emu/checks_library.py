@@ -608,6 +608,58 @@ def check_api_tour(env):
                        f"setCurrentPosition + move: {len(e)} steps", problems)
 
 
+# ---- LabRamp ----------------------------------------------------------------------------------
+
+LAB_RAMP_LEGS = (("leib", 0, 2000, 100), ("simplistic", 2000, 0, 1000))  # algo, from, to, v0 (LabRamp.ino)
+LAB_RAMP_REPLIES = ["setRamp(LEIB): number out of range", "setMaxSpeed(4000): OK", "setMinSpeed(100): OK",
+                    "setAcceleration(8000): OK", "setRamp(LEIB): OK", "setMaxSpeed(20000): number out of range",
+                    "setRamp(SIGMOID): not supported by this ramp algorithm (the exact ramp only)", "begin(): OK",
+                    "READY LabRamp", "moveTo(2000): OK", "setRamp(SIMPLISTIC) while moving: busy: a move is in progress",
+                    "DONE 2000 underruns=0", "setRamp(SIMPLISTIC): OK", "setMinSpeed(1000): OK", "moveTo(0): OK",
+                    "DONE 0 underruns=0", "FINISHED"]
+
+
+def check_lab_ramp(env):
+    """setRamp: out on the Leib ramp, back on the simplistic one, each edge where motionsim ramp
+    --integer-ticks puts it (16 MHz: a tick is a cycle), aligned at the leg's first edge: never early,
+    at most the pin bound late; the refusals as documented (docs/library.md)"""
+    import subprocess
+    log = run(env, "LabRamp", "wait ^READY LabRamp$\ntimeout 20000\nwait ^FINISHED$\n")
+    problems = []
+    common(log, problems)
+    got = [l.text for l in log.rx]
+    if got != LAB_RAMP_REPLIES:
+        problems.append(f"replies {got}, expected {LAB_RAMP_REPLIES}")
+    e = log.rising("XSTEP")
+    worst = 0
+    at = 0
+    for algo, frm, to, v0 in LAB_RAMP_LEGS:
+        args = [env.motionsim, "ramp", "--algo", algo, "--from", str(frm), "--to", str(to), "--v0", str(v0),
+                "--vmax", "4000", "--accel", "8000", "--tick-hz", "16000000", "--integer-ticks"]
+        r = subprocess.run(args, capture_output=True, text=True, timeout=120)
+        iv = [int(float(row.split(",")[3])) for row in r.stdout.splitlines()[1:] if row]
+        leg = e[at:at + len(iv)]
+        at += len(iv)
+        if r.returncode != 0 or len(leg) != len(iv) or not iv:
+            problems.append(f"{algo} {frm} -> {to}: {len(leg)} edges, motionsim plans {len(iv)} ({r.stderr.strip()[:120]})")
+            continue
+        fwd = to > frm
+        if any(log.level_before("XDIR", c) != (1 if fwd else 0) for c in leg):
+            problems.append(f"{algo} {frm} -> {to}: DIR not {'high' if fwd else 'low'} at every step")
+        t = 0
+        for k in range(1, len(iv)):
+            t += iv[k]
+            off = leg[k] - leg[0] - t
+            worst = max(worst, off)
+            if (off < -8 or off > LATE_BOUND) and len(problems) < 6:
+                problems.append(f"{algo} {frm} -> {to}: step {k + 1} {off:+d} cycles off motionsim's interval sum")
+    if len(e) != at:
+        problems.append(f"{len(e)} X steps, expected {at}")
+    return CheckResult(not problems, f"{len(e)} steps: out on leib, back on simplistic, every edge within "
+                       f"{worst} cycles of motionsim's whole-tick intervals; {len(LAB_RAMP_REPLIES)} replies as documented",
+                       problems)
+
+
 CHECKS_BY_EXAMPLE = (
     ("MoveAndBack", "X to 10000 and back at 20,000 steps/s: positions, DIR, ENABLE, no underrun, the "
                     "constant-acceleration law", check_move_and_back),
@@ -620,6 +672,8 @@ CHECKS_BY_EXAMPLE = (
     ("BlockingLoop", "delay(1000) in loop(): 20,000 steps at 20,000 steps/s, 0 underruns", check_blocking_loop),
     ("ApiTour", "every call's status as documented, inversion, auto-disable, the direction hook, "
                 "setCurrentPosition, move", check_api_tour),
+    ("LabRamp", "setRamp: the Leib and simplistic ramps on a Stepper, every edge on motionsim's intervals, "
+                "the refusals", check_lab_ramp),
 )
 
 

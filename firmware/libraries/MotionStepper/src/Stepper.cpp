@@ -28,7 +28,7 @@ Stepper::Stepper(Axis axis)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
       last_status_(MS_OK), cuts_missed_(0), stop_up_(0), stop_from_(0), stop_pos_(0), stop_target_(0), stop_n_(0),
-      stop_active_(0), hook_(0), group_(0)
+      stop_active_(0), hook_(0), algo_(RAMP_ALGO_EXACT), ramp_hooks_(0), group_(0)
 {
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
@@ -49,13 +49,9 @@ motion_status_t Stepper::begin()
         return MS_OK;
     if (axis_ > Z)
         return MS_ERR_OUT_OF_RANGE;
-    st = step_planner_init_trapezoid(&planner_, RAMP_ALGO_EXACT, &params_, 0);
+    st = init_planner(0);
     if (st != MS_OK)
         return st;
-    /* commands of at most MOTION_STEPPER_CMD_MS (lib's default is 4 ms): the queue then holds its
-     * lead in short pieces, and a stop waits for less (used from the next plan on) */
-    planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL * MOTION_STEPPER_CMD_MS;
-    planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
     BackgroundPlanner::begin();
     if (!BackgroundPlanner::claim(axis_, this))
         return MS_ERR_BUSY;
@@ -70,11 +66,73 @@ motion_status_t Stepper::begin()
     return MS_OK;
 }
 
+/* The planner for the ramp and parameters in force, at rest at pos. Commands of at most
+ * MOTION_STEPPER_CMD_MS (lib's default is 4 ms): the queue then holds its lead in short pieces, and
+ * a stop waits for less. */
+motion_status_t Stepper::init_planner(int32_t pos)
+{
+    motion_status_t st = step_planner_init_hooked(&planner_, algo_, &params_, ramp_hooks_, pos);
+    if (st != MS_OK)
+        return st;
+    planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL * MOTION_STEPPER_CMD_MS;
+    planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
+    stop_n_ = 0; /* no stop planned ahead for this planner yet */
+    return MS_OK;
+}
+
+/* Whether a ramp plans with these parameters: the exact planner checks the set as a whole (vmax >
+ * v0, accel >= 8, ...); a lab ramp's one-step move has the longest first interval of all its moves,
+ * so if it plans, every move does (as the sketches' `set` checks). */
+motion_status_t Stepper::probe(ramp_algo_t algo, const ramp_hooks_t *hooks, const ramp_params_t &p) const
+{
+    if (algo == RAMP_ALGO_EXACT) {
+        step_planner_t pl;
+        return step_planner_init_trapezoid(&pl, algo, &p, 0);
+    }
+    ramp_t r;
+    return ramp_plan_hooked(&r, algo, &p, hooks, 0, 1);
+}
+
+float Stepper::vmax_limit() const
+{
+    if (algo_ == RAMP_ALGO_LEIB)
+        return (float)STEPPER_MAX_SPS_LEIB;
+    if (algo_ == RAMP_ALGO_SIMPLISTIC)
+        return (float)STEPPER_MAX_SPS_SIMPLISTIC;
+    return (float)MULTI_MAX_SPS;
+}
+
+motion_status_t Stepper::setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks)
+{
+    motion_status_t st;
+    if (algo == RAMP_ALGO_SIGMOID)
+        return MS_ERR_NOT_SUPPORTED;
+    if (algo != RAMP_ALGO_EXACT && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_SIMPLISTIC)
+        return MS_ERR_OUT_OF_RANGE;
+    if (isRunning())
+        return MS_ERR_BUSY;
+    {
+        ramp_algo_t was = algo_;
+        algo_ = algo; /* for vmax_limit() */
+        st = params_.vmax_sps > vmax_limit() ? MS_ERR_OUT_OF_RANGE : probe(algo, hooks, params_);
+        algo_ = was;
+    }
+    if (st != MS_OK)
+        return st;
+    PlannerLock lock;
+    if (isRunning())
+        return MS_ERR_BUSY; /* a move was asked meanwhile (from an interrupt?) */
+    algo_ = algo;
+    ramp_hooks_ = hooks;
+    if (begun_)
+        (void)init_planner(MultiStepEngine::position(axis_)); /* probed: plans */
+    return MS_OK;
+}
+
 /* ---- parameters ---- */
 motion_status_t Stepper::set_param(float value, float limit, uint8_t which)
 {
     ramp_params_t p = params_;
-    step_planner_t probe;
     motion_status_t st;
     if (isnan(value) || isinf(value))
         return MS_ERR_NOT_FINITE;
@@ -86,8 +144,7 @@ motion_status_t Stepper::set_param(float value, float limit, uint8_t which)
         p.accel_sps2 = value;
     else
         p.v0_sps = value;
-    /* the exact planner checks the set as a whole (vmax > v0, accel >= 8, ...) */
-    st = step_planner_init_trapezoid(&probe, RAMP_ALGO_EXACT, &p, 0);
+    st = probe(algo_, ramp_hooks_, p);
     if (st != MS_OK)
         return st;
     PlannerLock lock;
@@ -99,7 +156,7 @@ motion_status_t Stepper::set_param(float value, float limit, uint8_t which)
 
 motion_status_t Stepper::setMaxSpeed(float steps_per_s)
 {
-    return set_param(steps_per_s, (float)MULTI_MAX_SPS, P_VMAX);
+    return set_param(steps_per_s, vmax_limit(), P_VMAX);
 }
 
 motion_status_t Stepper::setAcceleration(float steps_per_s2)
@@ -109,7 +166,7 @@ motion_status_t Stepper::setAcceleration(float steps_per_s2)
 
 motion_status_t Stepper::setMinSpeed(float steps_per_s)
 {
-    float hi = (float)STEPPER_MAX_V0_EXACT < (float)MULTI_MAX_SPS ? (float)STEPPER_MAX_V0_EXACT : (float)MULTI_MAX_SPS;
+    float hi = (float)STEPPER_MAX_V0_EXACT < vmax_limit() ? (float)STEPPER_MAX_V0_EXACT : vmax_limit();
     return set_param(steps_per_s, hi, P_V0);
 }
 
@@ -313,7 +370,8 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     MultiStepEngine::Cut cut;
     uint32_t nb;
     int32_t dp;
-    if (stop_n_ == 0 || planner_.params_new || e.y != 0 || e.n <= e.n1 || stop_up_ != e.up || stop_exact_.dir != e.dir ||
+    if (stop_n_ == 0 || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
+        stop_up_ != e.up || stop_exact_.dir != e.dir ||
         stop_exact_.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_exact_.k, &e.k, sizeof e.k) != 0)
         return false;
     trace_cut(true);

@@ -8,7 +8,8 @@
  * Units: positions in steps (long), speeds in steps/s, acceleration in steps/s^2. Every call that
  * can refuse returns a motion_status_t (lib's motion_status.h): MS_OK, or the reason, and then it has
  * changed nothing; statusText() gives the same sentence as the sketches' serial "ERR" lines.
- * Limits (those of the MultiAxisStepper sketch): setMaxSpeed up to MULTI_MAX_SPS (MultiAxisPins.h),
+ * Limits (those of the MultiAxisStepper sketch): setMaxSpeed up to MULTI_MAX_SPS (MultiAxisPins.h; the
+ * lab's ramps of setRamp: STEPPER_MAX_SPS_LEIB / _SIMPLISTIC),
  * setAcceleration up to STEPPER_MAX_ACCEL_EXACT, setMinSpeed up to STEPPER_MAX_V0_EXACT
  * (StepperRamps.h); above them MS_ERR_OUT_OF_RANGE, never a silent clamp; parameter sets the exact
  * planner refuses (vmax not above v0, accel below 8 steps/s^2, ...) get its own status. New
@@ -96,6 +97,20 @@ public:
     motion_status_t setMaxSpeed(float steps_per_s);          /* vmax > v0, <= MULTI_MAX_SPS */
     motion_status_t setAcceleration(float steps_per_s2);     /* > 0 (>= 8), <= STEPPER_MAX_ACCEL_EXACT */
     motion_status_t setMinSpeed(float steps_per_s);          /* v0: 0 <= v0 < vmax, <= STEPPER_MAX_V0_EXACT */
+    /* The ramp this stepper's moves follow; idle only (MS_ERR_BUSY while moving), before or after
+     * begin(), nothing changes on a refusal:
+     *   RAMP_ALGO_EXACT       (default) every step on true constant acceleration, within one tick;
+     *                         the only one whose stop() and new targets cut the queue
+     *   RAMP_ALGO_LEIB        the lab's Leib recurrence (lib's ramp_leib.c, the LeibRampStepper sketch)
+     *   RAMP_ALGO_SIMPLISTIC  the lab's starting point (its interval changes by a fixed amount)
+     * hooks: the lab's own preComputation()/computeNewSpeed() for the lab's ramps (ramp.h's
+     * ramp_hooks_t, as LeibRampStepper passes them), NULL for lib's. The lab's ramps plan every step
+     * (float arithmetic), so their vmax is limited to STEPPER_MAX_SPS_LEIB / _SIMPLISTIC
+     * (StepperPins.h; setMaxSpeed and setRamp refuse more: MS_ERR_OUT_OF_RANGE); the parameters in
+     * force must suit the new ramp (its own status otherwise). RAMP_ALGO_SIGMOID: MS_ERR_NOT_SUPPORTED
+     * (its table lives in the SCurveStepper sketch). A StepperGroup's moves are always exact. */
+    motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0);
+    ramp_algo_t ramp() const { return algo_; }
     float maxSpeed() const { return params_.vmax_sps; }
     float acceleration() const { return params_.accel_sps2; }
     float minSpeed() const { return params_.v0_sps; }
@@ -168,6 +183,9 @@ private:
     int32_t to_engine(long user) const { return inverted_ ? -(int32_t)user : (int32_t)user; }
     long to_user(int32_t engine) const { return inverted_ ? -(long)engine : (long)engine; }
     motion_status_t set_param(float value, float limit, uint8_t which);
+    float vmax_limit() const;
+    motion_status_t probe(ramp_algo_t algo, const ramp_hooks_t *hooks, const ramp_params_t &p) const;
+    motion_status_t init_planner(int32_t pos);
     static void call_hook(uint8_t axis, bool forward);
     static void hook_x(bool forward);
     static void hook_y(bool forward);
@@ -196,6 +214,8 @@ private:
     int32_t stop_from_, stop_pos_, stop_target_;
     uint8_t stop_n_, stop_active_;
     DirectionHook hook_;
+    ramp_algo_t algo_;
+    const ramp_hooks_t *ramp_hooks_;
     StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */
     ramp_params_t params_;
     step_planner_t planner_;
