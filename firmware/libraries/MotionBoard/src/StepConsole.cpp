@@ -77,11 +77,16 @@ AxisSource StepConsole::source(uint8_t axis)
 
 void StepConsole::feed()
 {
+    uint8_t dry = 0; /* axes whose planner has nothing to hand out now */
+    if (n_ == 1) {
+        /* one axis: as many commands as its queue needs, up to a move's start-up batch per call (the
+         * lab's ramps plan every step, near their top rate with little time to spare) */
+        (void)MultiStepEngine::service(0, source(0), MULTI_START_SLOTS);
+        return;
+    }
     /* one command at a time to the axis whose queue reaches least far ahead (at the end of a
      * coordinated move every axis needs many at once), a bounded number per call */
-    uint8_t dry = 0; /* axes whose planner has nothing to hand out now */
-    uint8_t rounds = n_ == 1 ? MULTI_START_SLOTS : 12U;
-    for (uint8_t k = 0; k < rounds; k++) {
+    for (uint8_t k = 0; k < 12U; k++) {
         uint32_t best = UINT32_MAX, most = 0;
         uint8_t pick = MULTI_AXES, start = MULTI_AXES;
         MultiStepEngine::poll(); /* the timed-loop build steps here, between two plans */
