@@ -58,7 +58,7 @@ void BackgroundPlanner::begin()
 {
     if (begun_)
         return;
-    MultiStepEngine::begin();
+    MultiStepEngine::begin_axes(MULTI_TICK_HZ); /* the axes of the Steppers made (their constructors) */
     MultiStepEngine::set_lead_ms(lead_ms_);
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {

@@ -24,7 +24,7 @@ uint8_t planner_busy(void *ctx)
 enum { P_VMAX, P_ACCEL, P_V0 };
 } // namespace
 
-Stepper::Stepper(Axis axis)
+Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
       last_status_(MS_OK), cuts_missed_(0), stop_up_(0), stop_from_(0), stop_pos_(0), stop_target_(0), stop_n_(0),

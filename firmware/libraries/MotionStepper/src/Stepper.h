@@ -87,7 +87,18 @@ public:
     /* hook(true) before steps that count up, hook(false) before steps that count down */
     typedef void (*DirectionHook)(bool forward);
 
-    explicit Stepper(Axis axis);
+    /* The axis's step interrupt and queue are linked into the sketch only when a Stepper is made
+     * for it (the constructor names it; MultiStepEngine::begin's axes): a sketch with a Stepper X
+     * alone carries one ring, not three. */
+    explicit inline __attribute__((always_inline)) Stepper(Axis axis) : Stepper(axis, 0)
+    {
+        if (axis == X)
+            multi_use_x();
+        else if (axis == Y)
+            multi_use_y();
+        else
+            multi_use_z();
+    }
 
     /* Takes the axis (MS_ERR_BUSY if another Stepper has it), sets up the engine and the planner
      * (once for all), ENABLE as set (enabled unless auto-disable is on), position 0. */
@@ -168,6 +179,7 @@ public:
     static const __FlashStringHelper *statusText(motion_status_t status);
 
 private:
+    Stepper(Axis axis, int); /* the fields */
     friend class BackgroundPlanner;
     friend class StepperGroup;
     enum { REQ_NONE, REQ_MOVE, REQ_STOP };
