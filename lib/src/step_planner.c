@@ -14,6 +14,59 @@ static void clear_state(step_planner_t *pl, int32_t pos)
     pl->target = pos;
 }
 
+/* The two halves of the planner: the exact ramp's (step_exact.h) and the stepwise ramps' (ramp.h:
+ * simplistic, Leib, sigmoid). A planner reaches its half only through ops, so a firmware that
+ * initialises only one kind (step_planner_init_exact, _lab, _sigmoid) links only that half. */
+struct step_planner_ops {
+    motion_status_t (*set_params)(step_planner_t *pl, const ramp_params_t *params);
+    uint8_t (*left)(const step_planner_t *pl);                /* active: something left to hand out */
+    motion_status_t (*from_rest)(step_planner_t *pl, int32_t to); /* the plan's own part of plan_from_rest */
+    motion_status_t (*move)(step_planner_t *pl, int32_t to);
+    void (*stop)(step_planner_t *pl);
+    uint8_t (*next)(step_planner_t *pl, step_cmd_t *c);       /* a command of the active plan */
+    void (*reset)(step_planner_t *pl);                        /* at rest at pl->pos */
+};
+static const struct step_planner_ops EXACT_OPS;
+static const struct step_planner_ops RAMP_OPS;
+
+static motion_status_t init_kind(step_planner_t *pl, const struct step_planner_ops *ops, ramp_algo_t algo,
+                                 const ramp_params_t *params, const ramp_hooks_t *hooks, int32_t pos)
+{
+    step_planner_t n;
+    motion_status_t st;
+    if (pl == 0 || params == 0)
+        return MS_ERR_NULL;
+    n.ops = ops;
+    n.algo = algo;
+    n.hooks = hooks;
+    n.exact.max_cmd_ticks = 0;
+    n.table = 0;
+    n.table_len = 0;
+    clear_state(&n, pos);
+    st = step_planner_set_params(&n, params);
+    if (st != MS_OK)
+        return st;
+    n.max_cmd_ticks = params->tick_hz / 250U; /* 4 ms */
+    n.exact.max_cmd_ticks = n.max_cmd_ticks;
+    clear_state(&n, pos);
+    n.ops->reset(&n);
+    *pl = n;
+    return MS_OK;
+}
+
+motion_status_t step_planner_init_exact(step_planner_t *pl, const ramp_params_t *params, int32_t pos)
+{
+    return init_kind(pl, &EXACT_OPS, RAMP_ALGO_EXACT, params, 0, pos);
+}
+
+motion_status_t step_planner_init_lab(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                      const ramp_hooks_t *hooks, int32_t pos)
+{
+    if (algo != RAMP_ALGO_SIMPLISTIC && algo != RAMP_ALGO_LEIB)
+        return pl == 0 || params == 0 ? MS_ERR_NULL : MS_ERR_UNKNOWN_COMMAND;
+    return init_kind(pl, &RAMP_OPS, algo, params, hooks, pos);
+}
+
 motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
                                             int32_t pos)
 {
@@ -23,26 +76,9 @@ motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo
 motion_status_t step_planner_init_hooked(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
                                          const ramp_hooks_t *hooks, int32_t pos)
 {
-    step_planner_t n;
-    motion_status_t st;
-    if (pl == 0 || params == 0)
-        return MS_ERR_NULL;
-    if (algo != RAMP_ALGO_SIMPLISTIC && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_EXACT)
-        return MS_ERR_UNKNOWN_COMMAND;
-    n.algo = algo;
-    n.hooks = hooks;
-    n.exact.max_cmd_ticks = 0;
-    n.table = 0;
-    n.table_len = 0;
-    st = step_planner_set_params(&n, params);
-    if (st != MS_OK)
-        return st;
-    n.max_cmd_ticks = params->tick_hz / 250U; /* 4 ms */
-    n.exact.max_cmd_ticks = n.max_cmd_ticks;
-    clear_state(&n, pos);
-    step_exact_reset(&n.exact, pos);
-    *pl = n;
-    return MS_OK;
+    if (algo == RAMP_ALGO_EXACT)
+        return init_kind(pl, &EXACT_OPS, algo, params, hooks, pos);
+    return step_planner_init_lab(pl, algo, params, hooks, pos);
 }
 
 motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,
@@ -55,6 +91,7 @@ motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid
     st = ramp_plan_sigmoid(&probe, p, table, table_len, pos, pos);
     if (st != MS_OK)
         return st;
+    pl->ops = &RAMP_OPS;
     pl->algo = RAMP_ALGO_SIGMOID;
     pl->hooks = 0;
     pl->sig = *p;
@@ -65,27 +102,34 @@ motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid
     return MS_OK;
 }
 
+static motion_status_t exact_set_params(step_planner_t *pl, const ramp_params_t *params)
+{
+    step_exact_t e = pl->exact;
+    motion_status_t st = step_exact_set_params(&e, params);
+    if (st != MS_OK)
+        return st;
+    /* the profile in progress keeps its constants until the next plan */
+    if (!pl->active && !pl->has_then)
+        pl->exact.k = e.k;
+    else
+        pl->params_new = 1;
+    return MS_OK;
+}
+
+static motion_status_t ramp_set_params(step_planner_t *pl, const ramp_params_t *params)
+{
+    ramp_t probe;
+    return ramp_plan_hooked(&probe, pl->algo, params, pl->hooks, 0, 1);
+}
+
 motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t *params)
 {
     motion_status_t st;
-    ramp_t probe;
     if (pl == 0 || params == 0)
         return MS_ERR_NULL;
-    if (pl->algo == RAMP_ALGO_EXACT) {
-        step_exact_t e = pl->exact;
-        st = step_exact_set_params(&e, params);
-        if (st != MS_OK)
-            return st;
-        /* the profile in progress keeps its constants until the next plan */
-        if (!pl->active && !pl->has_then)
-            pl->exact.k = e.k;
-        else
-            pl->params_new = 1;
-    } else {
-        st = ramp_plan_hooked(&probe, pl->algo, params, pl->hooks, 0, 1);
-        if (st != MS_OK)
-            return st;
-    }
+    st = pl->ops->set_params(pl, params);
+    if (st != MS_OK)
+        return st;
     pl->params = *params;
     return MS_OK;
 }
@@ -97,8 +141,16 @@ uint8_t step_planner_busy(const step_planner_t *pl)
     if (!pl->active)
         return 0;
     /* active, but nothing left to hand out: done (so the engine can mark the end at once) */
-    if (pl->algo == RAMP_ALGO_EXACT)
-        return pl->exact.n < pl->exact.d;
+    return pl->ops->left(pl);
+}
+
+static uint8_t exact_left(const step_planner_t *pl)
+{
+    return pl->exact.n < pl->exact.d;
+}
+
+static uint8_t ramp_left(const step_planner_t *pl)
+{
     return ramp_steps_left(&pl->ramp) > 0;
 }
 
@@ -115,7 +167,17 @@ int32_t step_planner_target(const step_planner_t *pl)
 void step_planner_halt(step_planner_t *pl, int32_t pos)
 {
     clear_state(pl, pos);
-    step_exact_reset(&pl->exact, pos);
+    pl->ops->reset(pl);
+}
+
+static void exact_reset(step_planner_t *pl)
+{
+    step_exact_reset(&pl->exact, pl->pos);
+}
+
+static void ramp_reset(step_planner_t *pl)
+{
+    (void)pl; /* the ramp is planned afresh from pl->pos */
 }
 
 static uint32_t nonzero(uint32_t w)
@@ -140,25 +202,31 @@ static void flush_carry(step_planner_t *pl)
     pl->pos = ramp_position_after(pl->pos, pl->ramp.dir, 1);
 }
 
+static motion_status_t exact_from_rest(step_planner_t *pl, int32_t to)
+{
+    step_exact_t e = pl->exact;
+    motion_status_t st = step_exact_set_params(&e, &pl->params);
+    if (st != MS_OK)
+        return st;
+    step_exact_reset(&e, pl->pos);
+    st = step_exact_plan(&e, to);
+    if (st != MS_OK)
+        return st;
+    pl->exact = e;
+    pl->params_new = 0;
+    return MS_OK;
+}
+
+static motion_status_t ramp_from_rest(step_planner_t *pl, int32_t to)
+{
+    if (pl->algo == RAMP_ALGO_SIGMOID)
+        return ramp_plan_sigmoid(&pl->ramp, &pl->sig, pl->table, pl->table_len, pl->pos, to);
+    return ramp_plan_hooked(&pl->ramp, pl->algo, &pl->params, pl->hooks, pl->pos, to);
+}
+
 static motion_status_t plan_from_rest(step_planner_t *pl, int32_t to)
 {
-    motion_status_t st;
-    if (pl->algo == RAMP_ALGO_EXACT) {
-        step_exact_t e = pl->exact;
-        st = step_exact_set_params(&e, &pl->params);
-        if (st != MS_OK)
-            return st;
-        step_exact_reset(&e, pl->pos);
-        st = step_exact_plan(&e, to);
-        if (st != MS_OK)
-            return st;
-        pl->exact = e;
-        pl->params_new = 0;
-    } else if (pl->algo == RAMP_ALGO_SIGMOID) {
-        st = ramp_plan_sigmoid(&pl->ramp, &pl->sig, pl->table, pl->table_len, pl->pos, to);
-    } else {
-        st = ramp_plan_hooked(&pl->ramp, pl->algo, &pl->params, pl->hooks, pl->pos, to);
-    }
+    motion_status_t st = pl->ops->from_rest(pl, to);
     if (st != MS_OK)
         return st;
     pl->active = 1;
@@ -188,10 +256,10 @@ static motion_status_t stop_ramp(step_planner_t *pl)
     return MS_OK;
 }
 
-motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
+static motion_status_t exact_move(step_planner_t *pl, int32_t to)
 {
     motion_status_t st;
-    if (pl->algo == RAMP_ALGO_EXACT) {
+    {
         step_exact_t e = pl->exact;
         if (!e.moving || !pl->active)
             return (pl->has_then = 0, plan_from_rest(pl, to));
@@ -216,6 +284,11 @@ motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
         pl->target = to;
         return MS_OK;
     }
+}
+
+static motion_status_t ramp_move(step_planner_t *pl, int32_t to)
+{
+    motion_status_t st;
     if (!ramp_moving(pl)) {
         pl->has_then = 0;
         return plan_from_rest(pl, to);
@@ -242,25 +315,36 @@ motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
     }
 }
 
+motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
+{
+    return pl->ops->move(pl, to);
+}
+
+static void exact_stop(step_planner_t *pl)
+{
+    if (pl->active && pl->exact.moving) {
+        step_exact_t e = pl->exact;
+        /* a stop is a plan: it decelerates at the accel in force now (set while moving) */
+        if (pl->params_new && step_exact_change_params(&e, &pl->params) == MS_OK) {
+            if (e.k.cu != pl->exact.k.cu || e.k.u0 != pl->exact.k.u0 || e.k.vu != pl->exact.k.vu)
+                pl->exact = e; /* unchanged: the profile stays (a stop then never passes the target) */
+            pl->params_new = 0;
+        }
+        step_exact_stop(&pl->exact);
+        pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d - pl->exact.n);
+    }
+}
+
+static void ramp_stop(step_planner_t *pl)
+{
+    if (ramp_moving(pl))
+        (void)stop_ramp(pl);
+}
+
 void step_planner_stop(step_planner_t *pl)
 {
     pl->has_then = 0;
-    if (pl->algo == RAMP_ALGO_EXACT) {
-        if (pl->active && pl->exact.moving) {
-            step_exact_t e = pl->exact;
-            /* a stop is a plan: it decelerates at the accel in force now (set while moving) */
-            if (pl->params_new && step_exact_change_params(&e, &pl->params) == MS_OK) {
-                if (e.k.cu != pl->exact.k.cu || e.k.u0 != pl->exact.k.u0 || e.k.vu != pl->exact.k.vu)
-                    pl->exact = e; /* unchanged: the profile stays (a stop then never passes the target) */
-                pl->params_new = 0;
-            }
-            step_exact_stop(&pl->exact);
-            pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d - pl->exact.n);
-        }
-        return;
-    }
-    if (ramp_moving(pl))
-        (void)stop_ramp(pl);
+    pl->ops->stop(pl);
 }
 
 /* whether the ramp may have reached a cruise to skip: a cheap test first (simplistic and Leib
@@ -357,6 +441,19 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
     return 1;
 }
 
+static uint8_t exact_next(step_planner_t *pl, step_cmd_t *c)
+{
+    if (!step_exact_next(&pl->exact, c))
+        return 0;
+    pl->pos = pl->exact.pos;
+    return 1;
+}
+
+static const struct step_planner_ops EXACT_OPS = {exact_set_params, exact_left, exact_from_rest, exact_move,
+                                                  exact_stop, exact_next, exact_reset};
+static const struct step_planner_ops RAMP_OPS = {ramp_set_params, ramp_left, ramp_from_rest, ramp_move,
+                                                 ramp_stop, next_from_ramp, ramp_reset};
+
 uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c)
 {
     if (pl->has_ready) {
@@ -369,19 +466,12 @@ uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c)
             if (!pl->has_then)
                 return 0;
             pl->has_then = 0;
-            if (pl->algo == RAMP_ALGO_EXACT)
-                step_exact_reset(&pl->exact, pl->pos);
+            pl->ops->reset(pl);
             if (plan_from_rest(pl, pl->then_target) != MS_OK)
                 return 0;
         }
-        if (pl->algo == RAMP_ALGO_EXACT) {
-            if (step_exact_next(&pl->exact, c)) {
-                pl->pos = pl->exact.pos;
-                return 1;
-            }
-        } else if (next_from_ramp(pl, c)) {
+        if (pl->ops->next(pl, c))
             return 1;
-        }
         pl->active = 0;
     }
 }

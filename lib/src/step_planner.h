@@ -34,7 +34,10 @@
 extern "C" {
 #endif
 
+struct step_planner_ops; /* step_planner.c: the exact ramp's or the stepwise ramps' half */
+
 typedef struct {
+    const struct step_planner_ops *ops;
     ramp_algo_t algo;
     const ramp_hooks_t *hooks;       /* a sketch's pre-computation and update (ramp.h), or NULL */
     ramp_params_t params;            /* trapezoid algorithms: in force for the next plan */
@@ -66,6 +69,13 @@ motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo
  * (ramp_hooks_t; NULL members: lib's), used for every plan from here on. */
 motion_status_t step_planner_init_hooked(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
                                          const ramp_hooks_t *hooks, int32_t pos);
+
+/* The same for one kind only: a firmware that plans only the exact ramp (or only the stepwise
+ * ones) links only that half of the planner (the two above link both). _lab: simplistic or Leib
+ * (MS_ERR_UNKNOWN_COMMAND for any other algorithm). */
+motion_status_t step_planner_init_exact(step_planner_t *pl, const ramp_params_t *params, int32_t pos);
+motion_status_t step_planner_init_lab(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                      const ramp_hooks_t *hooks, int32_t pos);
 
 /* A sigmoid planner over a filled table (it must stay unchanged while a move runs). */
 motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,

@@ -995,9 +995,65 @@ static void bad_parameters_refused(void **state)
     assert_true(pl.params.accel_sps2 == 50000.0); /* unchanged */
 }
 
+/* step_planner_init_exact / _lab (one half of the planner each, for the firmware) plan what
+ * step_planner_init_hooked plans, command for command, through a move, a new target and a stop;
+ * each refuses the other's algorithms */
+static void one_kind_inits_plan_the_same(void **state)
+{
+    const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_LEIB, RAMP_ALGO_SIMPLISTIC};
+    ramp_params_t p = {100.0f, 4000.0f, 8000.0f, 2000000U};
+    (void)state;
+    for (unsigned k = 0; k < 3; k++) {
+        step_planner_t a, b;
+        step_cmd_t ca, cb;
+        uint32_t n = 0;
+        int phase;
+        p.tick_hz = algos[k] == RAMP_ALGO_EXACT ? 16000000U : 2000000U;
+        assert_int_equal(step_planner_init_hooked(&a, algos[k], &p, 0, -7), MS_OK);
+        if (algos[k] == RAMP_ALGO_EXACT)
+            assert_int_equal(step_planner_init_exact(&b, &p, -7), MS_OK);
+        else
+            assert_int_equal(step_planner_init_lab(&b, algos[k], &p, 0, -7), MS_OK);
+        for (phase = 0; phase < 3; phase++) {
+            if (phase == 0) {
+                assert_int_equal(step_planner_move(&a, 5000), MS_OK);
+                assert_int_equal(step_planner_move(&b, 5000), MS_OK);
+            } else if (phase == 1) {
+                assert_int_equal(step_planner_move(&a, 800), MS_OK);
+                assert_int_equal(step_planner_move(&b, 800), MS_OK);
+            } else {
+                step_planner_stop(&a);
+                step_planner_stop(&b);
+            }
+            for (unsigned i = 0; i < (phase == 2 ? 100000U : 40U); i++) {
+                uint8_t ra = step_planner_next(&a, &ca), rb = step_planner_next(&b, &cb);
+                assert_int_equal(ra, rb);
+                if (!ra)
+                    break;
+                assert_int_equal(ca.rate, cb.rate);
+                assert_int_equal(ca.add, cb.add);
+                assert_int_equal(ca.count, cb.count);
+                assert_int_equal(ca.flags, cb.flags);
+                n += ca.count;
+            }
+            assert_int_equal(step_planner_position(&a), step_planner_position(&b));
+            assert_int_equal(step_planner_target(&a), step_planner_target(&b));
+        }
+        assert_true(n > 40U);
+    }
+    {
+        step_planner_t c;
+        p.tick_hz = 16000000U;
+        assert_int_equal(step_planner_init_lab(&c, RAMP_ALGO_EXACT, &p, 0, 0), MS_ERR_UNKNOWN_COMMAND);
+        assert_int_equal(step_planner_init_lab(&c, RAMP_ALGO_SIGMOID, &p, 0, 0), MS_ERR_UNKNOWN_COMMAND);
+        assert_int_equal(step_planner_init_exact(0, &p, 0), MS_ERR_NULL);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(one_kind_inits_plan_the_same),
         cmocka_unit_test(queue_fifo_full_empty),
         cmocka_unit_test(executor_follows_its_formula),
         cmocka_unit_test(exact_reference_moves_every_step),

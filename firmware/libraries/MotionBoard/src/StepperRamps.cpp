@@ -24,9 +24,28 @@ static void print_upper_limit(Print &out, const char *key, double limit, const _
 }
 
 /* ---- TrapezoidRamp ---- */
-TrapezoidRamp::TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps,
-                             uint32_t tick_hz, const ramp_hooks_t *hooks)
-    : algo_(algo), max_sps_(max_sps), hooks_(hooks)
+static motion_status_t exact_init(step_planner_t *pl, ramp_algo_t, const ramp_params_t *p, const ramp_hooks_t *,
+                                  int32_t pos)
+{
+    return step_planner_init_exact(pl, p, pos);
+}
+static motion_status_t exact_probe(ramp_algo_t, const ramp_params_t *p, const ramp_hooks_t *)
+{
+    step_planner_t probe; /* the exact planner checks its own limits */
+    return step_planner_init_exact(&probe, p, 0);
+}
+static motion_status_t lab_probe(ramp_algo_t algo, const ramp_params_t *p, const ramp_hooks_t *hooks)
+{
+    /* a one-step move has the longest first interval of all moves: if it plans, every move does */
+    ramp_t probe;
+    return ramp_plan_hooked(&probe, algo, p, hooks, 0, 1);
+}
+const TrapezoidRamp::Kind TrapezoidRamp::EXACT_KIND = {exact_init, exact_probe};
+const TrapezoidRamp::Kind TrapezoidRamp::LAB_KIND = {step_planner_init_lab, lab_probe};
+
+TrapezoidRamp::TrapezoidRamp(const Kind *kind, ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2,
+                             double max_sps, uint32_t tick_hz, const ramp_hooks_t *hooks)
+    : kind_(kind), algo_(algo), max_sps_(max_sps), hooks_(hooks)
 {
     params_.v0_sps = v0_sps;
     params_.vmax_sps = vmax_sps;
@@ -36,7 +55,7 @@ TrapezoidRamp::TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, d
 
 motion_status_t TrapezoidRamp::setup(step_planner_t &pl, int32_t pos)
 {
-    return step_planner_init_hooked(&pl, algo_, &params_, hooks_, pos);
+    return kind_->init(&pl, algo_, &params_, hooks_, pos);
 }
 
 bool TrapezoidRamp::apply(step_planner_t &pl, bool moving)
@@ -49,8 +68,6 @@ bool TrapezoidRamp::apply(step_planner_t &pl, bool moving)
 motion_status_t TrapezoidRamp::set(const char *key, const char *value)
 {
     ramp_params_t p = params_;
-    ramp_t ramp_probe;
-    step_planner_t probe;
     double v = 0.0;
     double *field;
     double hi = max_sps_;
@@ -71,10 +88,7 @@ motion_status_t TrapezoidRamp::set(const char *key, const char *value)
     else if (st != MS_OK)
         return st;
     *field = v;
-    /* a one-step move has the longest first interval of all moves: if it plans, every move does;
-     * the exact planner also checks its own limits */
-    st = algo_ == RAMP_ALGO_EXACT ? step_planner_init_trapezoid(&probe, algo_, &p, 0)
-                                  : ramp_plan_hooked(&ramp_probe, algo_, &p, hooks_, 0, 1);
+    st = kind_->probe(algo_, &p, hooks_);
     if (st != MS_OK)
         return st;
     params_ = p;

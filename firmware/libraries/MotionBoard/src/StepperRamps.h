@@ -89,8 +89,22 @@ public:
     /* algo: RAMP_ALGO_SIMPLISTIC, RAMP_ALGO_LEIB or RAMP_ALGO_EXACT; max_sps: the fastest step
      * rate `set` allows; tick_hz: the step timer (2 MHz for the lab's ramps, 16 MHz for exact);
      * hooks: the sketch's own pre-computation and computeNewSpeed() (ramp.h), or NULL for lib's. */
-    TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2, double max_sps,
-                  uint32_t tick_hz, const ramp_hooks_t *hooks = 0);
+    inline __attribute__((always_inline)) TrapezoidRamp(ramp_algo_t algo, double v0_sps, double vmax_sps,
+                                                        double accel_sps2, double max_sps, uint32_t tick_hz,
+                                                        const ramp_hooks_t *hooks = 0)
+        : TrapezoidRamp(algo == RAMP_ALGO_EXACT ? &EXACT_KIND : &LAB_KIND, algo, v0_sps, vmax_sps, accel_sps2,
+                        max_sps, tick_hz, hooks)
+    {
+    }
+    /* The planner's half a ramp uses (lib's step_planner_init_exact or _lab, and the check of a
+     * parameter set): chosen by the algorithm in the inline constructor above, so a sketch whose
+     * ramps are all exact, or all the lab's, links only that half of the planner. */
+    struct Kind {
+        motion_status_t (*init)(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *p, const ramp_hooks_t *hooks,
+                                int32_t pos);
+        motion_status_t (*probe)(ramp_algo_t algo, const ramp_params_t *p, const ramp_hooks_t *hooks);
+    };
+    static const Kind EXACT_KIND, LAB_KIND;
     motion_status_t setup(step_planner_t &pl, int32_t pos) override;
     motion_status_t set(const char *key, const char *value) override;
     bool apply(step_planner_t &pl, bool moving) override;
@@ -104,6 +118,9 @@ public:
     void print_limit(Print &out, const char *key) const override;
 
 private:
+    TrapezoidRamp(const Kind *kind, ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2,
+                  double max_sps, uint32_t tick_hz, const ramp_hooks_t *hooks);
+    const Kind *kind_;
     ramp_algo_t algo_;
     ramp_params_t params_;
     double max_sps_;
