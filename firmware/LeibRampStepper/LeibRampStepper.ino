@@ -21,21 +21,24 @@
  * float arithmetic never delays a step. The arithmetic itself is lib's ramp_leib.c, the code
  * `motionsim ramp --algo leib` runs: change it here and the board follows your version.
  *
- * Following this sketch from setup()/loop() to the STEP pin takes these 5 files:
+ * Following this sketch from setup()/loop() to the STEP pin takes these 5 files (each names the
+ * few-line glue it hands over through):
  *   1. LeibRampStepper.ino (this file)  setup(), loop(), the three functions of the handout
- *   2. StepConsole.cpp      begin(): serial, MultiStepEngine::begin, the planner given your
- *                           functions; poll(): a target line -> step_planner_move(), then feed():
- *                           MultiStepEngine::service() (the one console of the 1- and 3-axis sketches)
- *   3. step_planner.c       a move into step commands: step_planner_next() asks ramp_next_ticks()
- *                           for each interval, which is your preComputation()/computeNewSpeed()
- *   4. MultiStepEngineInternal.h  the engine's C side shared by its files: set_dir() calls your
- *                           moveOneStep() at a move's start (MultiStepEngine.cpp's service(), the
- *                           queue of axis 0, X) and at a reversal (the interrupt's rare path)
+ *   2. StepConsole.cpp      poll(): a target line -> step_planner_move(), then feed():
+ *                           MultiStepEngine::service(); begin() (StepperConsole.h) starts the engine
+ *                           for X at 2 MHz, and TrapezoidRamp (StepperRamps.cpp) hands your two ramp
+ *                           functions to the planner
+ *   3. step_planner.c       a move into step commands: for each interval it asks ramp.c's
+ *                           ramp_next_ticks(), which calls your computeNewSpeed() (and your
+ *                           preComputation() once for every move)
+ *   4. MultiStepEngine.cpp  service(): the queue of axis 0 (X); at a move's start (start_axis() in
+ *                           MultiStepEngineTimer.cpp) and at a reversal (the interrupt's rare path,
+ *                           also there) set_dir() of MultiStepEngineInternal.h calls your moveOneStep()
  *   5. MultiStepEngineIsr.inc  the step interrupt itself (Timer1 compare A, made for X by
  *                           MultiStepEngineX.S): STEP high, the next edge, STEP low
- * Their headers only declare these; pins, timer and the compile-time options (STEPPER_TIMED_LOOP,
- * STEPPER_LED_MIRROR, STEPPER_TRACE, given to every file through FIRMWARE_DEFINES) are in
- * MotionBoard's StepperPins.h: STEP D54, DIR D55, ENABLE D38 (the RAMPS 1.4 X axis).
+ * Pins, timer and the compile-time options (STEPPER_TIMED_LOOP, STEPPER_LED_MIRROR, STEPPER_TRACE,
+ * given to every file through FIRMWARE_DEFINES) are in MotionBoard's StepperPins.h: STEP D54, DIR
+ * D55, ENABLE D38 (the RAMPS 1.4 X axis).
  */
 #include <StepperConsole.h>
 #include <ramp_leib.h>

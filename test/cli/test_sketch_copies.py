@@ -119,7 +119,10 @@ def test_a_lab_stepper_sketch_is_followed_to_the_step_pin_in_five_files():
     body = {f: open(where[f]).read() for f in listed}
     assert "MultiStepEngine::service" in body["StepConsole.cpp"] and "step_planner_move" in body["StepConsole.cpp"]
     assert "ramp_next_ticks" in body["step_planner.c"]
-    assert "s_dir_hook[axis](forward)" in body["MultiStepEngineInternal.h"]
+    assert "MultiStepEngine::service" in body["MultiStepEngine.cpp"]
+    # the direction hook is called by the engine's glue the list names in its fourth entry
+    assert "MultiStepEngineInternal.h" in text
+    assert "s_dir_hook[axis](forward)" in open(where["MultiStepEngineInternal.h"]).read()
     assert "sbi \\step_port, \\step_bit" in body["MultiStepEngineIsr.inc"]
     assert "MultiStepEngine::set_direction_hook(0, moveOneStep)" in text
 

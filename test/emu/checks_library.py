@@ -536,7 +536,7 @@ API_TOUR = (
     ("setMaxSpeed(8000)", "MS_OK"),
     ("setAcceleration(40000)", "MS_OK"),
     ("begin()", "MS_OK"),
-    ("begin() of a second X", "MS_ERR_BUSY"),
+    ("begin() of a second X", "MS_ERR_AXIS_TAKEN"),
     ("setDirectionInverted(true)", "MS_OK"),
     ("moveTo(-2000)", "MS_OK"),
     ("setCurrentPosition(5) while moving", "MS_ERR_BUSY"),
@@ -613,7 +613,7 @@ def check_api_tour(env):
 LAB_RAMP_LEGS = (("leib", 0, 2000, 100), ("simplistic", 2000, 0, 1000))  # algo, from, to, v0 (LabRamp.ino)
 LAB_RAMP_REPLIES = ["setRamp(LEIB): number out of range", "setMaxSpeed(4000): OK", "setMinSpeed(100): OK",
                     "setAcceleration(8000): OK", "setRamp(LEIB): OK", "setMaxSpeed(20000): number out of range",
-                    "setRamp(SIGMOID): not supported by this ramp algorithm (the exact ramp only)", "begin(): OK",
+                    "setRamp(SIGMOID): a Stepper runs the exact, Leib or simplistic ramp (the sigmoid table is SCurveStepper's)", "begin(): OK",
                     "READY LabRamp", "moveTo(2000): OK", "setRamp(SIMPLISTIC) while moving: busy: a move is in progress",
                     "DONE 2000 underruns=0", "setRamp(SIMPLISTIC): OK", "setMinSpeed(1000): OK", "moveTo(0): OK",
                     "DONE 0 underruns=0", "FINISHED"]

@@ -96,7 +96,7 @@
  * just below vmax does not (found by `make fuzz`): the limit is a rung below the highest rate at
  * which such a ramp keeps up (SimplisticRampStepper 13,000, LeibRampStepper 8,000 steps/s;
  * test/emu/checks_reliability.py checks a long ramp at the limit).
- * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=90000 (no redefinition warning). */
+ * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=100000 (no redefinition warning). */
 #if STEPPER_TIMED_LOOP
 #ifndef STEPPER_MAX_SPS_SIMPLISTIC
 #define STEPPER_MAX_SPS_SIMPLISTIC 2000.0

@@ -54,7 +54,7 @@ motion_status_t Stepper::begin()
         return st;
     BackgroundPlanner::begin();
     if (!BackgroundPlanner::claim(axis_, this))
-        return MS_ERR_BUSY;
+        return MS_ERR_AXIS_TAKEN;
     {
         PlannerLock lock;
         step_planner_halt(&planner_, MultiStepEngine::position(axis_));
@@ -106,7 +106,7 @@ motion_status_t Stepper::setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks)
 {
     motion_status_t st;
     if (algo == RAMP_ALGO_SIGMOID)
-        return MS_ERR_NOT_SUPPORTED;
+        return MS_ERR_RAMP_NOT_HERE;
     if (algo != RAMP_ALGO_EXACT && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_SIMPLISTIC)
         return MS_ERR_OUT_OF_RANGE;
     if (isRunning())

@@ -100,7 +100,7 @@ public:
             multi_use_z();
     }
 
-    /* Takes the axis (MS_ERR_BUSY if another Stepper has it), sets up the engine and the planner
+    /* Takes the axis (MS_ERR_AXIS_TAKEN if another Stepper has it), sets up the engine and the planner
      * (once for all), ENABLE as set (enabled unless auto-disable is on), position 0. */
     motion_status_t begin();
 
@@ -118,7 +118,7 @@ public:
      * ramp_hooks_t, as LeibRampStepper passes them), NULL for lib's. The lab's ramps plan every step
      * (float arithmetic), so their vmax is limited to STEPPER_MAX_SPS_LEIB / _SIMPLISTIC
      * (StepperPins.h; setMaxSpeed and setRamp refuse more: MS_ERR_OUT_OF_RANGE); the parameters in
-     * force must suit the new ramp (its own status otherwise). RAMP_ALGO_SIGMOID: MS_ERR_NOT_SUPPORTED
+     * force must suit the new ramp (its own status otherwise). RAMP_ALGO_SIGMOID: MS_ERR_RAMP_NOT_HERE
      * (its table lives in the SCurveStepper sketch). A StepperGroup's moves are always exact. */
     motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0);
     ramp_algo_t ramp() const { return algo_; }
@@ -126,7 +126,8 @@ public:
     float acceleration() const { return params_.accel_sps2; }
     float minSpeed() const { return params_.v0_sps; }
 
-    /* Move to an absolute position / by a distance (from the target in force, as AccelStepper's move).
+    /* Move to an absolute position / by a distance from the target in force (as FastAccelStepper's
+     * move; AccelStepper's counts from the current position: the same at rest, not while moving).
      * While moving, the move continues from its speed to the new target (no stop in between when
      * it lies ahead beyond the stopping distance); MS_ERR_BUSY while in a StepperGroup's move.
      * Returns at once (a few microseconds); the planner interrupt, brought forward, plans it about
