@@ -157,18 +157,20 @@ fuzz: check-setup $(BUILD)/motionsim-san $(EMU_DEPS)
 # are $(error) calls, which make expands before it runs the recipe's first command.
 board-error = $(error make $@: $(1))
 one-word    = $(and $(1),$(filter 1,$(words $(1))))
-VALID_SKETCH = $(and $(call one-word,$(SKETCH)),$(filter $(SKETCHES),$(SKETCH)))
+# a sketch (firmware/<Name>) or an example of our libraries (its folder: what build_firmware.sh builds)
+UPLOAD_DIR = $(if $(filter $(SKETCHES),$(SKETCH)),$(SKETCH),$(firstword $(wildcard firmware/libraries/*/examples/$(SKETCH) lib/examples/$(SKETCH))))
+VALID_SKETCH = $(and $(call one-word,$(SKETCH)),$(UPLOAD_DIR))
 PORT_CHECK = $(if $(PORT),,$(call board-error,PORT=<device> is missing (e.g. PORT=/dev/ttyACM0); sketches: $(SKETCHES)))
 PORT_EXISTS = $(if $(and $(call one-word,$(PORT)),$(wildcard $(PORT))),,$(call board-error,PORT '$(PORT)' does not exist (is the Mega plugged in? try ls /dev/ttyACM* /dev/ttyUSB*)))
 MONITOR_BAUDS := 9600 19200 38400 57600 115200
 UPLOAD_HINT = make upload: avrdude could not flash $(SKETCH) through $(PORT): is it the Mega's port (ls /dev/ttyACM* /dev/ttyUSB*)? is a Serial Monitor (make monitor, the IDE) holding it? is the board an Arduino Mega 2560 (this needs -p m2560)?
 
 upload:
-	$(if $(VALID_SKETCH),,$(call board-error,SKETCH=<name> is $(if $(SKETCH),unknown ('$(SKETCH)'),missing); sketches: $(SKETCHES)))
+	$(if $(VALID_SKETCH),,$(call board-error,SKETCH=<name> is $(if $(SKETCH),unknown ('$(SKETCH)'),missing); sketches: $(SKETCHES); or a library example (docs/library.md)))
 	$(PORT_CHECK)
 	$(if $(and $(wildcard $(PY)),$(wildcard .tools/arduino-cli)),,$(call board-error,the toolchain is not installed: run 'make setup' first))
 	$(PORT_EXISTS)
-	@bash tools/build_firmware.sh $(SKETCH)
+	@bash tools/build_firmware.sh $(UPLOAD_DIR)
 	@echo "avrdude -c wiring -p m2560 -P $(PORT) -b 115200 -D -U flash:w:$(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.hex:i"
 	@avrdude -c wiring -p m2560 -P $(PORT) -b 115200 -D -U flash:w:$(BUILD)/firmware/$(SKETCH)/$(SKETCH).ino.hex:i \
 	  || { echo "$(UPLOAD_HINT)" >&2; exit 1; }

@@ -13,7 +13,8 @@
 # (firmware/ or lib/) fails the build; warnings inside Debian's Arduino core are not ours and
 # are ignored. At the end a table of flash and SRAM use is printed.
 #
-# A SKETCH argument is a sketch name (firmware/<Name>), lib/examples/<Name> or
+# A SKETCH argument is a sketch name (firmware/<Name>), the path of a folder <Name> holding <Name>.ino
+# anywhere (a sketch of your own: no marker needed outside firmware/), lib/examples/<Name> or
 # firmware/libraries/<Lib>/examples/<Name>. FIRMWARE_SRC names
 # another folder of sketches (default firmware/; the libraries are always this tree's).
 # Extra compile-time options for every sketch can be given in FIRMWARE_DEFINES, e.g.
@@ -39,9 +40,14 @@ all_sketches() {
         [ -f "$d$n.ino" ] && echo "${d%/}"
     done
 }
-# the folder of a SKETCH argument
+# the folder of a SKETCH argument: a sketch's name (firmware/<Name>), an example's folder, or the path
+# of any folder holding <Name>/<Name>.ino (a sketch of your own elsewhere: built like an example)
 sketch_dir() {
-    case "$1" in lib/examples/* | firmware/libraries/*/examples/*) echo "$1" ;; *) echo "$SRC/$1" ;; esac
+    case "$1" in
+        lib/examples/* | firmware/libraries/*/examples/*) echo "$1" ;;
+        */*) echo "${1%/}" ;;
+        *) echo "$SRC/$1" ;;
+    esac
 }
 if [ $# -gt 0 ]; then sketches=("$@"); else mapfile -t sketches < <(all_sketches); fi
 [ ${#sketches[@]} -gt 0 ] || { echo "build_firmware: no sketches under firmware/" >&2; exit 1; }
@@ -77,8 +83,8 @@ for arg in "${sketches[@]}"; do
     fi
     case "$dir" in
         lib/examples/* | firmware/libraries/*/examples/*) ;;
-        *) if ! grep -Eq "$MARKER_RE" "$dir/$s.ino"; then
-               echo "build_firmware: $dir/$s.ino has no marker line '// motion-sketch: <family>' (stepper, multiaxis, filter, servo): add it at the top so the tools know what the sketch is" >&2
+        "$SRC"/*) if ! grep -Eq "$MARKER_RE" "$dir/$s.ino"; then
+               echo "build_firmware: $dir/$s.ino has no marker line '// motion-sketch: <family>' (stepper, multiaxis, filter, servo, library): add it at the top so the tools know what the sketch is (a sketch of your own on MotionStepper: library)" >&2
                failed=1; continue
            fi ;;
     esac

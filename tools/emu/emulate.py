@@ -37,7 +37,8 @@ known). Then it writes into the output folder:
 A library example (lib/examples/<S>, firmware/libraries/<Lib>/examples/<S>; sketches.example_dirs)
 is no console: it is not asked `?`, its default script lets it run by itself for 5 s (or what
 sketches.EXAMPLE_INPUTS gives it, e.g. StopOnSwitch's switches), and its RAMPS X, Y, Z pins give the
-multiaxis CSV and plot (t_s,axis,step,position; <S>.positions.csv).
+multiaxis CSV and plot (t_s,axis,step,position; <S>.positions.csv). A sketch of your own under
+firmware/ on our libraries (marker line `// motion-sketch: library`) runs the same way.
 Earlier outputs of the same sketch are deleted first. Exit status: 0 ok, 1 the firmware or
 motionsim failed, 2 bad SKETCH or INPUT.
 """
@@ -493,6 +494,8 @@ def main(argv):
         return 2
     s = a.sketch
     try:
+        # a sketch of your own on our libraries (`// motion-sketch: library`) runs as an example does
+        example = example or sketches.family_of(env, s) == "library"
         if example:  # a library example: the RAMPS axes' pins, no console to ask
             fam = sketches.EXAMPLE_FAMILY
             elf = env.elf(s)
@@ -530,8 +533,8 @@ def main(argv):
     remove_old_outputs(a.out, s)
     base = os.path.join(a.out, s)
     if example:
-        print(f"emulating {s} ({shown(elf)}), the example {examples[s]}: it runs by itself (no `?` asked); "
-              "its X, Y and Z pins are logged and plotted", flush=True)
+        print(f"emulating {s} ({shown(elf)}), {'the example ' + examples[s] if s in examples and s not in names else 'a sketch on our libraries'}: "
+              "it runs by itself (no `?` asked); its X, Y and Z pins are logged and plotted", flush=True)
         ready, defaults = True, {}
     else:
         print(f"emulating {s} ({shown(elf)}): asking it `?` at boot ...", flush=True)

@@ -26,11 +26,13 @@ ROOT = emulog.ROOT
 # only the marker; a new family needs its entry here (pins, script) and its checks.
 MARKER = "// motion-sketch: <family>"
 MARKER_RE = re.compile(r"^[ \t]*//[ \t]*motion-sketch:[ \t]*([A-Za-z0-9_-]*)[ \t]*$", re.M)
-FAMILIES = ("stepper", "filter", "servo", "multiaxis")
+# "library": a sketch of your own on our libraries (MotionStepper's Stepper, ...): no console, it
+# runs by itself as the libraries' examples do (below), on the RAMPS X, Y and Z pins
+FAMILIES = ("stepper", "filter", "servo", "multiaxis", "library")
 
 # None: the pins are constants in the sketch's .ino itself
 PIN_HEADERS = {"stepper": "StepperPins.h", "filter": "FilterPins.h", "servo": None,
-               "multiaxis": "MultiAxisPins.h"}
+               "multiaxis": "MultiAxisPins.h", "library": "MultiAxisPins.h"}
 
 
 class SketchError(Exception):
@@ -209,6 +211,8 @@ def default_input(env, sketch):
         return SERVO_DEFAULT_INPUT.format(sketch=sketch)
     if fam == "multiaxis":
         return MULTIAXIS_DEFAULT_INPUT.format(sketch=sketch)
+    if fam == "library":
+        return example_input(sketch)
     return STEPPER_DEFAULT_INPUT.format(sketch=sketch)
 
 
@@ -219,7 +223,7 @@ def harness_args(env, sketch):
         return {"pins": filter_pins(env)}
     if fam == "servo":
         return {"motor": servo_motor_spec(env, sketch), "pins": servo_pins(env, sketch)}
-    if fam == "multiaxis":
+    if fam in ("multiaxis", "library"):
         return {"pins": multiaxis_pins(env)}
     return {"pins": stepper_pins(env)}
 
