@@ -271,3 +271,31 @@ def test_a_servo_check_that_does_not_settle_says_unsettled_and_does_not_crash(ed
     res = checks_sketches.check_servo_defaults(edited, "ProportionalClosedLoopABC")
     assert not res.ok
     assert "unsettled" in res.summary and any("unsettled" in d for d in res.details), (res.summary, res.details)
+
+
+MY_SKETCH = """#include <MotionStepper.h>
+Stepper x(Stepper::X);
+void setup() { Serial.begin(9600); x.setMaxSpeed(5000); x.setAcceleration(20000); x.begin(); x.moveTo(300); }
+void loop() { long at; if (x.takeDone(at)) Serial.println(at); }
+"""
+
+
+def test_a_makers_own_sketch_builds_from_any_folder_and_is_a_library_sketch_under_firmware(tmp_path):
+    """docs/library.md 'Your own sketch': tools/build_firmware.sh takes the path of any folder
+    <Name>/<Name>.ino (no marker needed there); under firmware/ the marker `library` makes it a known
+    family that the emulator runs as a library example (the RAMPS axes' pins, no console)"""
+    own = tmp_path / "elsewhere" / "MySketch"
+    own.mkdir(parents=True)
+    (own / "MySketch.ino").write_text(MY_SKETCH)
+    env = dict(os.environ, FIRMWARE_OUT=str(tmp_path / "fw"))
+    p = subprocess.run(["bash", "tools/build_firmware.sh", str(own)], cwd=ROOT, env=env, capture_output=True,
+                       text=True, timeout=600)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert (tmp_path / "fw" / "MySketch" / "MySketch.ino.elf").is_file()
+    (tmp_path / "t").mkdir()
+    tree = copy_tree(tmp_path / "t", {})
+    (tmp_path / "t" / "firmware" / "MySketch").mkdir()
+    (tmp_path / "t" / "firmware" / "MySketch" / "MySketch.ino").write_text("// motion-sketch: library\n" + MY_SKETCH)
+    assert tree.family("MySketch") == "library"
+    assert set(sketches.harness_args(tree, "MySketch")["pins"]) >= {"XSTEP", "XDIR", "YSTEP", "ZSTEP"}
+    assert "until 5000" in sketches.default_input(tree, "MySketch")
