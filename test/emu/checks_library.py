@@ -548,6 +548,12 @@ API_TOUR = (
     ("setDirectionHook(NULL)", "MS_OK"),
     ("setCurrentPosition(100)", "MS_OK"),
     ("move(-300)", "MS_OK"),
+    ("setDirectionPin(200)", "MS_ERR_OUT_OF_RANGE"),
+    ("setEnablePin(200)", "MS_ERR_OUT_OF_RANGE"),
+    ("setDirectionPin(34)", "MS_OK"),
+    ("setEnablePin(36)", "MS_OK"),
+    ("move(500)", "MS_OK"),
+    ("setDirectionPin(55) while moving", "MS_ERR_BUSY"),
     ("stop() at rest", "MS_OK"),
     ("forceStop() at rest", "MS_OK"),
 )
@@ -555,7 +561,7 @@ API_TOUR = (
 
 def check_api_tour(env):
     """every Stepper call's status, inversion, auto-disable, the direction hook, setCurrentPosition, move"""
-    pins = dict(sketches.multiaxis_pins(env), HOOK="D32")
+    pins = dict(sketches.multiaxis_pins(env), HOOK="D32", DIR2="D34", EN2="D36")
     log = emulog.run(elf_of(env, "ApiTour"), "wait ^READY ApiTour$\ntimeout 20000\nwait ^FINISHED$\n",
                      pins=pins, timeout=600)
     problems = []
@@ -568,7 +574,7 @@ def check_api_tour(env):
             problems.append(f"'{got.text if got else None}', expected '{want}'")
     dones = log.lines_matching(r"^DONE ")
     want_dones = ["DONE -2000 position=-2000 underruns=0", "DONE 0 position=0 underruns=0",
-                  "DONE -200 position=-200 underruns=0"]
+                  "DONE -200 position=-200 underruns=0", "DONE 300 position=300 underruns=0"]
     if [d.text for d in dones] != want_dones:
         return CheckResult(False, "moves", problems + [f"DONE lines {[d.text for d in dones]}, expected {want_dones}"])
     sp = line_of(log, r"^speed ")
@@ -579,7 +585,8 @@ def check_api_tour(env):
     e = log.rising("XSTEP")
     m1 = [c for c in e if c < dones[0].cycle]
     m2 = [c for c in e if dones[0].cycle < c < dones[1].cycle]
-    m3 = [c for c in e if dones[1].cycle < c]
+    m3 = [c for c in e if dones[1].cycle < c < dones[2].cycle]
+    m4 = [c for c in e if dones[2].cycle < c]
     # 1: inverted, counting down = DIR high; ENABLE on (low) only while moving (auto-disable)
     if len(m1) != 2000 or any(log.level_before("XDIR", c) != 1 for c in m1):
         problems.append(f"move 1 (inverted, to -2000): {len(m1)} steps, DIR levels "
@@ -603,9 +610,17 @@ def check_api_tour(env):
     # 3: setCurrentPosition(100), move(-300): 300 steps down, DIR low (the engine again)
     if len(m3) != 300 or any(log.level_before("XDIR", c) != 0 for c in m3):
         problems.append(f"move 3 (100 -> -200): {len(m3)} steps; expected 300 with DIR low")
+    # 4: DIR on D34, ENABLE on D36: D34 high (counting up) at every step, the RAMPS DIR left alone;
+    # D36 low (enabled) during the move, high 1 ms after it (auto-disable)
+    if len(m4) != 500 or any(log.level_before("DIR2", c) != 1 for c in m4):
+        problems.append(f"move 4 (DIR on D34): {len(m4)} steps; expected 500 with D34 high")
+    elif log.changes_between("XDIR", m4[0] - 1, m4[-1] + 1):
+        problems.append("move 4: the RAMPS DIR changed while DIR was on D34")
+    elif log.level_before("EN2", m4[0]) != 0 or log.level_before("EN2", m4[-1] + F_CPU // 1000) != 1:
+        problems.append("move 4: ENABLE on D36 not low during the move and high 1 ms after it (auto-disable)")
     return CheckResult(not problems, f"{len(API_TOUR)} calls answered as documented; inverted move with "
                        f"auto-disable, hook-driven move with one turn ({len(m2)} steps), "
-                       f"setCurrentPosition + move: {len(e)} steps", problems)
+                       f"setCurrentPosition + move, DIR and ENABLE on D34/D36: {len(e)} steps", problems)
 
 
 # ---- LabRamp ----------------------------------------------------------------------------------

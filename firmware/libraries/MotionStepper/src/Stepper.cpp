@@ -11,6 +11,7 @@
 
 namespace {
 const uint8_t ENABLE_PIN[3] = {38, 56, 62}; /* MultiAxisPins.h: PD7, PF2, PK0 */
+const uint8_t MULTI_DIR_PIN[3] = {55, 61, 48}; /* MultiAxisPins.h: PF1, PF7, PL1 */
 
 uint8_t planner_next(void *ctx, step_cmd_t *c)
 {
@@ -28,7 +29,8 @@ Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
       last_status_(MS_OK), cuts_missed_(0), stop_up_(0), stop_from_(0), stop_pos_(0), stop_target_(0), stop_n_(0),
-      stop_active_(0), hook_(0), algo_(RAMP_ALGO_EXACT), ramp_hooks_(0), group_(0)
+      stop_active_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
+      ramp_hooks_(0), group_(0)
 {
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
@@ -60,8 +62,7 @@ motion_status_t Stepper::begin()
         step_planner_halt(&planner_, MultiStepEngine::position(axis_));
         begun_ = true;
         write_enable(enabled_ && !auto_disable_);
-        if (hook_)
-            MultiStepEngine::set_direction_hook(axis_, axis_ == X ? hook_x : axis_ == Y ? hook_y : hook_z);
+        install_hook();
     }
     return MS_OK;
 }
@@ -551,8 +552,8 @@ void Stepper::write_enable(bool on)
 {
     if (!begun_)
         return;
-    pinMode(ENABLE_PIN[axis_], OUTPUT);
-    digitalWrite(ENABLE_PIN[axis_], on == enable_high_ ? HIGH : LOW);
+    pinMode(en_pin_, OUTPUT);
+    digitalWrite(en_pin_, on == enable_high_ ? HIGH : LOW);
 }
 
 void Stepper::enableOutputs()
@@ -606,17 +607,65 @@ motion_status_t Stepper::setDirectionHook(DirectionHook hook)
     if (begun_ && isRunning())
         return MS_ERR_BUSY;
     hook_ = hook;
-    if (begun_)
-        MultiStepEngine::set_direction_hook(axis_, hook ? (axis_ == X ? hook_x : axis_ == Y ? hook_y : hook_z) : 0);
+    install_hook();
     return MS_OK;
 }
 
-/* the engine's hook gets its own direction (DIR high); the user's counts in their sense */
+/* the engine calls call_hook (through hook_x/y/z) while a hook or another DIR pin is set */
+void Stepper::install_hook()
+{
+    if (begun_)
+        MultiStepEngine::set_direction_hook(
+            axis_, (hook_ || dir_pin_ != 0xFF) ? (axis_ == X ? hook_x : axis_ == Y ? hook_y : hook_z) : 0);
+}
+
+static bool is_pin(uint8_t pin)
+{
+    return pin < NUM_DIGITAL_PINS && digitalPinToPort(pin) != NOT_A_PIN;
+}
+
+motion_status_t Stepper::setDirectionPin(uint8_t pin)
+{
+    if (!is_pin(pin))
+        return MS_ERR_OUT_OF_RANGE;
+    PlannerLock lock;
+    if (begun_ && isRunning())
+        return MS_ERR_BUSY;
+    dir_pin_ = pin == MULTI_DIR_PIN[axis_ > Z ? 0 : axis_] ? 0xFF : pin;
+    if (dir_pin_ != 0xFF)
+        pinMode(dir_pin_, OUTPUT);
+    install_hook();
+    return MS_OK;
+}
+
+uint8_t Stepper::directionPin() const
+{
+    return dir_pin_ != 0xFF ? dir_pin_ : MULTI_DIR_PIN[axis_ > Z ? 0 : axis_];
+}
+
+motion_status_t Stepper::setEnablePin(uint8_t pin)
+{
+    if (!is_pin(pin))
+        return MS_ERR_OUT_OF_RANGE;
+    PlannerLock lock;
+    if (begun_ && isRunning())
+        return MS_ERR_BUSY;
+    en_pin_ = pin;
+    write_enable(enabled_ && !auto_disable_);
+    return MS_OK;
+}
+
+/* the engine's hook gets its own direction (DIR high); the user's counts in their sense; another
+ * DIR pin takes the engine's */
 void Stepper::call_hook(uint8_t axis, bool forward)
 {
     Stepper *s = BackgroundPlanner::stepper(axis);
-    if (s)
+    if (!s)
+        return;
+    if (s->hook_)
         s->hook_(s->inverted_ ? !forward : forward);
+    else if (s->dir_pin_ != 0xFF)
+        digitalWrite(s->dir_pin_, forward ? HIGH : LOW);
 }
 void Stepper::hook_x(bool forward)
 {

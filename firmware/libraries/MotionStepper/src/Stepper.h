@@ -174,6 +174,19 @@ public:
      * move and at every reversal, from the engine (an interrupt: keep it short, e.g. a digitalWrite);
      * NULL: the engine writes DIR. Idle only. */
     motion_status_t setDirectionHook(DirectionHook hook);
+    /* Other pins for DIR and ENABLE (a driver wired elsewhere than the RAMPS socket), by their
+     * Arduino pin number; idle only (MS_ERR_BUSY while moving), MS_ERR_OUT_OF_RANGE for a pin the
+     * Mega does not have. STEP stays the axis's (the step interrupt writes its port directly).
+     * DIR on another pin is written as a direction hook writes it (digitalWrite before the first step
+     * of every move and at every reversal; high = counting up in the engine's sense, so with
+     * setDirectionInverted(true) high counts down), unless a hook is set, which then has it; the
+     * RAMPS DIR pin is left alone. ENABLE on another pin follows enableOutputs()/auto-disable and
+     * setEnableActiveHigh; the RAMPS ENABLE pin keeps the level it had. Before begin() the pins are
+     * only remembered. directionPin(), enablePin(): the pins in use. */
+    motion_status_t setDirectionPin(uint8_t pin);
+    motion_status_t setEnablePin(uint8_t pin);
+    uint8_t directionPin() const;
+    uint8_t enablePin() const { return en_pin_; }
 
     uint8_t axis() const { return axis_; }
     /* The sentence of a status, as after "ERR " in the sketches' serial replies (a flash string). */
@@ -227,6 +240,9 @@ private:
     int32_t stop_from_, stop_pos_, stop_target_;
     uint8_t stop_n_, stop_active_;
     DirectionHook hook_;
+    uint8_t dir_pin_; /* 0xFF: the axis's own, written by the engine */
+    uint8_t en_pin_;
+    void install_hook();
     ramp_algo_t algo_;
     const ramp_hooks_t *ramp_hooks_;
     StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */

@@ -1,7 +1,8 @@
 /* ApiTour - every Stepper call once, with what it answers: the refusals (their statuses print as the
  * sketches' serial ERR sentences), the limits, direction inversion, auto-disable, a direction hook,
- * a new target while moving, setCurrentPosition and move. The RAMPS X axis; Serial Monitor at 9600.
- * The hook writes D32 (a free pin): with a hook, the engine leaves DIR (D55) alone.
+ * a new target while moving, setCurrentPosition and move, DIR and ENABLE on other pins. The RAMPS X
+ * axis; Serial Monitor at 9600. The hook writes D32 (a free pin): with a hook, the engine leaves DIR
+ * (D55) alone.
  */
 #include <MotionStepper.h>
 
@@ -92,6 +93,15 @@ void setup()
     Serial.print(x.targetPosition());
     Serial.print(F(" distanceToGo "));
     Serial.println(x.distanceToGo());
+    wait_done();
+
+    /* a driver wired elsewhere: DIR on D34, ENABLE on D36 (auto-disable still on) */
+    say(F("setDirectionPin(200)"), x.setDirectionPin(200));
+    say(F("setEnablePin(200)"), x.setEnablePin(200));
+    say(F("setDirectionPin(34)"), x.setDirectionPin(34));
+    say(F("setEnablePin(36)"), x.setEnablePin(36));
+    say(F("move(500)"), x.move(500));
+    say(F("setDirectionPin(55) while moving"), x.setDirectionPin(55));
     wait_done();
     say(F("stop() at rest"), x.stop());
     say(F("forceStop() at rest"), x.forceStop());
