@@ -18,10 +18,11 @@
  * MS_ERR_NOT_BEGUN ("begin() has not been called"); the setters only keep their values.
  * Call the methods from loop() or setup() (not from an interrupt).
  *
- * Pins (fixed by the RAMPS board, MultiAxisPins.h): X STEP D54 DIR D55 EN D38; Y STEP D60 DIR D61
- * EN D56; Z STEP D46 DIR D48 EN D62. What can change is polarity: setDirectionInverted(true) makes DIR
- * low count up (a motor wired the other way), setEnableActiveHigh(true) for drivers enabled by a high
- * EN (RAMPS's A4988/DRV8825 are enabled low: the default).
+ * Pins (the RAMPS board's, MultiAxisPins.h): X STEP D54 DIR D55 EN D38; Y STEP D60 DIR D61 EN D56;
+ * Z STEP D46 DIR D48 EN D62. STEP is fixed (the step interrupt writes its port); DIR and ENABLE can
+ * move to other pins (setDirectionPin, setEnablePin), and polarity can change: setDirectionInverted(true)
+ * makes DIR low count up (a motor wired the other way), setEnableActiveHigh(true) for drivers enabled
+ * by a high EN (RAMPS's A4988/DRV8825 are enabled low: the default).
  */
 #ifndef MOTION_STEPPER_STEPPER_H
 #define MOTION_STEPPER_STEPPER_H
