@@ -40,6 +40,7 @@ import argparse
 import bisect
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -71,6 +72,27 @@ def build(out_dir, names):
                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if r.returncode != 0:
         sys.exit("bench: building the traced sketches failed:\n" + r.stdout[-2000:])
+
+
+def sizes_section(out_dir, names):
+    """flash and SRAM of the stepper sketches as shipped (tools/build_firmware.sh's table: .text + .data
+    and .data + .bss, static), and the MotionStepper examples'"""
+    env = dict(os.environ, FIRMWARE_DEFINES="", FIRMWARE_OUT=os.path.join(out_dir, "shipped"))
+    lib = os.path.join("firmware", "libraries", "MotionStepper", "examples")
+    examples = sorted(os.path.join(lib, d) for d in os.listdir(os.path.join(ROOT, lib))) \
+        if os.path.isdir(os.path.join(ROOT, lib)) else []
+    r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh")] + names + examples, env=env,
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=ROOT)
+    if r.returncode != 0:
+        sys.exit("bench: building the shipped sketches failed:\n" + r.stdout[-2000:])
+    rows = re.findall(r"^(\w+)\s+(\d+)\s+[\d.]+%\s+(\d+)\s+[\d.]+%$", r.stdout, re.M)
+    lines = ["## Flash and SRAM", "",
+             "Each sketch and MotionStepper example as shipped (tools/build_firmware.sh's table: flash = .text + "
+             ".data of 253,952 bytes, SRAM = .data + .bss of 8,192, static; the stack comes on top). A sketch links "
+             "only the planner half and the step-engine axes it uses (docs/stepper-engine.md).", "",
+             "| sketch | flash (bytes) | SRAM (bytes) |", "|---|---|---|"]
+    lines += [f"| {n} | {int(f):,} | {int(m):,} |" for n, f, m in rows]
+    return lines + [""]
 
 
 def params_for(algo, v):
@@ -624,6 +646,7 @@ def main(argv):
     lines += multi_section(a.motionsim, a.out, a.only)
     if not a.only:
         lines += library_section(a.out)
+        lines += sizes_section(a.out, names + multi)
     pc = planner_costs(a.planner_elf)
     if pc:
         lines += ["Planner on the AVR (lib/src/step_planner.c, test/emu/step_avr): cycles per command and per step of "
