@@ -84,7 +84,10 @@
  * register and no flag) belongs to the step interrupts (MultiStepEngineIsr.inc), which read it before
  * saving a register: ANY is a copy of "the axis's mode byte is not zero" (not the common path);
  * OWNOFF is set when a match of the axis must not raise its STEP: its mode's AXIS_MODE_OWN_OFF (and,
- * harmlessly, while it is not running); LED_X mirrors X's steps on D13. No other code of the sketch may use GPIOR0. */
+ * harmlessly, while it is not running; ANY too then: a match of an axis not running takes the C
+ * path, which does nothing); LED_X mirrors X's steps on D13. No other code of the sketch may use
+ * GPIOR0. GPIOR1 and GPIOR2 belong to X's and Y's step paths too (each keeps r26 there while it
+ * runs: one cycle each way instead of a push and a pop); no other code may use them either. */
 #define MULTI_G_ANY_X 0
 #define MULTI_G_ANY_Y 1
 #define MULTI_G_ANY_Z 2

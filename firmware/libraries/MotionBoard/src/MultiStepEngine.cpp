@@ -176,9 +176,9 @@ void MultiStepEngine::begin_axes(uint32_t tick_hz)
             f.open = 0;
             f.held = 0;
         }
-        /* none running; the LED mirror as set */
+        /* none running (sync_g0); the LED mirror as set */
         GPIOR0 = (uint8_t)((GPIOR0 & _BV(MULTI_G_LED_X)) | _BV(MULTI_G_OWNOFF_X) | _BV(MULTI_G_OWNOFF_Y) |
-                           _BV(MULTI_G_OWNOFF_Z));
+                           _BV(MULTI_G_OWNOFF_Z) | _BV(MULTI_G_ANY_X) | _BV(MULTI_G_ANY_Y) | _BV(MULTI_G_ANY_Z));
     }
     hw_begin(tick_hz); /* the executor's time base (s_tick_hz) and timer */
     for (uint8_t a = 0; a < MULTI_AXES; a++)
@@ -374,21 +374,32 @@ void MultiStepEngine::open_move(uint8_t axis, bool held)
 static int32_t position_now(AxisState &s)
 {
     const AxisSlot *t = s.cur;
-    uint16_t made;
+    int32_t made;
     if (!s.running)
         return s.pos_rest;
-    made = t->left - s.left;
-    return t->p_start + ((t->flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)made : -(int32_t)made);
+    /* the steps of the current command armed or computed, less the armed one not made yet (in ahead
+     * form also the one computed after it: -1 when that is the command's first, the step armed being
+     * the last of the one before, in the same direction) */
+    made = (int32_t)(uint16_t)(t->left - s.left) - (looked_ahead(s) ? 1 : 0);
+    return t->p_start + ((t->flags & _BV(AXIS_SLOT_FORWARD)) ? made : -made);
 }
 
 void MultiStepEngine::halt(uint8_t axis)
 {
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
+    int32_t at;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         hw_stop(axis);
-        s.pos_rest = position_now(s);
+    }
+    /* its interrupt is off (it cannot be running: loop() is): its state stays as it is, so its
+     * position is worked out with interrupts on, and the stretch below (which other axes' edges wait
+     * for, as the core's interrupts that may come just before it) stays short */
+    at = position_now(s);
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        s.pos_rest = at;
         s.running = 0;
         s.finishing = 0;
         s.wraps = 0;
@@ -567,14 +578,14 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
     uint8_t curi, i, running;
-    uint16_t left;
+    uint32_t left;
     uint32_t rate, per, ahead;
     bool wide;
     AxisSlot *cp;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         cp = s.cur; /* its index (slot_index) with interrupts on */
-        left = s.left;
+        left = (uint32_t)s.left + (looked_ahead(s) ? 1U : 0U); /* ahead form: one computed, not armed */
         rate = s.rate + (uint32_t)s.add; /* the next interval */
         wide = (s.flags & _BV(AXIS_SLOT_WIDE)) != 0;
         running = s.running && !f.held && s.slot[to].ready;
@@ -584,7 +595,7 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     curi = slot_index(s, cp);
     /* the current command's steps not armed yet, then the slots between */
     per = wide ? rate : (rate >> 16);
-    ahead = per > 0xFFFFUL ? 0xFFFFFFUL : (uint32_t)left * per;
+    ahead = per > 0xFFFFUL ? 0xFFFFFFUL : left * per;
     for (i = next_slot(f, curi); i != to; i = next_slot(f, i))
         ahead += f.duration[i];
     return ahead;

@@ -15,8 +15,11 @@
  * Why Timer1's three channels: one counter (TCNT1) is one timeline for all axes, so a coordinated
  * move starts every axis on the same tick (start_together) and their planned edges keep their
  * relation exactly; one timer's three vectors cost nothing more per step than three timers would.
+ * Each axis's state is kept one step ahead (ahead form, MultiStepEngineIsr.inc): at a match the
+ * interrupt arms the edge it computed at the step before, within a few instructions of STEP, then
+ * computes the one after; its own compare interrupt stays masked meanwhile (in_step_interrupt()).
  * The interrupts nest: each raises its STEP and enables interrupts in its first instructions, and
- * arms its next edge with them off at its end, so an edge never waits for another axis's step, only
+ * arms its next edge with them off right after, so an edge never waits for another axis's step, only
  * for the short stretches another axis's interrupt runs with interrupts off (a few dozen cycles) and
  * for the core's millis and serial interrupts, which do not nest; `make bench` measures it.
  * loop() calls service() for each axis: it keeps between two commands and MULTI_LEAD_MS of steps
@@ -91,13 +94,14 @@ struct AxisSlot {
  * being stepped lives here (rate, add, left, flags), so the interrupt's common path reaches every
  * field at a fixed address. */
 struct AxisState {
-    uint32_t acc;               /* +0  the timeline: time of the armed edge, 16.16 ticks */
+    uint32_t acc;               /* +0  the timeline, 16.16 ticks: in ahead form (a fast command, looked_ahead()) the
+                                 *     edge after the one armed (OCR1x), which the next match arms; else the armed one */
     uint32_t rate;              /* +4  the current command's next interval less add (WIDE: whole ticks) */
     int32_t add;                /* +8 */
-    volatile uint16_t left;     /* +12 its steps not yet armed */
+    volatile uint16_t left;     /* +12 its steps not yet armed (ahead form: not yet computed) */
     uint8_t flags;              /* +14 its AXIS_SLOT_* bits */
     volatile uint8_t mode;      /* +15 AXIS_MODE_* bits */
-    AxisSlot *volatile cur;     /* +16 the slot being stepped */
+    AxisSlot *volatile cur;     /* +16 the slot being stepped (ahead form: that of the edge computed) */
     volatile uint16_t late;     /* +18 edges armed in the past (fired 2 us later) */
     uint8_t late_ticks;         /* +20 2 us in ticks */
     uint8_t mask_f;             /* +21 the STEP bits of PORTF this interrupt pulses: its axis's, and its followers' */
@@ -161,6 +165,18 @@ public:
     static void poll();
 #else
     static inline void poll() {}
+#endif
+
+    /* For an interrupt of low priority that enables interrupts to run long (MotionStepper's planner
+     * tick): whether it has interrupted a step interrupt, which then waits for the whole of it; call
+     * with interrupts off. True while an axis's asm path runs (its own compare interrupt masked:
+     * TIMSK1's OCIE1x clear while the axis runs) or its C path runs before it arms the next edge (the
+     * match has come: OCR1x at or less than 4000 ticks before TCNT1, and its flag is clear). An axis
+     * counting out wraps looks busy for 4000 ticks after each. Timed-loop mode: false. */
+#if MULTI_TIMED_LOOP
+    static inline bool in_step_interrupt() { return false; }
+#else
+    static bool in_step_interrupt();
 #endif
 
     /* loop()'s part for one axis: lays out at most max_cmds commands from src while the queue

@@ -129,11 +129,13 @@ inline uint8_t cur_index(AxisState &s)
 }
 
 /* The GPIOR0 copies of an axis's mode (MultiAxisPins.h), after a change of its mode or of its running
- * (interrupts off): ANY = mode not zero; OWNOFF = OWN_OFF, or not running. */
+ * (interrupts off): ANY = mode not zero, or not running (a match then takes the C path, which does
+ * nothing); OWNOFF = OWN_OFF, or not running. */
 inline void sync_g0(AxisState &s)
 {
     uint8_t any = s.g_any, off = s.g_off, bits;
-    bits = (uint8_t)((s.mode ? any : 0) | (((s.mode & _BV(AXIS_MODE_OWN_OFF)) || !s.running) ? off : 0));
+    bits = (uint8_t)(((s.mode || !s.running) ? any : 0) |
+                     (((s.mode & _BV(AXIS_MODE_OWN_OFF)) || !s.running) ? off : 0));
     GPIOR0 = (uint8_t)((GPIOR0 & (uint8_t)~(any | off)) | bits);
 }
 
@@ -145,6 +147,14 @@ inline void change_mode(AxisState &s, uint8_t set, uint8_t clear)
         m |= _BV(AXIS_MODE_OWN_OFF);
     s.mode = m;
     sync_g0(s);
+}
+
+/* The axis's state is in ahead form (MultiStepEngine.h): acc, cur, left, rate and flags belong to
+ * the step after the one armed. So while a fast command steps with the interrupts; not with a slow
+ * one, nor when the C path makes the next step (PEND: the SLOW bit), nor in timed-loop mode. */
+inline bool looked_ahead(const AxisState &s)
+{
+    return !MULTI_TIMED_LOOP && s.running && !(s.mode & _BV(AXIS_MODE_SLOW));
 }
 
 /* Makes slot t the interrupt's current command: its fields into the state (the interrupt's own

@@ -36,16 +36,21 @@ inline uint8_t ocie_bit(uint8_t axis)
 
 /* Arms the next step of the current command by the executor's rule, counting a slow interval's wraps; a first
  * match already missed counts as passed, a step already due fires 2 us later; sets the mode bits SLOW
- * (the command's) and WAITING. `prev` (the edge the interval starts from) may lie ahead of TCNT1 at a
- * move's start: nothing has elapsed then, and a match before prev is one more to let pass. The arithmetic may run with interrupts on; from the arming
- * on they are off and stay off (cli, not restored): the interrupt ends so, and its next match, armed
- * here, may come at once (a late edge). */
+ * and WAITING. `prev` (the edge the interval starts from) may lie ahead of TCNT1 at a move's start:
+ * nothing has elapsed then, and a match before prev is one more to let pass. A fast command's step
+ * is then looked ahead (ahead form, MultiStepEngine.h): the step after it computed into acc (the next
+ * slot taken if the command is used up), which the asm path arms at this edge's match; when that step
+ * cannot be computed so (no next slot laid out yet, a slow one, a turn) the SLOW bit sends the match
+ * to this C path (PEND). The arithmetic runs with interrupts on; from the arming on they are off and
+ * stay off (cli, not restored): the interrupt ends so, and its next match, armed here, may come at
+ * once (a late edge). */
 __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
 {
-    uint16_t prev = (uint16_t)(s.acc >> 16), elapsed;
+    uint16_t prev = (uint16_t)(s.acc >> 16), elapsed, edge;
     uint32_t interval, first;
     int16_t since;
     uint8_t set = 0, clear = 0;
+    bool slow = (s.flags & _BV(AXIS_SLOT_SLOW)) != 0, pend = false;
     if (s.flags & _BV(AXIS_SLOT_WIDE)) {
         interval = s.rate;
         s.acc += s.rate << 16;
@@ -57,10 +62,27 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
         if (interval == 0)
             interval = 0x10000UL;
     }
+    edge = (uint16_t)(s.acc >> 16);
     s.wraps = (uint16_t)((interval - 1U) >> 16);
     first = ((interval - 1U) & 0xFFFFUL) + 1U;
+    if (!slow) {
+        /* ahead form: the step after this one */
+        if (s.left != 0) {
+            s.left = s.left - 1U;
+        } else {
+            AxisSlot *next = s.cur->other;
+            if (next->ready && !(next->flags & (_BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_TURN))))
+                load_slot(s, *next);
+            else
+                pend = true;
+        }
+        if (!pend) {
+            s.rate += (uint32_t)s.add;
+            s.acc += s.rate;
+        }
+    }
     cli();
-    write_ocr(axis, (uint16_t)(s.acc >> 16));
+    write_ocr(axis, edge);
     since = (int16_t)(TCNT1 - prev);
     if (since < 0) {
         /* prev (a move's start) is still ahead, by d ticks: the compare value comes round once before
@@ -82,22 +104,30 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
         set |= _BV(AXIS_MODE_WAITING);
     else
         clear |= _BV(AXIS_MODE_WAITING);
-    if (s.flags & _BV(AXIS_SLOT_SLOW))
+    if (slow || pend)
         set |= _BV(AXIS_MODE_SLOW);
     else
         clear |= _BV(AXIS_MODE_SLOW);
     change_mode(s, set, clear);
 }
 
-/* the C path of one axis: a wrap to count, a slow command's step, or the slot used up without a
- * ready fast one. Called with interrupts on (its STEP raised by the asm path): other axes' edges do
- * not wait for it; shared registers (TIMSK1, GPIOR0, a port's read-modify-write) are written with
- * them off, and from the arming of the next edge (arm_step) they stay off. Its own match cannot come
- * before that: OCR1x still holds the edge that has just matched. */
+/* the C path of one axis: a wrap to count, a slow command's step, or a step the asm path left to it
+ * (PEND: the command used up without a ready fast slot that keeps the direction). Called with
+ * interrupts on (its STEP raised by the asm path): other axes' edges do not wait for it; shared
+ * registers (TIMSK1, GPIOR0, a port's read-modify-write) are written with them off, and from the
+ * arming of the next edge (arm_step) they stay off. Its own match cannot come before that: OCR1x
+ * still holds the edge that has just matched (the state is in normal form here). */
 __attribute__((always_inline)) inline void cold_path(uint8_t axis)
 {
     AxisState &s = state(axis);
     AxisSlot *cur = s.cur, *next;
+    if (!s.running) {
+        /* a match after a halt (none should come): nothing to step */
+        cli();
+        TIMSK1 &= (uint8_t)~ocie_bit(axis);
+        step_low(axis);
+        return;
+    }
     if (s.mode & _BV(AXIS_MODE_WAITING)) {
         cli();
         s.wraps = s.wraps - 1U;
@@ -106,9 +136,9 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
         return;
     }
     /* STEP is high: this match made a step */
-    if (axis == 0 && (s.mode & _BV(AXIS_MODE_SLOW)) && (GPIOR0 & _BV(MULTI_G_LED_X)))
-        MULTI_LED_PIN = _BV(MULTI_LED_BIT); /* the LED mirror of a slow step (the asm path mirrors the others) */
-    if ((s.flags & _BV(AXIS_SLOT_SLOW)) && s.left != 0) {
+    if (axis == 0 && (GPIOR0 & _BV(MULTI_G_LED_X)))
+        MULTI_LED_PIN = _BV(MULTI_LED_BIT); /* the LED mirror (the asm path mirrors its own steps) */
+    if (s.left != 0) {
         s.left = s.left - 1U;
         arm_step(axis, s);
         step_low(axis);
@@ -128,9 +158,9 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
     }
     load_slot(s, *next);
     if (next->flags & _BV(AXIS_SLOT_TURN)) {
-        /* DIR while STEP is still high, as the asm path writes it (>= 1.5 us after the rising edge:
-         * the interrupt's entry and this call took longer), before the arming: interrupts are off
-         * only for the port write, not after the arming with the rest of the stretch (a Z turn
+        /* DIR while STEP is still high (>= 1.5 us after the rising edge of the old direction's last
+         * step: the interrupt's entry and this call took longer), before the arming: interrupts are
+         * off only for the port write, not after the arming with the rest of the stretch (a Z turn
          * there held an X edge 267 cycles, `make fuzz`; the bound is 260) */
         ATOMIC_BLOCK(ATOMIC_FORCEON)
         {
@@ -200,21 +230,27 @@ inline bool missed_by(uint16_t now, uint16_t edge)
 void catch_missed_match(uint8_t axis)
 {
     AxisState &s = state(axis);
-    if (!s.running || (s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) || (TIFR1 & ocf_bit(axis)) ||
-        !missed_by(TCNT1, (uint16_t)(s.acc >> 16)))
+    if (!s.running || (s.mode & _BV(AXIS_MODE_WAITING)) || (s.flags & _BV(AXIS_SLOT_SLOW)) ||
+        (TIFR1 & ocf_bit(axis)) || !missed_by(TCNT1, read_ocr(axis)))
         return;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        if (s.running && !(s.mode & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW))) && !(TIFR1 & ocf_bit(axis))) {
+        if (s.running && !(s.mode & _BV(AXIS_MODE_WAITING)) && !(s.flags & _BV(AXIS_SLOT_SLOW)) &&
+            !(TIFR1 & ocf_bit(axis))) {
             uint16_t now = TCNT1;
-            /* and not re-armed by an earlier look (its match still to come) */
-            if (missed_by(now, (uint16_t)(s.acc >> 16)) && (int16_t)(read_ocr(axis) - now) <= 0) {
+            /* OCR1x: the edge armed (in ahead form acc is the one after it); a re-arming by an earlier
+             * look lies ahead */
+            if (missed_by(now, read_ocr(axis))) {
                 write_ocr(axis, now + s.late_ticks);
                 s.late = s.late + 1U;
             }
         }
     }
 }
+
+/* MultiStepEngine::in_step_interrupt's window: an armed edge at most this far behind TCNT1 is a
+ * match whose interrupt may still be in its C path */
+#define MULTI_ISR_WINDOW 4000U
 
 void hw_begin(uint32_t tick_hz)
 {
@@ -243,6 +279,22 @@ bool may_plan(uint8_t)
 } // namespace mse
 
 using namespace mse;
+
+bool MultiStepEngine::in_step_interrupt()
+{
+    uint8_t on = TIMSK1, flags = TIFR1;
+    uint16_t now = TCNT1;
+    for (uint8_t a = 0; a < MULTI_AXES; a++) {
+        const AxisState *s = s_state[a];
+        if (!s || !s->running)
+            continue;
+        if (!(on & ocie_bit(a)))
+            return true; /* its asm path: its own match masked until the end */
+        if (!(flags & ocf_bit(a)) && (uint16_t)(now - read_ocr(a)) < MULTI_ISR_WINDOW)
+            return true; /* its C path, before the arming */
+    }
+    return false;
+}
 
 /* The C path of each axis, called by its step interrupt (MultiStepEngineIsr.inc) with interrupts on;
  * returns with them off. */

@@ -170,25 +170,13 @@ void BackgroundPlanner::tick()
             axes_[i]->prepare_stop(); /* once a move cruises: its stop planned ahead */
 }
 
-/* A step interrupt is between its compare match and the arming of its next edge: its match has
- * come (OCR1x at or before TCNT1, less than STEP_ISR_WINDOW ago) and its flag is clear (the vector
- * was entered). The step interrupts enable interrupts early so that the axes nest; the planner must
- * not run inside one of them (its next edge would wait for the whole tick). Interrupts are off here;
- * OCR1x is read without Timer1's TEMP, TCNT1 through it (the step interrupts touch TEMP only with
- * interrupts off). A slow axis counting out wraps looks busy for STEP_ISR_WINDOW after each wrap:
- * the tick only comes a little later. */
-#define STEP_ISR_WINDOW 4000
+/* A step interrupt is running (the engine's in_step_interrupt(): its own compare interrupt masked
+ * while it computes its next step, or a match come and not yet served). The step interrupts enable
+ * interrupts early so that the axes nest; the planner must not run inside one of them (its next edge
+ * would wait for the whole tick). */
 static bool step_isr_active()
 {
-    uint8_t on = TIMSK1, flags = TIFR1;
-    uint16_t now = TCNT1;
-    if ((on & _BV(OCIE1A)) && !(flags & _BV(OCF1A)) && (uint16_t)(now - OCR1A) < STEP_ISR_WINDOW)
-        return true;
-    if ((on & _BV(OCIE1B)) && !(flags & _BV(OCF1B)) && (uint16_t)(now - OCR1B) < STEP_ISR_WINDOW)
-        return true;
-    if ((on & _BV(OCIE1C)) && !(flags & _BV(OCF1C)) && (uint16_t)(now - OCR1C) < STEP_ISR_WINDOW)
-        return true;
-    return false;
+    return MultiStepEngine::in_step_interrupt();
 }
 
 /* Timer3's compare match, 1 kHz. Entered with interrupts off for a few dozen cycles: a tick during a
