@@ -275,7 +275,10 @@ def check_bad_input(env, sketch):
     s += ["mark busy", "send x 30000", "wait ^OK x 0 30000$", "send move x0 y10", "wait ^(OK|ERR)",
           "send !", "wait ^OK halt", "wait ^DONE x ", "send move y20000 z10000", "wait ^OK move ",
           "send z 5", "wait ^(OK|ERR)", "send move x5 y5", "wait ^(OK|ERR)", "send ! y", "wait ^OK halt",
-          "wait ^DONE move ", "mark end", "send ?", "wait ^z pos="]
+          "wait ^DONE move ", "mark end", "send ?", "wait ^z pos=",
+          # a named axis already at its target belongs to the move too: no target of its own meanwhile
+          "mark named", "send x 0", "wait ^DONE x 0$", "send move y0 x0", "wait ^OK move ", "send x 500",
+          "wait ^(OK|ERR)", "wait ^DONE move ", "mark named_end"]
     log = run(env, sketch, "\n".join(s) + "\n")
     problems = []
     for c, k, t in log.fails:
@@ -310,6 +313,15 @@ def check_bad_input(env, sketch):
     q = query_lines(log, me)
     if q.get("x", {}).get("state") != "idle" or q.get("z", {}).get("mode") != "idle":
         problems.append(f"after the halts: {q}")
+    mn, mne = log.mark("named"), log.mark("named_end")
+    named = [l.text for l in log.lines_matching(r"^(OK|ERR|DONE)", mn, mne)] if None not in (mn, mne) else []
+    want = [r"^OK x -?\d+ 0$", r"^DONE x 0$", r"^OK move x 0 0 y \d+ 0$",
+            r"^ERR busy: a move is in progress: the axis is in a coordinated move", r"^DONE move x 0 y 0$"]
+    if len(named) != len(want) or not all(re.match(w, g) for w, g in zip(want, named)):
+        problems.append(f"a target for x, named at its target in a coordinated move: replies {named}, "
+                        "expected ERR busy and 'DONE move x 0 y 0'")
+    elif edges_between(log, "XSTEP", log.lines_matching(r"^OK move x 0 0", mn, mne)[0].cycle, mne):
+        problems.append("x stepped while named in a coordinated move at its target")
     return CheckResult(not problems, f"{len(BAD)} bad lines -> {len(replies)} ERR, no step; busy cases refused; "
                        f"halt of a coordinated move keeps it on its line", problems)
 

@@ -20,7 +20,7 @@ static uint8_t coord_busy(void *ctx)
     return step_coord_busy(r->coord, r->repeats != 0xFF ? r->repeats : r->axis);
 }
 
-MultiAxisCoord::MultiAxisCoord() : named_(0), own_(0), done_(0), starting_(false)
+MultiAxisCoord::MultiAxisCoord() : own_(0), done_(0), starting_(false)
 {
     for (uint8_t i = 0; i < MULTI_AXES; i++) {
         ctx_[i].coord = &coord_;
@@ -74,9 +74,9 @@ static void print_axes(Print &out, uint8_t named, const int32_t *a, const int32_
 void MultiAxisCoord::print_positions(Print &out, bool with_from)
 {
     if (with_from)
-        print_axes(out, named_, coord_.from, coord_.to);
+        print_axes(out, named, coord_.from, coord_.to);
     else
-        print_axes(out, named_, end_, 0);
+        print_axes(out, named, end_, 0);
 }
 
 void MultiAxisCoord::axis_done(StepConsole &c, uint8_t axis, int32_t position)
@@ -108,7 +108,7 @@ void MultiAxisCoord::axis_done(StepConsole &c, uint8_t axis, int32_t position)
     }
     mask = 0;
     own_ = 0;
-    named_ = 0;
+    named = 0;
     done_ = 0;
     starting_ = false;
 }
@@ -118,7 +118,7 @@ void MultiAxisCoord::handle_move(StepConsole &c, const char *cursor)
     char word[LINE_READER_MAX + 1];
     int32_t from[MULTI_AXES], to[MULTI_AXES];
     ramp_params_t p[MULTI_AXES];
-    uint8_t named = 0, moving = 0;
+    uint8_t names = 0, moving = 0;
     int n;
     motion_status_t st;
     MotionSerial &serial = c.serial_;
@@ -132,7 +132,7 @@ void MultiAxisCoord::handle_move(StepConsole &c, const char *cursor)
             serial.reply_error(MS_ERR_UNKNOWN_COMMAND, F("move x<target> y<target> z<target>, e.g. move x1000 y-500"));
             return;
         }
-        if (named & (1U << axis)) {
+        if (names & (1U << axis)) {
             serial.reply_error(MS_ERR_UNKNOWN_COMMAND, F("an axis is named twice"));
             return;
         }
@@ -141,16 +141,16 @@ void MultiAxisCoord::handle_move(StepConsole &c, const char *cursor)
             serial.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
             return;
         }
-        named |= (uint8_t)(1U << axis);
+        names |= (uint8_t)(1U << axis);
         to[axis] = t;
     }
-    if (named == 0) {
+    if (names == 0) {
         serial.reply_error(MS_ERR_UNKNOWN_COMMAND, F("move what? move x<target> y<target> z<target>"));
         return;
     }
     c.collect_done(); /* a move that has just ended reports first */
     for (uint8_t i = 0; i < MULTI_AXES; i++) {
-        if ((named & (1U << i)) && (MultiStepEngine::moving(i) || (mask & (1U << i)))) {
+        if ((names & (1U << i)) && (MultiStepEngine::moving(i) || (named & (1U << i)))) {
             Print &e = serial.begin_error(MS_ERR_BUSY);
             e.print(AXIS_NAME[i]);
             e.println(F(" is moving (stop it or wait for its DONE)"));
@@ -159,7 +159,7 @@ void MultiAxisCoord::handle_move(StepConsole &c, const char *cursor)
     }
     for (uint8_t i = 0; i < MULTI_AXES; i++) {
         from[i] = MultiStepEngine::position(i);
-        if (!(named & (1U << i)))
+        if (!(names & (1U << i)))
             to[i] = from[i]; /* not in this move: it sets no limit and is not touched */
         p[i] = c.pl_[i].params;
         if (to[i] != from[i])
@@ -169,10 +169,10 @@ void MultiAxisCoord::handle_move(StepConsole &c, const char *cursor)
         /* every named axis is there already: nothing moves, and the move is done at once (as `x 0` at 0) */
         Print &out = serial.out();
         out.print(F("OK move"));
-        print_axes(out, named, from, to);
+        print_axes(out, names, from, to);
         out.println();
         out.print(F("DONE move"));
-        print_axes(out, named, from, 0);
+        print_axes(out, names, from, 0);
         out.println();
         return;
     }
@@ -181,7 +181,7 @@ void MultiAxisCoord::handle_move(StepConsole &c, const char *cursor)
         serial.reply_error(st);
         return;
     }
-    named_ = named;
+    named = names;
     mask = moving;
     done_ = 0;
     for (uint8_t i = 0; i < MULTI_AXES; i++) {

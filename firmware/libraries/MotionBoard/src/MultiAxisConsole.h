@@ -13,6 +13,8 @@
  *                        (lib/src/step_coord.h); each axis's vmax and accel hold. "OK move x <from> <to>
  *                        y <from> <to> ...", later one "DONE move x <pos> y <pos> ...". Refused
  *                        ("ERR busy ...") while a named axis is moving; axes not named may move.
+ *                        Every named axis belongs to the move until its DONE, one already at its
+ *                        target too: a target for it meanwhile gets "ERR busy", `stop <it>` stops the move.
  *                        Every named axis at its target already: "OK move ..." and "DONE move ..." at
  *                        once, nothing moves (as "x 0" at 0).
  *   stop | !             every axis: decelerate to rest / halt at once: "OK stop" / "OK halt", then
@@ -59,7 +61,6 @@ private:
 
     step_coord_t coord_;
     AxisCoordRef ctx_[MULTI_AXES];
-    uint8_t named_;   /* axes named in the move (reported in OK/DONE); mask: of those, the ones that move */
     uint8_t own_;     /* of those, the axes stepped by their own interrupt (the others follow one) */
     uint8_t done_;    /* axes of the move that have ended */
     bool starting_;   /* held, waiting for every axis's first commands */

@@ -260,7 +260,7 @@ void StepConsole::handle_target(uint8_t axis, const char *word)
         serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
         return;
     }
-    if (coord_mask() & (1U << axis)) {
+    if (coord_named() & (1U << axis)) {
         serial_.reply_error(MS_ERR_BUSY, F("the axis is in a coordinated move (stop it first, or wait for its DONE)"));
         return;
     }
@@ -336,7 +336,7 @@ void StepConsole::handle_stop(const char *cursor, bool halt)
         mask = (uint8_t)(1U << axis);
     }
     collect_done(); /* moves that have just ended report first */
-    if (mask & coord_mask())
+    if (mask & coord_named())
         mask |= coord_mask(); /* an axis of the coordinated move stops the whole move */
     for (uint8_t i = 0; i < n_; i++) {
         if (!(mask & (1U << i)))
@@ -422,7 +422,7 @@ void StepConsole::print_status(uint8_t axis)
 {
     Print &out = serial_.out();
     bool moving = MultiStepEngine::moving(axis);
-    bool in_move = (coord_mask() & (1U << axis)) != 0;
+    bool in_move = (coord_named() & (1U << axis)) != 0;
     uint8_t phase = MultiStepEngine::phase(axis);
     print_axis(out, axis);
     out.print(F("pos="));

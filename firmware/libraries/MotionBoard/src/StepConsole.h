@@ -27,10 +27,12 @@
 class StepConsole;
 
 /* The coordinated `move` of the three-axis console (MultiAxisConsole.cpp): reached only through
- * this interface, so a one-axis sketch links none of its code. mask: the axes of the move in
- * progress that move (0: none). */
+ * this interface, so a one-axis sketch links none of its code. named: the axes of the move in
+ * progress (0: none), each reported in its DONE line, so none takes another target meanwhile, even
+ * one that was at its target already; mask: of those, the ones that move. */
 class StepConsoleCoord {
 public:
+    uint8_t named;
     uint8_t mask;
     /* where axis's commands come from while it is in the move */
     virtual AxisSource source(uint8_t axis) = 0;
@@ -46,7 +48,7 @@ public:
     virtual int32_t target_of(uint8_t axis) = 0;
 
 protected:
-    StepConsoleCoord() : mask(0) {}
+    StepConsoleCoord() : named(0), mask(0) {}
 };
 
 class StepConsole {
@@ -80,6 +82,7 @@ private:
     void start_next(uint8_t axis);
     void print_axis(Print &out, uint8_t axis); /* "x " on three axes, nothing on one */
     uint8_t coord_mask() const { return co_ ? co_->mask : 0; }
+    uint8_t coord_named() const { return co_ ? co_->named : 0; }
 
     uint8_t n_; /* axes: 1 (X) or 3 */
     StepperRamp **ramp_;
