@@ -13,6 +13,7 @@
   is counted in an `ERR input overrun: N line(s) lost` reply (exactly: replies + sum N = lines
   sent), those replies come without waiting for a later line, and the sketch answers afterwards.
 """
+import math
 import re
 
 import emulog
@@ -178,6 +179,8 @@ def checks_for(env):
         if fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read():
             checks.append((f"{s}: at the corners of its limits (max_sps, the largest accel): no underrun, every "
                            f"edge within the bound", lambda s=s: check_exact_corners(env, s)))
+            checks.append((f"{s}: a stop while stepping slowly (20 steps/s) acts within the lead",
+                           lambda s=s: check_slow_stop(env, s)))
         if fam == "stepper" and "TrapezoidRamp" in open(env.ino(s)).read():
             checks.append((f"{s}: a long ramp just below max_sps (v0 near vmax, a small accel): the planner keeps "
                            f"up, no underrun", lambda s=s: check_long_ramp_at_limit(env, s)))
@@ -375,6 +378,36 @@ def check_long_ramp_at_limit(env, sketch):
         problems.append(f"{edges} STEP edges, want {steps}")
     return CheckResult(not problems, f"v0 {v0:g} -> vmax {vmax:g} at accel {accel:.0f}: {edges} steps, "
                        f"underruns={f.get('underruns')}", problems)
+
+
+# A stop while stepping slowly acts within the lead (docs/stepper-engine.md: STEP_ENGINE_LEAD_MS, at
+# least two commands): at 16 MHz a step of 20 steps/s is 800,000 ticks, beyond the 65,535 a slot's
+# duration holds; counted as 65,535 they filled the whole ring (96 steps, nearly 5 s of them) before
+# the lead looked reached, and a `stop` acted that late (make fuzz, seed 23, found its trace). The
+# steps after the `stop` line: those queued (at most the lead or two commands, three at 20 steps/s)
+# plus the deceleration's v^2/2a, each rounded up.
+SLOW_VMAX, SLOW_ACCEL = 20.0, 100.0
+
+
+def check_slow_stop(env, sketch):
+    script = "\n".join(["wait ^READY [^ ]+$", "timeout 20000", f"send set vmax {SLOW_VMAX:g}", "wait ^OK",
+                        f"send set accel {SLOW_ACCEL:g}", "wait ^OK", "send 100000", "wait ^OK", "run 3000",
+                        "mark stop", "send stop", "wait ^OK stop", "wait ^DONE", "send ?", "wait ^pos="]) + "\n"
+    log = emulog.run(env.elf(sketch), script, pins=sketches.stepper_pins(env))
+    problems = []
+    fails_of(log, problems)
+    m = log.mark("stop")
+    done = log.first("^DONE ")
+    if m is None or done is None:
+        return CheckResult(False, "no stop", problems + [f"lines {[l.text for l in log.rx][-6:]}"])
+    after = len([c for c in log.rising("STEP") if c > m])
+    lead_steps = max(2, math.ceil(SLOW_VMAX * 0.1)) + 1
+    bound = lead_steps + math.ceil(SLOW_VMAX * SLOW_VMAX / (2 * SLOW_ACCEL)) + 2
+    if after > bound:
+        problems.append(f"{after} steps after the `stop` line at {SLOW_VMAX:g} steps/s, accel {SLOW_ACCEL:g}: "
+                        f"more than the lead and the deceleration allow ({bound})")
+    return CheckResult(not problems, f"a stop at {SLOW_VMAX:g} steps/s (accel {SLOW_ACCEL:g}): {after} steps after "
+                       f"the line (at most {bound}), {done.text}", problems)
 
 
 # A coordinated move starts 4096 ticks ahead; the axis that moves least has its first step one of its

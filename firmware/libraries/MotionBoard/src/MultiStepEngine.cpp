@@ -41,11 +41,20 @@ uint16_t duration_ticks(const step_cmd_t &c)
     return d > 0xFFFFUL ? 0xFFFFU : (uint16_t)d;
 }
 
+/* What a slot's command weighs in the lead (queued_ticks): its duration, or, for a command of 65535
+ * ticks or more (stored as 0xFFFF), at least any lead (2^24 ticks: 1 s at 16 MHz), so that one
+ * slow step fills it: counted as 65535 ticks, the slots of a slow move (one step a second) filled
+ * the whole ring, and a stop or a new target waited for a minute of steps (make fuzz, seed 23) */
+static inline uint32_t lead_weight(uint16_t d)
+{
+    return d == 0xFFFFU ? 0x01000000UL : d;
+}
+
 void retire_consumed(AxisState &s, AxisFeed &f)
 {
     uint8_t cur = cur_index(s);
     while (f.ready > 0 && !s.slot[f.seen].ready && (f.seen != cur || !s.running)) {
-        f.queued_ticks -= f.duration[f.seen];
+        f.queued_ticks -= lead_weight(f.duration[f.seen]);
         f.seen = next_slot(f, f.seen);
         f.ready--;
     }
@@ -209,7 +218,7 @@ static void lay_one(uint8_t axis, AxisState &s, AxisFeed &f, const step_cmd_t &c
     if (s_dir_hook[axis] && (t.flags & _BV(AXIS_SLOT_TURN)))
         t.flags |= _BV(AXIS_SLOT_SLOW); /* the C path turns it: through the hook */
     f.duration[f.head] = duration_ticks(c);
-    f.queued_ticks += f.duration[f.head];
+    f.queued_ticks += lead_weight(f.duration[f.head]);
     f.ready++;
     t.ready = 1; /* one byte, written last: the interrupt sees a complete slot */
     f.head = next_slot(f, f.head);
@@ -692,7 +701,7 @@ bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_l
     } while (k != r.first);
     /* the engine's books without the dropped slots, then c where they began */
     for (i = r.first; i != f.head; i = next_slot(f, i))
-        ticks += f.duration[i];
+        ticks += lead_weight(f.duration[i]);
     f.queued_ticks -= ticks;
     f.ready = (uint8_t)(f.ready - r.cmds);
     f.head = r.first;
