@@ -32,19 +32,24 @@ MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: th
 }
 
 namespace {
+/* A slot's duration for the lead: its steps' ticks (its first interval's, times its count), at most
+ * 0xFFFE; 0xFFFF marks a slow step (an interval of 65536 ticks or more), which lead_weight counts
+ * as a whole lead. */
 uint16_t duration_ticks(const step_cmd_t &c)
 {
     uint32_t per = (c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16), d;
     if (per > 0xFFFFUL)
         return 0xFFFFU;
     d = per * c.count;
-    return d > 0xFFFFUL ? 0xFFFFU : (uint16_t)d;
+    return d > 0xFFFEUL ? 0xFFFEU : (uint16_t)d;
 }
 
-/* What a slot's command weighs in the lead (queued_ticks): its duration, or, for a command of 65535
- * ticks or more (stored as 0xFFFF), at least any lead (2^24 ticks: 1 s at 16 MHz), so that one
- * slow step fills it: counted as 65535 ticks, the slots of a slow move (one step a second) filled
- * the whole ring, and a stop or a new target waited for a minute of steps (make fuzz, seed 23) */
+/* What a slot's command weighs in the lead (queued_ticks): its duration, or, for a slow step (an
+ * interval of 65536 ticks or more, stored as 0xFFFF), at least any lead (2^24 ticks: 1 s at 16 MHz),
+ * so that one slow step fills it: counted as 65535 ticks, the slots of a slow move (20 steps a
+ * second) filled the whole ring, and a stop or a new target waited for seconds of steps (make fuzz,
+ * seed 23). A command of fast steps that merely lasts long (its first interval times its count) is
+ * not one: weighing it as a lead left a fast move two commands ahead and it ran dry. */
 static inline uint32_t lead_weight(uint16_t d)
 {
     return d == 0xFFFFU ? 0x01000000UL : d;
