@@ -32,27 +32,24 @@ MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: th
 }
 
 namespace {
-/* A slot's duration for the lead: its steps' ticks (its first interval's, times its count), at most
- * 0xFFFE; 0xFFFF marks a slow step (an interval of 65536 ticks or more), which lead_weight counts
- * as a whole lead. */
+/* A slot's duration, for the lead and the cut: its steps' ticks (its first interval's, times its
+ * count) in units of 16 ticks (1 us at 16 MHz), rounded down, at most 0xFFFF units (65 ms at 16 MHz,
+ * 0.5 s at 2 MHz). In whole ticks, capped at 65,535 (4 ms at 16 MHz), the slots of a slow move (20
+ * steps a second) each counted 4 ms: they filled the whole ring, nearly 5 s of steps, before the lead
+ * (100 ms) looked reached, and a stop or a new target waited that long (make fuzz, seed 23). Rounded
+ * down, the time ahead of a cut is never overestimated (the cut only lands farther). */
+#define DUR_SHIFT 4
 uint16_t duration_ticks(const step_cmd_t &c)
 {
-    uint32_t per = (c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16), d;
-    if (per > 0xFFFFUL)
-        return 0xFFFFU;
-    d = per * c.count;
-    return d > 0xFFFEUL ? 0xFFFEU : (uint16_t)d;
+    uint32_t per = (c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16);
+    uint64_t d = ((uint64_t)per * c.count) >> DUR_SHIFT;
+    return d > 0xFFFFU ? 0xFFFFU : (uint16_t)d;
 }
 
-/* What a slot's command weighs in the lead (queued_ticks): its duration, or, for a slow step (an
- * interval of 65536 ticks or more, stored as 0xFFFF), at least any lead (2^24 ticks: 1 s at 16 MHz),
- * so that one slow step fills it: counted as 65535 ticks, the slots of a slow move (20 steps a
- * second) filled the whole ring, and a stop or a new target waited for seconds of steps (make fuzz,
- * seed 23). A command of fast steps that merely lasts long (its first interval times its count) is
- * not one: weighing it as a lead left a fast move two commands ahead and it ran dry. */
+/* the ticks a slot's stored duration stands for */
 static inline uint32_t lead_weight(uint16_t d)
 {
-    return d == 0xFFFFU ? 0x01000000UL : d;
+    return (uint32_t)d << DUR_SHIFT;
 }
 
 void retire_consumed(AxisState &s, AxisFeed &f)
@@ -611,7 +608,7 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     per = wide ? rate : (rate >> 16);
     ahead = per > 0xFFFFUL ? 0xFFFFFFUL : left * per;
     for (i = next_slot(f, curi); i != to; i = next_slot(f, i))
-        ahead += f.duration[i];
+        ahead += lead_weight(f.duration[i]);
     return ahead;
 }
 
@@ -638,7 +635,7 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
     if (ahead == UINT32_MAX)
         return 0;
     while (ahead <= min_ticks_ahead) {
-        ahead += f.duration[i];
+        ahead += lead_weight(f.duration[i]);
         i = next_slot(f, i);
         if (i == f.head)
             return 0;

@@ -11,7 +11,7 @@
 namespace mse {
 /* loop()'s side of one axis's queue */
 struct AxisFeed {
-    uint16_t *duration; /* ticks of each slot's command (at most 65535: only for the lead) */
+    uint16_t *duration; /* each slot's command's ticks / 16, at most 0xFFFF (MultiStepEngine.cpp duration_ticks) */
     uint8_t nslots;     /* the ring's slots (attach) */
     uint32_t queued_ticks;
     uint8_t head;  /* the next slot loop() lays out */
