@@ -100,7 +100,8 @@
  * flood of serial lines (make fuzz, seed 23) at 80,000-90,000 steps/s the core's serial interrupts
  * delayed two step interrupts in a row (edges 109 and 63 cycles late, within the bound but a jump of
  * the speed between two intervals), which the fuzzer's law of constant acceleration refuses; at
- * 70,000 none.
+ * 70,000, with the step interrupt arming ahead (about 136 cycles a step), once in 30,000 lines: the
+ * limit is a rung lower, 60,000.
  * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=90000 (no redefinition warning). */
 #if STEPPER_TIMED_LOOP
 #ifndef STEPPER_MAX_SPS_SIMPLISTIC
@@ -126,7 +127,7 @@
 #define STEPPER_MAX_SPS_SCURVE 50000.0
 #endif
 #ifndef STEPPER_MAX_SPS_EXACT
-#define STEPPER_MAX_SPS_EXACT 70000.0
+#define STEPPER_MAX_SPS_EXACT 60000.0
 #endif
 #endif
 
