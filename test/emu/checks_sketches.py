@@ -1054,7 +1054,7 @@ def check_stepper_bad_input(env, sketch):
 # part): the benchmark's reference move at a rate within every sketch's limit, with a `?` during
 # the move; all steps, no underrun, no late edge, every edge on its plan within 8 cycles except
 # those meeting another interrupt (at most 3 %, each within STEPPER_OTHER_ISR_CYCLES).
-ENGINE_RATE = {"exact": 70000, "leib": 7000, "simplistic": 12000, "sigmoid": 50000}
+ENGINE_RATE = {"exact": 60000, "leib": 7000, "simplistic": 12000, "sigmoid": 50000}
 
 
 def check_engine_at_speed(env, sketch):
@@ -1262,8 +1262,11 @@ def check_direction_hook(env, sketch):
             problems.append(f"sketch: {n1} steps counted by DIR end at {s1} (want 0) with {d1} DIR changes (want >= 3)")
         if d2 != 0:
             problems.append(f"without the two lines: DIR changed {d2} times after READY: something else drives DIR")
-        if n2 != n1 or s2 != n2:
-            problems.append(f"without the two lines: {n2} steps, {s2} of them forwards; want {n1}, all forwards")
+        # the same moves and DONEs; where the move toward 300 turns may differ by a step or two (the
+        # variant's hook is shorter, so its loop() runs a little differently), not more
+        if abs(n2 - n1) > 4 or s2 != n2:
+            problems.append(f"without the two lines: {n2} steps, {s2} of them forwards; want {n1} (within 4), "
+                            "all forwards")
     summary = ", ".join(f"{k}: {v[0]} steps, net {v[1]:+d} by DIR, {v[2]} DIR changes" for k, v in runs.items())
     return CheckResult(not problems, summary or "not run", problems)
 

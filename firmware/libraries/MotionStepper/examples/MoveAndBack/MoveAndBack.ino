@@ -35,6 +35,9 @@ void loop()
     if (p > farthest)
         farthest = p;
     if (leg < 2 && x.takeDone(at)) {
+        p = x.currentPosition(); /* the last step may have come after the read above */
+        if (p > farthest)
+            farthest = p;
         Serial.print(F("DONE "));
         Serial.print(at);
         Serial.print(F(" farthest="));
