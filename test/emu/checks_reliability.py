@@ -181,6 +181,9 @@ def checks_for(env):
                            f"edge within the bound", lambda s=s: check_exact_corners(env, s)))
             checks.append((f"{s}: a stop while stepping slowly (20 steps/s) acts within the lead",
                            lambda s=s: check_slow_stop(env, s)))
+        if fam == "multiaxis" or (fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read()):
+            checks.append((f"{s}: a serial stop or a target behind acts within {SERIAL_CUT_MS:g} ms of its line "
+                           f"(the queue is cut), the deceleration on the law", lambda s=s: check_serial_cut(env, s)))
         if fam == "stepper" and "TrapezoidRamp" in open(env.ino(s)).read():
             checks.append((f"{s}: a long ramp just below max_sps (v0 near vmax, a small accel): the planner keeps "
                            f"up, no underrun", lambda s=s: check_long_ramp_at_limit(env, s)))
@@ -455,3 +458,81 @@ def check_far_first_step(env, sketch):
                 problems.append(f"{ax} step {k + 1}: {off:+d} cycles off its plan")
     return CheckResult(not problems, f"x's first step {plan['x'][0]} ticks after the start (more than 32,768 with "
                        f"the start's 4096): the first 12 edges of x and y within {worst} cycles of the plan (never early, at most {STEP_LATE_CYCLES} late)", problems)
+
+
+# A `stop` or a target behind, on a sketch whose ramp is exact, acts within milliseconds of its line
+# (issue 23: "stop and retarget within milliseconds ... of the call (the serial line)"): the console
+# cuts the step queue a few milliseconds ahead (StepCut.h) instead of letting the lead (100 ms of
+# steps) run out. From the cruise at vmax: the steps after the line's last byte are the cruise up
+# to the deceleration and the deceleration's v^2/2a, whose edges follow t(n) = T - sqrt(2 (N - n)/a)
+# (no velocity jump: every edge within the late bound of the law). Before the cut, 100 ms of cruise
+# came first (2,000 steps at 20,000 steps/s). The bound: 5 ms ahead (6 ms for a target) plus one
+# command of the planner (4 ms), plus a step (docs/serial.md "Stop and new targets").
+SERIAL_CUT_MS = 11.0
+
+
+def _decel_check(rises, end, done_cycle, v, a, what, problems):
+    """the edges after a line's end up to its move's end: cruise at v, then the deceleration's v^2/2a
+    steps on the law; returns the ms from the line's end to the deceleration's start"""
+    after = [c for c in rises if end < c <= done_cycle]
+    n_dec = int(round(v * v / (2 * a)))
+    if len(after) < n_dec + 2:
+        problems.append(f"{what}: {len(after)} steps after the line, fewer than the deceleration's {n_dec}")
+        return None
+    start = after[-n_dec - 1]
+    worst = 0.0
+    for n, c in enumerate(after[-n_dec:], start=1):
+        t = (v / a - math.sqrt(2 * (n_dec - n) / a)) * F_CPU
+        worst = max(worst, abs((c - start) - t))
+    if worst > STEP_LATE_CYCLES + 2 + F_CPU / v:
+        problems.append(f"{what}: a deceleration edge {worst:.0f} cycles off the law from v = {v:g} at a = {a:g}")
+    cruise = [q - p for p, q in zip(after, after[1:len(after) - n_dec])]
+    if cruise and max(abs(c - F_CPU / v) for c in cruise) > STEP_LATE_CYCLES + 2:
+        problems.append(f"{what}: intervals {min(cruise)}..{max(cruise)} before the deceleration, not the "
+                        f"cruise's {F_CPU / v:.0f}")
+    return (start - end) * 1000.0 / F_CPU
+
+
+def check_serial_cut(env, sketch):
+    multi = env.family(sketch) == "multiaxis"
+    ax = "x " if multi else ""
+    v, a = 20000.0, 50000.0
+    setv = [f"send set {ax}vmax {v:g}", "wait ^OK", f"send set {ax}accel {a:g}", "wait ^OK"]
+    script = ["wait ^READY [^ ]+$", "timeout 20000"] + setv + [
+        f"send {ax}1000000", "wait ^OK", "run 700", "mark stop", f"send {'stop x' if multi else 'stop'}",
+        "wait ^OK stop", "wait ^DONE", f"send {ax}1000000", "wait ^OK", "run 700", "mark back",
+        f"send {ax}0", "wait ^OK", "wait ^DONE", "send ?", "wait ^(x )?pos="]
+    pins = sketches.multiaxis_pins(env) if multi else sketches.stepper_pins(env)
+    log = emulog.run(env.elf(sketch), "\n".join(script) + "\n", pins=pins)
+    problems = []
+    fails_of(log, problems)
+    step = "XSTEP" if multi else "STEP"
+    rises = log.rising(step)
+    uart = [r for c, t, r in log.events if t == "uart"]
+    byte = int(re.search(r"cycles_per_byte=(\d+)", uart[0]).group(1)) if uart else 16640
+    figures = []
+    for mark, line, bound in (("stop", "stop x" if multi else "stop", SERIAL_CUT_MS),
+                              ("back", f"{ax}0", SERIAL_CUT_MS + 1.0)):
+        m = log.mark(mark)
+        if m is None:
+            problems.append(f"no '{mark}' in the run: lines {[l.text for l in log.rx][-6:]}")
+            continue
+        sent = next((t.cycle for t in log.tx if t.cycle >= m and t.text == line), m)
+        end = sent + byte * (len(line) + 2)  # the line's last byte (CR LF included)
+        if mark == "stop":
+            d = log.first("^DONE ", after=m)
+            done = d.cycle if d else max(rises)
+            ms = _decel_check(rises, end, done, v, a, "stop from the cruise", problems)
+        else:
+            # the target behind: the deceleration to the reversal point is the stop's, then the way back
+            ups = [c for c in rises if c > end and log.level_before("XDIR" if multi else "DIR", c)]
+            ms = _decel_check(rises, end, ups[-1] if ups else end, v, a, f"target 0 behind", problems)
+        if ms is not None:
+            figures.append(f"{mark}: deceleration {ms:.2f} ms after the line")
+            if ms > bound:
+                problems.append(f"{mark}: the deceleration began {ms:.2f} ms after the line's end (bound {bound:g} ms)")
+    q = log.lines_matching("^(x )?pos=")
+    f = emulog.query_fields(q[-1].text) if q else {}
+    if f.get("pos") != "0" or f.get("underruns") != "0":
+        problems.append(f"the `?` at the end says {f}")
+    return CheckResult(not problems, f"at {v:g} steps/s, accel {a:g}: " + "; ".join(figures), problems)

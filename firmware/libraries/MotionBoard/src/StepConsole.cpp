@@ -2,7 +2,16 @@
 #include "StepConsole.h"
 
 #include <line_reader.h>
+#include <StepCut.h>
 #include <text_parse.h>
+
+/* The cut's timing on the sketches (StepCut.h; the library's is MOTION_STEPPER_CUT_*, for up to 25,000
+ * steps/s). Here an axis steps up to max_sps (60,000 steps/s on ExactRampStepper), where the step
+ * interrupt takes half the processor: the cut is made only if the interrupt is still
+ * 200 us + 15 us per 1,000 steps/s from it (dropping the old commands and laying out the first new
+ * one takes a few thousand cycles, and the interrupt slows them down; with 200 us alone it reached
+ * the cut first at 60,000 steps/s, accel 1e6, checks_reliability.py's corners: an underrun). */
+static const StepCutTiming CONSOLE_CUT = {16, 5000, 6000, 200, 1000, 4};
 
 static const char AXIS_NAME[MULTI_AXES] = {'x', 'y', 'z'};
 
@@ -34,7 +43,7 @@ static int8_t axis_of(const char *word)
 }
 
 StepConsole::StepConsole(uint8_t axes, StepperRamp **ramps, step_planner_t *planners, StepConsoleCoord *coord)
-    : n_(axes), ramp_(ramps), pl_(planners), co_(coord), status_pending_(0), queue_(Serial), serial_(Serial, queue_, 240)
+    : n_(axes), ramp_(ramps), pl_(planners), co_(coord), status_pending_(0), cuts_missed_(0), queue_(Serial), serial_(Serial, queue_, 240)
 {
     for (uint8_t i = 0; i < MULTI_AXES; i++) {
         has_next_[i] = false;
@@ -153,6 +162,17 @@ void StepConsole::collect_done()
             report_done(i, at);
 }
 
+bool StepConsole::cut_plan(uint8_t axis, bool stop, int32_t target, int32_t &from)
+{
+    StepperRamp::CutFn f = ramp_[axis]->cut();
+    StepCutTiming t = CONSOLE_CUT; /* the exact ramp, the one that cuts, steps at 16 MHz */
+    float v = fabs(MultiStepEngine::speed(axis));
+    if (!f)
+        return false;
+    t.margin_us = (uint16_t)(t.margin_us + v * 0.015f);
+    return f(axis, &pl_[axis], stop, target, t, &from, &cuts_missed_);
+}
+
 /* the target accepted while the last steps ran (or during a refill): its move starts now, from rest */
 void StepConsole::start_next(uint8_t axis)
 {
@@ -264,6 +284,18 @@ void StepConsole::handle_target(uint8_t axis, const char *word)
         serial_.reply_error(MS_ERR_BUSY, F("the axis is in a coordinated move (stop it first, or wait for its DONE)"));
         return;
     }
+    if (MultiStepEngine::moving(axis) && cut_plan(axis, false, to, from)) {
+        /* the move continues into the new plan from a cut a few milliseconds ahead */
+        has_next_[axis] = false;
+        next_due_[axis] = false;
+        out.print(F("OK "));
+        print_axis(out, axis);
+        out.print(from);
+        out.print(' ');
+        out.println(to);
+        feed();
+        return;
+    }
     if (MultiStepEngine::moving(axis) && !step_planner_busy(&pl)) {
         /* every step of the move is queued: it ends at rest at its target, with its DONE; the new
          * move follows from there (a target sent meanwhile replaces this one, with no DONE) */
@@ -359,7 +391,9 @@ void StepConsole::handle_stop(const char *cursor, bool halt)
             step_planner_halt(&pl_[i], MultiStepEngine::position(i));
             stopping |= (uint8_t)(1U << i);
         } else if (MultiStepEngine::extend(i, ended) == MultiStepEngine::CONTINUES) {
-            step_planner_stop(&pl_[i]);
+            int32_t from;
+            if (!cut_plan(i, true, 0, from)) /* decelerating from a cut a few ms ahead, else after the lead */
+                step_planner_stop(&pl_[i]);
             stopping |= (uint8_t)(1U << i);
         } else {
             report_done(i, ended); /* it ended just now */

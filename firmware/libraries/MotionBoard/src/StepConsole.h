@@ -80,6 +80,9 @@ private:
     void report_done(uint8_t axis, int32_t position);
     void collect_done();
     void start_next(uint8_t axis);
+    /* a stop or a new target from a cut of the queue (the ramp's cut(): StepCut.h); false: not
+     * cut (then planned after the queued steps) */
+    bool cut_plan(uint8_t axis, bool stop, int32_t target, int32_t &from);
     void print_axis(Print &out, uint8_t axis); /* "x " on three axes, nothing on one */
     uint8_t coord_mask() const { return co_ ? co_->mask : 0; }
     uint8_t coord_named() const { return co_ ? co_->named : 0; }
@@ -92,6 +95,7 @@ private:
     bool next_due_[MULTI_AXES];  /* ... whose move starts as soon as nothing is in the way (poll()) */
     int32_t next_target_[MULTI_AXES];
     uint8_t status_pending_; /* axes whose `?` line is still to print */
+    uint16_t cuts_missed_;   /* cuts tried and given up (the plan took too long), all axes */
     SerialOutQueue queue_;   /* before serial_, which is built on it */
     MotionSerial serial_;
 };

@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <text_parse.h>
 
+#include "StepCut.h"
+
 
 void (*stepper_print_hook)() = 0;
 
@@ -40,8 +42,14 @@ static motion_status_t lab_probe(ramp_algo_t algo, const ramp_params_t *p, const
     ramp_t probe;
     return ramp_plan_hooked(&probe, algo, p, hooks, 0, 1);
 }
-const TrapezoidRamp::Kind TrapezoidRamp::EXACT_KIND = {exact_init, exact_probe};
-const TrapezoidRamp::Kind TrapezoidRamp::LAB_KIND = {step_planner_init_lab, lab_probe};
+/* the cut of the queue (StepCut.h) only for the exact ramp on Timer1 (the timed-loop build steps
+ * from loop(), with no interrupt to cut ahead of) */
+#if STEPPER_TIMED_LOOP
+const TrapezoidRamp::Kind TrapezoidRamp::EXACT_KIND = {exact_init, exact_probe, 0};
+#else
+const TrapezoidRamp::Kind TrapezoidRamp::EXACT_KIND = {exact_init, exact_probe, step_cut_plan};
+#endif
+const TrapezoidRamp::Kind TrapezoidRamp::LAB_KIND = {step_planner_init_lab, lab_probe, 0};
 
 TrapezoidRamp::TrapezoidRamp(const Kind *kind, ramp_algo_t algo, double v0_sps, double vmax_sps, double accel_sps2,
                              double max_sps, uint32_t tick_hz, const ramp_hooks_t *hooks)

@@ -25,6 +25,7 @@
 #include <ramp.h>
 #include <step_planner.h>
 
+#include "StepCut.h"
 #include "StepperPins.h" /* STEP_ENGINE_LEAD_MS */
 
 class StepperRamp {
@@ -54,6 +55,11 @@ public:
     virtual uint32_t tick_hz() const = 0;
     /* How far ahead the step engine plans, ms (MultiStepEngine::set_lead_ms). */
     virtual uint16_t lead_ms() const { return STEP_ENGINE_LEAD_MS; }
+    /* A stop or a new target planned from a cut of the queue (StepCut.h's step_cut_plan), for the
+     * ramps that can (the exact one): NULL for the others, which act after the queued lead. */
+    typedef bool (*CutFn)(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,
+                          int32_t *from, uint16_t *missed);
+    virtual CutFn cut() const { return 0; }
 
 protected:
     ~StepperRamp() {}
@@ -103,12 +109,14 @@ public:
         motion_status_t (*init)(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *p, const ramp_hooks_t *hooks,
                                 int32_t pos);
         motion_status_t (*probe)(ramp_algo_t algo, const ramp_params_t *p, const ramp_hooks_t *hooks);
+        CutFn cut;
     };
     static const Kind EXACT_KIND, LAB_KIND;
     motion_status_t setup(step_planner_t &pl, int32_t pos) override;
     motion_status_t set(const char *key, const char *value) override;
     bool apply(step_planner_t &pl, bool moving) override;
     uint32_t tick_hz() const override { return params_.tick_hz; }
+    CutFn cut() const override { return kind_->cut; }
     uint16_t lead_ms() const override
     {
         return algo_ == RAMP_ALGO_LEIB ? STEP_ENGINE_LEAD_MS_LEIB : STEP_ENGINE_LEAD_MS;

@@ -295,25 +295,6 @@ void Stepper::run_request()
  * false when nothing changed (not stepping, nothing queued that far, parameters set since the
  * profile was planned, the planner refuses the cut, or the planning took too long): then it is
  * planned after the steps already queued, as without a cut. */
-#if MOTION_STEPPER_CUT_US
-static step_planner_t s_scratch; /* the planner interrupt plans one axis at a time */
-
-/* the first commands of the plan in pl, at least MOTION_STEPPER_CUT_NEW_US of steps (a stop's first
- * is one step): the planner then has that long to plan the next one */
-static uint8_t first_cmds(step_planner_t *pl, step_cmd_t *c)
-{
-    uint32_t ticks = 0;
-    uint8_t n = 0;
-    while (n < MOTION_STEPPER_CUT_CMDS && ticks < MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_NEW_US &&
-           step_planner_next(pl, &c[n])) {
-        uint32_t per = (c[n].flags & STEP_CMD_WIDE) ? c[n].rate : (c[n].rate >> 16);
-        ticks += per * c[n].count;
-        n++;
-    }
-    return n;
-}
-#endif
-
 /* planner interrupt, after it has laid out commands: while a Stepper cruises (its planner in the
  * cruise of an exact profile, parameters unchanged), the stop from there is planned ahead, unless
  * it is already for these constants, direction and speed. A stop from the cruise is one profile
@@ -330,32 +311,18 @@ void Stepper::prepare_stop()
     if (stop_n_ != 0 && stop_up_ == e.up && stop_exact_.dir == e.dir && stop_exact_.max_cmd_ticks == e.max_cmd_ticks &&
         memcmp(&stop_exact_.k, &e.k, sizeof e.k) == 0)
         return;
+    step_planner_t &s_scratch = step_cut_scratch();
     s_scratch = planner_;
     step_planner_stop(&s_scratch);
     stop_n_ = 0;
-    stop_n_ = first_cmds(&s_scratch, stop_cmds_);
+    stop_n_ = step_cut_first_cmds(&s_scratch, stop_cmds_, MULTI_TICK_HZ / 1000000UL, MOTION_STEPPER_CUT_NEW_US,
+                                  MOTION_STEPPER_CUT_CMDS);
     stop_exact_ = s_scratch.exact;
     stop_up_ = e.up;
     stop_from_ = planner_.pos;
     stop_pos_ = s_scratch.pos;
     stop_target_ = s_scratch.target;
     stop_active_ = s_scratch.active;
-#endif
-}
-
-/* MOTION_STEPPER_TRACE = 2: D4 (PG5) high while a cut is planned (BackgroundPlanner.h) */
-static inline void trace_cut(bool on)
-{
-#if MOTION_STEPPER_TRACE == 2
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        if (on)
-            PORTG |= _BV(5);
-        else
-            PORTG &= (uint8_t)~_BV(5);
-    }
-#else
-    (void)on;
 #endif
 }
 
@@ -375,7 +342,7 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
         stop_up_ != e.up || stop_exact_.dir != e.dir ||
         stop_exact_.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_exact_.k, &e.k, sizeof e.k) != 0)
         return false;
-    trace_cut(true);
+    step_cut_trace(true);
     if (MultiStepEngine::cut_find(axis_, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_CRUISE_US, e.n - 1U, cut, false) ==
         0)
         return false;
@@ -400,7 +367,7 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     planner_.active = stop_active_;
     planner_.has_then = then ? 1 : 0;
     planner_.then_target = to;
-    trace_cut(false);
+    step_cut_trace(false);
     return true;
 #else
     (void)then;
@@ -411,45 +378,10 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
 
 bool Stepper::plan_at_cut(uint8_t req, int32_t target)
 {
-#if MOTION_STEPPER_CUT_US
-    step_planner_t &saved = s_scratch;
-    MultiStepEngine::Cut cut;
-    step_cmd_t first[MOTION_STEPPER_CUT_CMDS];
-    uint8_t n;
-    uint32_t ahead_us;
-    if (planner_.algo != RAMP_ALGO_EXACT || planner_.exact.n < 2U || planner_.params_new)
-        return false; /* new parameters: converting them costs milliseconds more (after the lead then) */
-    /* a stop from the cruise (y = 0) is the cheapest plan; a stop while the speed changes, or a new
-     * target (a move plan, maybe a reversal), costs up to twice as much */
-    ahead_us = (req == REQ_STOP && planner_.exact.y == 0) ? MOTION_STEPPER_CUT_US : MOTION_STEPPER_CUT_SLOW_US;
-    trace_cut(true);
-    if (MultiStepEngine::cut_find(axis_, MULTI_TICK_HZ / 1000000UL * ahead_us, planner_.exact.n - 1U, cut) == 0)
-        return false;
-    saved = planner_; /* planned in place: put back if the cut does not come off */
-    if (step_planner_rewind(&planner_, cut.steps, cut.time16, cut.last_count) != MS_OK) {
-        cuts_missed_++;
-        return false; /* nothing changed */
-    }
-    if (req == REQ_STOP)
-        step_planner_stop(&planner_);
-    else if (step_planner_move(&planner_, target) != MS_OK) {
-        planner_ = saved; /* planned again the usual way, which reports the status */
-        return false;
-    }
-    n = first_cmds(&planner_, first);
-    if (n == 0 ||
-        !MultiStepEngine::cut_apply(axis_, cut, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_MARGIN_US, first, n)) {
-        planner_ = saved;
-        cuts_missed_++;
-        return false;
-    }
-    trace_cut(false);
-    return true;
-#else
-    (void)req;
-    (void)target;
-    return false;
-#endif
+    int32_t from;
+    static const StepCutTiming timing = {MULTI_TICK_HZ / 1000000UL, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
+                                         MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS};
+    return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &from, &cuts_missed_);
 }
 
 /* ---- state ---- */

@@ -41,39 +41,21 @@
 
 class StepperGroup;
 
-/* A stop() or a new target while moving cuts the queue: the commands whose first step lies more than
- * this many microseconds ahead are dropped and the stop or the new move starts there, so it acts
- * after about this time instead of after the lead. The planner interrupt plans it meanwhile and
- * the cut is made only if that plan is ready MOTION_STEPPER_CUT_MARGIN_US before the step where it
- * lands; a plan that takes longer is discarded and made again after the steps already queued
- * (cutsMissed() counts it). No cut when parameters were set since the move was planned (their
- * conversion costs milliseconds more). docs/library.md has the measured times.
- * MOTION_STEPPER_CUT_US: a stop from the cruise planned at the cut (when the one planned ahead,
- * below, does not fit); 0: no cut at all (a stop acts after the lead). */
-#ifndef MOTION_STEPPER_CUT_US
-#define MOTION_STEPPER_CUT_US 4000UL
-#endif
+/* A stop() or a new target while moving cuts the queue (MotionBoard's StepCut.h, shared with the
+ * sketches' console): the commands whose first step lies more than MOTION_STEPPER_CUT_US (a stop
+ * from the cruise) or MOTION_STEPPER_CUT_SLOW_US (a stop while the speed changes, a new target)
+ * ahead are dropped and the stop or the new move starts there, so it acts after about this time
+ * instead of after the lead. The planner interrupt plans it meanwhile and the cut is made only if
+ * that plan is ready MOTION_STEPPER_CUT_MARGIN_US before the step where it lands; a plan that
+ * takes longer is discarded and made again after the steps already queued (cutsMissed() counts
+ * it). No cut when parameters were set since the move was planned (their conversion costs
+ * milliseconds more). docs/library.md has the measured times. MOTION_STEPPER_CUT_US 0: no cut. */
+#include <StepCut.h>
 /* A stop from the cruise is the same profile wherever the cut lands (only the position differs):
  * the planner interrupt plans it ahead, once the cruise has begun, and a stop() in the cruise then
  * only cuts and lays it out: this many microseconds ahead. */
 #ifndef MOTION_STEPPER_CUT_CRUISE_US
 #define MOTION_STEPPER_CUT_CRUISE_US 800UL
-#endif
-/* the same for the costlier plans: a stop while the speed changes, a new target */
-#ifndef MOTION_STEPPER_CUT_SLOW_US
-#define MOTION_STEPPER_CUT_SLOW_US 5000UL
-#endif
-#ifndef MOTION_STEPPER_CUT_MARGIN_US
-#define MOTION_STEPPER_CUT_MARGIN_US 200UL
-#endif
-/* At the cut, the new plan's first commands are laid out together, at least this many microseconds
- * of steps (at most MOTION_STEPPER_CUT_CMDS commands), so that the queue holds enough for the
- * planner to plan the next one: a stop's first command is a single step. */
-#ifndef MOTION_STEPPER_CUT_NEW_US
-#define MOTION_STEPPER_CUT_NEW_US 1000UL
-#endif
-#ifndef MOTION_STEPPER_CUT_CMDS
-#define MOTION_STEPPER_CUT_CMDS 4U
 #endif
 
 /* The longest time one step command of a Stepper moving alone covers, ms (a cruise is cut into

@@ -1,0 +1,104 @@
+/* StepCut.cpp - a stop or a new target from a cut of the queue (see StepCut.h). */
+#include "StepCut.h"
+
+#include <avr/io.h>
+#include <util/atomic.h>
+
+#include "MultiStepEngine.h"
+
+#ifndef MOTION_STEPPER_TRACE
+#define MOTION_STEPPER_TRACE 0
+#endif
+
+static step_planner_t s_scratch;
+
+step_planner_t &step_cut_scratch()
+{
+    return s_scratch;
+}
+
+void step_cut_trace(bool on)
+{
+#if MOTION_STEPPER_TRACE == 2
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (on)
+            PORTG |= _BV(5);
+        else
+            PORTG &= (uint8_t)~_BV(5);
+    }
+#else
+    (void)on;
+#endif
+}
+
+uint8_t step_cut_first_cmds(step_planner_t *pl, step_cmd_t *c, uint8_t ticks_per_us, uint16_t new_us,
+                            uint8_t max_cmds)
+{
+    uint32_t ticks = 0;
+    uint8_t n = 0;
+    while (n < max_cmds && ticks < (uint32_t)ticks_per_us * new_us &&
+           step_planner_next(pl, &c[n])) {
+        uint32_t per = (c[n].flags & STEP_CMD_WIDE) ? c[n].rate : (c[n].rate >> 16);
+        ticks += per * c[n].count;
+        n++;
+    }
+    return n;
+}
+
+bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,
+                   int32_t *from, uint16_t *missed)
+{
+#if MOTION_STEPPER_CUT_US
+    step_planner_t &saved = s_scratch;
+    MultiStepEngine::Cut cut;
+    step_cmd_t first[STEP_CUT_MAX_CMDS];
+    uint8_t n;
+    uint16_t ahead_us;
+    int32_t at;
+    if (pl->algo != RAMP_ALGO_EXACT || pl->exact.n < 2U || pl->params_new)
+        return false; /* new parameters: converting them costs milliseconds more (after the lead then) */
+    /* a stop from the cruise (y = 0) is the cheapest plan; a stop while the speed changes, or a new
+     * target (a move plan, maybe a reversal), costs up to twice as much */
+    ahead_us = (stop && pl->exact.y == 0) ? t.ahead_us : t.ahead_slow_us;
+    step_cut_trace(true);
+    if (MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * ahead_us, pl->exact.n - 1U, cut) == 0) {
+        step_cut_trace(false);
+        return false;
+    }
+    saved = *pl; /* planned in place: put back if the cut does not come off */
+    if (step_planner_rewind(pl, cut.steps, cut.time16, cut.last_count) != MS_OK) {
+        (*missed)++;
+        step_cut_trace(false);
+        return false; /* nothing changed */
+    }
+    at = step_planner_position(pl);
+    if (stop)
+        step_planner_stop(pl);
+    else if (step_planner_move(pl, target) != MS_OK) {
+        *pl = saved; /* planned again the usual way, which reports the status */
+        step_cut_trace(false);
+        return false;
+    }
+    n = step_cut_first_cmds(pl, first, t.ticks_per_us, t.new_us, t.max_cmds < STEP_CUT_MAX_CMDS ? t.max_cmds : STEP_CUT_MAX_CMDS);
+    if (n == 0 ||
+        !MultiStepEngine::cut_apply(axis, cut, (uint32_t)t.ticks_per_us * t.margin_us, first, n)) {
+        *pl = saved;
+        (*missed)++;
+        step_cut_trace(false);
+        return false;
+    }
+    step_cut_trace(false);
+    *from = at;
+    return true;
+#else
+    (void)axis;
+    (void)pl;
+    (void)stop;
+    (void)target;
+    (void)t;
+    (void)from;
+    (void)missed;
+    return false;
+#endif
+}

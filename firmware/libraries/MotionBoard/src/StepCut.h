@@ -1,0 +1,77 @@
+/* StepCut.h - a stop or a new target that acts within milliseconds instead of after the queued
+ * lead: the axis's queue is cut a few milliseconds ahead (MultiStepEngine::cut_find), the planner
+ * goes back to where the kept commands end (lib's step_planner_rewind: bit for bit as if it had
+ * planned only those), plans the stop or the new move from there, and its first commands take the
+ * place of the dropped ones (MultiStepEngine::cut_apply) if the step interrupt has not come too
+ * close meanwhile. Exact ramp only (the lab's ramps cannot be rewound): the MotionStepper library's
+ * Stepper and the stepper sketches' console (StepConsole.h) share it.
+ * docs/stepper-engine.md "Cutting the queue" has the rule and the measured latencies.
+ */
+#ifndef STEP_CUT_H
+#define STEP_CUT_H
+
+#include <stdint.h>
+
+#include <step_planner.h>
+
+/* The cut lands on the first command whose first step lies more than this many microseconds
+ * ahead: the time the plan may take (a stop from the cruise; MOTION_STEPPER_CUT_SLOW_US for a stop
+ * while the speed changes, or a new target, which cost up to twice as much). 0: no cut at all. */
+#ifndef MOTION_STEPPER_CUT_US
+#define MOTION_STEPPER_CUT_US 4000UL
+#endif
+#ifndef MOTION_STEPPER_CUT_SLOW_US
+#define MOTION_STEPPER_CUT_SLOW_US 5000UL
+#endif
+/* the plan must be ready this long before the step where the cut lands, else it is discarded */
+#ifndef MOTION_STEPPER_CUT_MARGIN_US
+#define MOTION_STEPPER_CUT_MARGIN_US 200UL
+#endif
+/* At the cut, the new plan's first commands are laid out together, at least this many microseconds
+ * of steps (at most MOTION_STEPPER_CUT_CMDS commands), so that the queue holds enough for the
+ * planner to plan the next one: a stop's first command is a single step. */
+#ifndef MOTION_STEPPER_CUT_NEW_US
+#define MOTION_STEPPER_CUT_NEW_US 1000UL
+#endif
+#ifndef MOTION_STEPPER_CUT_CMDS
+#define MOTION_STEPPER_CUT_CMDS 4U
+#endif
+/* the most first commands any caller asks for */
+#define STEP_CUT_MAX_CMDS 8U
+
+/* The cut's timing, microseconds (the library: MOTION_STEPPER_CUT_*; the sketches' console steps up
+ * to 60,000 steps/s and more, where the step interrupt leaves half the processor to the planner:
+ * StepConsole.cpp's). */
+struct StepCutTiming {
+    uint8_t ticks_per_us; /* the step timer's */
+    uint16_t ahead_us;     /* a stop from the cruise: the cut lands at least this far ahead */
+    uint16_t ahead_slow_us; /* a stop while the speed changes, a new target */
+    uint16_t margin_us;    /* the plan is laid out only if the interrupt is still this far from the cut */
+    uint16_t new_us;       /* the new plan's first commands cover at least this much */
+    uint8_t max_cmds;      /* ... in at most this many commands (<= STEP_CUT_MAX_CMDS) */
+};
+
+/* A stop (stop true) or a move to target (engine coordinates) of axis, whose planner pl is in an
+ * exact move that the engine is stepping, planned from a cut of its queue, timed by t; the new
+ * plan's first t.new_us of steps are laid out at the cut (the queue then holds that much while the
+ * planner plans on). True: done (pl plans on from the new plan's first commands, already laid out; *from:
+ * the position where the new plan starts). False: nothing changed (no exact move, parameters set
+ * since it was planned, not that much queued, the planner refuses, or the plan took too long:
+ * *missed then counts one) and the caller plans after the queued steps as without a cut. Call it
+ * where the axis's commands are laid out (nothing else may lay out commands for it meanwhile). */
+bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,
+                   int32_t *from, uint16_t *missed);
+
+/* The first commands of the plan in pl, at least new_us of steps (a stop's first is one step), into
+ * c[0..max_cmds-1]: the planner then has that long to plan the next. */
+uint8_t step_cut_first_cmds(step_planner_t *pl, step_cmd_t *c, uint8_t ticks_per_us, uint16_t new_us,
+                            uint8_t max_cmds);
+
+/* A planner for the cut's work, one for all (the cut is planned for one axis at a time). */
+step_planner_t &step_cut_scratch();
+
+/* MOTION_STEPPER_TRACE = 2: D4 (PG5) high while a cut is planned (the MotionStepper library's
+ * BackgroundPlanner.h) */
+void step_cut_trace(bool on);
+
+#endif
