@@ -47,7 +47,8 @@ static motion_status_t init_kind(step_planner_t *pl, const struct step_planner_o
     if (st != MS_OK)
         return st;
     n.max_cmd_ticks = params->tick_hz / 250U; /* 4 ms */
-    n.exact.max_cmd_ticks = n.max_cmd_ticks;
+    if (algo == RAMP_ALGO_EXACT)
+        n.exact.max_cmd_ticks = n.max_cmd_ticks;
     clear_state(&n, pos);
     n.ops->reset(&n);
     *pl = n;

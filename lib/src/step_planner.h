@@ -45,8 +45,10 @@ typedef struct {
     const uint16_t *table;
     uint16_t table_len;
     uint32_t max_cmd_ticks;          /* longest time one command may cover (stop latency), ticks */
-    step_exact_t exact;
-    ramp_t ramp;
+    union {                          /* one half's state: the ops in use say which (the other is */
+        step_exact_t exact;          /* never read; a planner of one kind stays of it until */
+        ramp_t ramp;                 /* its next init) */
+    };
     uint8_t active;                  /* a profile is being handed out */
     uint8_t params_new;              /* exact: params set after the profile in progress was planned
                                         (its constants are older: the next plan converts them) */

@@ -10,8 +10,11 @@
  * interrupt takes half the processor: the cut is made only if the interrupt is still
  * 200 us + 15 us per 1,000 steps/s from it (dropping the old commands and laying out the first new
  * one takes a few thousand cycles, and the interrupt slows them down; with 200 us alone it reached
- * the cut first at 60,000 steps/s, accel 1e6, checks_reliability.py's corners: an underrun). */
-static const StepCutTiming CONSOLE_CUT = {16, 5000, 6000, 200, 1000, 4};
+ * the cut first at 60,000 steps/s, accel 1e6, checks_reliability.py's corners: an underrun); and the
+ * new plan's first 3 ms of steps (at most 4 commands) are laid out at once: loop() may be busy that
+ * long elsewhere before it feeds the axis again (with 1 ms, `make fuzz` seed 7 found a step 1 ms late
+ * on MultiAxisStepper after a cut at 5,000 steps/s). */
+static const StepCutTiming CONSOLE_CUT = {16, 5000, 6000, 200, 3000, 4};
 
 static const char AXIS_NAME[MULTI_AXES] = {'x', 'y', 'z'};
 
@@ -66,7 +69,8 @@ void StepConsole::begin_console(const __FlashStringHelper *sketch_name)
         /* one step per command: each planner call is one ramp step (about 100 us), so the planner
          * fits between two deadlines of loop()'s stepping */
         pl_[i].max_cmd_ticks = 1;
-        pl_[i].exact.max_cmd_ticks = 1;
+        if (pl_[i].algo == RAMP_ALGO_EXACT)
+            pl_[i].exact.max_cmd_ticks = 1;
 #endif
     }
     serial_.out().print(F("READY "));

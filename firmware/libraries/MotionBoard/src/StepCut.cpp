@@ -32,7 +32,7 @@ void step_cut_trace(bool on)
 #endif
 }
 
-uint8_t step_cut_first_cmds(step_planner_t *pl, step_cmd_t *c, uint8_t ticks_per_us, uint16_t new_us,
+__attribute__((noinline)) uint8_t step_cut_first_cmds(step_planner_t *pl, step_cmd_t *c, uint8_t ticks_per_us, uint16_t new_us,
                             uint8_t max_cmds)
 {
     uint32_t ticks = 0;
@@ -44,6 +44,13 @@ uint8_t step_cut_first_cmds(step_planner_t *pl, step_cmd_t *c, uint8_t ticks_per
         n++;
     }
     return n;
+}
+
+/* kept out of step_cut_plan (no inlining): its locals are not on the stack beside the plan's (the
+ * sketches' stack is a few hundred bytes deep at most: MultiAxisStepper) */
+static __attribute__((noinline)) motion_status_t rewind_to(step_planner_t *pl, const MultiStepEngine::Cut &cut)
+{
+    return step_planner_rewind(pl, cut.steps, cut.time16, cut.last_count);
 }
 
 bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,
@@ -67,7 +74,7 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
         return false;
     }
     saved = *pl; /* planned in place: put back if the cut does not come off */
-    if (step_planner_rewind(pl, cut.steps, cut.time16, cut.last_count) != MS_OK) {
+    if (rewind_to(pl, cut) != MS_OK) {
         (*missed)++;
         step_cut_trace(false);
         return false; /* nothing changed */

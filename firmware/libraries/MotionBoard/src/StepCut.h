@@ -37,7 +37,7 @@
 #define MOTION_STEPPER_CUT_CMDS 4U
 #endif
 /* the most first commands any caller asks for */
-#define STEP_CUT_MAX_CMDS 8U
+#define STEP_CUT_MAX_CMDS 4U
 
 /* The cut's timing, microseconds (the library: MOTION_STEPPER_CUT_*; the sketches' console steps up
  * to 60,000 steps/s and more, where the step interrupt leaves half the processor to the planner:

@@ -76,7 +76,8 @@ motion_status_t Stepper::init_planner(int32_t pos)
     if (st != MS_OK)
         return st;
     planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL * MOTION_STEPPER_CMD_MS;
-    planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
+    if (planner_.algo == RAMP_ALGO_EXACT)
+        planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
     stop_n_ = 0; /* no stop planned ahead for this planner yet */
     return MS_OK;
 }
