@@ -616,8 +616,11 @@ uint8_t smooth_law_moving(const smooth_law_t *law)
 /* ---- the stepper planner ---- */
 
 #define WIDE_ABOVE16 ((int64_t)65536 << 16) /* intervals of 65536 ticks or more go WIDE */
-#define FIT_TOL16 19661                     /* 0.3 tick */
-#define SPAN_MAX_B 15
+#define TOL_TICKS 0.45f                     /* |executor time - law time| allowed inside a command */
+#define SPAN_MAX 65535U
+#define F2M16 1.52587890625e-05f /* 2^-16 */
+#define F2M12 2.44140625e-04f
+#define F2M21 4.76837158203125e-07f
 
 static void move_rest(smooth_move_t *s, int32_t pos)
 {
@@ -626,10 +629,13 @@ static void move_rest(smooth_move_t *s, int32_t pos)
     s->n = 0;
     s->n_end = 0;
     s->acc16 = 0;
+    s->err16 = 0;
     s->t_n = smx_zero();
-    s->span_b = 0;
+    s->span = 1;
     s->active = 0;
     s->has_then = 0;
+    s->seg_ok = 0;
+    s->law_behind = 0;
 }
 
 motion_status_t smooth_move_init(smooth_move_t *s, const smooth_params_t *p, int32_t pos)
@@ -678,6 +684,7 @@ static motion_status_t start_from_rest(smooth_move_t *s, int32_t to)
     smooth_move_t n = *s;
     motion_status_t st;
     move_rest(&n, s->pos);
+    n.max_cmd_ticks = s->max_cmd_ticks;
     st = smooth_law_start(&n.law, to);
     if (st != MS_OK)
         return st;
@@ -706,11 +713,15 @@ motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
             s->n_end = s->n;
         s->has_then = 1;
         s->then_target = to;
+        s->seg_ok = 0;
+        s->law_behind = 0;
         return MS_OK;
     }
     if (st != MS_OK)
         return st;
     s->n_end = plan_end(&s->law);
+    s->seg_ok = 0;
+    s->law_behind = 0;
     return MS_OK;
 }
 
@@ -723,6 +734,8 @@ void smooth_move_stop(smooth_move_t *s)
     s->n_end = plan_end(&s->law);
     if (s->n_end < s->n)
         s->n_end = s->n;
+    s->seg_ok = 0;
+    s->law_behind = 0;
 }
 
 void smooth_move_halt(smooth_move_t *s, int32_t pos)
@@ -752,13 +765,170 @@ static int64_t div_round(int64_t a, int64_t b) /* b > 0 */
     return a >= 0 ? (a + b / 2) / b : -((-a + b / 2) / b);
 }
 
+static float smx_to_float(smx_t a)
+{
+    return (float)smx_to_double(a);
+}
+
+/* the segment's position at local time x: p + x (v + x (a/2 + x j/6)) */
+static smx_t seg_pos(const smooth_move_t *s, smx_t x)
+{
+    return smx_add(s->seg.p, smx_mul(x, smx_add(s->seg.v, smx_mul(x, smx_add(s->seg_ah, smx_mul(x, s->seg_j6))))));
+}
+
+/* Velocity and acceleration of the segment at local time xf (floats), with bounds on their
+ * rounding errors (the terms' magnitudes times 2^-21: x itself is a float). */
+static void seg_local(const smooth_move_t *s, float xf, float *v, float *a, float *dv, float *da)
+{
+    float ax = s->f_a0 * xf, jx = s->f_j * xf, jxx = 0.5f * jx * xf;
+    *v = s->f_v0 + ax + jxx;
+    *a = s->f_a0 + jx;
+    *dv = F2M21 * (fabsf(s->f_v0) + fabsf(ax) + fabsf(jxx));
+    *da = F2M21 * (fabsf(s->f_a0) + fabsf(jx));
+}
+
+/* The segment starting at the copy of the cursor in s->seg (its next knot ends it). */
+static void seg_setup(smooth_move_t *s)
+{
+    static const smx_t sixth = {0x2AAAAAAAAAAAAAABLL, -64};
+    const smooth_law_t *law = &s->law;
+    s->seg_final = 1;
+    s->seg_last = s->n_end;
+    if (s->seg.next < law->n_knot) {
+        s->seg_end = law->knot[s->seg.next].t;
+        if (smx_cmp(s->seg_end, law->t_final) == 0) { /* the last segment: about its end */
+            s->seg.t = law->t_final;
+            s->seg.p = law->p_final;
+            s->seg.v = s->seg.a = smx_zero();
+        } else {
+            s->seg_final = 0;
+        }
+    } else { /* no knot ahead: at rest at p_final (not reached while steps are left) */
+        s->seg_end = s->seg.t;
+    }
+    s->seg_ah = smx_ldexp(s->seg.a, -1);
+    s->seg_j6 = smx_mul(s->seg.j, sixth);
+    s->seg_hi = smx_sub(s->seg_end, s->seg.t);
+    if (!s->seg_final) {
+        int64_t e = smx_floor(seg_pos(s, s->seg_hi));
+        s->seg_last = e < (int64_t)s->n ? s->n : e > (int64_t)s->n_end ? s->n_end : (uint32_t)e;
+    }
+    s->final_whole = s->seg_final && smx_cmp(law->p_final, smx_from_i64(s->n_end)) == 0;
+    s->f_v0 = smx_to_float(s->seg.v);
+    s->f_a0 = smx_to_float(s->seg.a);
+    s->f_j = smx_to_float(s->seg.j);
+    s->f_acc_eps = smx_to_float(law->vmax) / smx_to_float(law->tau1) * (1.0f / 1024.0f);
+    s->x_n = smx_sub(s->t_n, s->seg.t);
+}
+
+/* Sets up the segment that holds step n + 1. */
+static void seg_find(smooth_move_t *s)
+{
+    if (!s->seg_ok) {
+        s->seg = s->law.cur;
+        seg_setup(s);
+        s->seg_ok = 1;
+    }
+    while (!s->seg_final && s->n >= s->seg_last) { /* step n + 1 comes after the knot */
+        cur_move(&s->seg, s->seg_end);
+        s->seg.j = smx_add(s->seg.j, s->law.knot[s->seg.next].dj);
+        s->seg.next++;
+        seg_setup(s);
+        s->law_behind = 1;
+    }
+}
+
+/* A float root of y (v + y (a/2 + y j/6)) = l on (0, ymax] (the position rises there): Newton,
+ * bisection when a step leaves the bracket; for a first guess where the series in steps fails
+ * (near rest). */
+static float fsolve(float v, float a, float j, float l, float ymax)
+{
+    float lo = 0, hi = ymax, y;
+    int i;
+    if (v > 0)
+        y = l / v;
+    else if (a > 0)
+        y = sqrtf(2 * l / a);
+    else if (j > 0) { /* the cube root of 6 l / j */
+        float q = 6 * l / j;
+        int e;
+        (void)frexpf(q, &e);
+        y = ldexpf(1.0f, e / 3);
+        for (i = 0; i < 8; i++)
+            y = (2 * y + q / (y * y)) * (1.0f / 3.0f);
+    } else
+        y = 0.5f * hi;
+    if (!(y > lo && y < hi))
+        y = 0.5f * (lo + hi);
+    for (i = 0; i < 60; i++) {
+        float g = y * (v + y * (0.5f * a + y * j * (1.0f / 6.0f))) - l;
+        float gp = v + y * (a + 0.5f * y * j), yn;
+        if (g < 0)
+            lo = y;
+        else
+            hi = y;
+        yn = gp > 0 ? y - g / gp : lo - 1;
+        if (!(yn > lo && yn < hi))
+            yn = 0.5f * (lo + hi);
+        if (fabsf(yn - y) <= 1e-6f * y)
+            return yn;
+        y = yn;
+    }
+    return y;
+}
+
+/* The local time x in [lo, hi] where the segment's position is m, from the guess x: Newton
+ * steps of the exact residual over the float velocity (a good guess needs one), bisection when
+ * a step leaves the bracket; *moved: the correction from the guess (1e30 after a bisection). */
+static smx_t seg_solve(const smooth_move_t *s, smx_t m, smx_t x, float xf, smx_t lo, smx_t hi, float *moved)
+{
+    float tot = 0;
+    uint8_t bis = 0, checked = 0;
+    int i;
+    for (i = 0; i < 200; i++) {
+        smx_t f = smx_sub(seg_pos(s, x), m), xn;
+        float v, a, dv, da, dx;
+        if (f.m == 0)
+            break;
+        if (f.m < 0)
+            lo = x;
+        else
+            hi = x;
+        seg_local(s, xf, &v, &a, &dv, &da);
+        if (v > 0) {
+            dx = smx_to_float(f) / v;
+            xn = smx_sub(x, smx_from_float(dx));
+            /* a step of at most a tick from a guess of the series needs no bracket check */
+            if ((checked == 0 && fabsf(dx) <= 1.0f) || (smx_cmp(xn, lo) > 0 && smx_cmp(xn, hi) < 0)) {
+                float err = fabsf(dx) * ((dv + fabsf(a) * fabsf(dx)) / v + 2.4e-7f);
+                x = xn;
+                xf -= dx;
+                tot -= dx;
+                checked = 1;
+                if (err < F2M12)
+                    break;
+                continue;
+            }
+        }
+        checked = 1;
+        bis = 1;
+        x = smx_ldexp(smx_add(lo, hi), -1);
+        xf = smx_to_float(x);
+        if (smx_cmp(smx_sub(hi, lo), smx_ldexp(smx_from_i64(1), -20)) < 0)
+            break;
+    }
+    *moved = bis ? 1e30f : tot;
+    return x;
+}
+
 uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
 {
-    uint32_t left, len;
-    int8_t acc_sign = 0;
-    smx_t t_end;
-    int64_t rate = 0, add = 0, e_end;
-    uint8_t first = 1, wide = 0;
+    uint32_t cap, len;
+    int64_t rate = 0, add = 0, e_end = 0, t16 = 0;
+    uint8_t wide = 0;
+    int tries;
+    float xf, v, a, dv, da, e0, t1 = 0, t2 = 0, t3 = 0, t4 = 0, relv = 0, dur = 0;
+    smx_t t_end, x_end;
     if (s == NULL || c == NULL)
         return 0;
     if (s->active && s->n >= s->n_end && s->has_then) {
@@ -772,6 +942,7 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
             return 0;
         }
         s->acc16 = gap > 0 ? -gap : 0;
+        s->err16 = s->acc16;
     }
     if (!s->active || s->n >= s->n_end) {
         if (s->active) { /* at rest: the timeline starts again with the next move */
@@ -780,15 +951,87 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         }
         return 0;
     }
-    left = s->n_end - s->n;
-    len = 1U << s->span_b;
-    while (len > left)
-        len >>= 1;
-    for (;;) {
-        int64_t tl16;
-        t_end = smooth_law_time_of(&s->law, s->n + len, &acc_sign);
-        tl16 = smx_round_q16(t_end);
-        e_end = tl16 - s->acc16;
+    seg_find(s);
+    cap = s->n_end - s->n;
+    if (!s->seg_final && s->seg_last - s->n < cap)
+        cap = s->seg_last - s->n;
+    if (cap > SPAN_MAX)
+        cap = SPAN_MAX;
+    xf = smx_to_float(s->x_n);
+    seg_local(s, xf, &v, &a, &dv, &da);
+    e0 = fabsf((float)s->err16) * F2M16;
+    len = 1;
+    if (v > 0) {
+        float r2, r3, t1s;
+        t1 = 1.0f / v;
+        t1s = t1 * t1;
+        r2 = a * t1s;           /* a / v^2: the relative change of the interval per step */
+        r3 = s->f_j * t1s * t1; /* j / v^3 */
+        t2 = -t1 * r2;          /* the derivatives of the time law in steps */
+        t3 = t1 * (3 * r2 * r2 - r3);
+        t4 = t1 * r2 * (10 * r3 - 15 * r2 * r2);
+        relv = dv * t1;
+        len = 2U * s->span;
+        if (len > cap)
+            len = cap;
+    }
+    for (tries = 0;; tries++) {
+        smx_t m = smx_from_i64((int64_t)s->n + len), x0;
+        float moved, x0f, lf = (float)len, e_pre = 0, c2 = 0, dq = 0, e3 = 0, ef = 0;
+        int32_t addi = 0;
+        /* the span: the series' terms beyond the quadratic, the rounding of add and rate and
+         * the float error of the shape within the budget; at most max_cmd_ticks long */
+        while (len > 1) {
+            float l2 = lf * lf, l3 = l2 * lf, addf;
+            dur = lf * (t1 + lf * (0.5f * t2 + lf * t3 * (1.0f / 6.0f)));
+            c2 = 0.5f * t2 + 0.25f * t3 * lf;
+            addf = 2 * c2 * 65536.0f;
+            e3 = 0.00802f * fabsf(t3) * l3;
+            ef = 4 * relv * (fabsf(t2) * l2 * 0.125f + fabsf(t3) * l3 * (1.0f / 48)) +
+                 da * t1 * t1 * t1 * l2 * 0.125f;
+            if (fabsf(addf) < 2.0e9f) {
+                addi = (int32_t)(addf + (addf >= 0 ? 0.5f : -0.5f));
+                dq = fabsf((float)addi - addf) * l2 * 0.125f * F2M16;
+                e_pre = e0 + e3 + 0.0196f * fabsf(t4) * l2 * l2 + ef + dq + lf * 0.5f * F2M16;
+                if (e_pre <= TOL_TICKS && dur + e0 + 2 <= (float)s->max_cmd_ticks && t1 < 65000.0f &&
+                    t1 + t2 * lf < 65000.0f)
+                    break;
+            } else {
+                e_pre = 1e30f;
+            }
+            if (dur + e0 + 2 > (float)s->max_cmd_ticks && dur > 0) {
+                uint32_t l = (uint32_t)(lf * ((float)s->max_cmd_ticks - e0 - 2) / dur * 0.99f);
+                len = l < len ? l : len - 1;
+            } else {
+                len = e_pre > 4 * TOL_TICKS ? len / 2 : len - (len + 3) / 4;
+            }
+            if (len < 1)
+                len = 1;
+            lf = (float)len;
+            m = smx_from_i64((int64_t)s->n + len);
+        }
+        /* the exact time of step n + len */
+        if (len > 1 || (v > 0 && fabsf(t2) * 0.5f + fabsf(t3) * 0.17f + fabsf(t4) * 0.05f < 0.1f * t1)) {
+            if (len == 1)
+                dur = t1 + 0.5f * t2 + t3 * (1.0f / 6.0f);
+            x0f = xf + dur;
+            x0 = smx_add(s->x_n, smx_from_float(dur));
+        } else { /* near rest: a float root first */
+            float ymax = s->seg_final ? -xf : smx_to_float(smx_sub(s->seg_end, s->t_n));
+            float y = fsolve(v, a, s->f_j, 1.0f, ymax);
+            x0f = xf + y;
+            x0 = smx_add(s->x_n, smx_from_float(y));
+        }
+        if (s->seg_final && s->final_whole && s->n + len == s->n_end) {
+            x_end = smx_zero();
+            moved = 0;
+        } else {
+            x_end = seg_solve(s, m, x0, x0f, s->x_n, s->seg_final ? smx_zero() : s->seg_hi,
+                              &moved);
+        }
+        t_end = smx_add(s->seg.t, x_end);
+        t16 = smx_round_q16(t_end);
+        e_end = t16 - s->acc16;
         if (len == 1) {
             if (e_end >= WIDE_ABOVE16) {
                 wide = 1;
@@ -802,37 +1045,28 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
             break;
         }
         {
-            uint32_t m = len / 2;
-            int64_t em = smx_round_q16(smooth_law_time_of(&s->law, s->n + m, NULL)) - s->acc16;
-            int64_t last, lm = (int64_t)m * m;
-            int ok = 1;
-            add = div_round(e_end - 2 * em, lm);
-            rate = div_round(e_end - (int64_t)len * (len - 1) / 2 * add, len);
-            last = rate + (int64_t)(len - 1) * add;
-            if (rate < 1 || rate >= WIDE_ABOVE16 || last < 1 || last >= WIDE_ABOVE16 || add > INT32_MAX ||
-                add < INT32_MIN || e_end > (int64_t)s->max_cmd_ticks << 16)
-                ok = 0;
-            if (ok && len >= 4) {
-                uint32_t q, jj[2];
-                jj[0] = m / 2;
-                jj[1] = m + m / 2;
-                for (q = 0; q < 2 && ok; q++) {
-                    int64_t j = jj[q];
-                    int64_t fit = j * rate + j * (j - 1) / 2 * add;
-                    int64_t ex = smx_round_q16(smooth_law_time_of(&s->law, s->n + (uint32_t)j, NULL)) - s->acc16;
-                    if (fit - ex > FIT_TOL16 || ex - fit > FIT_TOL16)
-                        ok = 0;
-                }
-            }
-            if (ok)
+            int64_t last, l64 = len;
+            float e_post = e_pre - 0.0196f * fabsf(t4) * lf * lf * lf * lf;
+            float e4 = 0.55f * fabsf(moved);
+            add = addi;
+            rate = div_round(e_end - l64 * (l64 - 1) / 2 * add, l64);
+            last = rate + (l64 - 1) * add;
+            if (e4 < 0.0196f * fabsf(t4) * lf * lf * lf * lf)
+                e4 = 0.0196f * fabsf(t4) * lf * lf * lf * lf;
+            if (rate >= 1 && rate < WIDE_ABOVE16 && last >= 1 && last < WIDE_ABOVE16 &&
+                e_end <= (int64_t)s->max_cmd_ticks << 16 && e_post + e4 <= TOL_TICKS)
                 break;
+            len = tries > 3 ? len / 2 : len - (len + 3) / 4;
+            if (len < 1)
+                len = 1;
         }
-        len >>= 1;
-        first = 0;
     }
     c->count = (uint16_t)len;
-    c->flags = (uint8_t)((s->law.dir < 0 ? STEP_CMD_REVERSE : 0U) |
-                         ((acc_sign > 0 ? 1U : acc_sign < 0 ? 3U : 2U) << STEP_CMD_PHASE_SHIFT));
+    {
+        float a_end = a + s->f_j * dur;
+        uint8_t ph = fabsf(a_end) <= s->f_acc_eps ? 2U : a_end > 0 ? 1U : 3U;
+        c->flags = (uint8_t)((s->law.dir < 0 ? STEP_CMD_REVERSE : 0U) | (ph << STEP_CMD_PHASE_SHIFT));
+    }
     if (wide) {
         c->flags |= STEP_CMD_WIDE;
         c->rate = (uint32_t)rate;
@@ -843,17 +1077,15 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         c->add = (int32_t)add;
         s->acc16 += (int64_t)len * rate + (int64_t)len * (len - 1) / 2 * add;
     }
+    s->err16 = s->acc16 - t16;
     s->n += len;
     s->t_n = t_end;
+    s->x_n = x_end;
+    s->span = (uint16_t)len;
     s->pos = (int32_t)(s->law.origin + s->law.dir * (int64_t)s->n);
-    smooth_law_knots_to(&s->law, t_end);
-    if (first && s->span_b < SPAN_MAX_B && len == (1U << s->span_b))
-        s->span_b++;
-    else if (!first) {
-        uint8_t b = 0;
-        while ((1U << (b + 1)) <= len)
-            b++;
-        s->span_b = b;
+    if (s->law_behind) {
+        smooth_law_knots_to(&s->law, t_end);
+        s->law_behind = 0;
     }
     return 1;
 }

@@ -175,11 +175,26 @@ typedef struct {
     uint32_t n;             /* frame steps handed out */
     uint32_t n_end;         /* the last step of the plan (frame) */
     int64_t acc16;          /* the executor's time of step n, 2^-16 ticks from the timeline's start */
+    int64_t err16;          /* acc16 - round(t_n x 2^16): the executor's offset from the law at step n */
     smx_t t_n;              /* the law's time of step n, ticks */
-    uint8_t span_b;         /* log2 of the next span to try */
+    uint16_t span;          /* steps of the last command (the next one tries twice as many) */
     uint8_t active;         /* a plan is being handed out */
     uint8_t has_then;       /* after the stop in progress: the move to then_target */
     int32_t then_target;
+    /* the segment of the law that holds step n + 1 (between two knots): a copy of the law's
+     * cursor moved to its start, or for the last segment the polynomial about its end */
+    smooth_cursor_t seg;
+    smx_t seg_end;          /* the knot that ends it */
+    smx_t seg_hi;           /* seg_end - seg.t */
+    smx_t seg_ah, seg_j6;   /* a/2, j/6 of its polynomial */
+    smx_t x_n;              /* t_n - seg.t */
+    float f_v0, f_a0, f_j;  /* seg.v, seg.a, seg.j as floats (steps/tick, /tick^2, /tick^3) */
+    float f_acc_eps;        /* below this acceleration a command is reported as cruise */
+    uint32_t seg_last;      /* the last step inside it (frame) */
+    uint8_t seg_ok;         /* seg is set up for the current plan */
+    uint8_t seg_final;      /* it is the last segment (about t_final) */
+    uint8_t final_whole;    /* the plan ends on a whole step (p_final = n_end) */
+    uint8_t law_behind;     /* seg has passed knots the law's cursor has not applied yet */
 } smooth_move_t;
 
 /* At rest at pos with parameters p (checked as smooth_law_set_params); max_cmd_ticks defaults to
