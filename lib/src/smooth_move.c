@@ -630,12 +630,19 @@ static void move_rest(smooth_move_t *s, int32_t pos)
     s->n_end = 0;
     s->acc16 = 0;
     s->err16 = 0;
-    s->t_n = smx_zero();
     s->span = 1;
     s->active = 0;
     s->has_then = 0;
+    s->t_n = s->x_a = smx_zero();
+    s->tn_stale = 0;
+    s->n_a = 0;
+    s->t16_a = 0;
+    s->xa16 = 0;
+    s->y16 = 0;
+    s->y_lo = 0;
+    s->xf_a = 0;
+    s->a_in_seg = 0;
     s->seg_ok = 0;
-    s->law_behind = 0;
 }
 
 motion_status_t smooth_move_init(smooth_move_t *s, const smooth_params_t *p, int32_t pos)
@@ -684,7 +691,6 @@ static motion_status_t start_from_rest(smooth_move_t *s, int32_t to)
     smooth_move_t n = *s;
     motion_status_t st;
     move_rest(&n, s->pos);
-    n.max_cmd_ticks = s->max_cmd_ticks;
     st = smooth_law_start(&n.law, to);
     if (st != MS_OK)
         return st;
@@ -693,6 +699,10 @@ static motion_status_t start_from_rest(smooth_move_t *s, int32_t to)
     *s = n;
     return MS_OK;
 }
+
+static smx_t smx_sub(smx_t a, smx_t b);
+static void make_exact(smooth_move_t *s);
+static void sync_tn(smooth_move_t *s);
 
 motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
 {
@@ -705,6 +715,8 @@ motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
         s->then_target = to;
         return MS_OK;
     }
+    make_exact(s);
+    sync_tn(s);
     st = smooth_law_retarget(&s->law, s->t_n, to);
     if (st == MS_ERR_SMOOTH_REVERSE) {
         smooth_law_stop(&s->law, s->t_n);
@@ -714,14 +726,12 @@ motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
         s->has_then = 1;
         s->then_target = to;
         s->seg_ok = 0;
-        s->law_behind = 0;
         return MS_OK;
     }
     if (st != MS_OK)
         return st;
     s->n_end = plan_end(&s->law);
     s->seg_ok = 0;
-    s->law_behind = 0;
     return MS_OK;
 }
 
@@ -730,12 +740,13 @@ void smooth_move_stop(smooth_move_t *s)
     if (s == NULL || !smooth_move_busy(s))
         return;
     s->has_then = 0;
+    make_exact(s);
+    sync_tn(s);
     smooth_law_stop(&s->law, s->t_n);
     s->n_end = plan_end(&s->law);
     if (s->n_end < s->n)
         s->n_end = s->n;
     s->seg_ok = 0;
-    s->law_behind = 0;
 }
 
 void smooth_move_halt(smooth_move_t *s, int32_t pos)
@@ -787,13 +798,135 @@ static void seg_local(const smooth_move_t *s, float xf, float *v, float *a, floa
     *da = F2M21 * (fabsf(s->f_a0) + fabsf(jx));
 }
 
-/* The segment starting at the copy of the cursor in s->seg (its next knot ends it). */
+/* Step n exactly solved at local time x (smx) or x16 (2^-16 ticks; with x NULL): the anchor. */
+static void set_anchor(smooth_move_t *s, const smx_t *x, int64_t x16)
+{
+    if (x != NULL) {
+        s->x_a = *x;
+        x16 = smx_round_q16(*x);
+    } else {
+        s->x_a = smx_ldexp(smx_from_i64(x16), -16);
+    }
+    s->xa16 = x16;
+    s->n_a = s->n;
+    s->tn_stale = 1; /* t_n = seg.t + x_a: worked out when a stop, a new target or the next segment needs it */
+    s->t16_a = s->seg_t16 + x16;
+    s->y16 = 0;
+    s->y_lo = 0;
+    s->xf_a = (float)x16 * F2M16;
+    s->err16 = s->acc16 - s->t16_a;
+    s->a_in_seg = 1;
+}
+
+static void sync_tn(smooth_move_t *s)
+{
+    if (s->tn_stale) {
+        s->t_n = smx_add(s->seg.t, s->x_a);
+        s->tn_stale = 0;
+    }
+}
+
+/* p(x) - m of the segment at whole tick x, in units of 2^-fp_m steps (fixed point, see fp_c) */
+static int64_t mul_shr(int64_t h, int32_t x, uint8_t sh) /* h x / 2^sh toward 0; h x < 2^(sh + 61) */
+{
+    uint64_t uh = h < 0 ? (uint64_t)0 - (uint64_t)h : (uint64_t)h, ph, pl, r;
+    uint32_t ux = x < 0 ? (uint32_t)0 - (uint32_t)x : (uint32_t)x;
+    ph = (uint64_t)(uint32_t)(uh >> 32) * ux;
+    pl = (uint64_t)(uint32_t)uh * ux;
+    if (sh >= 32)
+        r = (ph + (uint32_t)(pl >> 32)) >> (sh - 32);
+    else
+        r = (ph << (32 - sh)) + (pl >> sh);
+    return (h < 0) != (x < 0) ? -(int64_t)r : (int64_t)r;
+}
+
+static int64_t fp_resid(const smooth_move_t *s, int32_t x, uint32_t m)
+{
+    int64_t h = s->fp_c[3] == 0 ? s->fp_c[2] : s->fp_c[2] + mul_shr(s->fp_c[3], x, s->fp_s[2]);
+    h = h == 0 ? s->fp_c[1] : s->fp_c[1] + mul_shr(h, x, s->fp_s[1]);
+    h = s->fp_c[0] + mul_shr(h, x, s->fp_s[0]);
+    return h - (int64_t)((uint64_t)m << s->fp_m);
+}
+
+/* The segment's polynomial in fixed point (fp_c) for local times up to X: each level's scale
+ * from a bound on its values, 2^60 units (truncation: 2^-60 of the bound per level). */
+static void fp_setup(smooth_move_t *s, float X)
+{
+    const smx_t *co[4];
+    float mag[4];
+    int e[4], k;
+    s->fp_ok = 0;
+    if (!(X < 1.0e9f))
+        return;
+    co[0] = &s->seg.p;
+    co[1] = &s->seg.v;
+    co[2] = &s->seg_ah;
+    co[3] = &s->seg_j6;
+    mag[3] = fabsf(smx_to_float(s->seg_j6));
+    mag[2] = fabsf(smx_to_float(s->seg_ah)) + X * mag[3];
+    mag[1] = fabsf(smx_to_float(s->seg.v)) + X * mag[2];
+    mag[0] = fabsf(smx_to_float(s->seg.p)) + X * mag[1] + (float)s->n_end + 2;
+    for (k = 3; k >= 0; k--) {
+        int ex;
+        if (!(mag[k] > 0)) {
+            e[k] = k < 3 ? e[k + 1] : -4000;
+            continue;
+        }
+        (void)frexpf(mag[k] * 1.01f, &ex); /* mag < 2^ex */
+        e[k] = ex - 60;
+    }
+    if (e[3] == -4000)
+        e[3] = e[2];
+    for (k = 0; k < 3; k++) {
+        int sh = e[k] - e[k + 1];
+        if (sh < 0 || sh > 90)
+            return;
+        s->fp_s[k] = (uint8_t)sh;
+    }
+    if (e[0] > 0 || e[0] < -63)
+        return;
+    s->fp_m = (uint8_t)-e[0];
+    for (k = 0; k < 4; k++)
+        s->fp_c[k] = co[k]->m == 0 ? 0 : smx_round(smx_ldexp(*co[k], -e[k]));
+    s->fp_ok = 1;
+}
+
+/* The local time (2^-16 ticks) where the segment's position is m, from the guess x16, in fixed
+ * point: Newton steps from whole ticks (the residual exact to 2^-60 of its terms) over the
+ * velocity ve there (from the series: its relative error is far below 2^-12), accepted when the
+ * step is at most a tick (from a whole tick it is up to 1/2; its error is then |dx| times that
+ * relative error plus (a/2v) dx^2, far below 2^-12 tick). 0 and *x16 untouched when it does not
+ * settle in a few steps (then smx). */
+static uint8_t fp_solve(const smooth_move_t *s, uint32_t m, int64_t *x16, float ve, float *moved)
+{
+    int64_t x = *x16;
+    int i;
+    if (!(ve > 0))
+        return 0;
+    for (i = 0; i < 3; i++) {
+        int32_t xi = (int32_t)((x + 0x8000) >> 16);
+        float dx = ldexpf((float)fp_resid(s, xi, m), -(int)s->fp_m) / ve;
+        if (!(fabsf(dx) < 16384.0f))
+            return 0;
+        x = (int64_t)xi * 65536 - (int64_t)(dx * 65536.0f + (dx >= 0 ? 0.5f : -0.5f));
+        if (fabsf(dx) <= 1.0f) {
+            *moved = (float)(x - *x16) * F2M16;
+            *x16 = x;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The segment starting at the copy of the cursor in s->seg (its next knot ends it); step n is
+ * exactly solved (t_n). */
 static void seg_setup(smooth_move_t *s)
 {
     static const smx_t sixth = {0x2AAAAAAAAAAAAAABLL, -64};
     const smooth_law_t *law = &s->law;
     s->seg_final = 1;
     s->seg_last = s->n_end;
+    s->inv48 = 0;
     if (s->seg.next < law->n_knot) {
         s->seg_end = law->knot[s->seg.next].t;
         if (smx_cmp(s->seg_end, law->t_final) == 0) { /* the last segment: about its end */
@@ -818,63 +951,23 @@ static void seg_setup(smooth_move_t *s)
     s->f_a0 = smx_to_float(s->seg.a);
     s->f_j = smx_to_float(s->seg.j);
     s->f_acc_eps = smx_to_float(law->vmax) / smx_to_float(law->tau1) * (1.0f / 1024.0f);
-    s->x_n = smx_sub(s->t_n, s->seg.t);
-}
-
-/* Sets up the segment that holds step n + 1. */
-static void seg_find(smooth_move_t *s)
-{
-    if (!s->seg_ok) {
-        s->seg = s->law.cur;
-        seg_setup(s);
-        s->seg_ok = 1;
+    s->seg_t16 = smx_round_q16(s->seg.t);
+    {
+        smx_t x = smx_sub(s->t_n, s->seg.t); /* step n, solved on the segment before (t_n in sync) */
+        float xa = fabsf(smx_to_float(x)), len = fabsf(smx_to_float(s->seg_hi));
+        if (!s->seg_final && s->seg.j.m == 0 && s->f_v0 * 32768.0f > 1.0f &&
+            fabsf(s->f_a0) * len * len <= s->f_v0 * 2 * 9.5367431640625e-07f) {
+            /* a cruise: a line while its acceleration moves it by less than 2^-20 tick */
+            s->inv48 = (uint64_t)smx_round(smx_ldexp(smx_div(smx_from_i64(1), s->seg.v), 48));
+            s->fp_ok = 0;
+        } else {
+            fp_setup(s, (xa > len ? xa : len) + 65536.0f);
+        }
+        /* its polynomial differs from this one there: the next command is solved exactly on
+         * this one before the cruise's line starts */
+        set_anchor(s, &x, 0);
+        s->a_in_seg = 0;
     }
-    while (!s->seg_final && s->n >= s->seg_last) { /* step n + 1 comes after the knot */
-        cur_move(&s->seg, s->seg_end);
-        s->seg.j = smx_add(s->seg.j, s->law.knot[s->seg.next].dj);
-        s->seg.next++;
-        seg_setup(s);
-        s->law_behind = 1;
-    }
-}
-
-/* A float root of y (v + y (a/2 + y j/6)) = l on (0, ymax] (the position rises there): Newton,
- * bisection when a step leaves the bracket; for a first guess where the series in steps fails
- * (near rest). */
-static float fsolve(float v, float a, float j, float l, float ymax)
-{
-    float lo = 0, hi = ymax, y;
-    int i;
-    if (v > 0)
-        y = l / v;
-    else if (a > 0)
-        y = sqrtf(2 * l / a);
-    else if (j > 0) { /* the cube root of 6 l / j */
-        float q = 6 * l / j;
-        int e;
-        (void)frexpf(q, &e);
-        y = ldexpf(1.0f, e / 3);
-        for (i = 0; i < 8; i++)
-            y = (2 * y + q / (y * y)) * (1.0f / 3.0f);
-    } else
-        y = 0.5f * hi;
-    if (!(y > lo && y < hi))
-        y = 0.5f * (lo + hi);
-    for (i = 0; i < 60; i++) {
-        float g = y * (v + y * (0.5f * a + y * j * (1.0f / 6.0f))) - l;
-        float gp = v + y * (a + 0.5f * y * j), yn;
-        if (g < 0)
-            lo = y;
-        else
-            hi = y;
-        yn = gp > 0 ? y - g / gp : lo - 1;
-        if (!(yn > lo && yn < hi))
-            yn = 0.5f * (lo + hi);
-        if (fabsf(yn - y) <= 1e-6f * y)
-            return yn;
-        y = yn;
-    }
-    return y;
 }
 
 /* The local time x in [lo, hi] where the segment's position is m, from the guess x: Newton
@@ -921,14 +1014,129 @@ static smx_t seg_solve(const smooth_move_t *s, smx_t m, smx_t x, float xf, smx_t
     return x;
 }
 
+/* Step n's time solved exactly (after commands on the cruise's line): the anchor moves to step n. */
+static void make_exact(smooth_move_t *s)
+{
+    float moved;
+    smx_t x;
+    if (s->n == s->n_a || !s->seg_ok)
+        return;
+    x = seg_solve(s, smx_from_i64(s->n), smx_add(s->x_a, smx_ldexp(smx_from_i64(s->y16), -16)),
+                  s->xf_a + (float)s->y16 * F2M16, s->x_a, s->seg_final ? smx_zero() : s->seg_hi, &moved);
+    set_anchor(s, &x, 0);
+}
+
+/* Sets up the segment that holds step n + 1. */
+static void seg_find(smooth_move_t *s)
+{
+    if (!s->seg_ok) {
+        sync_tn(s);
+        s->seg = s->law.cur;
+        seg_setup(s);
+        s->seg_ok = 1;
+    }
+    while (!s->seg_final && s->n >= s->seg_last) { /* step n + 1 comes after the knot */
+        make_exact(s);
+        sync_tn(s);
+        cur_move(&s->seg, s->seg_end);
+        s->seg.j = smx_add(s->seg.j, s->law.knot[s->seg.next].dj);
+        s->seg.next++;
+        seg_setup(s);
+        smooth_law_knots_to(&s->law, s->t_n);
+    }
+}
+
+/* A float root of y (v + y (a/2 + y j/6)) = l on (0, ymax] (the position rises there): Newton,
+ * bisection when a step leaves the bracket; for a first guess where the series in steps fails
+ * (near rest). */
+static float fsolve(float v, float a, float j, float l, float ymax)
+{
+    float lo = 0, hi = ymax, y;
+    int i;
+    if (v > 0)
+        y = l / v;
+    else if (a > 0)
+        y = sqrtf(2 * l / a);
+    else if (j > 0) { /* the cube root of 6 l / j */
+        float q = 6 * l / j;
+        int e;
+        (void)frexpf(q, &e);
+        y = ldexpf(1.0f, e / 3);
+        for (i = 0; i < 8; i++)
+            y = (2 * y + q / (y * y)) * (1.0f / 3.0f);
+    } else
+        y = 0.5f * hi;
+    if (!(y > lo && y < hi))
+        y = 0.5f * (lo + hi);
+    for (i = 0; i < 60; i++) {
+        float g = y * (v + y * (0.5f * a + y * j * (1.0f / 6.0f))) - l;
+        float gp = v + y * (a + 0.5f * y * j), yn;
+        if (g < 0)
+            lo = y;
+        else
+            hi = y;
+        yn = gp > 0 ? y - g / gp : lo - 1;
+        if (!(yn > lo && yn < hi))
+            yn = 0.5f * (lo + hi);
+        if (fabsf(yn - y) <= 1e-6f * y)
+            return yn;
+        y = yn;
+    }
+    return y;
+}
+
+static void emit(smooth_move_t *s, step_cmd_t *c, uint32_t len, int64_t rate, int64_t add, uint8_t wide, uint8_t ph)
+{
+    c->count = (uint16_t)len;
+    c->flags = (uint8_t)((s->law.dir < 0 ? STEP_CMD_REVERSE : 0U) | (ph << STEP_CMD_PHASE_SHIFT));
+    c->rate = (uint32_t)rate;
+    if (wide) {
+        c->flags |= STEP_CMD_WIDE;
+        c->add = 0;
+        s->acc16 += rate << 16;
+    } else {
+        c->add = (int32_t)add;
+        s->acc16 += (int64_t)len * rate + (int64_t)len * (len - 1) / 2 * add;
+    }
+    s->n += len;
+    s->span = (uint16_t)len;
+    s->pos = (int32_t)(s->law.origin + s->law.dir * (int64_t)s->n);
+}
+
+/* A command on the cruise's line: step n + l at y + l / v, in 2^-48 ticks (0: not possible). */
+static uint8_t cruise_next(smooth_move_t *s, step_cmd_t *c, uint32_t cap)
+{
+    float e0 = fabsf((float)s->err16) * F2M16;
+    float lf = ((float)s->max_cmd_ticks - e0 - 2) * s->f_v0;
+    uint32_t l = lf >= (float)cap ? cap : lf < 1 ? 0 : (uint32_t)lf;
+    uint64_t lo, hi, sum;
+    int64_t y16, e_end, rate;
+    if (l < 1 || e0 + (float)l * F2M16 > TOL_TICKS)
+        return 0;
+    lo = (uint64_t)l * (uint32_t)s->inv48;
+    hi = (uint64_t)l * (uint32_t)(s->inv48 >> 32);
+    sum = (uint64_t)s->y_lo + (uint32_t)lo;
+    y16 = s->y16 + (int64_t)hi + (int64_t)(lo >> 32) + (int64_t)(sum >> 32);
+    e_end = s->t16_a + y16 + ((uint32_t)sum >> 31) - s->acc16;
+    rate = div_round(e_end, l);
+    if (rate < 1 || rate >= WIDE_ABOVE16 || e_end > (int64_t)s->max_cmd_ticks << 16)
+        return 0;
+    s->y16 = y16;
+    s->y_lo = (uint32_t)sum;
+    emit(s, c, l, rate, 0, 0, 2U);
+    s->err16 = s->acc16 - (s->t16_a + y16 + ((uint32_t)sum >> 31));
+    return 1;
+}
+
 uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
 {
     uint32_t cap, len;
-    int64_t rate = 0, add = 0, e_end = 0, t16 = 0;
-    uint8_t wide = 0;
+    int64_t rate = 0, add = 0, e_end = 0, t16 = 0, x16 = 0;
+    uint8_t wide = 0, fast = 0;
     int tries;
     float xf, v, a, dv, da, e0, t1 = 0, t2 = 0, t3 = 0, t4 = 0, relv = 0, dur = 0;
-    smx_t t_end, x_end;
+    float q1, q2, q3, q4, budget, tmax;
+    smx_t x_end = smx_zero();
     if (s == NULL || c == NULL)
         return 0;
     if (s->active && s->n >= s->n_end && s->has_then) {
@@ -957,7 +1165,10 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         cap = s->seg_last - s->n;
     if (cap > SPAN_MAX)
         cap = SPAN_MAX;
-    xf = smx_to_float(s->x_n);
+    if (s->inv48 != 0 && s->a_in_seg && cruise_next(s, c, cap))
+        return 1;
+    make_exact(s);
+    xf = s->xf_a;
     seg_local(s, xf, &v, &a, &dv, &da);
     e0 = fabsf((float)s->err16) * F2M16;
     len = 1;
@@ -975,62 +1186,101 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         if (len > cap)
             len = cap;
     }
+    {
+        /* the bound on |executor - law| inside a span of l steps (ticks): e0 decaying, plus
+         * l (q1 + l (q2 + l (q3 + l q4))): the rate's rounding (q1), the float error of the
+         * shape (q2, q3), and the rounding of add (|add - ideal| l^2/8), the cubic term beyond the quadratic through
+         * the span's ends and middle (0.00802 |t3| l^3), the quartic term (0.0196 |t4| l^4) */
+        q1 = 0.5f * F2M16;
+        q2 = 0.5f * relv * fabsf(t2) + da * t1 * t1 * t1 * 0.125f;
+        q3 = (0.00802f + relv * (1.0f / 12)) * fabsf(t3);
+        q4 = 0.0196f * fabsf(t4);
+        budget = TOL_TICKS - e0;
+        tmax = (float)s->max_cmd_ticks - e0 - 2;
+    }
     for (tries = 0;; tries++) {
-        smx_t m = smx_from_i64((int64_t)s->n + len), x0;
-        float moved, x0f, lf = (float)len, e_pre = 0, c2 = 0, dq = 0, e3 = 0, ef = 0;
+        float moved, lf = (float)len, e_pre = e0, e4 = 0;
         int32_t addi = 0;
-        /* the span: the series' terms beyond the quadratic, the rounding of add and rate and
-         * the float error of the shape within the budget; at most max_cmd_ticks long */
-        while (len > 1) {
-            float l2 = lf * lf, l3 = l2 * lf, addf;
-            dur = lf * (t1 + lf * (0.5f * t2 + lf * t3 * (1.0f / 6.0f)));
-            c2 = 0.5f * t2 + 0.25f * t3 * lf;
-            addf = 2 * c2 * 65536.0f;
-            e3 = 0.00802f * fabsf(t3) * l3;
-            ef = 4 * relv * (fabsf(t2) * l2 * 0.125f + fabsf(t3) * l3 * (1.0f / 48)) +
-                 da * t1 * t1 * t1 * l2 * 0.125f;
-            if (fabsf(addf) < 2.0e9f) {
-                addi = (int32_t)(addf + (addf >= 0 ? 0.5f : -0.5f));
-                dq = fabsf((float)addi - addf) * l2 * 0.125f * F2M16;
-                e_pre = e0 + e3 + 0.0196f * fabsf(t4) * l2 * l2 + ef + dq + lf * 0.5f * F2M16;
-                if (e_pre <= TOL_TICKS && dur + e0 + 2 <= (float)s->max_cmd_ticks && t1 < 65000.0f &&
-                    t1 + t2 * lf < 65000.0f)
+        /* the span: the longest (from twice the last one) within the budget and max_cmd_ticks */
+        if (len > 1) {
+            int k;
+            for (k = 0; k < 16; k++) {
+                float eb = lf * (q1 + lf * (q2 + lf * (q3 + lf * q4)));
+                dur = eb <= budget ? lf * (t1 + lf * (0.5f * t2 + lf * t3 * (1.0f / 6.0f))) : 0;
+                if (eb <= budget && dur <= tmax && t1 + t2 * lf < 65000.0f) {
+                    e_pre = e0 + eb;
+                    e4 = q4 * lf * lf * lf * lf;
                     break;
-            } else {
-                e_pre = 1e30f;
+                }
+                if (dur > tmax) {
+                    uint32_t l = (uint32_t)(lf * tmax / dur * 0.99f);
+                    len = l < len ? l : len - 1;
+                } else if (eb > budget) {
+                    float r = budget / eb;
+                    uint32_t l = r < 0.125f ? len / 2 : (uint32_t)(lf * (1 + 2 * r) * (1.0f / 3));
+                    len = l < len ? l : len - 1;
+                } else {
+                    len = len / 2;
+                }
+                if (len <= 1) {
+                    len = 1;
+                    break;
+                }
+                lf = (float)len;
             }
-            if (dur + e0 + 2 > (float)s->max_cmd_ticks && dur > 0) {
-                uint32_t l = (uint32_t)(lf * ((float)s->max_cmd_ticks - e0 - 2) / dur * 0.99f);
-                len = l < len ? l : len - 1;
-            } else {
-                len = e_pre > 4 * TOL_TICKS ? len / 2 : len - (len + 3) / 4;
-            }
-            if (len < 1)
+            if (k == 16 || t1 >= 65000.0f)
                 len = 1;
             lf = (float)len;
-            m = smx_from_i64((int64_t)s->n + len);
+            if (len > 1) {
+                float addf = (t2 + 0.5f * t3 * lf) * 65536.0f;
+                if (fabsf(addf) < 2.0e9f) {
+                    float dq;
+                    addi = (int32_t)(addf + (addf >= 0 ? 0.5f : -0.5f));
+                    dq = fabsf((float)addi - addf) * lf * lf * (0.125f * F2M16);
+                    e_pre += dq;
+                    if (e_pre > TOL_TICKS) { /* shorter: the rounding of add shrinks as l^2 */
+                        len = len * 3 / 4;
+                        if (len < 1)
+                            len = 1;
+                        continue;
+                    }
+                } else {
+                    len = 1;
+                }
+            }
         }
-        /* the exact time of step n + len */
-        if (len > 1 || (v > 0 && fabsf(t2) * 0.5f + fabsf(t3) * 0.17f + fabsf(t4) * 0.05f < 0.1f * t1)) {
-            if (len == 1)
-                dur = t1 + 0.5f * t2 + t3 * (1.0f / 6.0f);
-            x0f = xf + dur;
-            x0 = smx_add(s->x_n, smx_from_float(dur));
-        } else { /* near rest: a float root first */
-            float ymax = s->seg_final ? -xf : smx_to_float(smx_sub(s->seg_end, s->t_n));
-            float y = fsolve(v, a, s->f_j, 1.0f, ymax);
-            x0f = xf + y;
-            x0 = smx_add(s->x_n, smx_from_float(y));
+        /* the exact time of step n + len: from the series' guess (or a float root near rest),
+         * in fixed point where the segment allows, else in smx */
+        {
+            uint8_t series = len > 1 || (v > 0 && fabsf(t2) * 0.5f + fabsf(t3) * 0.17f + fabsf(t4) * 0.05f < 0.1f * t1);
+            float y;
+            if (series) {
+                if (len == 1)
+                    dur = t1 + 0.5f * t2 + t3 * (1.0f / 6.0f);
+                y = dur;
+            } else {
+                float ymax = s->seg_final ? -xf : smx_to_float(s->seg_hi) - xf;
+                y = fsolve(v, a, s->f_j, 1.0f, ymax);
+            }
+            fast = 0;
+            if (s->seg_final && s->final_whole && s->n + len == s->n_end) {
+                x_end = smx_zero();
+                moved = 0;
+            } else {
+                if (series && s->fp_ok) {
+                    /* the velocity at the span's end from the series: 1 / (dt/dn) */
+                    float ve = 1.0f / (t1 + lf * (t2 + 0.5f * lf * t3));
+                    x16 = s->xa16 + (int64_t)(y * 65536.0f + 0.5f);
+                    fast = fp_solve(s, s->n + len, &x16, ve, &moved);
+                }
+                if (!fast)
+                    x_end = seg_solve(s, smx_from_i64((int64_t)s->n + len), smx_add(s->x_a, smx_from_float(y)), xf + y,
+                                      s->x_a, s->seg_final ? smx_zero() : s->seg_hi, &moved);
+            }
+            if (!fast)
+                x16 = smx_round_q16(x_end);
+            t16 = s->seg_t16 + x16;
         }
-        if (s->seg_final && s->final_whole && s->n + len == s->n_end) {
-            x_end = smx_zero();
-            moved = 0;
-        } else {
-            x_end = seg_solve(s, m, x0, x0f, s->x_n, s->seg_final ? smx_zero() : s->seg_hi,
-                              &moved);
-        }
-        t_end = smx_add(s->seg.t, x_end);
-        t16 = smx_round_q16(t_end);
         e_end = t16 - s->acc16;
         if (len == 1) {
             if (e_end >= WIDE_ABOVE16) {
@@ -1046,47 +1296,29 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         }
         {
             int64_t last, l64 = len;
-            float e_post = e_pre - 0.0196f * fabsf(t4) * lf * lf * lf * lf;
-            float e4 = 0.55f * fabsf(moved);
+            float em = 0.55f * fabsf(moved);
             add = addi;
             rate = div_round(e_end - l64 * (l64 - 1) / 2 * add, l64);
             last = rate + (l64 - 1) * add;
-            if (e4 < 0.0196f * fabsf(t4) * lf * lf * lf * lf)
-                e4 = 0.0196f * fabsf(t4) * lf * lf * lf * lf;
+            if (em < e4)
+                em = e4;
             if (rate >= 1 && rate < WIDE_ABOVE16 && last >= 1 && last < WIDE_ABOVE16 &&
-                e_end <= (int64_t)s->max_cmd_ticks << 16 && e_post + e4 <= TOL_TICKS)
+                e_end <= (int64_t)s->max_cmd_ticks << 16 && e_pre - e4 + em <= TOL_TICKS)
                 break;
             len = tries > 3 ? len / 2 : len - (len + 3) / 4;
             if (len < 1)
                 len = 1;
         }
     }
-    c->count = (uint16_t)len;
     {
         float a_end = a + s->f_j * dur;
         uint8_t ph = fabsf(a_end) <= s->f_acc_eps ? 2U : a_end > 0 ? 1U : 3U;
-        c->flags = (uint8_t)((s->law.dir < 0 ? STEP_CMD_REVERSE : 0U) | (ph << STEP_CMD_PHASE_SHIFT));
+        emit(s, c, len, rate, add, wide, ph);
     }
-    if (wide) {
-        c->flags |= STEP_CMD_WIDE;
-        c->rate = (uint32_t)rate;
-        c->add = 0;
-        s->acc16 += rate << 16;
-    } else {
-        c->rate = (uint32_t)rate;
-        c->add = (int32_t)add;
-        s->acc16 += (int64_t)len * rate + (int64_t)len * (len - 1) / 2 * add;
-    }
-    s->err16 = s->acc16 - t16;
-    s->n += len;
-    s->t_n = t_end;
-    s->x_n = x_end;
-    s->span = (uint16_t)len;
-    s->pos = (int32_t)(s->law.origin + s->law.dir * (int64_t)s->n);
-    if (s->law_behind) {
-        smooth_law_knots_to(&s->law, t_end);
-        s->law_behind = 0;
-    }
+    if (fast)
+        set_anchor(s, NULL, x16);
+    else
+        set_anchor(s, &x_end, 0);
     return 1;
 }
 

@@ -175,26 +175,43 @@ typedef struct {
     uint32_t n;             /* frame steps handed out */
     uint32_t n_end;         /* the last step of the plan (frame) */
     int64_t acc16;          /* the executor's time of step n, 2^-16 ticks from the timeline's start */
-    int64_t err16;          /* acc16 - round(t_n x 2^16): the executor's offset from the law at step n */
-    smx_t t_n;              /* the law's time of step n, ticks */
+    int64_t err16;          /* acc16 - (t16_a + y16): the executor's offset from the law at step n */
     uint16_t span;          /* steps of the last command (the next one tries twice as many) */
     uint8_t active;         /* a plan is being handed out */
     uint8_t has_then;       /* after the stop in progress: the move to then_target */
     int32_t then_target;
+    /* the last exact solve (step n_a at t_n) and, on a cruise, how far step n is past it */
+    smx_t t_n;              /* the law's time of step n_a, ticks (exact; seg.t + x_a when tn_stale) */
+    uint8_t tn_stale;
+    smx_t x_a;              /* t_n - seg.t */
+    uint32_t n_a;
+    int64_t t16_a;          /* round(t_n x 2^16) */
+    int64_t xa16;           /* round(x_a x 2^16) */
+    int64_t y16;            /* on the cruise's line: step n's time after t_n, 2^-16 ticks */
+    uint32_t y_lo;          /* and the fraction below that, 2^-48 ticks */
+    float xf_a;             /* x_a as a float */
+    uint8_t a_in_seg;       /* step n_a was solved on the segment's own polynomial (the cruise's
+                               line starts only from there) */
     /* the segment of the law that holds step n + 1 (between two knots): a copy of the law's
      * cursor moved to its start, or for the last segment the polynomial about its end */
     smooth_cursor_t seg;
     smx_t seg_end;          /* the knot that ends it */
     smx_t seg_hi;           /* seg_end - seg.t */
     smx_t seg_ah, seg_j6;   /* a/2, j/6 of its polynomial */
-    smx_t x_n;              /* t_n - seg.t */
+    int64_t seg_t16;        /* round(seg.t x 2^16) */
+    /* its polynomial in fixed point for whole-tick local times x (|x| < 2^30): Horner with
+     * h3 = c3, h_k = c_k + (h_(k+1) x) 2^-fp_s[k], p(x) - m = (h0 - m 2^fp_m) 2^-fp_m */
+    int64_t fp_c[4];
+    uint8_t fp_s[3];
+    uint8_t fp_m;
+    uint8_t fp_ok;
+    uint64_t inv48;         /* a cruise (a line): ticks per step x 2^48; else 0 */
     float f_v0, f_a0, f_j;  /* seg.v, seg.a, seg.j as floats (steps/tick, /tick^2, /tick^3) */
     float f_acc_eps;        /* below this acceleration a command is reported as cruise */
     uint32_t seg_last;      /* the last step inside it (frame) */
     uint8_t seg_ok;         /* seg is set up for the current plan */
     uint8_t seg_final;      /* it is the last segment (about t_final) */
     uint8_t final_whole;    /* the plan ends on a whole step (p_final = n_end) */
-    uint8_t law_behind;     /* seg has passed knots the law's cursor has not applied yet */
 } smooth_move_t;
 
 /* At rest at pos with parameters p (checked as smooth_law_set_params); max_cmd_ticks defaults to

@@ -749,7 +749,7 @@ def check_smooth_move_avr(env):
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
             if p.returncode != 0:
                 return CheckResult(False, "build failed", [" ".join(cmd[:2]), p.stderr.strip()[-800:]])
-        log = emulog.run(elf, "wait ^end$\n")
+        log = emulog.run(elf, "timeout 120000\nwait ^end$\n")
         problems = []
         fails_of(log, problems)
         avr = [l.text for l in log.rx if l.text.startswith(("smooth ", "setpoint "))]
@@ -758,7 +758,7 @@ def check_smooth_move_avr(env):
 
     def sums(lines):
         return [re.search(r"sum=(\w+)", l).group(1) if "sum=" in l else None for l in lines]
-    if len(avr) != 2 or len(hst) != 2:
+    if len(avr) != 6 or len(hst) != 6:
         problems.append(f"lines: AVR {avr}, host {hst}")
     elif sums(avr) != sums(hst):
         problems.append(f"checksums differ: AVR {sums(avr)}, host {sums(hst)}")
