@@ -635,6 +635,7 @@ static void move_rest(smooth_move_t *s, int32_t pos)
     s->has_then = 0;
     s->t_n = s->x_a = smx_zero();
     s->tn_stale = 0;
+    s->xa_stale = 0;
     s->n_a = 0;
     s->t16_a = 0;
     s->xa16 = 0;
@@ -804,8 +805,9 @@ static void set_anchor(smooth_move_t *s, const smx_t *x, int64_t x16)
     if (x != NULL) {
         s->x_a = *x;
         x16 = smx_round_q16(*x);
+        s->xa_stale = 0;
     } else {
-        s->x_a = smx_ldexp(smx_from_i64(x16), -16);
+        s->xa_stale = 1; /* x_a = xa16 2^-16: worked out when an smx solve needs it */
     }
     s->xa16 = x16;
     s->n_a = s->n;
@@ -818,8 +820,17 @@ static void set_anchor(smooth_move_t *s, const smx_t *x, int64_t x16)
     s->a_in_seg = 1;
 }
 
+static void sync_xa(smooth_move_t *s)
+{
+    if (s->xa_stale) {
+        s->x_a = smx_ldexp(smx_from_i64(s->xa16), -16);
+        s->xa_stale = 0;
+    }
+}
+
 static void sync_tn(smooth_move_t *s)
 {
+    sync_xa(s);
     if (s->tn_stale) {
         s->t_n = smx_add(s->seg.t, s->x_a);
         s->tn_stale = 0;
@@ -827,16 +838,23 @@ static void sync_tn(smooth_move_t *s)
 }
 
 /* p(x) - m of the segment at whole tick x, in units of 2^-fp_m steps (fixed point, see fp_c) */
+typedef union {
+    uint64_t u;
+    uint32_t w[2]; /* w[0] the low half: little-endian on the AVR and the hosts we build for */
+} w64_t;
+
 static int64_t mul_shr(int64_t h, int32_t x, uint8_t sh) /* h x / 2^sh toward 0; h x < 2^(sh + 61) */
 {
-    uint64_t uh = h < 0 ? (uint64_t)0 - (uint64_t)h : (uint64_t)h, ph, pl, r;
+    w64_t uh, pl;
+    uint64_t ph, r;
     uint32_t ux = x < 0 ? (uint32_t)0 - (uint32_t)x : (uint32_t)x;
-    ph = (uint64_t)(uint32_t)(uh >> 32) * ux;
-    pl = (uint64_t)(uint32_t)uh * ux;
+    uh.u = h < 0 ? (uint64_t)0 - (uint64_t)h : (uint64_t)h;
+    ph = (uint64_t)uh.w[1] * ux;
+    pl.u = (uint64_t)uh.w[0] * ux;
     if (sh >= 32)
-        r = (ph + (uint32_t)(pl >> 32)) >> (sh - 32);
+        r = (ph + pl.w[1]) >> (sh - 32);
     else
-        r = (ph << (32 - sh)) + (pl >> sh);
+        r = (ph << (32 - sh)) + (pl.u >> sh);
     return (h < 0) != (x < 0) ? -(int64_t)r : (int64_t)r;
 }
 
@@ -892,20 +910,20 @@ static void fp_setup(smooth_move_t *s, float X)
 }
 
 /* The local time (2^-16 ticks) where the segment's position is m, from the guess x16, in fixed
- * point: Newton steps from whole ticks (the residual exact to 2^-60 of its terms) over the
- * velocity ve there (from the series: its relative error is far below 2^-12), accepted when the
+ * point: Newton steps from whole ticks (the residual exact to 2^-60 of its terms) times te, the
+ * ticks per step there (1/velocity, from the series: its relative error is far below 2^-12), accepted when the
  * step is at most a tick (from a whole tick it is up to 1/2; its error is then |dx| times that
  * relative error plus (a/2v) dx^2, far below 2^-12 tick). 0 and *x16 untouched when it does not
  * settle in a few steps (then smx). */
-static uint8_t fp_solve(const smooth_move_t *s, uint32_t m, int64_t *x16, float ve, float *moved)
+static uint8_t fp_solve(const smooth_move_t *s, uint32_t m, int64_t *x16, float te, float *moved)
 {
     int64_t x = *x16;
     int i;
-    if (!(ve > 0))
+    if (!(te > 0))
         return 0;
     for (i = 0; i < 3; i++) {
         int32_t xi = (int32_t)((x + 0x8000) >> 16);
-        float dx = ldexpf((float)fp_resid(s, xi, m), -(int)s->fp_m) / ve;
+        float dx = ldexpf((float)fp_resid(s, xi, m), -(int)s->fp_m) * te;
         if (!(fabsf(dx) < 16384.0f))
             return 0;
         x = (int64_t)xi * 65536 - (int64_t)(dx * 65536.0f + (dx >= 0 ? 0.5f : -0.5f));
@@ -956,8 +974,11 @@ static void seg_setup(smooth_move_t *s)
         smx_t x = smx_sub(s->t_n, s->seg.t); /* step n, solved on the segment before (t_n in sync) */
         float xa = fabsf(smx_to_float(x)), len = fabsf(smx_to_float(s->seg_hi));
         if (!s->seg_final && s->seg.j.m == 0 && s->f_v0 * 32768.0f > 1.0f &&
-            fabsf(s->f_a0) * len * len <= s->f_v0 * 2 * 9.5367431640625e-07f) {
-            /* a cruise: a line while its acceleration moves it by less than 2^-20 tick */
+            (fabsf(s->f_a0) * len * len <= s->f_v0 * 2 * 9.5367431640625e-07f ||
+             fabsf(s->f_a0) <= s->f_acc_eps * 3.5527136788005e-15f)) {
+            /* a cruise: a line while its acceleration moves it by less than 2^-20 tick, or
+             * when that acceleration is only the rounding left by the knots (below 2^-38 of
+             * accel: the law's is 0 there) */
             s->inv48 = (uint64_t)smx_round(smx_ldexp(smx_div(smx_from_i64(1), s->seg.v), 48));
             s->fp_ok = 0;
         } else {
@@ -1021,6 +1042,7 @@ static void make_exact(smooth_move_t *s)
     smx_t x;
     if (s->n == s->n_a || !s->seg_ok)
         return;
+    sync_xa(s);
     x = seg_solve(s, smx_from_i64(s->n), smx_add(s->x_a, smx_ldexp(smx_from_i64(s->y16), -16)),
                   s->xf_a + (float)s->y16 * F2M16, s->x_a, s->seg_final ? smx_zero() : s->seg_hi, &moved);
     set_anchor(s, &x, 0);
@@ -1085,7 +1107,8 @@ static float fsolve(float v, float a, float j, float l, float ymax)
     return y;
 }
 
-static void emit(smooth_move_t *s, step_cmd_t *c, uint32_t len, int64_t rate, int64_t add, uint8_t wide, uint8_t ph)
+static void emit(smooth_move_t *s, step_cmd_t *c, uint32_t len, int64_t rate, int64_t add, int64_t quad, uint8_t wide,
+                 uint8_t ph)
 {
     c->count = (uint16_t)len;
     c->flags = (uint8_t)((s->law.dir < 0 ? STEP_CMD_REVERSE : 0U) | (ph << STEP_CMD_PHASE_SHIFT));
@@ -1096,7 +1119,7 @@ static void emit(smooth_move_t *s, step_cmd_t *c, uint32_t len, int64_t rate, in
         s->acc16 += rate << 16;
     } else {
         c->add = (int32_t)add;
-        s->acc16 += (int64_t)len * rate + (int64_t)len * (len - 1) / 2 * add;
+        s->acc16 += (int64_t)len * rate + quad; /* quad: len (len - 1)/2 add */
     }
     s->n += len;
     s->span = (uint16_t)len;
@@ -1111,7 +1134,7 @@ static uint8_t cruise_next(smooth_move_t *s, step_cmd_t *c, uint32_t cap)
     uint32_t l = lf >= (float)cap ? cap : lf < 1 ? 0 : (uint32_t)lf;
     uint64_t lo, hi, sum;
     int64_t y16, e_end, rate;
-    if (l < 1 || e0 + (float)l * F2M16 > TOL_TICKS)
+    if (l < 1 || e0 + (float)l * (0.5f * F2M16) > TOL_TICKS) /* rate rounded: l 2^-17 at most */
         return 0;
     lo = (uint64_t)l * (uint32_t)s->inv48;
     hi = (uint64_t)l * (uint32_t)(s->inv48 >> 32);
@@ -1123,7 +1146,7 @@ static uint8_t cruise_next(smooth_move_t *s, step_cmd_t *c, uint32_t cap)
         return 0;
     s->y16 = y16;
     s->y_lo = (uint32_t)sum;
-    emit(s, c, l, rate, 0, 0, 2U);
+    emit(s, c, l, rate, 0, 0, 0, 2U);
     s->err16 = s->acc16 - (s->t16_a + y16 + ((uint32_t)sum >> 31));
     return 1;
 }
@@ -1131,11 +1154,11 @@ static uint8_t cruise_next(smooth_move_t *s, step_cmd_t *c, uint32_t cap)
 uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
 {
     uint32_t cap, len;
-    int64_t rate = 0, add = 0, e_end = 0, t16 = 0, x16 = 0;
+    int64_t rate = 0, add = 0, e_end = 0, t16 = 0, x16 = 0, quad = 0;
     uint8_t wide = 0, fast = 0;
     int tries;
-    float xf, v, a, dv, da, e0, t1 = 0, t2 = 0, t3 = 0, t4 = 0, relv = 0, dur = 0;
-    float q1, q2, q3, q4, budget, tmax;
+    float xf, v, a, dv, da, e0, t1 = 0, t2 = 0, t3 = 0, relv = 0, dur = 0;
+    float q1, q2, q3, budget, tmax;
     smx_t x_end = smx_zero();
     if (s == NULL || c == NULL)
         return 0;
@@ -1180,7 +1203,6 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         r3 = s->f_j * t1s * t1; /* j / v^3 */
         t2 = -t1 * r2;          /* the derivatives of the time law in steps */
         t3 = t1 * (3 * r2 * r2 - r3);
-        t4 = t1 * r2 * (10 * r3 - 15 * r2 * r2);
         relv = dv * t1;
         len = 2U * s->span;
         if (len > cap)
@@ -1188,28 +1210,35 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
     }
     {
         /* the bound on |executor - law| inside a span of l steps (ticks): e0 decaying, plus
-         * l (q1 + l (q2 + l (q3 + l q4))): the rate's rounding (q1), the float error of the
+         * l (q1 + l (q2 + l q3)): the rate's rounding (q1), the float error of the
          * shape (q2, q3), and the rounding of add (|add - ideal| l^2/8), the cubic term beyond the quadratic through
-         * the span's ends and middle (0.00802 |t3| l^3), the quartic term (0.0196 |t4| l^4) */
+         * the span's ends and middle (0.00802 |t3| l^3); the terms beyond it are bounded after the
+         * solve by the Newton correction from the series' end (0.55 times it: a quartic error
+         * pinned at both ends moves the middle by at most 0.47 of its value at the end) */
         q1 = 0.5f * F2M16;
         q2 = 0.5f * relv * fabsf(t2) + da * t1 * t1 * t1 * 0.125f;
         q3 = (0.00802f + relv * (1.0f / 12)) * fabsf(t3);
-        q4 = 0.0196f * fabsf(t4);
         budget = TOL_TICKS - e0;
         tmax = (float)s->max_cmd_ticks - e0 - 2;
     }
     for (tries = 0;; tries++) {
-        float moved, lf = (float)len, e_pre = e0, e4 = 0;
+        float moved, lf = (float)len, e_pre = e0;
         int32_t addi = 0;
         /* the span: the longest (from twice the last one) within the budget and max_cmd_ticks */
         if (len > 1) {
             int k;
-            for (k = 0; k < 16; k++) {
-                float eb = lf * (q1 + lf * (q2 + lf * (q3 + lf * q4)));
+            if ((float)len * t1 > tmax) { /* about the longest span within max_cmd_ticks */
+                float l0 = tmax / t1;
+                float lt = tmax / (t1 + 0.5f * l0 * (t2 + l0 * t3 * (1.0f / 3))) * 0.995f;
+                if (lt < (float)len)
+                    len = lt < 1 ? 1 : (uint32_t)lt;
+                lf = (float)len;
+            }
+            for (k = 0; k < 16 && len > 1; k++) {
+                float eb = lf * (q1 + lf * (q2 + lf * q3));
                 dur = eb <= budget ? lf * (t1 + lf * (0.5f * t2 + lf * t3 * (1.0f / 6.0f))) : 0;
                 if (eb <= budget && dur <= tmax && t1 + t2 * lf < 65000.0f) {
                     e_pre = e0 + eb;
-                    e4 = q4 * lf * lf * lf * lf;
                     break;
                 }
                 if (dur > tmax) {
@@ -1252,7 +1281,7 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         /* the exact time of step n + len: from the series' guess (or a float root near rest),
          * in fixed point where the segment allows, else in smx */
         {
-            uint8_t series = len > 1 || (v > 0 && fabsf(t2) * 0.5f + fabsf(t3) * 0.17f + fabsf(t4) * 0.05f < 0.1f * t1);
+            uint8_t series = len > 1 || (v > 0 && fabsf(t2) * 0.5f + fabsf(t3) * 0.17f < 0.1f * t1);
             float y;
             if (series) {
                 if (len == 1)
@@ -1268,14 +1297,16 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
                 moved = 0;
             } else {
                 if (series && s->fp_ok) {
-                    /* the velocity at the span's end from the series: 1 / (dt/dn) */
-                    float ve = 1.0f / (t1 + lf * (t2 + 0.5f * lf * t3));
+                    /* ticks per step at the span's end from the series: dt/dn */
+                    float te = t1 + lf * (t2 + 0.5f * lf * t3);
                     x16 = s->xa16 + (int64_t)(y * 65536.0f + 0.5f);
-                    fast = fp_solve(s, s->n + len, &x16, ve, &moved);
+                    fast = fp_solve(s, s->n + len, &x16, te, &moved);
                 }
-                if (!fast)
+                if (!fast) {
+                    sync_xa(s);
                     x_end = seg_solve(s, smx_from_i64((int64_t)s->n + len), smx_add(s->x_a, smx_from_float(y)), xf + y,
                                       s->x_a, s->seg_final ? smx_zero() : s->seg_hi, &moved);
+                }
             }
             if (!fast)
                 x16 = smx_round_q16(x_end);
@@ -1292,18 +1323,21 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
                 rate = e_end < 1 ? 1 : e_end;
             }
             add = 0;
+            quad = 0;
             break;
         }
         {
-            int64_t last, l64 = len;
-            float em = 0.55f * fabsf(moved);
+            int64_t last, l64 = len, sum;
             add = addi;
-            rate = div_round(e_end - l64 * (l64 - 1) / 2 * add, l64);
+            quad = l64 * (l64 - 1) / 2 * add;
+            sum = e_end - quad;
+            if (sum >= 0 && sum < (int64_t)0xFFFFFFFFLL - l64) /* a 32-bit division where it fits */
+                rate = (int64_t)(((uint32_t)sum + (uint32_t)(l64 / 2)) / (uint32_t)l64);
+            else
+                rate = div_round(sum, l64);
             last = rate + (l64 - 1) * add;
-            if (em < e4)
-                em = e4;
             if (rate >= 1 && rate < WIDE_ABOVE16 && last >= 1 && last < WIDE_ABOVE16 &&
-                e_end <= (int64_t)s->max_cmd_ticks << 16 && e_pre - e4 + em <= TOL_TICKS)
+                e_end <= (int64_t)s->max_cmd_ticks << 16 && e_pre + 0.55f * fabsf(moved) <= TOL_TICKS)
                 break;
             len = tries > 3 ? len / 2 : len - (len + 3) / 4;
             if (len < 1)
@@ -1313,7 +1347,7 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
     {
         float a_end = a + s->f_j * dur;
         uint8_t ph = fabsf(a_end) <= s->f_acc_eps ? 2U : a_end > 0 ? 1U : 3U;
-        emit(s, c, len, rate, add, wide, ph);
+        emit(s, c, len, rate, add, quad, wide, ph);
     }
     if (fast)
         set_anchor(s, NULL, x16);

@@ -183,7 +183,8 @@ typedef struct {
     /* the last exact solve (step n_a at t_n) and, on a cruise, how far step n is past it */
     smx_t t_n;              /* the law's time of step n_a, ticks (exact; seg.t + x_a when tn_stale) */
     uint8_t tn_stale;
-    smx_t x_a;              /* t_n - seg.t */
+    smx_t x_a;              /* t_n - seg.t (xa16 2^-16 when xa_stale) */
+    uint8_t xa_stale;
     uint32_t n_a;
     int64_t t16_a;          /* round(t_n x 2^16) */
     int64_t xa16;           /* round(x_a x 2^16) */
