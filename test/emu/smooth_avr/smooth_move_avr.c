@@ -4,7 +4,8 @@
  * file builds on the host (cycles then read 0); the check "smooth_move on the AVR" compares the
  * checksums: the smx_t arithmetic is integer work and the float work is IEEE single precision
  * +, -, x, / on both (no libm but frexp/ldexp/sqrt, which are exact), so the bits must agree. Lines:
- *   "smooth <move> cmds=<n> steps=<n> cyc_mean=<n> cyc_max=<n> cyc_per_step=<n> load16=<x.y>% event_cyc=<n> sum=<hex>"
+ *   "smooth <move> cmds=<n> steps=<n> cyc_mean=<n> cyc_max=<n> cyc_per_step=<n> load16=<x.y>% lead_us=<n>
+ *    event_cyc=<n> sum=<hex>"
  *   "setpoint n=<n> cyc_max=<n> sum=<hex>"  then "end". */
 #include <stdint.h>
 #include <stdio.h>
@@ -51,8 +52,11 @@ static uint32_t fnv(uint32_t h, const void *p, uint8_t n)
 }
 
 /* One reference move, planned to its end (with a stop or a new target after `at` steps when at
- * > 0): the cycles of each smooth_move_next, per command and per step, and the planner's load,
- * the most cycles any 16 consecutive commands take over the ticks (= cycles at 16 MHz) they cover. */
+ * > 0): the cycles of each smooth_move_next, per command and per step; the planner's load, the
+ * most cycles any 16 consecutive commands take over the ticks (= cycles at 16 MHz) they cover;
+ * and the lead it needs, the most by which planning commands 1..k outlasts executing commands
+ * 1..k-1 (planned that far ahead of the first step, no command comes late; the step interrupt's
+ * own cycles not counted). */
 static void stepper(const char *name, float vmax, float accel, float jerk, int32_t to, uint32_t at, int32_t then)
 {
     static smooth_move_t s;
@@ -60,7 +64,8 @@ static void stepper(const char *name, float vmax, float accel, float jerk, int32
     step_cmd_t c;
     uint32_t cmds = 0, steps = 0, sum = 2166136261UL, cyc_max = 0, ring_c[16], ring_t[16], win_c = 0, win_t = 0;
     uint32_t load_pm = 0, ev_cyc = 0; /* per mille; cycles of the stop or new target */
-    uint64_t cyc_sum = 0;
+    uint64_t cyc_sum = 0, tick_sum = 0;
+    int64_t lead = 0; /* cycles the planner must be ahead at the start so no command comes late */
     uint8_t done = at == 0;
     char line[160];
     if (smooth_move_init(&s, &p, 0) != MS_OK || smooth_move_to(&s, to) != MS_OK) {
@@ -76,6 +81,8 @@ static void stepper(const char *name, float vmax, float accel, float jerk, int32
         if (!more)
             break;
         cyc_sum += dt;
+        if ((int64_t)(cyc_sum - tick_sum) > lead) /* command k ready after C_k; needed at T_(k-1) */
+            lead = (int64_t)(cyc_sum - tick_sum);
         if (dt > cyc_max)
             cyc_max = dt;
         ticks = (c.flags & STEP_CMD_WIDE) ? c.rate
@@ -89,6 +96,7 @@ static void stepper(const char *name, float vmax, float accel, float jerk, int32
         ring_t[cmds % 16] = ticks;
         win_c += dt;
         win_t += ticks;
+        tick_sum += ticks;
         if (cmds >= 15 && win_t > 0 && (uint64_t)win_c * 1000U / win_t > load_pm)
             load_pm = (uint32_t)((uint64_t)win_c * 1000U / win_t);
         cmds++;
@@ -111,10 +119,12 @@ static void stepper(const char *name, float vmax, float accel, float jerk, int32
         }
     }
     snprintf(line, sizeof line,
-             "smooth %s cmds=%lu steps=%lu cyc_mean=%lu cyc_max=%lu cyc_per_step=%lu load16=%lu.%lu%% event_cyc=%lu sum=%08lx", name,
+             "smooth %s cmds=%lu steps=%lu cyc_mean=%lu cyc_max=%lu cyc_per_step=%lu load16=%lu.%lu%% lead_us=%lu event_cyc=%lu "
+             "sum=%08lx",
+             name,
              (unsigned long)cmds, (unsigned long)steps, (unsigned long)(cyc_sum / (cmds ? cmds : 1)),
              (unsigned long)cyc_max, (unsigned long)(cyc_sum / (steps ? steps : 1)), (unsigned long)(load_pm / 10),
-             (unsigned long)(load_pm % 10), (unsigned long)ev_cyc, (unsigned long)sum);
+             (unsigned long)(load_pm % 10), (unsigned long)(lead / 16), (unsigned long)ev_cyc, (unsigned long)sum);
     println(line);
 }
 
