@@ -733,9 +733,10 @@ def check_servo_move_bad_input(env, sketch):
 
 def check_smooth_move_avr(env):
     """lib/src/smooth_move.c built for the ATmega2560 and for the host from
-    test/emu/smooth_avr/smooth_move_avr.c: the commands of a stepper move and the servo's setpoints
-    must have the same checksums (the smx_t arithmetic is integer work); the cycles per call are
-    reported."""
+    test/emu/smooth_avr/smooth_move_avr.c: the commands of whole reference moves (one stopped, two
+    sent to new targets) and the servo's setpoints must have the same checksums (integer work and
+    IEEE single-precision float work on both); the cycles per command and per step, the planner's
+    load and the lead it needs are reported."""
     src = os.path.join(env.source_dir, "test", "emu", "smooth_avr", "smooth_move_avr.c")
     libs = [os.path.join(env.source_dir, "lib", "src", f) for f in ("smooth_move.c", "motion_status.c")]
     inc = ["-I" + os.path.join(env.source_dir, "lib", "src"), "-I" + os.path.join(env.source_dir, "test", "emu")]
