@@ -616,8 +616,11 @@ uint8_t smooth_law_moving(const smooth_law_t *law)
 /* ---- the stepper planner ---- */
 
 #define WIDE_ABOVE16 ((int64_t)65536 << 16) /* intervals of 65536 ticks or more go WIDE */
-#define FIT_TOL16 19661                     /* 0.3 tick */
-#define SPAN_MAX_B 15
+#define TOL_TICKS 0.45f                     /* |executor time - law time| allowed inside a command */
+#define SPAN_MAX 65535U
+#define F2M16 1.52587890625e-05f /* 2^-16 */
+#define F2M12 2.44140625e-04f
+#define F2M21 4.76837158203125e-07f
 
 static void move_rest(smooth_move_t *s, int32_t pos)
 {
@@ -626,10 +629,21 @@ static void move_rest(smooth_move_t *s, int32_t pos)
     s->n = 0;
     s->n_end = 0;
     s->acc16 = 0;
-    s->t_n = smx_zero();
-    s->span_b = 0;
+    s->err16 = 0;
+    s->span = 1;
     s->active = 0;
     s->has_then = 0;
+    s->t_n = s->x_a = smx_zero();
+    s->tn_stale = 0;
+    s->xa_stale = 0;
+    s->n_a = 0;
+    s->t16_a = 0;
+    s->xa16 = 0;
+    s->y16 = 0;
+    s->y_lo = 0;
+    s->xf_a = 0;
+    s->a_in_seg = 0;
+    s->seg_ok = 0;
 }
 
 motion_status_t smooth_move_init(smooth_move_t *s, const smooth_params_t *p, int32_t pos)
@@ -687,6 +701,10 @@ static motion_status_t start_from_rest(smooth_move_t *s, int32_t to)
     return MS_OK;
 }
 
+static smx_t smx_sub(smx_t a, smx_t b);
+static void make_exact(smooth_move_t *s);
+static void sync_tn(smooth_move_t *s);
+
 motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
 {
     motion_status_t st;
@@ -698,6 +716,8 @@ motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
         s->then_target = to;
         return MS_OK;
     }
+    make_exact(s);
+    sync_tn(s);
     st = smooth_law_retarget(&s->law, s->t_n, to);
     if (st == MS_ERR_SMOOTH_REVERSE) {
         smooth_law_stop(&s->law, s->t_n);
@@ -706,11 +726,13 @@ motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
             s->n_end = s->n;
         s->has_then = 1;
         s->then_target = to;
+        s->seg_ok = 0;
         return MS_OK;
     }
     if (st != MS_OK)
         return st;
     s->n_end = plan_end(&s->law);
+    s->seg_ok = 0;
     return MS_OK;
 }
 
@@ -719,10 +741,13 @@ void smooth_move_stop(smooth_move_t *s)
     if (s == NULL || !smooth_move_busy(s))
         return;
     s->has_then = 0;
+    make_exact(s);
+    sync_tn(s);
     smooth_law_stop(&s->law, s->t_n);
     s->n_end = plan_end(&s->law);
     if (s->n_end < s->n)
         s->n_end = s->n;
+    s->seg_ok = 0;
 }
 
 void smooth_move_halt(smooth_move_t *s, int32_t pos)
@@ -752,13 +777,389 @@ static int64_t div_round(int64_t a, int64_t b) /* b > 0 */
     return a >= 0 ? (a + b / 2) / b : -((-a + b / 2) / b);
 }
 
+static float smx_to_float(smx_t a)
+{
+    return (float)smx_to_double(a);
+}
+
+/* the segment's position at local time x: p + x (v + x (a/2 + x j/6)) */
+static smx_t seg_pos(const smooth_move_t *s, smx_t x)
+{
+    return smx_add(s->seg.p, smx_mul(x, smx_add(s->seg.v, smx_mul(x, smx_add(s->seg_ah, smx_mul(x, s->seg_j6))))));
+}
+
+/* Velocity and acceleration of the segment at local time xf (floats), with bounds on their
+ * rounding errors (the terms' magnitudes times 2^-21: x itself is a float). */
+static void seg_local(const smooth_move_t *s, float xf, float *v, float *a, float *dv, float *da)
+{
+    float ax = s->f_a0 * xf, jx = s->f_j * xf, jxx = 0.5f * jx * xf;
+    *v = s->f_v0 + ax + jxx;
+    *a = s->f_a0 + jx;
+    *dv = F2M21 * (fabsf(s->f_v0) + fabsf(ax) + fabsf(jxx));
+    *da = F2M21 * (fabsf(s->f_a0) + fabsf(jx));
+}
+
+/* Step n exactly solved at local time x (smx) or x16 (2^-16 ticks; with x NULL): the anchor. */
+static void set_anchor(smooth_move_t *s, const smx_t *x, int64_t x16)
+{
+    if (x != NULL) {
+        s->x_a = *x;
+        x16 = smx_round_q16(*x);
+        s->xa_stale = 0;
+    } else {
+        s->xa_stale = 1; /* x_a = xa16 2^-16: worked out when an smx solve needs it */
+    }
+    s->xa16 = x16;
+    s->n_a = s->n;
+    s->tn_stale = 1; /* t_n = seg.t + x_a: worked out when a stop, a new target or the next segment needs it */
+    s->t16_a = s->seg_t16 + x16;
+    s->y16 = 0;
+    s->y_lo = 0;
+    s->xf_a = (float)x16 * F2M16;
+    s->err16 = s->acc16 - s->t16_a;
+    s->a_in_seg = 1;
+}
+
+static void sync_xa(smooth_move_t *s)
+{
+    if (s->xa_stale) {
+        s->x_a = smx_ldexp(smx_from_i64(s->xa16), -16);
+        s->xa_stale = 0;
+    }
+}
+
+static void sync_tn(smooth_move_t *s)
+{
+    sync_xa(s);
+    if (s->tn_stale) {
+        s->t_n = smx_add(s->seg.t, s->x_a);
+        s->tn_stale = 0;
+    }
+}
+
+/* p(x) - m of the segment at whole tick x, in units of 2^-fp_m steps (fixed point, see fp_c) */
+typedef union {
+    uint64_t u;
+    uint32_t w[2]; /* w[0] the low half: little-endian on the AVR and the hosts we build for */
+} w64_t;
+
+static int64_t mul_shr(int64_t h, int32_t x, uint8_t sh) /* h x / 2^sh toward 0; h x < 2^(sh + 61) */
+{
+    w64_t uh, pl;
+    uint64_t ph, r;
+    uint32_t ux = x < 0 ? (uint32_t)0 - (uint32_t)x : (uint32_t)x;
+    uh.u = h < 0 ? (uint64_t)0 - (uint64_t)h : (uint64_t)h;
+    ph = (uint64_t)uh.w[1] * ux;
+    pl.u = (uint64_t)uh.w[0] * ux;
+    if (sh >= 32)
+        r = (ph + pl.w[1]) >> (sh - 32);
+    else
+        r = (ph << (32 - sh)) + (pl.u >> sh);
+    return (h < 0) != (x < 0) ? -(int64_t)r : (int64_t)r;
+}
+
+static int64_t fp_resid(const smooth_move_t *s, int32_t x, uint32_t m)
+{
+    int64_t h = s->fp_c[3] == 0 ? s->fp_c[2] : s->fp_c[2] + mul_shr(s->fp_c[3], x, s->fp_s[2]);
+    h = h == 0 ? s->fp_c[1] : s->fp_c[1] + mul_shr(h, x, s->fp_s[1]);
+    h = s->fp_c[0] + mul_shr(h, x, s->fp_s[0]);
+    return h - (int64_t)((uint64_t)m << s->fp_m);
+}
+
+/* The segment's polynomial in fixed point (fp_c) for local times up to X: each level's scale
+ * from a bound on its values, 2^60 units (truncation: 2^-60 of the bound per level). */
+static void fp_setup(smooth_move_t *s, float X)
+{
+    const smx_t *co[4];
+    float mag[4];
+    int e[4], k;
+    s->fp_ok = 0;
+    if (!(X < 1.0e9f))
+        return;
+    co[0] = &s->seg.p;
+    co[1] = &s->seg.v;
+    co[2] = &s->seg_ah;
+    co[3] = &s->seg_j6;
+    mag[3] = fabsf(smx_to_float(s->seg_j6));
+    mag[2] = fabsf(smx_to_float(s->seg_ah)) + X * mag[3];
+    mag[1] = fabsf(smx_to_float(s->seg.v)) + X * mag[2];
+    mag[0] = fabsf(smx_to_float(s->seg.p)) + X * mag[1] + (float)s->n_end + 2;
+    for (k = 3; k >= 0; k--) {
+        int ex;
+        if (!(mag[k] > 0)) {
+            e[k] = k < 3 ? e[k + 1] : -4000;
+            continue;
+        }
+        (void)frexpf(mag[k] * 1.01f, &ex); /* mag < 2^ex */
+        e[k] = ex - 60;
+    }
+    if (e[3] == -4000)
+        e[3] = e[2];
+    for (k = 0; k < 3; k++) {
+        int sh = e[k] - e[k + 1];
+        if (sh < 0 || sh > 90)
+            return;
+        s->fp_s[k] = (uint8_t)sh;
+    }
+    if (e[0] > 0 || e[0] < -63)
+        return;
+    s->fp_m = (uint8_t)-e[0];
+    for (k = 0; k < 4; k++)
+        s->fp_c[k] = co[k]->m == 0 ? 0 : smx_round(smx_ldexp(*co[k], -e[k]));
+    s->fp_ok = 1;
+}
+
+/* The local time (2^-16 ticks) where the segment's position is m, from the guess x16, in fixed
+ * point: Newton steps from whole ticks (the residual exact to 2^-60 of its terms) times te, the
+ * ticks per step there (1/velocity, from the series: its relative error is far below 2^-12), accepted when the
+ * step is at most a tick (from a whole tick it is up to 1/2; its error is then |dx| times that
+ * relative error plus (a/2v) dx^2, far below 2^-12 tick). 0 and *x16 untouched when it does not
+ * settle in a few steps (then smx). */
+static uint8_t fp_solve(const smooth_move_t *s, uint32_t m, int64_t *x16, float te, float *moved)
+{
+    int64_t x = *x16;
+    int i;
+    if (!(te > 0))
+        return 0;
+    for (i = 0; i < 3; i++) {
+        int32_t xi = (int32_t)((x + 0x8000) >> 16);
+        float dx = ldexpf((float)fp_resid(s, xi, m), -(int)s->fp_m) * te;
+        if (!(fabsf(dx) < 16384.0f))
+            return 0;
+        x = (int64_t)xi * 65536 - (int64_t)(dx * 65536.0f + (dx >= 0 ? 0.5f : -0.5f));
+        if (fabsf(dx) <= 1.0f) {
+            *moved = (float)(x - *x16) * F2M16;
+            *x16 = x;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The segment starting at the copy of the cursor in s->seg (its next knot ends it); step n is
+ * exactly solved (t_n). */
+static void seg_setup(smooth_move_t *s)
+{
+    static const smx_t sixth = {0x2AAAAAAAAAAAAAABLL, -64};
+    const smooth_law_t *law = &s->law;
+    s->seg_final = 1;
+    s->seg_last = s->n_end;
+    s->inv48 = 0;
+    if (s->seg.next < law->n_knot) {
+        s->seg_end = law->knot[s->seg.next].t;
+        if (smx_cmp(s->seg_end, law->t_final) == 0) { /* the last segment: about its end */
+            s->seg.t = law->t_final;
+            s->seg.p = law->p_final;
+            s->seg.v = s->seg.a = smx_zero();
+        } else {
+            s->seg_final = 0;
+        }
+    } else { /* no knot ahead: at rest at p_final (not reached while steps are left) */
+        s->seg_end = s->seg.t;
+    }
+    s->seg_ah = smx_ldexp(s->seg.a, -1);
+    s->seg_j6 = smx_mul(s->seg.j, sixth);
+    s->seg_hi = smx_sub(s->seg_end, s->seg.t);
+    if (!s->seg_final) {
+        int64_t e = smx_floor(seg_pos(s, s->seg_hi));
+        s->seg_last = e < (int64_t)s->n ? s->n : e > (int64_t)s->n_end ? s->n_end : (uint32_t)e;
+    }
+    s->final_whole = s->seg_final && smx_cmp(law->p_final, smx_from_i64(s->n_end)) == 0;
+    s->f_v0 = smx_to_float(s->seg.v);
+    s->f_a0 = smx_to_float(s->seg.a);
+    s->f_j = smx_to_float(s->seg.j);
+    s->f_acc_eps = smx_to_float(law->vmax) / smx_to_float(law->tau1) * (1.0f / 1024.0f);
+    s->seg_t16 = smx_round_q16(s->seg.t);
+    {
+        smx_t x = smx_sub(s->t_n, s->seg.t); /* step n, solved on the segment before (t_n in sync) */
+        float xa = fabsf(smx_to_float(x)), len = fabsf(smx_to_float(s->seg_hi));
+        if (!s->seg_final && s->seg.j.m == 0 && s->f_v0 * 32768.0f > 1.0f &&
+            (fabsf(s->f_a0) * len * len <= s->f_v0 * 2 * 9.5367431640625e-07f ||
+             fabsf(s->f_a0) <= s->f_acc_eps * 3.5527136788005e-15f)) {
+            /* a cruise: a line while its acceleration moves it by less than 2^-20 tick, or
+             * when that acceleration is only the rounding left by the knots (below 2^-38 of
+             * accel: the law's is 0 there) */
+            s->inv48 = (uint64_t)smx_round(smx_ldexp(smx_div(smx_from_i64(1), s->seg.v), 48));
+            s->fp_ok = 0;
+        } else {
+            fp_setup(s, (xa > len ? xa : len) + 65536.0f);
+        }
+        /* its polynomial differs from this one there: the next command is solved exactly on
+         * this one before the cruise's line starts */
+        set_anchor(s, &x, 0);
+        s->a_in_seg = 0;
+    }
+}
+
+/* The local time x in [lo, hi] where the segment's position is m, from the guess x: Newton
+ * steps of the exact residual over the float velocity (a good guess needs one), bisection when
+ * a step leaves the bracket; *moved: the correction from the guess (1e30 after a bisection). */
+static smx_t seg_solve(const smooth_move_t *s, smx_t m, smx_t x, float xf, smx_t lo, smx_t hi, float *moved)
+{
+    float tot = 0;
+    uint8_t bis = 0, checked = 0;
+    int i;
+    for (i = 0; i < 200; i++) {
+        smx_t f = smx_sub(seg_pos(s, x), m), xn;
+        float v, a, dv, da, dx;
+        if (f.m == 0)
+            break;
+        if (f.m < 0)
+            lo = x;
+        else
+            hi = x;
+        seg_local(s, xf, &v, &a, &dv, &da);
+        if (v > 0) {
+            dx = smx_to_float(f) / v;
+            xn = smx_sub(x, smx_from_float(dx));
+            /* a step of at most a tick from a guess of the series needs no bracket check */
+            if ((checked == 0 && fabsf(dx) <= 1.0f) || (smx_cmp(xn, lo) > 0 && smx_cmp(xn, hi) < 0)) {
+                float err = fabsf(dx) * ((dv + fabsf(a) * fabsf(dx)) / v + 2.4e-7f);
+                x = xn;
+                xf -= dx;
+                tot -= dx;
+                checked = 1;
+                if (err < F2M12)
+                    break;
+                continue;
+            }
+        }
+        checked = 1;
+        bis = 1;
+        x = smx_ldexp(smx_add(lo, hi), -1);
+        xf = smx_to_float(x);
+        if (smx_cmp(smx_sub(hi, lo), smx_ldexp(smx_from_i64(1), -20)) < 0)
+            break;
+    }
+    *moved = bis ? 1e30f : tot;
+    return x;
+}
+
+/* Step n's time solved exactly (after commands on the cruise's line): the anchor moves to step n. */
+static void make_exact(smooth_move_t *s)
+{
+    float moved;
+    smx_t x;
+    if (s->n == s->n_a || !s->seg_ok)
+        return;
+    sync_xa(s);
+    x = seg_solve(s, smx_from_i64(s->n), smx_add(s->x_a, smx_ldexp(smx_from_i64(s->y16), -16)),
+                  s->xf_a + (float)s->y16 * F2M16, s->x_a, s->seg_final ? smx_zero() : s->seg_hi, &moved);
+    set_anchor(s, &x, 0);
+}
+
+/* Sets up the segment that holds step n + 1. */
+static void seg_find(smooth_move_t *s)
+{
+    if (!s->seg_ok) {
+        sync_tn(s);
+        s->seg = s->law.cur;
+        seg_setup(s);
+        s->seg_ok = 1;
+    }
+    while (!s->seg_final && s->n >= s->seg_last) { /* step n + 1 comes after the knot */
+        make_exact(s);
+        sync_tn(s);
+        cur_move(&s->seg, s->seg_end);
+        s->seg.j = smx_add(s->seg.j, s->law.knot[s->seg.next].dj);
+        s->seg.next++;
+        seg_setup(s);
+        smooth_law_knots_to(&s->law, s->t_n);
+    }
+}
+
+/* A float root of y (v + y (a/2 + y j/6)) = l on (0, ymax] (the position rises there): Newton,
+ * bisection when a step leaves the bracket; for a first guess where the series in steps fails
+ * (near rest). */
+static float fsolve(float v, float a, float j, float l, float ymax)
+{
+    float lo = 0, hi = ymax, y;
+    int i;
+    if (v > 0)
+        y = l / v;
+    else if (a > 0)
+        y = sqrtf(2 * l / a);
+    else if (j > 0) { /* the cube root of 6 l / j */
+        float q = 6 * l / j;
+        int e;
+        (void)frexpf(q, &e);
+        y = ldexpf(1.0f, e / 3);
+        for (i = 0; i < 8; i++)
+            y = (2 * y + q / (y * y)) * (1.0f / 3.0f);
+    } else
+        y = 0.5f * hi;
+    if (!(y > lo && y < hi))
+        y = 0.5f * (lo + hi);
+    for (i = 0; i < 60; i++) {
+        float g = y * (v + y * (0.5f * a + y * j * (1.0f / 6.0f))) - l;
+        float gp = v + y * (a + 0.5f * y * j), yn;
+        if (g < 0)
+            lo = y;
+        else
+            hi = y;
+        yn = gp > 0 ? y - g / gp : lo - 1;
+        if (!(yn > lo && yn < hi))
+            yn = 0.5f * (lo + hi);
+        if (fabsf(yn - y) <= 1e-6f * y)
+            return yn;
+        y = yn;
+    }
+    return y;
+}
+
+static void emit(smooth_move_t *s, step_cmd_t *c, uint32_t len, int64_t rate, int64_t add, int64_t quad, uint8_t wide,
+                 uint8_t ph)
+{
+    c->count = (uint16_t)len;
+    c->flags = (uint8_t)((s->law.dir < 0 ? STEP_CMD_REVERSE : 0U) | (ph << STEP_CMD_PHASE_SHIFT));
+    c->rate = (uint32_t)rate;
+    if (wide) {
+        c->flags |= STEP_CMD_WIDE;
+        c->add = 0;
+        s->acc16 += rate << 16;
+    } else {
+        c->add = (int32_t)add;
+        s->acc16 += (int64_t)len * rate + quad; /* quad: len (len - 1)/2 add */
+    }
+    s->n += len;
+    s->span = (uint16_t)len;
+    s->pos = (int32_t)(s->law.origin + s->law.dir * (int64_t)s->n);
+}
+
+/* A command on the cruise's line: step n + l at y + l / v, in 2^-48 ticks (0: not possible). */
+static uint8_t cruise_next(smooth_move_t *s, step_cmd_t *c, uint32_t cap)
+{
+    float e0 = fabsf((float)s->err16) * F2M16;
+    float lf = ((float)s->max_cmd_ticks - e0 - 2) * s->f_v0;
+    uint32_t l = lf >= (float)cap ? cap : lf < 1 ? 0 : (uint32_t)lf;
+    uint64_t lo, hi, sum;
+    int64_t y16, e_end, rate;
+    if (l < 1 || e0 + (float)l * (0.5f * F2M16) > TOL_TICKS) /* rate rounded: l 2^-17 at most */
+        return 0;
+    lo = (uint64_t)l * (uint32_t)s->inv48;
+    hi = (uint64_t)l * (uint32_t)(s->inv48 >> 32);
+    sum = (uint64_t)s->y_lo + (uint32_t)lo;
+    y16 = s->y16 + (int64_t)hi + (int64_t)(lo >> 32) + (int64_t)(sum >> 32);
+    e_end = s->t16_a + y16 + ((uint32_t)sum >> 31) - s->acc16;
+    rate = div_round(e_end, l);
+    if (rate < 1 || rate >= WIDE_ABOVE16 || e_end > (int64_t)s->max_cmd_ticks << 16)
+        return 0;
+    s->y16 = y16;
+    s->y_lo = (uint32_t)sum;
+    emit(s, c, l, rate, 0, 0, 0, 2U);
+    s->err16 = s->acc16 - (s->t16_a + y16 + ((uint32_t)sum >> 31));
+    return 1;
+}
+
 uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
 {
-    uint32_t left, len;
-    int8_t acc_sign = 0;
-    smx_t t_end;
-    int64_t rate = 0, add = 0, e_end;
-    uint8_t first = 1, wide = 0;
+    uint32_t cap, len;
+    int64_t rate = 0, add = 0, e_end = 0, t16 = 0, x16 = 0, quad = 0;
+    uint8_t wide = 0, fast = 0;
+    int tries;
+    float xf, v, a, dv, da, e0, t1 = 0, t2 = 0, t3 = 0, relv = 0, dur = 0;
+    float q1, q2, q3, budget, tmax;
+    smx_t x_end = smx_zero();
     if (s == NULL || c == NULL)
         return 0;
     if (s->active && s->n >= s->n_end && s->has_then) {
@@ -772,6 +1173,7 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
             return 0;
         }
         s->acc16 = gap > 0 ? -gap : 0;
+        s->err16 = s->acc16;
     }
     if (!s->active || s->n >= s->n_end) {
         if (s->active) { /* at rest: the timeline starts again with the next move */
@@ -780,15 +1182,137 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         }
         return 0;
     }
-    left = s->n_end - s->n;
-    len = 1U << s->span_b;
-    while (len > left)
-        len >>= 1;
-    for (;;) {
-        int64_t tl16;
-        t_end = smooth_law_time_of(&s->law, s->n + len, &acc_sign);
-        tl16 = smx_round_q16(t_end);
-        e_end = tl16 - s->acc16;
+    seg_find(s);
+    cap = s->n_end - s->n;
+    if (!s->seg_final && s->seg_last - s->n < cap)
+        cap = s->seg_last - s->n;
+    if (cap > SPAN_MAX)
+        cap = SPAN_MAX;
+    if (s->inv48 != 0 && s->a_in_seg && cruise_next(s, c, cap))
+        return 1;
+    make_exact(s);
+    xf = s->xf_a;
+    seg_local(s, xf, &v, &a, &dv, &da);
+    e0 = fabsf((float)s->err16) * F2M16;
+    len = 1;
+    if (v > 0) {
+        float r2, r3, t1s;
+        t1 = 1.0f / v;
+        t1s = t1 * t1;
+        r2 = a * t1s;           /* a / v^2: the relative change of the interval per step */
+        r3 = s->f_j * t1s * t1; /* j / v^3 */
+        t2 = -t1 * r2;          /* the derivatives of the time law in steps */
+        t3 = t1 * (3 * r2 * r2 - r3);
+        relv = dv * t1;
+        len = 2U * s->span;
+        if (len > cap)
+            len = cap;
+    }
+    {
+        /* the bound on |executor - law| inside a span of l steps (ticks): e0 decaying, plus
+         * l (q1 + l (q2 + l q3)): the rate's rounding (q1), the float error of the
+         * shape (q2, q3), and the rounding of add (|add - ideal| l^2/8), the cubic term beyond the quadratic through
+         * the span's ends and middle (0.00802 |t3| l^3); the terms beyond it are bounded after the
+         * solve by the Newton correction from the series' end (0.55 times it: a quartic error
+         * pinned at both ends moves the middle by at most 0.47 of its value at the end) */
+        q1 = 0.5f * F2M16;
+        q2 = 0.5f * relv * fabsf(t2) + da * t1 * t1 * t1 * 0.125f;
+        q3 = (0.00802f + relv * (1.0f / 12)) * fabsf(t3);
+        budget = TOL_TICKS - e0;
+        tmax = (float)s->max_cmd_ticks - e0 - 2;
+    }
+    for (tries = 0;; tries++) {
+        float moved, lf = (float)len, e_pre = e0;
+        int32_t addi = 0;
+        /* the span: the longest (from twice the last one) within the budget and max_cmd_ticks */
+        if (len > 1) {
+            int k;
+            if ((float)len * t1 > tmax) { /* about the longest span within max_cmd_ticks */
+                float l0 = tmax / t1;
+                float lt = tmax / (t1 + 0.5f * l0 * (t2 + l0 * t3 * (1.0f / 3))) * 0.995f;
+                if (lt < (float)len)
+                    len = lt < 1 ? 1 : (uint32_t)lt;
+                lf = (float)len;
+            }
+            for (k = 0; k < 16 && len > 1; k++) {
+                float eb = lf * (q1 + lf * (q2 + lf * q3));
+                dur = eb <= budget ? lf * (t1 + lf * (0.5f * t2 + lf * t3 * (1.0f / 6.0f))) : 0;
+                if (eb <= budget && dur <= tmax && t1 + t2 * lf < 65000.0f) {
+                    e_pre = e0 + eb;
+                    break;
+                }
+                if (dur > tmax) {
+                    uint32_t l = (uint32_t)(lf * tmax / dur * 0.99f);
+                    len = l < len ? l : len - 1;
+                } else if (eb > budget) {
+                    float r = budget / eb;
+                    uint32_t l = r < 0.125f ? len / 2 : (uint32_t)(lf * (1 + 2 * r) * (1.0f / 3));
+                    len = l < len ? l : len - 1;
+                } else {
+                    len = len / 2;
+                }
+                if (len <= 1) {
+                    len = 1;
+                    break;
+                }
+                lf = (float)len;
+            }
+            if (k == 16 || t1 >= 65000.0f)
+                len = 1;
+            lf = (float)len;
+            if (len > 1) {
+                float addf = (t2 + 0.5f * t3 * lf) * 65536.0f;
+                if (fabsf(addf) < 2.0e9f) {
+                    float dq;
+                    addi = (int32_t)(addf + (addf >= 0 ? 0.5f : -0.5f));
+                    dq = fabsf((float)addi - addf) * lf * lf * (0.125f * F2M16);
+                    e_pre += dq;
+                    if (e_pre > TOL_TICKS) { /* shorter: the rounding of add shrinks as l^2 */
+                        len = len * 3 / 4;
+                        if (len < 1)
+                            len = 1;
+                        continue;
+                    }
+                } else {
+                    len = 1;
+                }
+            }
+        }
+        /* the exact time of step n + len: from the series' guess (or a float root near rest),
+         * in fixed point where the segment allows, else in smx */
+        {
+            uint8_t series = len > 1 || (v > 0 && fabsf(t2) * 0.5f + fabsf(t3) * 0.17f < 0.1f * t1);
+            float y;
+            if (series) {
+                if (len == 1)
+                    dur = t1 + 0.5f * t2 + t3 * (1.0f / 6.0f);
+                y = dur;
+            } else {
+                float ymax = s->seg_final ? -xf : smx_to_float(s->seg_hi) - xf;
+                y = fsolve(v, a, s->f_j, 1.0f, ymax);
+            }
+            fast = 0;
+            if (s->seg_final && s->final_whole && s->n + len == s->n_end) {
+                x_end = smx_zero();
+                moved = 0;
+            } else {
+                if (series && s->fp_ok) {
+                    /* ticks per step at the span's end from the series: dt/dn */
+                    float te = t1 + lf * (t2 + 0.5f * lf * t3);
+                    x16 = s->xa16 + (int64_t)(y * 65536.0f + 0.5f);
+                    fast = fp_solve(s, s->n + len, &x16, te, &moved);
+                }
+                if (!fast) {
+                    sync_xa(s);
+                    x_end = seg_solve(s, smx_from_i64((int64_t)s->n + len), smx_add(s->x_a, smx_from_float(y)), xf + y,
+                                      s->x_a, s->seg_final ? smx_zero() : s->seg_hi, &moved);
+                }
+            }
+            if (!fast)
+                x16 = smx_round_q16(x_end);
+            t16 = s->seg_t16 + x16;
+        }
+        e_end = t16 - s->acc16;
         if (len == 1) {
             if (e_end >= WIDE_ABOVE16) {
                 wide = 1;
@@ -799,62 +1323,36 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
                 rate = e_end < 1 ? 1 : e_end;
             }
             add = 0;
+            quad = 0;
             break;
         }
         {
-            uint32_t m = len / 2;
-            int64_t em = smx_round_q16(smooth_law_time_of(&s->law, s->n + m, NULL)) - s->acc16;
-            int64_t last, lm = (int64_t)m * m;
-            int ok = 1;
-            add = div_round(e_end - 2 * em, lm);
-            rate = div_round(e_end - (int64_t)len * (len - 1) / 2 * add, len);
-            last = rate + (int64_t)(len - 1) * add;
-            if (rate < 1 || rate >= WIDE_ABOVE16 || last < 1 || last >= WIDE_ABOVE16 || add > INT32_MAX ||
-                add < INT32_MIN || e_end > (int64_t)s->max_cmd_ticks << 16)
-                ok = 0;
-            if (ok && len >= 4) {
-                uint32_t q, jj[2];
-                jj[0] = m / 2;
-                jj[1] = m + m / 2;
-                for (q = 0; q < 2 && ok; q++) {
-                    int64_t j = jj[q];
-                    int64_t fit = j * rate + j * (j - 1) / 2 * add;
-                    int64_t ex = smx_round_q16(smooth_law_time_of(&s->law, s->n + (uint32_t)j, NULL)) - s->acc16;
-                    if (fit - ex > FIT_TOL16 || ex - fit > FIT_TOL16)
-                        ok = 0;
-                }
-            }
-            if (ok)
+            int64_t last, l64 = len, sum;
+            add = addi;
+            quad = l64 * (l64 - 1) / 2 * add;
+            sum = e_end - quad;
+            if (sum >= 0 && sum < (int64_t)0xFFFFFFFFLL - l64) /* a 32-bit division where it fits */
+                rate = (int64_t)(((uint32_t)sum + (uint32_t)(l64 / 2)) / (uint32_t)l64);
+            else
+                rate = div_round(sum, l64);
+            last = rate + (l64 - 1) * add;
+            if (rate >= 1 && rate < WIDE_ABOVE16 && last >= 1 && last < WIDE_ABOVE16 &&
+                e_end <= (int64_t)s->max_cmd_ticks << 16 && e_pre + 0.55f * fabsf(moved) <= TOL_TICKS)
                 break;
+            len = tries > 3 ? len / 2 : len - (len + 3) / 4;
+            if (len < 1)
+                len = 1;
         }
-        len >>= 1;
-        first = 0;
     }
-    c->count = (uint16_t)len;
-    c->flags = (uint8_t)((s->law.dir < 0 ? STEP_CMD_REVERSE : 0U) |
-                         ((acc_sign > 0 ? 1U : acc_sign < 0 ? 3U : 2U) << STEP_CMD_PHASE_SHIFT));
-    if (wide) {
-        c->flags |= STEP_CMD_WIDE;
-        c->rate = (uint32_t)rate;
-        c->add = 0;
-        s->acc16 += rate << 16;
-    } else {
-        c->rate = (uint32_t)rate;
-        c->add = (int32_t)add;
-        s->acc16 += (int64_t)len * rate + (int64_t)len * (len - 1) / 2 * add;
+    {
+        float a_end = a + s->f_j * dur;
+        uint8_t ph = fabsf(a_end) <= s->f_acc_eps ? 2U : a_end > 0 ? 1U : 3U;
+        emit(s, c, len, rate, add, quad, wide, ph);
     }
-    s->n += len;
-    s->t_n = t_end;
-    s->pos = (int32_t)(s->law.origin + s->law.dir * (int64_t)s->n);
-    smooth_law_knots_to(&s->law, t_end);
-    if (first && s->span_b < SPAN_MAX_B && len == (1U << s->span_b))
-        s->span_b++;
-    else if (!first) {
-        uint8_t b = 0;
-        while ((1U << (b + 1)) <= len)
-            b++;
-        s->span_b = b;
-    }
+    if (fast)
+        set_anchor(s, NULL, x16);
+    else
+        set_anchor(s, &x_end, 0);
     return 1;
 }
 

@@ -28,26 +28,52 @@
  * A target behind that rest point (it would need to reverse) is reached by a stop, then a move
  * from rest, as step_planner does for the exact ramp.
  *
- * Arithmetic: a small floating point of our own in integers (smx_t: 62-bit mantissa, 16-bit
- * exponent; +, -, x, / with fixed rounding), so the host and the AVR (whose double is 32 bits)
- * compute the same bits. Step n's time is the root of the cubic p(t) = n of its segment (Newton
- * with bisection as safeguard, to 2^-20 tick); the last segment is solved from its end (where the
- * position is exactly the target), so the last step is at the end of the law.
- * Commands: spans of 2^k steps (1 .. 32768), each a quadratic (rate, add) through the executor's
- * predicted time of the span's start (exact, integer) and the exact times of its middle and last
- * steps, kept only if it is within 0.3 tick of the exact times at the quarter points and covers at
- * most max_cmd_ticks (else the span is halved; it grows by doubling); intervals above 65535
- * ticks go into WIDE commands rounded to the nearest tick. The executor's time is predicted
- * exactly, so the next span absorbs every rounding: no drift. Every edge floor(acc) is within 1
- * tick of round(F t_n) (test_smooth_move: random moves, stops and new targets).
+ * The law's arithmetic: a small floating point of our own in integers (smx_t: 62-bit mantissa,
+ * 16-bit exponent; +, -, x, / with fixed rounding): knots, stops, new targets and the servo's
+ * setpoints. The last segment is expressed about its end (where the position is exactly the
+ * target and v = a = 0), so the last step is at the end of the law.
+ * Commands (the stepper planner): per command, one exact solve of the end step's time on its
+ * segment's cubic, and the command's shape from the step series t(n + l) = t_n + l t1 + l^2 t2/2
+ * + l^3 t3/6 (t1 = 1/v, t2 = -a/v^3, t3 = (3a^2 - v j)/v^5, from the segment's state at step n in
+ * floats):
+ *   - the span l: the longest (from twice the last one, at most to the segment's knot and 65535
+ *     steps) whose bound on |executor time - law time| stays within 0.45 tick: the offset at its
+ *     start, the cubic term beyond the quadratic through its ends and middle (0.00802 |t3| l^3),
+ *     the rounding of add (|add - ideal| l^2/8) and of rate (l 2^-17), the float error of the
+ *     shape; and it covers at most max_cmd_ticks; intervals of 65536 ticks or more go into WIDE
+ *     commands rounded to the nearest tick;
+ *   - the end step's time: Newton from the series' guess on the segment's cubic held in 64-bit
+ *     fixed point (Horner with 64 x 32-bit products, each level truncated to 2^-60 of a bound on
+ *     it; local times in whole ticks below 2^30), the residual at a whole tick over dt/dn, to
+ *     2^-12 tick; where that does not apply (near rest, or a segment too long for it) the smx
+ *     Newton with bisection as safeguard;
+ *   - the terms beyond the cubic: after the solve, 0.55 times the Newton correction from the
+ *     series' end (a quartic error pinned at both ends moves the middle by at most 0.47 of its
+ *     value at the end) must still fit in the budget, else the span is shortened and solved again;
+ *   - add = the quadratic through the span's start, middle and end of the series (t2 + t3 l/2,
+ *     2^-16 ticks), rate through the executor's predicted start and the exact end.
+ * A cruise (a segment without jerk whose acceleration moves it by less than 2^-20 tick, or is
+ * only rounding left by the knots) is a line: its commands come from the step after an exact
+ * solve on it plus l x (ticks per step, 2^-48), with no solve, as long as the executor's offset
+ * from the line plus l 2^-17 stays within the budget (else the exact solve). After a knot, the
+ * first command is solved on the new segment (the step before it lies on the old one). The
+ * executor's time is predicted exactly, so the next command absorbs every rounding: no drift.
+ * Every edge floor(acc) is within 1 tick of round(F t_n), |acc - F t_n| <= 0.45 tick for normal
+ * commands and 1/2 (+ the solve's 2^-12) for WIDE ones (test_smooth_move: random moves, stops and
+ * new targets against the closed form in quadruple precision, and the move of 2^31 - 1 steps).
+ * The host and the AVR compute the same commands: the float work is IEEE single precision
+ * +, -, x, / and frexp/ldexp/sqrt on both (the emulator check compares checksums).
  * Limits (smooth_set_params refuses others, each with its own status): 0 < vmax <= tick_hz,
  * accel > 0, jerk > 0, tau2 <= tau1 (jerk >= accel^2/vmax), tau1 <= 2^34 ticks; a plan must end
  * within 2^46 ticks of the timeline's start (the timeline restarts at rest); moves of 1 to
  * 2^32 - 1 steps; at most SMOOTH_MAX_CHANGES changes of the command within tau1 + tau2.
- * Cost: the smx_t operations are 64-bit integer work (a multiplication is four 32x32 products);
- * each span solves two to four cubics (a few Newton steps of a few smx_t operations each).
- * Memory: about 600 bytes per move (SMOOTH_MAX_CHANGES = 6). On the AVR the emulator check
- * "smooth_move on the AVR" measures the cycles per call (and that the host computes the same bits).
+ * Cost on the AVR: a command takes one fixed-point solve (three 64 x 32-bit products per Newton
+ * step, usually one step), some 40 float operations and a few 64-bit ones; a cruise command on the
+ * line no solve at all; the first few steps from rest and the last ones, and a stop or a new
+ * target, smx solves. Memory: smooth_move_t is about 1000 bytes on the AVR (SMOOTH_MAX_CHANGES =
+ * 6). The emulator check "smooth_move on the AVR" measures the cycles per command and per step,
+ * the planner's load and the lead it needs on reference moves (and that the host computes the
+ * same bits).
  */
 #ifndef SMOOTH_MOVE_H
 #define SMOOTH_MOVE_H
@@ -175,11 +201,44 @@ typedef struct {
     uint32_t n;             /* frame steps handed out */
     uint32_t n_end;         /* the last step of the plan (frame) */
     int64_t acc16;          /* the executor's time of step n, 2^-16 ticks from the timeline's start */
-    smx_t t_n;              /* the law's time of step n, ticks */
-    uint8_t span_b;         /* log2 of the next span to try */
+    int64_t err16;          /* acc16 - (t16_a + y16): the executor's offset from the law at step n */
+    uint16_t span;          /* steps of the last command (the next one tries twice as many) */
     uint8_t active;         /* a plan is being handed out */
     uint8_t has_then;       /* after the stop in progress: the move to then_target */
     int32_t then_target;
+    /* the last exact solve (step n_a at t_n) and, on a cruise, how far step n is past it */
+    smx_t t_n;              /* the law's time of step n_a, ticks (exact; seg.t + x_a when tn_stale) */
+    uint8_t tn_stale;
+    smx_t x_a;              /* t_n - seg.t (xa16 2^-16 when xa_stale) */
+    uint8_t xa_stale;
+    uint32_t n_a;
+    int64_t t16_a;          /* round(t_n x 2^16) */
+    int64_t xa16;           /* round(x_a x 2^16) */
+    int64_t y16;            /* on the cruise's line: step n's time after t_n, 2^-16 ticks */
+    uint32_t y_lo;          /* and the fraction below that, 2^-48 ticks */
+    float xf_a;             /* x_a as a float */
+    uint8_t a_in_seg;       /* step n_a was solved on the segment's own polynomial (the cruise's
+                               line starts only from there) */
+    /* the segment of the law that holds step n + 1 (between two knots): a copy of the law's
+     * cursor moved to its start, or for the last segment the polynomial about its end */
+    smooth_cursor_t seg;
+    smx_t seg_end;          /* the knot that ends it */
+    smx_t seg_hi;           /* seg_end - seg.t */
+    smx_t seg_ah, seg_j6;   /* a/2, j/6 of its polynomial */
+    int64_t seg_t16;        /* round(seg.t x 2^16) */
+    /* its polynomial in fixed point for whole-tick local times x (|x| < 2^30): Horner with
+     * h3 = c3, h_k = c_k + (h_(k+1) x) 2^-fp_s[k], p(x) - m = (h0 - m 2^fp_m) 2^-fp_m */
+    int64_t fp_c[4];
+    uint8_t fp_s[3];
+    uint8_t fp_m;
+    uint8_t fp_ok;
+    uint64_t inv48;         /* a cruise (a line): ticks per step x 2^48; else 0 */
+    float f_v0, f_a0, f_j;  /* seg.v, seg.a, seg.j as floats (steps/tick, /tick^2, /tick^3) */
+    float f_acc_eps;        /* below this acceleration a command is reported as cruise */
+    uint32_t seg_last;      /* the last step inside it (frame) */
+    uint8_t seg_ok;         /* seg is set up for the current plan */
+    uint8_t seg_final;      /* it is the last segment (about t_final) */
+    uint8_t final_whole;    /* the plan ends on a whole step (p_final = n_end) */
 } smooth_move_t;
 
 /* At rest at pos with parameters p (checked as smooth_law_set_params); max_cmd_ticks defaults to

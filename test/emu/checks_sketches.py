@@ -733,9 +733,10 @@ def check_servo_move_bad_input(env, sketch):
 
 def check_smooth_move_avr(env):
     """lib/src/smooth_move.c built for the ATmega2560 and for the host from
-    test/emu/smooth_avr/smooth_move_avr.c: the commands of a stepper move and the servo's setpoints
-    must have the same checksums (the smx_t arithmetic is integer work); the cycles per call are
-    reported."""
+    test/emu/smooth_avr/smooth_move_avr.c: the commands of whole reference moves (one stopped, two
+    sent to new targets) and the servo's setpoints must have the same checksums (integer work and
+    IEEE single-precision float work on both); the cycles per command and per step, the planner's
+    load and the lead it needs are reported."""
     src = os.path.join(env.source_dir, "test", "emu", "smooth_avr", "smooth_move_avr.c")
     libs = [os.path.join(env.source_dir, "lib", "src", f) for f in ("smooth_move.c", "motion_status.c")]
     inc = ["-I" + os.path.join(env.source_dir, "lib", "src"), "-I" + os.path.join(env.source_dir, "test", "emu")]
@@ -749,7 +750,7 @@ def check_smooth_move_avr(env):
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
             if p.returncode != 0:
                 return CheckResult(False, "build failed", [" ".join(cmd[:2]), p.stderr.strip()[-800:]])
-        log = emulog.run(elf, "wait ^end$\n")
+        log = emulog.run(elf, "timeout 120000\nwait ^end$\n")
         problems = []
         fails_of(log, problems)
         avr = [l.text for l in log.rx if l.text.startswith(("smooth ", "setpoint "))]
@@ -758,7 +759,7 @@ def check_smooth_move_avr(env):
 
     def sums(lines):
         return [re.search(r"sum=(\w+)", l).group(1) if "sum=" in l else None for l in lines]
-    if len(avr) != 2 or len(hst) != 2:
+    if len(avr) != 6 or len(hst) != 6:
         problems.append(f"lines: AVR {avr}, host {hst}")
     elif sums(avr) != sums(hst):
         problems.append(f"checksums differ: AVR {sums(avr)}, host {sums(hst)}")
