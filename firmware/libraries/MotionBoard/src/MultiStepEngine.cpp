@@ -606,7 +606,10 @@ static uint32_t ticks_until(uint8_t axis, uint8_t to)
     curi = slot_index(s, cp);
     /* the current command's steps not armed yet, then the slots between */
     per = wide ? rate : (rate >> 16);
-    ahead = per > 0xFFFFUL ? 0xFFFFFFUL : left * per;
+    /* (slow steps: a whole interval or more counts as far, but none left is none: the next slot
+     * then starts one interval after the armed edge, and at 100 steps/s a cut there raced the
+     * interrupt: make fuzz seed 8, a step 6 ms late) */
+    ahead = left == 0 ? 0 : per > 0xFFFFUL ? 0xFFFFFFUL : left * per;
     for (i = next_slot(f, curi); i != to; i = next_slot(f, i))
         ahead += lead_weight(f.duration[i]);
     return ahead;

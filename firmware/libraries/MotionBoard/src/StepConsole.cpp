@@ -14,7 +14,7 @@
  * new plan's first 3 ms of steps (at most 4 commands) are laid out at once: loop() may be busy that
  * long elsewhere before it feeds the axis again (with 1 ms, `make fuzz` seed 7 found a step 1 ms late
  * on MultiAxisStepper after a cut at 5,000 steps/s). */
-static const StepCutTiming CONSOLE_CUT = {16, 5000, 6000, 200, 3000, 4};
+static const StepCutTiming CONSOLE_CUT = {16, 5000, 6000, 200, 3000, 4, 20000};
 
 static const char AXIS_NAME[MULTI_AXES] = {'x', 'y', 'z'};
 

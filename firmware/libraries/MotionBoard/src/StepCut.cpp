@@ -2,6 +2,7 @@
 #include "StepCut.h"
 
 #include <avr/io.h>
+#include <math.h>
 #include <util/atomic.h>
 
 #include "MultiStepEngine.h"
@@ -22,6 +23,7 @@ void step_cut_trace(bool on)
 #if MOTION_STEPPER_TRACE == 2
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
+        DDRG |= _BV(5); /* the MotionStepper library's planner sets it too; the console does not */
         if (on)
             PORTG |= _BV(5);
         else
@@ -86,6 +88,19 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
         *pl = saved; /* planned again the usual way, which reports the status */
         step_cut_trace(false);
         return false;
+    }
+    if (pl->has_then) {
+        /* a reversal: the move from rest is planned when the stop's commands run out, and costs
+         * milliseconds; a stop shorter than then_min_us (a high v0: it ends at v0 at once) would
+         * leave the queue dry meanwhile (make fuzz seed 8: a 14 ms pause at a reversal at v0 200).
+         * Such a target acts after the queued lead instead, as without a cut. */
+        float v = fabs(MultiStepEngine::speed(axis));
+        float a = pl->params.accel_sps2;
+        if (!(a > 0.0f) || (v - (float)pl->params.v0_sps) < a * (float)t.then_min_us * 1e-6f) {
+            *pl = saved;
+            step_cut_trace(false);
+            return false;
+        }
     }
     n = step_cut_first_cmds(pl, first, t.ticks_per_us, t.new_us, t.max_cmds < STEP_CUT_MAX_CMDS ? t.max_cmds : STEP_CUT_MAX_CMDS);
     if (n == 0 ||

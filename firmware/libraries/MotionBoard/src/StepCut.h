@@ -49,6 +49,8 @@ struct StepCutTiming {
     uint16_t margin_us;    /* the plan is laid out only if the interrupt is still this far from the cut */
     uint16_t new_us;       /* the new plan's first commands cover at least this much */
     uint8_t max_cmds;      /* ... in at most this many commands (<= STEP_CUT_MAX_CMDS) */
+    uint16_t then_min_us;  /* a target behind (a stop, then a move from rest) is cut only if the
+                              stop lasts this long: the move from rest is planned meanwhile */
 };
 
 /* A stop (stop true) or a move to target (engine coordinates) of axis, whose planner pl is in an
