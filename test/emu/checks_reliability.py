@@ -14,6 +14,7 @@
   sent), those replies come without waiting for a later line, and the sketch answers afterwards.
 """
 import math
+import os
 import re
 
 import emulog
@@ -184,6 +185,9 @@ def checks_for(env):
         if fam == "multiaxis" or (fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read()):
             checks.append((f"{s}: a serial stop or a target behind acts within {SERIAL_CUT_MS:g} ms of its line "
                            f"(the queue is cut), the deceleration on the law", lambda s=s: check_serial_cut(env, s)))
+        if replay_scripts(s):
+            checks.append((f"{s}: fuzz replays ({len(replay_scripts(s))} scripts of test/data/fuzz-replays): no "
+                           f"underrun", lambda s=s: check_fuzz_replays(env, s)))
         if fam == "stepper" and "TrapezoidRamp" in open(env.ino(s)).read():
             checks.append((f"{s}: a long ramp just below max_sps (v0 near vmax, a small accel): the planner keeps "
                            f"up, no underrun", lambda s=s: check_long_ramp_at_limit(env, s)))
@@ -536,3 +540,32 @@ def check_serial_cut(env, sketch):
     if f.get("pos") != "0" or f.get("underruns") != "0":
         problems.append(f"the `?` at the end says {f}")
     return CheckResult(not problems, f"at {v:g} steps/s, accel {a:g}: " + "; ".join(figures), problems)
+
+
+# Fuzz replays (test/data/fuzz-replays/README.md): the scripts of `make fuzz` runs that found a bug,
+# replayed on the sketch they were written for: the run must end normally and every `?` must say
+# underruns=0 (each failed so on the firmware before its fix).
+REPLAY_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "fuzz-replays")
+
+
+def replay_scripts(sketch):
+    if not os.path.isdir(REPLAY_DIR):
+        return []
+    return sorted(f for f in os.listdir(REPLAY_DIR) if f.startswith(sketch + "-") and f.endswith(".emu"))
+
+
+def check_fuzz_replays(env, sketch):
+    problems, figures = [], []
+    for name in replay_scripts(sketch):
+        text = open(os.path.join(REPLAY_DIR, name)).read()
+        script = "".join(l for l in text.splitlines(True) if not l.startswith("#"))
+        log = emulog.run(env.elf(sketch), script, pins=sketches.stepper_pins(env))
+        fails_of(log, problems)
+        qs = log.lines_matching(r"(^|\s)underruns=")
+        bad = [l.text for l in qs if not re.search(r"underruns=0\b", l.text)]
+        if not qs:
+            problems.append(f"{name}: no `?` reply")
+        if bad:
+            problems.append(f"{name}: {len(bad)} `?` replies with underruns: {bad[0][:160]}")
+        figures.append(f"{name}: {len(qs)} `?` replies, {len(log.rising('STEP'))} steps")
+    return CheckResult(not problems, "; ".join(figures), problems)
