@@ -559,7 +559,9 @@ def check_fuzz_replays(env, sketch):
     for name in replay_scripts(sketch):
         text = open(os.path.join(REPLAY_DIR, name)).read()
         script = "".join(l for l in text.splitlines(True) if not l.startswith("#"))
-        log = emulog.run(env.elf(sketch), script, pins=sketches.stepper_pins(env))
+        multi = env.family(sketch) == "multiaxis"
+        log = emulog.run(env.elf(sketch), script,
+                         pins=sketches.multiaxis_pins(env) if multi else sketches.stepper_pins(env))
         fails_of(log, problems)
         qs = log.lines_matching(r"(^|\s)underruns=")
         bad = [l.text for l in qs if not re.search(r"underruns=0\b", l.text)]
@@ -567,5 +569,5 @@ def check_fuzz_replays(env, sketch):
             problems.append(f"{name}: no `?` reply")
         if bad:
             problems.append(f"{name}: {len(bad)} `?` replies with underruns: {bad[0][:160]}")
-        figures.append(f"{name}: {len(qs)} `?` replies, {len(log.rising('STEP'))} steps")
+        figures.append(f"{name}: {len(qs)} `?` replies, {len(log.rising('XSTEP' if multi else 'STEP'))} x steps")
     return CheckResult(not problems, "; ".join(figures), problems)
