@@ -18,7 +18,7 @@
  * 100,000-300,000) a reversal of z whose stop lasted 38 ms was followed by edges of every axis up to
  * 0.7 ms late (make fuzz seed 9; not understood yet: docs/stepper-engine.md "Cutting the queue"). */
 #ifndef STEP_CONSOLE_CUT_THEN_MIN_US
-#define STEP_CONSOLE_CUT_THEN_MIN_US 65000U
+#define STEP_CONSOLE_CUT_THEN_MIN_US MOTION_STEPPER_CUT_THEN_MIN_US
 #endif
 static const StepCutTiming CONSOLE_CUT = {16, 5000, 6000, 200, 3000, 4, STEP_CONSOLE_CUT_THEN_MIN_US};
 

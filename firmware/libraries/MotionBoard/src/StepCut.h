@@ -36,6 +36,11 @@
 #ifndef MOTION_STEPPER_CUT_CMDS
 #define MOTION_STEPPER_CUT_CMDS 4U
 #endif
+/* A target behind (a stop, then a move from rest) is cut only if its stop lasts this long (the
+ * sketches' console: STEP_CONSOLE_CUT_THEN_MIN_US, the same; docs/stepper-engine.md says why). */
+#ifndef MOTION_STEPPER_CUT_THEN_MIN_US
+#define MOTION_STEPPER_CUT_THEN_MIN_US 65000U
+#endif
 /* the most first commands any caller asks for */
 #define STEP_CUT_MAX_CMDS 4U
 

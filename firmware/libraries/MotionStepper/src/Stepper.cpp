@@ -382,7 +382,7 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
     int32_t from;
     static const StepCutTiming timing = {MULTI_TICK_HZ / 1000000UL, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
                                          MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
-                                         20000};
+                                         MOTION_STEPPER_CUT_THEN_MIN_US};
     return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &from, &cuts_missed_);
 }
 
