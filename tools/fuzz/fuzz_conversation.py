@@ -465,7 +465,7 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
         tick = int(round(emulog.F_CPU / lim.tick_hz))
         probs, pairs, worst, rev = fo.speed_law(planned, [e[1] for e in edges], splits, params, tick, lim.exact,
                                                f"{name}speed" if name else "speed",
-                                               reversals=lim.algo != "sigmoid", plans=plans[ax])
+                                               reversals=lim.algo != "sigmoid", plans=plans[ax], pins=cyc)
         o.pairs += pairs
         o.reversals += rev
         o.worst_law = max(o.worst_law, worst)

@@ -35,9 +35,17 @@ def cruise_then(edges, v, n):
     return out
 
 
-def law(times, a, vmax, v0=0.0, dirs=None, splits=(), events=(), plans=()):
+def law(times, a, vmax, v0=0.0, dirs=None, splits=(), events=(), plans=(), pins=None):
     p = fo.Params({"accel": a, "vmax": vmax, "v0": v0}, events)
-    return fo.speed_law(times, dirs or [1] * len(times), set(splits), p, 1, True, "t", plans=plans)
+    return fo.speed_law(times, dirs or [1] * len(times), set(splits), p, 1, True, "t", plans=plans, pins=pins)
+
+
+def displaced(edges, at, cycles):
+    """edges with edges[at], edges[at + 1], ... later by cycles[0], cycles[1], ... (late edges)"""
+    out = list(edges)
+    for i, d in enumerate(cycles):
+        out[at + i] += d
+    return out
 
 
 def run():
@@ -71,6 +79,30 @@ def run():
     for k in range(400, len(late_run)):
         late_run[k] += 59 * (k - 399)           # every later interval 59 cycles longer: a speed drop
     expect("a speed drop that moves every later edge", law(late_run, 50000, 5000)[0], True)
+    # 1b'. runs of late edges: the interrupt that fired a late edge ends after the next edge's time
+    # too, which then fires late as well, less so (make fuzz seed 23: 80 and 67 cycles at 70,000
+    # steps/s; 151, 123, 95 and 67 at 100,000); every later edge is on its plan. The pin: 60 to 143
+    # cycles after each late compare match, within 260 of the plan; a pin 270 cycles after its plan,
+    # a run displaced past the bound, a run after which the edges stay displaced (a lost interval)
+    # and a run longer than LATE_RUN_MAX fail.
+    up7 = cruise_then(ramp(1_000_000, 2450), 70000, 600)     # 70,000 steps/s after 2,450 steps
+    pair = displaced(up7, 2800, [80, 67])
+    expect("two consecutive late edges (80, 67 cycles) in a cruise at 70,000 steps/s",
+           law(pair, 1e6, 70000, pins=displaced(pair, 2800, [143, 60]))[0], False)
+    up10 = ramp(1_000_000, 5000)                             # accelerating, 100,000 steps/s at the end
+    four = displaced(up10, 4500, [151, 123, 95, 67])
+    pins4 = [c + 4 for c in four]
+    expect("four consecutive late edges (151, 123, 95, 67 cycles) accelerating near 100,000 steps/s",
+           law(four, 1e6, 100000, pins=displaced(pins4, 4500, [56] * 4))[0], False)
+    expect("a run of late edges, one on the pin 270 cycles after its plan",
+           law(four, 1e6, 100000, pins=displaced(pins4, 4500, [115, 56, 56, 56]))[0], True)
+    expect("two consecutive edges 300 and 272 cycles after their plans (past the bound)",
+           law(displaced(up10, 4500, [300, 272]), 1e6, 100000)[0], True)
+    lost = displaced(up10, 4500, [151, 123] + [95] * 400)
+    expect("two late edges, then every later edge 95 cycles late (a speed change)",
+           law(lost, 1e6, 100000)[0], True)
+    nine = displaced(up10, 4500, [250 - 25 * i for i in range(fo.LATE_RUN_MAX + 1)])
+    expect(f"a run of {fo.LATE_RUN_MAX + 1} late edges (more than LATE_RUN_MAX)", law(nine, 1e6, 100000)[0], True)
     # 1c. a reversal planned with the target that caused it: decelerate to rest and accelerate back
     # at 500,000 steps/s^2; `set accel 50000` arrives after that plan, before the turn ("from the
     # next plan"): the run after the turn keeps 500,000 and passes; the same `set` before the plan

@@ -96,13 +96,13 @@
  * just below vmax does not (found by `make fuzz`): the limit is a rung below the highest rate at
  * which such a ramp keeps up (SimplisticRampStepper 13,000, LeibRampStepper 8,000 steps/s;
  * test/emu/checks_reliability.py checks a long ramp at the limit).
- * ExactRampStepper's is lower than its bench ceiling (clean to 100,000 in the reference move): under a
- * flood of serial lines (make fuzz, seed 23) at 80,000-90,000 steps/s the core's serial interrupts
- * delayed two step interrupts in a row (edges 109 and 63 cycles late, within the bound but a jump of
- * the speed between two intervals), which the fuzzer's law of constant acceleration refuses; at
- * 70,000, with the step interrupt arming ahead (about 136 cycles a step), once in 30,000 lines: the
- * limit is a rung lower, 60,000.
- * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=90000 (no redefinition warning). */
+ * ExactRampStepper's is a rung below its bench ceiling (clean to 100,000, the ladder's top). Near it
+ * an edge comes late now and then (`late=`: the core's serial and millis interrupts delayed the step
+ * interrupt past its next edge's time, which then fires 2 us after its arming), sometimes a few
+ * in a row (the interrupt that fired one ends after the next edge's time too), each less late than
+ * the one before, every one within the bound and every later edge on its plan (make fuzz checks each
+ * edge of such a run on the pin against its plan: tools/fuzz/fuzz_oracles.py).
+ * Override at compile time, e.g. -DSTEPPER_MAX_SPS_EXACT=100000 (no redefinition warning). */
 #if STEPPER_TIMED_LOOP
 #ifndef STEPPER_MAX_SPS_SIMPLISTIC
 #define STEPPER_MAX_SPS_SIMPLISTIC 2000.0
@@ -127,7 +127,7 @@
 #define STEPPER_MAX_SPS_SCURVE 50000.0
 #endif
 #ifndef STEPPER_MAX_SPS_EXACT
-#define STEPPER_MAX_SPS_EXACT 60000.0
+#define STEPPER_MAX_SPS_EXACT 90000.0
 #endif
 #endif
 
