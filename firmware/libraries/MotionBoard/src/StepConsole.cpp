@@ -17,6 +17,14 @@
  * 65 ms or more: with three axes stepping fast (x 25,000 steps/s, y 8,000, z 4,000 at accels of
  * 100,000-300,000) a reversal of z whose stop lasted 38 ms was followed by edges of every axis up to
  * 0.7 ms late (make fuzz seed 9; not understood yet: docs/stepper-engine.md "Cutting the queue"). */
+/* No cut above this speed (steps/s): the stop or the new target acts after the queued lead, as
+ * before. Up to it `make fuzz` found nothing (seeds 7-10 at ExactRampStepper's former 60,000 limit);
+ * at 89,000 steps/s a target behind cut the queue and the axis stalled 12.6 ms (seed 11), where the
+ * step interrupt leaves the planner a quarter of the processor and the queue's lead is what keeps
+ * it ahead. */
+#ifndef STEP_CONSOLE_CUT_MAX_SPS
+#define STEP_CONSOLE_CUT_MAX_SPS 60000.0f
+#endif
 #ifndef STEP_CONSOLE_CUT_THEN_MIN_US
 #define STEP_CONSOLE_CUT_THEN_MIN_US MOTION_STEPPER_CUT_THEN_MIN_US
 #endif
@@ -177,7 +185,7 @@ bool StepConsole::cut_plan(uint8_t axis, bool stop, int32_t target, int32_t &fro
     StepperRamp::CutFn f = ramp_[axis]->cut();
     StepCutTiming t = CONSOLE_CUT; /* the exact ramp, the one that cuts, steps at 16 MHz */
     float v = fabs(MultiStepEngine::speed(axis));
-    if (!f)
+    if (!f || v > STEP_CONSOLE_CUT_MAX_SPS)
         return false;
     t.margin_us = (uint16_t)(t.margin_us + v * 0.015f);
     return f(axis, &pl_[axis], stop, target, t, &from, &cuts_missed_);
