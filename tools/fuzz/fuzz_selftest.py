@@ -96,6 +96,19 @@ def run():
            law(four, 1e6, 100000, pins=displaced(pins4, 4500, [56] * 4))[0], False)
     expect("a run of late edges, one on the pin 270 cycles after its plan",
            law(four, 1e6, 100000, pins=displaced(pins4, 4500, [115, 56, 56, 56]))[0], True)
+    # A table ramp on the lab's 2 MHz tick (8 cycles): SCurveStepper repeats each period 4 times, so
+    # its intervals change in stairs (make test's fuzz seed 1: 14,816 cycles x 4, then 14,448 x 4, ...
+    # at about 1,100 steps/s); a quadratic fits a stair's edges within the tolerance, but no edge is
+    # late: with every pin 4 cycles after its match the oracle must find nothing (the oracle before
+    # this case saw a run of late edges there, one 262 cycles after its plan).
+    stairs, c = [0], 0
+    for period in range(15200, 13000, -368):
+        for _ in range(4):
+            c += period
+            stairs.append(c)
+    p8 = fo.Params({"accel": 1e9, "vmax": 5000, "v0": 0.0}, ())
+    expect("a table ramp's stairs of 4 equal intervals on 8-cycle ticks, every pin 4 cycles after its match",
+           fo.speed_law(stairs, [1] * len(stairs), set(), p8, 8, False, "t", pins=[x + 4 for x in stairs])[0], False)
     expect("two consecutive edges 300 and 272 cycles after their plans (past the bound)",
            law(displaced(up10, 4500, [300, 272]), 1e6, 100000)[0], True)
     lost = displaced(up10, 4500, [151, 123] + [95] * 400)

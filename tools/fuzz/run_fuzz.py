@@ -172,7 +172,8 @@ def main(argv):
             path = os.path.join(a.keep, f"{name}-{kind}-seed{seed}.emu")
             with open(path, "w") as f:
                 f.write(f"# run_fuzz --seed {a.seed}: {name}, {kind}, part {k + 1}: {len(res['problems'])} findings\n"
-                        + "".join(f"#   {p}\n" for p in res["problems"][:20]) + res["script"])
+                        + "".join("".join(f"#   {line}\n" for line in p.splitlines() or [""])
+                                  for p in res["problems"][:20]) + res["script"])
             res["kept"] = path
         return job, res
 

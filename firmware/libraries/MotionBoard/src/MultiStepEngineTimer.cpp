@@ -41,10 +41,16 @@ inline uint8_t ocie_bit(uint8_t axis)
  * is then looked ahead (ahead form, MultiStepEngine.h): the step after it computed into acc (the next
  * slot taken if the command is used up), which the asm path arms at this edge's match; when that step
  * cannot be computed so (no next slot laid out yet, a slow one, a turn) the SLOW bit sends the match
- * to this C path (PEND). The arithmetic runs with interrupts on; from the arming on they are off and
- * stay off (cli, not restored): the interrupt ends so, and its next match, armed here, may come at
- * once (a late edge). */
-__attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
+ * to this C path (PEND). The arithmetic runs with interrupts on, the arming with them off. In a step
+ * interrupt (in_isr) the axis's own compare interrupt is masked at the arming, as the asm path does,
+ * and interrupts come back on after it: its next match, armed here, may come at once (a late edge) and
+ * waits for the end of this interrupt, while the other axes' edges wait only for the arming. At a
+ * start (start_axis) they stay off from the arming on (cli, not restored). */
+/* axes whose own compare interrupt arm_step masked in their C path: unmasked at its end, with
+ * interrupts off, just before the reti (multi_cold_x/y/z) */
+static volatile uint8_t s_own_masked;
+
+__attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s, bool in_isr)
 {
     uint16_t prev = (uint16_t)(s.acc >> 16), elapsed, edge;
     uint32_t interval, first;
@@ -82,6 +88,14 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
         }
     }
     cli();
+    if (in_isr) {
+        /* its own match (maybe due at once: a late edge) waits for the end of this interrupt, so
+         * the rest of the C path can run with interrupts on: another axis's edge then waits only
+         * for this arming, not for the whole path back to the reti (with them off to the reti, a Z
+         * C path nested in X's interrupt held an X edge 279 cycles: the halt check) */
+        TIMSK1 &= (uint8_t)~ocie_bit(axis);
+        s_own_masked = s_own_masked | (uint8_t)_BV(axis);
+    }
     write_ocr(axis, edge);
     since = (int16_t)(TCNT1 - prev);
     if (since < 0) {
@@ -109,14 +123,21 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s)
     else
         clear |= _BV(AXIS_MODE_SLOW);
     change_mode(s, set, clear);
+    if (in_isr) {
+        /* the window: a pending edge of another axis is taken after the instruction that follows
+         * sei, so that instruction must not be the caller's cli */
+        sei();
+        __asm__ __volatile__("nop" ::: "memory");
+    }
 }
 
 /* the C path of one axis: a wrap to count, a slow command's step, or a step the asm path left to it
  * (PEND: the command used up without a ready fast slot that keeps the direction). Called with
  * interrupts on (its STEP raised by the asm path): other axes' edges do not wait for it; shared
- * registers (TIMSK1, GPIOR0, a port's read-modify-write) are written with them off, and from the
- * arming of the next edge (arm_step) they stay off. Its own match cannot come before that: OCR1x
- * still holds the edge that has just matched (the state is in normal form here). */
+ * registers (TIMSK1, GPIOR0, a port's read-modify-write) are written with them off. From the arming
+ * of the next edge (arm_step) its own compare interrupt is masked until multi_cold_x/y/z unmask it just
+ * before the reti; its match cannot come before the arming: OCR1x still holds the edge that has just
+ * matched (the state is in normal form here). */
 __attribute__((always_inline)) inline void cold_path(uint8_t axis)
 {
     AxisState &s = state(axis);
@@ -140,7 +161,8 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
         MULTI_LED_PIN = _BV(MULTI_LED_BIT); /* the LED mirror (the asm path mirrors its own steps) */
     if (s.left != 0) {
         s.left = s.left - 1U;
-        arm_step(axis, s);
+        arm_step(axis, s, true);
+        cli();
         step_low(axis);
         return;
     }
@@ -167,7 +189,8 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
             set_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
         }
     }
-    arm_step(axis, s);
+    arm_step(axis, s, true);
+    cli();
     step_low(axis);
 }
 
@@ -190,7 +213,7 @@ void start_axis(uint8_t axis, uint32_t base)
     s.acc = base;
     s.wraps = 0;
     sreg = SREG;
-    arm_step(axis, s); /* interrupts off from its arming on */
+    arm_step(axis, s, false); /* interrupts off from its arming on */
     TIFR1 = ocf_bit(axis);
     s.running = 1;
     sync_g0(s);
@@ -305,16 +328,28 @@ void multi_cold_x(void)
 {
     cold_path(0);
     cli();
+    if (s_own_masked & _BV(0)) {
+        s_own_masked = s_own_masked & (uint8_t)~_BV(0);
+        TIMSK1 |= ocie_bit(0);
+    }
 }
 void multi_cold_y(void)
 {
     cold_path(1);
     cli();
+    if (s_own_masked & _BV(1)) {
+        s_own_masked = s_own_masked & (uint8_t)~_BV(1);
+        TIMSK1 |= ocie_bit(1);
+    }
 }
 void multi_cold_z(void)
 {
     cold_path(2);
     cli();
+    if (s_own_masked & _BV(2)) {
+        s_own_masked = s_own_masked & (uint8_t)~_BV(2);
+        TIMSK1 |= ocie_bit(2);
+    }
 }
 
 
