@@ -185,6 +185,9 @@ def checks_for(env):
         if fam == "multiaxis" or (fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read()):
             checks.append((f"{s}: a serial stop or a target behind acts within {SERIAL_CUT_MS:g} ms of its line "
                            f"(the queue is cut), the deceleration on the law", lambda s=s: check_serial_cut(env, s)))
+        if whole_line_scripts(s):
+            checks.append((f"{s}: fuzz replays of lines cut in the output queue ({len(whole_line_scripts(s))} "
+                           f"script): every reply a whole line of its own", lambda s=s: check_whole_lines(env, s)))
         if replay_scripts(s):
             checks.append((f"{s}: fuzz replays ({len(replay_scripts(s))} scripts of test/data/fuzz-replays): no "
                            f"underrun", lambda s=s: check_fuzz_replays(env, s)))
@@ -570,4 +573,36 @@ def check_fuzz_replays(env, sketch):
         if bad:
             problems.append(f"{name}: {len(bad)} `?` replies with underruns: {bad[0][:160]}")
         figures.append(f"{name}: {len(qs)} `?` replies, {len(log.rising('XSTEP' if multi else 'STEP'))} x steps")
+    return CheckResult(not problems, "; ".join(figures), problems)
+
+
+# Replies whole (test/data/fuzz-replays/README.md, files whole-lines-<Sketch>-*.emu): a DONE produced while
+# the output queue is nearly full waits for room instead of losing its end. The script must run to
+# its end (each `wait` met: a reply glued to a cut line matches none) and every line the sketch sent
+# must be a whole reply of the protocol (docs/multi-axis.md).
+REPLY_LINE = re.compile(r"^(READY \S+|OK( .*)?|ERR .+|DONE( move)?( [xyz] -?\d+)+|[xyz] pos=-?\d+ target=-?\d+ state=\w+ .*"
+                        r" underruns=\d+ late=\d+)$")
+
+
+def whole_line_scripts(sketch):
+    if not os.path.isdir(REPLAY_DIR):
+        return []
+    return sorted(f for f in os.listdir(REPLAY_DIR) if f.startswith("whole-lines-" + sketch + "-") and f.endswith(".emu"))
+
+
+def check_whole_lines(env, sketch):
+    problems, figures = [], []
+    for name in whole_line_scripts(sketch):
+        text = open(os.path.join(REPLAY_DIR, name)).read()
+        script = "".join(l for l in text.splitlines(True) if not l.startswith("#"))
+        log = emulog.run(env.elf(sketch), script, pins=sketches.multiaxis_pins(env))
+        fails_of(log, problems)
+        lines = [l.text for l in log.lines_matching(r".")]
+        bad = [t for t in lines if not REPLY_LINE.match(t)]
+        if bad:
+            problems.append(f"{name}: {len(bad)} lines that are no whole reply, e.g. {bad[0][:120]!r}")
+        dones = [t for t in lines if t.startswith("DONE")]
+        if not any(t.startswith("OK halt") for t in lines):
+            problems.append(f"{name}: the `!` drew no `OK halt` line of its own")
+        figures.append(f"{name}: {len(lines)} lines, {len(bad)} not whole; {len(dones)} DONE lines, the last {dones[-1] if dones else None!r}")
     return CheckResult(not problems, "; ".join(figures), problems)

@@ -483,6 +483,12 @@ uint16_t MultiStepEngine::late_edges(uint8_t axis)
     return n;
 }
 
+bool MultiStepEngine::done_pending(uint8_t axis)
+{
+    poll(); /* as take_done: the timed-loop build steps here */
+    return state(axis).done != 0;
+}
+
 bool MultiStepEngine::take_done(uint8_t axis, int32_t &position)
 {
     bool done;

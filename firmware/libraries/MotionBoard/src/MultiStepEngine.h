@@ -226,6 +226,7 @@ public:
     static uint16_t underruns(uint8_t axis);
     static uint16_t late_edges(uint8_t axis);
     static bool take_done(uint8_t axis, int32_t &position);
+    static bool done_pending(uint8_t axis); /* take_done would report the end (nothing changed) */
 
     /* For the MotionStepper library (docs/library.md); the console uses none of these. */
     /* A sketch's function that sets an axis's DIR instead of the engine (the lab's moveOneStep()):

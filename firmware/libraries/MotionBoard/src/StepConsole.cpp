@@ -172,12 +172,26 @@ void StepConsole::report_done(uint8_t axis, int32_t position)
     next_due_[axis] = has_next_[axis];
 }
 
-void StepConsole::collect_done()
+/* Room the DONE lines of one pass need in the output queue: "DONE move x -2147483648 y -2147483648
+ * z -2147483648" and CR LF is 53 bytes, three "DONE x -2147483648" lines 60, a two-axis move's and
+ * the third axis's 59. A DONE whose line would not fit waits in the engine (make fuzz seed 23: a
+ * DONE move taken while three `?` lines filled the queue lost its last 14 bytes, and the `OK` of
+ * the next line was glued to it). */
+#define STEP_CONSOLE_DONE_ROOM 64U
+
+bool StepConsole::collect_done()
 {
     int32_t at;
+    if (queue_.room() < STEP_CONSOLE_DONE_ROOM) {
+        for (uint8_t i = 0; i < n_; i++)
+            if (MultiStepEngine::done_pending(i))
+                return false; /* it waits for the queue: no `?` line or command is taken before it */
+        return true;
+    }
     for (uint8_t i = 0; i < n_; i++)
         if (MultiStepEngine::take_done(i, at))
             report_done(i, at);
+    return true;
 }
 
 bool StepConsole::cut_plan(uint8_t axis, bool stop, int32_t target, int32_t &from)
@@ -206,7 +220,11 @@ void StepConsole::poll()
     const char *line;
     bool waiting = false;
     feed();
-    collect_done();
+    if (!collect_done()) {
+        serial_.drain_input();
+        queue_.pump();
+        return;
+    }
     queue_.pump();
     /* the S-curve table's refill, a slice per pass: a target waits for it (handle_target), and so
      * do the lines after it (a `?` then tells where that move has got, as it would without a refill) */

@@ -78,7 +78,7 @@ private:
     void handle_set(uint8_t axis, const char *cursor);
     void print_status(uint8_t axis);
     void report_done(uint8_t axis, int32_t position);
-    void collect_done();
+    bool collect_done(); /* false: a DONE waits for room in the output queue */
     void start_next(uint8_t axis);
     /* a stop or a new target from a cut of the queue (the ramp's cut(): StepCut.h); false: not
      * cut (then planned after the queued steps) */
