@@ -695,6 +695,8 @@ SMOOTH_LEGS = [
     (None, 0, (10000, 20000, 200000), ("to", r"^retarget -6000 at ", -6000)),
     (-6000, 12000, (10000, 20000, 200000), ("to", r"^retarget 1000 at ", 1000)),
     (1000, 41000, (20000, 40000, 200000), ("to", r"^retarget 31000 at ", 31000)),
+    (31000, 0, (20000, 40000, 200000), ("halt", r"^forceStop at ")),
+    (None, 0, (20000, 40000, 200000), None),
 ]
 SMOOTH_LEAD_MS = 100     # Stepper.h's MOTION_STEPPER_SMOOTH_LEAD_MS: a stop or a new target acts after it
 SMOOTH_ACCEL_TOL = 1.02  # the estimates' bounds: accel + 2 %, jerk + 5 % (edge jitter, see below)
@@ -814,8 +816,8 @@ def smooth_kinematics(t, x, par, what, problems):
 
 
 def check_smooth_move(env):
-    """SmoothMove.ino: six legs on the smooth ramp (out and back, a stop, a new target ahead, one
-    behind, one at 20,000 steps/s); every edge against the closed form of the law (aligned at the
+    """SmoothMove.ino: eight legs on the smooth ramp (out and back, a stop, a new target ahead, one
+    behind, one at 20,000 steps/s, a forceStop() and the move from there); every edge against the closed form of the law (aligned at the
     leg's earliest: late never early, at most LATE_BOUND cycles + 2 ticks), the event's step fitted
     where the firmware applied it (its edge within the lead of the call); final positions; no
     underrun; velocity continuous, acceleration <= accel + 2 %, jerk <= jerk + 5 % estimated from the
@@ -840,10 +842,11 @@ def check_smooth_move(env):
         problems.append(f"stack: {stack} bytes free at the lowest, fewer than {SMOOTH_STACK_MIN}")
     edges = log.rising("XSTEP")
     ticks = F_CPU / 16000000.0  # cycles per tick of the step timer (MULTI_TICK_HZ: 16 MHz)
-    worst_late, peak_a, peak_j, first_ms, acts_ms, pos = 0.0, [], [], [], [], 0
+    worst_late, peak_a, peak_j, first_ms, acts_ms, pos, halted_at = 0.0, [], [], [], [], 0, []
     for i, (start, target, par, event) in enumerate(SMOOTH_LEGS):
         what = f"leg {i + 1} ({start if start is not None else pos} -> {target}"
         what += f", {event[0]} {event[2] if event[0] == 'to' else ''}".rstrip() + ")" if event else ")"
+        what = what.replace("halt)", "forceStop)")
         if start is None:
             start = pos
         c0 = starts[i].cycle
@@ -860,6 +863,19 @@ def check_smooth_move(env):
         n_event = None
         if event is None:
             count, end, times, positions = smooth_plan(Law, par, start, target, None, 0)
+        elif event[0] == "halt":
+            # forceStop(): the move's law up to the halt, no step after the line that follows the call
+            call = line_of(log, event[1], c0)
+            if call is None:
+                problems.append(f"{what}: no '{event[1]}' line")
+                continue
+            after = int(np.sum(e > call.cycle))
+            if after:
+                problems.append(f"{what}: {after} steps after '{call.text}'")
+            _, _, times, positions = smooth_plan(Law, par, start, target, None, 0)
+            count = len(e)
+            end = start + (count if target >= start else -count)
+            halted_at.append(end)
         else:
             call = line_of(log, event[1], c0)
             if call is None:
@@ -927,7 +943,8 @@ def check_smooth_move(env):
     pa = max(peak_a) if peak_a else (0, 0, 1)
     pj = max(peak_j) if peak_j else (0, 0, 1)
     return CheckResult(not problems,
-                       f"{len(edges)} steps in {len(SMOOTH_LEGS)} legs up to 20,000 steps/s, 0 underruns; every edge on the "
+                       f"{len(edges)} steps in {len(SMOOTH_LEGS)} legs up to 20,000 steps/s (a forceStop() at "
+                       f"{halted_at[0] if halted_at else '?'}: no step after it), 0 underruns; every edge on the "
                        f"closed form within 2 ticks + {worst_late:.0f} cycles late at most; peak acceleration "
                        f"{pa[1]:.0f} of {pa[2]} steps/s^2 ({pa[0] * 100:.1f} %), peak jerk {pj[1]:.0f} of {pj[2]} "
                        f"steps/s^3 ({pj[0] * 100:.1f} %), from the edges; first step {min(first_ms, default=0):.1f}-"
@@ -951,8 +968,8 @@ CHECKS_BY_EXAMPLE = (
     ("LabRamp", "setRamp: the Leib and simplistic ramps on a Stepper, every edge on motionsim's intervals, "
                 "the refusals", check_lab_ramp),
     ("SmoothMove", "setRamp(SMOOTH): every edge on the filter-shaped law's closed form, through a stop and new "
-                   "targets ahead and behind, up to 20,000 steps/s; acceleration and jerk from the edges within "
-                   "their limits, 0 underruns, the stack", check_smooth_move),
+                   "targets ahead and behind, up to 20,000 steps/s, a forceStop(); acceleration and jerk from the "
+                   "edges within their limits, 0 underruns, the stack", check_smooth_move),
 )
 
 

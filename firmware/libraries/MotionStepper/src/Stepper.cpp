@@ -68,13 +68,14 @@ motion_status_t Stepper::begin()
     return MS_OK;
 }
 
-/* The planner for the ramp and parameters in force, at rest at pos. Commands of at most
- * MOTION_STEPPER_CMD_MS (lib's default is 4 ms): the queue then holds its lead in short pieces, and
- * a stop waits for less. */
+/* set by set_ramp_smooth (null in a sketch that never asks for the smooth ramp) */
 motion_status_t (*Stepper::smooth_check_)(const ramp_params_t *, double);
 motion_status_t (*Stepper::smooth_init_)(step_planner_t *, const ramp_params_t *, double, step_smooth_t *, int32_t);
 motion_status_t (*Stepper::smooth_jerk_)(step_planner_t *, double);
 
+/* The planner for the ramp and parameters in force, at rest at pos. Commands of at most
+ * MOTION_STEPPER_CMD_MS (lib's default is 4 ms): the queue then holds its lead in short pieces, and
+ * a stop waits for less. */
 motion_status_t Stepper::init_planner(int32_t pos)
 {
     motion_status_t st = algo_ == RAMP_ALGO_SMOOTH

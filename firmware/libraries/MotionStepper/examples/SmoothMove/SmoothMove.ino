@@ -9,7 +9,8 @@
  *     and acceleration (no stop);
  *   out to 12000, and at 3000 a new target behind where a stop would come to rest, 1000: it stops
  *     smoothly, then comes back from rest;
- *   then at 20,000 steps/s (accel 40,000): out to 41000, retargeted at 20000 to 31000.
+ *   then at 20,000 steps/s (accel 40,000): out to 41000, retargeted at 20000 to 31000;
+ *   back towards 0, halted by forceStop() at 25000 (no step after it), and from there to 0.
  * The first step of each move comes some 40 ms after moveTo() (the smooth planner's start); a stop
  * or a new target acts after the steps already queued (the lead, 10 ms). loop() only looks.
  */
@@ -87,6 +88,12 @@ void loop()
         Serial.print(F("retarget 31000 at "));
         Serial.println(x.currentPosition());
         say(F("moveTo(31000)"), x.moveTo(31000));
+    } else if (leg == 6 && passed(25000, false)) {
+        motion_status_t st = x.forceStop();
+        Serial.print(F("forceStop at "));
+        Serial.println(x.currentPosition());
+        if (st != MS_OK)
+            say(F("forceStop"), st);
     }
     if (!x.takeDone(at))
         return;
@@ -107,6 +114,8 @@ void loop()
         say(F("setMaxSpeed(20000)"), x.setMaxSpeed(20000));
         say(F("setAcceleration(40000)"), x.setAcceleration(40000));
         go(41000);
-    } else
+    } else if (leg == 6 || leg == 7)
+        go(0);
+    else
         Serial.println(F("FINISHED"));
 }
