@@ -30,9 +30,12 @@
 extern "C" {
 #endif
 
-typedef enum { RAMP_ALGO_SIMPLISTIC = 0, RAMP_ALGO_LEIB, RAMP_ALGO_EXACT, RAMP_ALGO_SIGMOID } ramp_algo_t;
+/* RAMP_ALGO_SMOOTH: the filter-shaped, jerk-limited move of smooth_move.h; planned only by the step
+ * planner (step_planner_init_smooth), not by ramp_plan (which refuses it like any other value). */
+typedef enum { RAMP_ALGO_SIMPLISTIC = 0, RAMP_ALGO_LEIB, RAMP_ALGO_EXACT, RAMP_ALGO_SIGMOID, RAMP_ALGO_SMOOTH } ramp_algo_t;
 
-/* "simplistic", "leib", "exact", "sigmoid" ("?" for anything else). */
+/* "simplistic", "leib", "exact", "sigmoid" ("?" for anything else, RAMP_ALGO_SMOOTH too: the sketches
+ * that print the name plan none of it, and its string would cost them SRAM). */
 const char *ramp_algo_name(ramp_algo_t algo);
 
 typedef struct {

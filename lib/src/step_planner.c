@@ -28,6 +28,7 @@ struct step_planner_ops {
 };
 static const struct step_planner_ops EXACT_OPS;
 static const struct step_planner_ops RAMP_OPS;
+static const struct step_planner_ops SMOOTH_OPS;
 
 static motion_status_t init_kind(step_planner_t *pl, const struct step_planner_ops *ops, ramp_algo_t algo,
                                  const ramp_params_t *params, const ramp_hooks_t *hooks, int32_t pos)
@@ -476,6 +477,144 @@ uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c)
         pl->active = 0;
     }
 }
+
+/* ---- the smooth move (smooth_move.h), its state in the caller's step_smooth_t ---- */
+static void smooth_params_of(smooth_params_t *sp, const ramp_params_t *p, double jerk_sps3)
+{
+    sp->vmax_sps = p->vmax_sps;
+    sp->accel_sps2 = p->accel_sps2;
+    sp->jerk_sps3 = jerk_sps3;
+    sp->tick_hz = p->tick_hz;
+}
+
+motion_status_t step_planner_smooth_check(const ramp_params_t *params, double jerk_sps3)
+{
+    smooth_law_t law;
+    smooth_params_t sp;
+    if (params == 0)
+        return MS_ERR_NULL;
+    smooth_params_of(&sp, params, jerk_sps3);
+    return smooth_law_set_params(&law, &sp);
+}
+
+motion_status_t step_planner_init_smooth(step_planner_t *pl, const ramp_params_t *params, double jerk_sps3,
+                                         step_smooth_t *store, int32_t pos)
+{
+    smooth_params_t sp;
+    motion_status_t st;
+    if (pl == 0 || params == 0 || store == 0)
+        return MS_ERR_NULL;
+    smooth_params_of(&sp, params, jerk_sps3);
+    st = smooth_move_init(&store->move, &sp, pos);
+    if (st != MS_OK)
+        return st;
+    store->jerk_sps3 = jerk_sps3;
+    pl->ops = &SMOOTH_OPS;
+    pl->algo = RAMP_ALGO_SMOOTH;
+    pl->hooks = 0;
+    pl->params = *params;
+    pl->table = 0;
+    pl->table_len = 0;
+    pl->max_cmd_ticks = params->tick_hz / 250U; /* 4 ms */
+    pl->smooth = store;
+    clear_state(pl, pos);
+    store->move.max_cmd_ticks = pl->max_cmd_ticks;
+    return MS_OK;
+}
+
+/* the parameters (pl->params, or params) and the jerk in force: now at rest (here, outside the
+ * step interrupt's planner tick when the caller is loop()), else from the next move from rest */
+static motion_status_t smooth_apply(step_planner_t *pl, const ramp_params_t *params, double jerk_sps3)
+{
+    smooth_params_t sp;
+    motion_status_t st = step_planner_smooth_check(params, jerk_sps3);
+    if (st != MS_OK)
+        return st;
+    pl->smooth->jerk_sps3 = jerk_sps3;
+    smooth_params_of(&sp, params, jerk_sps3);
+    if (!pl->active && !pl->has_then && !smooth_move_busy(&pl->smooth->move) &&
+        smooth_move_set_params(&pl->smooth->move, &sp) == MS_OK) {
+        pl->params_new = 0;
+        return MS_OK;
+    }
+    pl->params_new = 1;
+    return MS_OK;
+}
+
+static motion_status_t smooth_set_params(step_planner_t *pl, const ramp_params_t *params)
+{
+    return smooth_apply(pl, params, pl->smooth->jerk_sps3);
+}
+
+motion_status_t step_planner_set_jerk(step_planner_t *pl, double jerk_sps3)
+{
+    if (pl == 0)
+        return MS_ERR_NULL;
+    if (pl->algo != RAMP_ALGO_SMOOTH)
+        return MS_ERR_NOT_SUPPORTED;
+    return smooth_apply(pl, &pl->params, jerk_sps3);
+}
+
+static uint8_t smooth_left(const step_planner_t *pl)
+{
+    return smooth_move_busy(&pl->smooth->move);
+}
+
+static motion_status_t smooth_from_rest(step_planner_t *pl, int32_t to)
+{
+    smooth_move_t *m = &pl->smooth->move;
+    if (pl->params_new) {
+        smooth_params_t sp;
+        motion_status_t st;
+        smooth_params_of(&sp, &pl->params, pl->smooth->jerk_sps3);
+        smooth_move_halt(m, pl->pos);
+        st = smooth_move_set_params(m, &sp);
+        if (st != MS_OK)
+            return st;
+        pl->params_new = 0;
+    }
+    m->max_cmd_ticks = pl->max_cmd_ticks;
+    smooth_move_halt(m, pl->pos);
+    return smooth_move_to(m, to);
+}
+
+static motion_status_t smooth_move_op(step_planner_t *pl, int32_t to)
+{
+    motion_status_t st;
+    if (!pl->active || !smooth_move_busy(&pl->smooth->move)) {
+        pl->has_then = 0;
+        return plan_from_rest(pl, to);
+    }
+    /* continuing from the filter's state; a target behind: its stop, then the move from rest */
+    st = smooth_move_to(&pl->smooth->move, to);
+    if (st == MS_OK)
+        pl->target = smooth_move_target(&pl->smooth->move);
+    return st;
+}
+
+static void smooth_stop(step_planner_t *pl)
+{
+    if (pl->active && smooth_move_busy(&pl->smooth->move)) {
+        smooth_move_stop(&pl->smooth->move);
+        pl->target = smooth_move_target(&pl->smooth->move);
+    }
+}
+
+static uint8_t smooth_next(step_planner_t *pl, step_cmd_t *c)
+{
+    if (!smooth_move_next(&pl->smooth->move, c))
+        return 0;
+    pl->pos = smooth_move_position(&pl->smooth->move);
+    return 1;
+}
+
+static void smooth_reset(step_planner_t *pl)
+{
+    smooth_move_halt(&pl->smooth->move, pl->pos);
+}
+
+static const struct step_planner_ops SMOOTH_OPS = {smooth_set_params, smooth_left, smooth_from_rest, smooth_move_op,
+                                                   smooth_stop, smooth_next, smooth_reset};
 
 motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count)
 {

@@ -19,6 +19,13 @@
  * decelerates to rest. Parameter changes take effect at the next plan (move or stop).
  * Cost on the AVR: exact, one command per call (see step_exact.h); the others, their own cost per
  * step plus about 100 cycles of packing (`make bench` measures both).
+ * RAMP_ALGO_SMOOTH (step_planner_init_smooth) is planned by smooth_move.h in a step_smooth_t the
+ * caller provides (about 1 KB on the AVR, so it is not in every planner): a new target while moving
+ * continues from the filter's state (one behind: its stop, then the move from rest), a stop sends
+ * the velocity command to 0 at the last step handed out; v0 is not used (a smooth move starts and
+ * ends at rest). Parameters set while moving take effect at the next move from rest (smooth_move
+ * keeps one set per move). No rewind (step_planner_rewind: MS_ERR_NOT_SUPPORTED). A firmware that
+ * never calls step_planner_init_smooth does not link smooth_move.
  */
 #ifndef STEP_PLANNER_H
 #define STEP_PLANNER_H
@@ -27,6 +34,7 @@
 
 #include "motion_status.h"
 #include "ramp.h"
+#include "smooth_move.h"
 #include "step_exact.h"
 #include "step_queue.h"
 
@@ -34,7 +42,13 @@
 extern "C" {
 #endif
 
-struct step_planner_ops; /* step_planner.c: the exact ramp's or the stepwise ramps' half */
+struct step_planner_ops; /* step_planner.c: the exact ramp's, the stepwise ramps' or the smooth move's part */
+
+/* The smooth move's state, kept outside the planner (step_planner_init_smooth). */
+typedef struct {
+    smooth_move_t move;
+    double jerk_sps3; /* the jerk in force for the next move from rest */
+} step_smooth_t;
 
 typedef struct {
     const struct step_planner_ops *ops;
@@ -48,6 +62,7 @@ typedef struct {
     union {                          /* one half's state: the ops in use say which (the other is */
         step_exact_t exact;          /* never read; a planner of one kind stays of it until */
         ramp_t ramp;                 /* its next init) */
+        step_smooth_t *smooth;       /* smooth: the caller's state */
     };
     uint8_t active;                  /* a profile is being handed out */
     uint8_t params_new;              /* exact: params set after the profile in progress was planned
@@ -82,6 +97,21 @@ motion_status_t step_planner_init_lab(step_planner_t *pl, ramp_algo_t algo, cons
 /* A sigmoid planner over a filled table (it must stay unchanged while a move runs). */
 motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,
                                           uint16_t table_len, int32_t pos);
+
+/* A planner for the smooth (filter-shaped, jerk-limited) move of smooth_move.h at rest at pos, its
+ * state in *store (which must live as long as the planner is used): params' vmax, accel and tick_hz
+ * (v0 is not used) and jerk_sps3, checked as smooth_law_set_params checks them (its statuses, e.g.
+ * MS_ERR_JERK_TOO_LOW when jerk < accel^2/vmax); on error *pl and *store are untouched. */
+motion_status_t step_planner_init_smooth(step_planner_t *pl, const ramp_params_t *params, double jerk_sps3,
+                                         step_smooth_t *store, int32_t pos);
+
+/* Whether vmax, accel, tick_hz of params and jerk_sps3 make a valid smooth move (MS_OK or
+ * smooth_law_set_params' status). */
+motion_status_t step_planner_smooth_check(const ramp_params_t *params, double jerk_sps3);
+
+/* A smooth planner's new jerk (checked with its parameters in force), from its next move from
+ * rest; MS_ERR_NOT_SUPPORTED for another algorithm. On error nothing changes. */
+motion_status_t step_planner_set_jerk(step_planner_t *pl, double jerk_sps3);
 
 /* New parameters for the next plan (checked first; on error nothing changes). */
 motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t *params);

@@ -675,6 +675,284 @@ def check_lab_ramp(env):
                        problems)
 
 
+# ---- SmoothMove ------------------------------------------------------------------------------
+# The smooth ramp (setRamp(RAMP_ALGO_SMOOTH)): every edge against the filter-shaped move's closed
+# form (smooth_law.py, written from the law's definition, not from lib/), its acceleration and jerk
+# estimated from the edges alone.
+
+SMOOTH_REPLIES_SETUP = [
+    "setMaxSpeed(10000): OK", "setAcceleration(20000): OK",
+    "setJerk(0): jerk must be greater than 0 steps/s^3",
+    "setJerk(NAN): a parameter is NaN or infinite",
+    "setJerk(30000): jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)",
+    "setJerk(200000): OK", "setRamp(SMOOTH): OK", "setMaxSpeed(30000): number out of range", "begin(): OK",
+    "READY SmoothMove"]
+# the legs: (start, target, (vmax, accel, jerk), event): event None, ("stop", at), ("to", at, target)
+SMOOTH_LEGS = [
+    (0, 20000, (10000, 20000, 200000), None),
+    (20000, 0, (10000, 20000, 200000), None),
+    (0, 20000, (10000, 20000, 200000), ("stop", r"^stop at ")),
+    (None, 0, (10000, 20000, 200000), ("to", r"^retarget -6000 at ", -6000)),
+    (-6000, 12000, (10000, 20000, 200000), ("to", r"^retarget 1000 at ", 1000)),
+    (1000, 41000, (20000, 40000, 200000), ("to", r"^retarget 31000 at ", 31000)),
+    (31000, 0, (20000, 40000, 200000), ("halt", r"^forceStop at ")),
+    (None, 0, (20000, 40000, 200000), None),
+]
+SMOOTH_LEAD_MS = 100     # Stepper.h's MOTION_STEPPER_SMOOTH_LEAD_MS: a stop or a new target acts after it
+SMOOTH_ACCEL_TOL = 1.02  # the estimates' bounds: accel + 2 %, jerk + 5 % (edge jitter, see below)
+SMOOTH_JERK_TOL = 1.05
+SMOOTH_H_V, SMOOTH_H_A, SMOOTH_H_J = 0.010, 0.040, 0.060  # node spacings (s) of the estimates
+SMOOTH_STACK_MIN = 256   # bytes of stack that must stay free (the planner interrupt's solves on top)
+
+
+def smooth_plan(law_cls, par, start, target, event, n_event, below=False):
+    """the closed form of one leg, the event applied at the law time of frame step n_event (a stop
+    there comes to rest at a real position; its last step is the last whole one before it: when that
+    position is a whole number, up to rounding, the firmware may end on it or one short of it:
+    below=True takes the one short):
+    (number of steps, final position, times(k): the law's times (s) of steps k (0-based array),
+    positions(k): the absolute positions after them)"""
+    import numpy as np
+    d = 1 if target >= start else -1
+    law = law_cls(*par)
+    law.start(abs(target - start))
+    pieces = []  # (first step index, law, step offset in its frame, time offset, origin, direction)
+    if event is None:
+        pieces.append((0, law, 0, 0.0, start, d))
+        count, final = abs(target - start), target
+    else:
+        pre = law_cls(*par)
+        pre.start(abs(target - start))
+        pieces.append((0, pre, 0, 0.0, start, d))
+        s = float(law.times(np.array([n_event]))[0])
+        frame_to = (event[2] - start) * d if event[0] == "to" else None
+        if frame_to is not None and law.retarget(s, frame_to):
+            pieces.append((n_event, law, 0, 0.0, start, d))
+            count, final = frame_to, event[2]
+        else:  # a stop (or a target behind: the stop, then a move from rest from its last whole step)
+            law.stop(s)
+            rest = law.final()
+            end = int(math.floor(rest + 1e-6))
+            if below and abs(rest - round(rest)) < 1e-6:
+                end -= 1
+            pieces.append((n_event, law, 0, 0.0, start, d))
+            count, final = end, start + d * end
+            if frame_to is not None:
+                back = law_cls(*par)
+                R = abs(event[2] - final)
+                back.start(R)
+                pieces.append((end, back, -end, law.t_final(), final, 1 if event[2] >= final else -1))
+                count, final = end + R, event[2]
+
+    def which(k):
+        return np.searchsorted([p[0] for p in pieces], k, side="right") - 1
+
+    def times(k):
+        k = np.asarray(k)
+        out = np.zeros(len(k))
+        w = which(k)
+        for i, (_, lw, off, t0, _, _) in enumerate(pieces):
+            sel = w == i
+            if np.any(sel):
+                out[sel] = t0 + lw.times(k[sel] + 1 + off)
+        return out
+
+    def positions(k):
+        k = np.asarray(k)
+        out = np.zeros(len(k), dtype=np.int64)
+        w = which(k)
+        for i, (_, _, off, _, org, dd) in enumerate(pieces):
+            sel = w == i
+            out[sel] = org + dd * (k[sel] + 1 + off)
+        return out
+    return count, final, times, positions
+
+
+def divided_differences(t, x, h, order):
+    """order-th divided differences of x(t) over nodes order+1 edges about h apart, slid every 2 ms
+    (times 1, 2 or 6: velocity, acceleration, jerk); each is a weighted mean of the true derivative
+    between its nodes (a B-spline kernel, positive): its peak is never above the law's"""
+    import numpy as np
+    out = []
+    fact = (1.0, 1.0, 2.0, 6.0)[order]
+    for tau in np.arange(t[0], t[-1] - order * h, 0.002):
+        idx = np.searchsorted(t, tau + h * np.arange(order + 1))
+        idx = np.minimum(idx, len(t) - 1)
+        if len(set(idx.tolist())) != order + 1:
+            continue
+        tt, xx = t[idx], x[idx].astype(float)
+        for k in range(1, order + 1):  # the divided-difference table
+            xx = (xx[1:] - xx[:-1]) / (tt[k:] - tt[:-k])
+        out.append((tt[0], fact * xx[0], tt[-1]))
+    return out
+
+
+def smooth_kinematics(t, x, par, what, problems):
+    """velocity continuity, peak acceleration and jerk estimated from the edges (t s, positions);
+    returns (peak accel, peak jerk)"""
+    vmax, accel, jerk = par
+    jitter = (LATE_BOUND + 2) / F_CPU  # the most an edge may be displaced from its plan
+    v = divided_differences(t, x, SMOOTH_H_V, 1)
+    dv_worst = 0.0
+    for (ta, va, _), (_, vb, tb) in zip(v, v[1:]):
+        # each is the velocity at some instant of its window: two neighbours differ by at most accel
+        # times the span of both, plus what the edges' jitter makes of them; a jump would show
+        allowed = SMOOTH_ACCEL_TOL * accel * (tb - ta) + 4 * vmax * jitter / SMOOTH_H_V
+        dv_worst = max(dv_worst, abs(vb - va) / allowed)
+    if dv_worst > 1:
+        problems.append(f"{what}: the velocity over {SMOOTH_H_V * 1e3:.0f} ms windows changes {dv_worst:.2f} times "
+                        f"more than accel allows between neighbours (a jump)")
+    a = divided_differences(t, x, SMOOTH_H_A, 2)
+    j = divided_differences(t, x, SMOOTH_H_J, 3)
+    amax = max((abs(q[1]) for q in a), default=0.0)
+    jmax = max((abs(q[1]) for q in j), default=0.0)
+    if amax > SMOOTH_ACCEL_TOL * accel:
+        at = max(a, key=lambda q: abs(q[1]))[0]
+        problems.append(f"{what}: acceleration {amax:.0f} steps/s^2 at {at:.3f} s, above {accel} + 2 %")
+    if jmax > SMOOTH_JERK_TOL * jerk:
+        at = max(j, key=lambda q: abs(q[1]))[0]
+        problems.append(f"{what}: jerk {jmax:.0f} steps/s^3 at {at:.3f} s, above {jerk} + 5 %")
+    return amax, jmax
+
+
+def check_smooth_move(env):
+    """SmoothMove.ino: eight legs on the smooth ramp (out and back, a stop, a new target ahead, one
+    behind, one at 20,000 steps/s, a forceStop() and the move from there); every edge against the closed form of the law (aligned at the
+    leg's earliest: late never early, at most LATE_BOUND cycles + 2 ticks), the event's step fitted
+    where the firmware applied it (its edge within the lead of the call); final positions; no
+    underrun; velocity continuous, acceleration <= accel + 2 %, jerk <= jerk + 5 % estimated from the
+    edges by divided differences over nodes 40 ms (acceleration) and 60 ms (jerk) apart; the stack."""
+    import numpy as np
+    from smooth_law import Law
+    log = run(env, "SmoothMove", "wait ^READY SmoothMove$\ntimeout 40000\nwait ^FINISHED$\n")
+    problems = []
+    common(log, problems)
+    got = [l.text for l in log.rx]
+    if got[:len(SMOOTH_REPLIES_SETUP)] != SMOOTH_REPLIES_SETUP:
+        problems.append(f"setup replies {got[:len(SMOOTH_REPLIES_SETUP)]}, expected {SMOOTH_REPLIES_SETUP}")
+    if "setRamp(EXACT) while moving: busy: a move is in progress" not in got:
+        problems.append("no 'setRamp(EXACT) while moving: busy: a move is in progress'")
+    starts = log.lines_matching(r"^moveTo -?\d+$")
+    dones = log.lines_matching(r"^DONE ")
+    if len(starts) != len(SMOOTH_LEGS) or len(dones) != len(SMOOTH_LEGS) or not line_of(log, r"^FINISHED$"):
+        problems.append(f"expected {len(SMOOTH_LEGS)} moveTo and DONE lines and FINISHED; got {got}")
+        return CheckResult(False, "no conversation", problems)
+    stack = int(log.end.get("stack_min_free", "-1"))
+    if stack < SMOOTH_STACK_MIN:
+        problems.append(f"stack: {stack} bytes free at the lowest, fewer than {SMOOTH_STACK_MIN}")
+    edges = log.rising("XSTEP")
+    ticks = F_CPU / 16000000.0  # cycles per tick of the step timer (MULTI_TICK_HZ: 16 MHz)
+    worst_late, peak_a, peak_j, first_ms, acts_ms, pos, halted_at = 0.0, [], [], [], [], 0, []
+    for i, (start, target, par, event) in enumerate(SMOOTH_LEGS):
+        what = f"leg {i + 1} ({start if start is not None else pos} -> {target}"
+        what += f", {event[0]} {event[2] if event[0] == 'to' else ''}".rstrip() + ")" if event else ")"
+        what = what.replace("halt)", "forceStop)")
+        if start is None:
+            start = pos
+        c0 = starts[i].cycle
+        c1 = starts[i + 1].cycle if i + 1 < len(starts) else dones[-1].cycle
+        e = np.array([c for c in edges if c0 < c <= c1], dtype=float)
+        if len(e) == 0:
+            problems.append(f"{what}: no steps")
+            continue
+        first_ms.append((e[0] - c0) / F_CPU * 1e3)
+        m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", dones[i].text)
+        if not m or int(m.group(2)) != 0:
+            problems.append(f"{what}: '{dones[i].text}': underruns")
+        end_fw = int(m.group(1)) if m else None
+        n_event = None
+        if event is None:
+            count, end, times, positions = smooth_plan(Law, par, start, target, None, 0)
+        elif event[0] == "halt":
+            # forceStop(): the move's law up to the halt, no step after the line that follows the call
+            call = line_of(log, event[1], c0)
+            if call is None:
+                problems.append(f"{what}: no '{event[1]}' line")
+                continue
+            after = int(np.sum(e > call.cycle))
+            if after:
+                problems.append(f"{what}: {after} steps after '{call.text}'")
+            _, _, times, positions = smooth_plan(Law, par, start, target, None, 0)
+            count = len(e)
+            end = start + (count if target >= start else -count)
+            halted_at.append(end)
+        else:
+            call = line_of(log, event[1], c0)
+            if call is None:
+                problems.append(f"{what}: no '{event[1]}' line")
+                continue
+            k_call = int(np.searchsorted(e, call.cycle))
+            lo = max(1, k_call - 200)
+            hi = min(len(e) - 1, k_call + int(par[0] * (SMOOTH_LEAD_MS + 20) / 1000.0) + 200)
+            _, _, t0f, _ = smooth_plan(Law, par, start, target, None, 0)
+            head = np.arange(0, lo)
+            off = float(np.min(e[head] - t0f(head) * F_CPU))
+
+            def score(nb):
+                cnt, _, tf, _ = smooth_plan(Law, par, start, target, event, nb[0], nb[1])
+                if cnt != len(e):
+                    return 1e12 * abs(cnt - len(e))
+                n = nb[0]
+                sub = np.unique(np.concatenate([np.arange(n, len(e), 97), np.arange(max(n, len(e) - 60), len(e))]))
+                return float(np.max(np.abs(e[sub] - off - tf(sub) * F_CPU)))
+            coarse = {(n, b): score((n, b)) for n in range(lo, hi + 1, 25) for b in (False, True)}
+            best = min(coarse, key=coarse.get)[0]
+            fine = {(n, b): score((n, b)) for n in range(max(lo, best - 25), min(hi, best + 25) + 1)
+                    for b in (False, True)}
+            n_event, below = min(fine, key=fine.get)
+            count, end, times, positions = smooth_plan(Law, par, start, target, event, n_event, below)
+        if count != len(e):
+            problems.append(f"{what}: {len(e)} steps, the law has {count}")
+            pos = end_fw if end_fw is not None else end
+            continue
+        ks = np.arange(len(e))
+        t = times(ks)
+        x = positions(ks)
+        if event is not None and (event[0] == "stop" or len(set(np.sign(np.diff(x)).tolist())) > 1):
+            # where the planner was when the request ran: the last step handed out, at most the lead
+            # (and a command) ahead of the call; decided by the law only for a stop (and a target
+            # behind, which stops first): a new target ahead in the cruise gives the same steps
+            # wherever it lands
+            ahead = (e[n_event - 1] - call.cycle) / F_CPU * 1e3
+            acts_ms.append(ahead)
+            if not -5.0 <= ahead <= SMOOTH_LEAD_MS + 10.0:
+                problems.append(f"{what}: the event fits at step {n_event}, {ahead:.1f} ms after the call "
+                                f"(expected within the lead, {SMOOTH_LEAD_MS} ms)")
+        errs = e - t * F_CPU
+        late = errs - errs.min()
+        worst_late = max(worst_late, float(late.max()))
+        if late.max() > LATE_BOUND + 2 * ticks:
+            k = int(late.argmax())
+            problems.append(f"{what}: step {k + 1} {late[k]:.0f} cycles after the law (aligned at the earliest; "
+                            f"bound {LATE_BOUND} + 2 ticks){'' if n_event is None else f', event at step {n_event}'}")
+        # DIR at every step: the law's direction of that step
+        dirs = np.sign(np.diff(np.concatenate([[start], x])))
+        bad = [k for k in range(0, len(e), 1 + len(e) // 400) if log.level_before("XDIR", e[k]) != (1 if dirs[k] > 0 else 0)]
+        if bad:
+            problems.append(f"{what}: DIR wrong at step {bad[0] + 1}")
+        # the kinematics from the measured edges alone, one piece per move from rest (a reversal
+        # starts a new one)
+        cut = [0] + [k for k in range(1, len(dirs)) if dirs[k] != dirs[k - 1]] + [len(e)]
+        for a_, b_ in zip(cut, cut[1:]):
+            ts = e[a_:b_] / F_CPU
+            xs = np.cumsum(dirs[a_:b_])
+            am, jm = smooth_kinematics(ts, xs, par, what, problems)
+            peak_a.append((am / par[1], am, par[1]))
+            peak_j.append((jm / par[2], jm, par[2]))
+        pos = end
+    pa = max(peak_a) if peak_a else (0, 0, 1)
+    pj = max(peak_j) if peak_j else (0, 0, 1)
+    return CheckResult(not problems,
+                       f"{len(edges)} steps in {len(SMOOTH_LEGS)} legs up to 20,000 steps/s (a forceStop() at "
+                       f"{halted_at[0] if halted_at else '?'}: no step after it), 0 underruns; every edge on the "
+                       f"closed form within 2 ticks + {worst_late:.0f} cycles late at most; peak acceleration "
+                       f"{pa[1]:.0f} of {pa[2]} steps/s^2 ({pa[0] * 100:.1f} %), peak jerk {pj[1]:.0f} of {pj[2]} "
+                       f"steps/s^3 ({pj[0] * 100:.1f} %), from the edges; first step {min(first_ms, default=0):.1f}-"
+                       f"{max(first_ms, default=0):.1f} ms after moveTo; stop/new targets act {min(acts_ms, default=0):.1f}-"
+                       f"{max(acts_ms, default=0):.1f} ms "
+                       f"after the call (the stop and the target behind); stack {stack} B free at the lowest", problems)
+
+
 CHECKS_BY_EXAMPLE = (
     ("MoveAndBack", "X to 10000 and back at 20,000 steps/s: positions, DIR, ENABLE, no underrun, the "
                     "constant-acceleration law", check_move_and_back),
@@ -689,6 +967,9 @@ CHECKS_BY_EXAMPLE = (
                 "setCurrentPosition, move", check_api_tour),
     ("LabRamp", "setRamp: the Leib and simplistic ramps on a Stepper, every edge on motionsim's intervals, "
                 "the refusals", check_lab_ramp),
+    ("SmoothMove", "setRamp(SMOOTH): every edge on the filter-shaped law's closed form, through a stop and new "
+                   "targets ahead and behind, up to 20,000 steps/s, a forceStop(); acceleration and jerk from the "
+                   "edges within their limits, 0 underruns, the stack", check_smooth_move),
 )
 
 

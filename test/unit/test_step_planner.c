@@ -1050,10 +1050,105 @@ static void one_kind_inits_plan_the_same(void **state)
     }
 }
 
+/* The smooth planner hands out smooth_move's own commands, bit for bit (the same calls on a bare
+ * smooth_move_t: its own tests hold them against the closed form), through a move from rest, a new
+ * target ahead, one behind (its stop, then the move back), a stop; parameters and jerk refused as
+ * smooth_law_set_params refuses them, nothing changed then. */
+static void smooth_planner_is_smooth_move(void **state)
+{
+    ramp_params_t p = {0.0f, 10000.0f, 20000.0f, 16000000U};
+    smooth_params_t sp = {10000.0, 20000.0, 200000.0, 16000000U};
+    step_smooth_t store;
+    smooth_move_t m;
+    step_planner_t pl;
+    step_cmd_t ca, cb;
+    uint32_t total = 0;
+    int phase;
+    (void)state;
+    assert_int_equal(step_planner_init_smooth(&pl, &p, 200000.0, &store, 100), MS_OK);
+    assert_int_equal(smooth_move_init(&m, &sp, 100), MS_OK);
+    pl.max_cmd_ticks = 16000U; /* 1 ms, as the MotionStepper library's */
+    m.max_cmd_ticks = 16000U;
+    assert_int_equal(pl.algo, RAMP_ALGO_SMOOTH);
+    for (phase = 0; phase < 5; phase++) {
+        unsigned i, cmds = phase == 4 ? 100000U : 60U;
+        if (phase == 0) {
+            assert_int_equal(step_planner_move(&pl, 20100), MS_OK);
+            assert_int_equal(smooth_move_to(&m, 20100), MS_OK);
+        } else if (phase == 1) {
+            assert_int_equal(step_planner_move(&pl, 9000), MS_OK); /* ahead */
+            assert_int_equal(smooth_move_to(&m, 9000), MS_OK);
+        } else if (phase == 2) {
+            assert_int_equal(step_planner_move(&pl, -3000), MS_OK); /* behind: stop, then back */
+            assert_int_equal(smooth_move_to(&m, -3000), MS_OK);
+            assert_int_equal(step_planner_target(&pl), -3000);
+            cmds = 1200U;
+        } else if (phase == 3) {
+            step_planner_stop(&pl);
+            smooth_move_stop(&m);
+        }
+        for (i = 0; i < cmds; i++) {
+            uint8_t ra = step_planner_next(&pl, &ca), rb = smooth_move_next(&m, &cb);
+            assert_int_equal(ra, rb);
+            if (!ra)
+                break;
+            assert_int_equal(ca.rate, cb.rate);
+            assert_int_equal(ca.add, cb.add);
+            assert_int_equal(ca.count, cb.count);
+            assert_int_equal(ca.flags, cb.flags);
+            total += ca.count;
+        }
+        assert_int_equal(step_planner_position(&pl), smooth_move_position(&m));
+        assert_int_equal(step_planner_target(&pl), smooth_move_target(&m));
+        assert_int_equal(step_planner_busy(&pl), smooth_move_busy(&m));
+    }
+    assert_false(step_planner_busy(&pl));
+    assert_true(total > 3000U);
+    /* stopped on the way back */
+    assert_true(step_planner_position(&pl) < 0 && step_planner_position(&pl) > -3000);
+    assert_int_equal(step_planner_rewind(&pl, 1, 0, 1), MS_ERR_NOT_SUPPORTED);
+    /* refusals: nothing changes */
+    assert_int_equal(step_planner_set_jerk(&pl, 0.0), MS_ERR_JERK_NOT_POSITIVE);
+    assert_int_equal(step_planner_set_jerk(&pl, -5.0), MS_ERR_JERK_NOT_POSITIVE);
+    assert_int_equal(step_planner_set_jerk(&pl, NAN), MS_ERR_NOT_FINITE);
+    assert_int_equal(step_planner_set_jerk(&pl, INFINITY), MS_ERR_NOT_FINITE);
+    assert_int_equal(step_planner_set_jerk(&pl, 39999.0), MS_ERR_JERK_TOO_LOW); /* accel^2/vmax = 40000 */
+    assert_true(store.jerk_sps3 == 200000.0);
+    assert_int_equal(step_planner_set_jerk(&pl, 40000.0), MS_OK);
+    assert_true(store.jerk_sps3 == 40000.0);
+    assert_int_equal(step_planner_smooth_check(&p, 39999.0), MS_ERR_JERK_TOO_LOW);
+    {
+        step_planner_t q;
+        step_smooth_t st2;
+        assert_int_equal(step_planner_init_smooth(&q, &p, 1000.0, &st2, 0), MS_ERR_JERK_TOO_LOW);
+        assert_int_equal(step_planner_init_smooth(&q, &p, 1e5, 0, 0), MS_ERR_NULL);
+        assert_int_equal(step_planner_init_exact(&q, &p, 0), MS_OK);
+        assert_int_equal(step_planner_set_jerk(&q, 1e5), MS_ERR_NOT_SUPPORTED);
+    }
+    /* a new jerk at rest: the next move is that of smooth_move with it */
+    sp.jerk_sps3 = 40000.0;
+    assert_int_equal(smooth_move_set_params(&m, &sp), MS_OK);
+    m.max_cmd_ticks = 16000U; /* set_params puts back its default */
+    assert_int_equal(step_planner_move(&pl, 0), MS_OK);
+    assert_int_equal(smooth_move_to(&m, 0), MS_OK);
+    for (;;) {
+        uint8_t ra = step_planner_next(&pl, &ca), rb = smooth_move_next(&m, &cb);
+        assert_int_equal(ra, rb);
+        if (!ra)
+            break;
+        assert_int_equal(ca.rate, cb.rate);
+        assert_int_equal(ca.add, cb.add);
+        assert_int_equal(ca.count, cb.count);
+        assert_int_equal(ca.flags, cb.flags);
+    }
+    assert_int_equal(step_planner_position(&pl), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(one_kind_inits_plan_the_same),
+        cmocka_unit_test(smooth_planner_is_smooth_move),
         cmocka_unit_test(queue_fifo_full_empty),
         cmocka_unit_test(executor_follows_its_formula),
         cmocka_unit_test(exact_reference_moves_every_step),

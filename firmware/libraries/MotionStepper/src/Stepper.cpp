@@ -4,6 +4,7 @@
  * counts up); an inverted axis shows the user their negation. */
 #include "Stepper.h"
 
+#include <stdlib.h>
 #include <string.h>
 #include <util/atomic.h>
 
@@ -30,7 +31,7 @@ Stepper::Stepper(Axis axis, int)
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
       last_status_(MS_OK), cuts_missed_(0), stop_up_(0), stop_from_(0), stop_pos_(0), stop_target_(0), stop_n_(0),
       stop_active_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
-      ramp_hooks_(0), group_(0)
+      ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0)
 {
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
@@ -67,15 +68,25 @@ motion_status_t Stepper::begin()
     return MS_OK;
 }
 
+/* set by set_ramp_smooth (null in a sketch that never asks for the smooth ramp) */
+motion_status_t (*Stepper::smooth_check_)(const ramp_params_t *, double);
+motion_status_t (*Stepper::smooth_init_)(step_planner_t *, const ramp_params_t *, double, step_smooth_t *, int32_t);
+motion_status_t (*Stepper::smooth_jerk_)(step_planner_t *, double);
+
 /* The planner for the ramp and parameters in force, at rest at pos. Commands of at most
  * MOTION_STEPPER_CMD_MS (lib's default is 4 ms): the queue then holds its lead in short pieces, and
  * a stop waits for less. */
 motion_status_t Stepper::init_planner(int32_t pos)
 {
-    motion_status_t st = step_planner_init_hooked(&planner_, algo_, &params_, ramp_hooks_, pos);
+    motion_status_t st = algo_ == RAMP_ALGO_SMOOTH
+                             ? smooth_init_(&planner_, &params_, (double)jerk_, smooth_, pos)
+                             : step_planner_init_hooked(&planner_, algo_, &params_, ramp_hooks_, pos);
     if (st != MS_OK)
         return st;
-    planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL * MOTION_STEPPER_CMD_MS;
+    /* the smooth ramp keeps lib's 4 ms: its commands cost more (solves), and a stop acts after the
+     * lead anyway (no cut) */
+    if (planner_.algo != RAMP_ALGO_SMOOTH)
+        planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL * MOTION_STEPPER_CMD_MS;
     if (planner_.algo == RAMP_ALGO_EXACT)
         planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
     stop_n_ = 0; /* no stop planned ahead for this planner yet */
@@ -87,6 +98,8 @@ motion_status_t Stepper::init_planner(int32_t pos)
  * so if it plans, every move does (as the sketches' `set` checks). */
 motion_status_t Stepper::probe(ramp_algo_t algo, const ramp_hooks_t *hooks, const ramp_params_t &p) const
 {
+    if (algo == RAMP_ALGO_SMOOTH)
+        return smooth_check_(&p, (double)jerk_); /* set with algo_ by set_ramp_smooth */
     if (algo == RAMP_ALGO_EXACT) {
         step_planner_t pl;
         return step_planner_init_trapezoid(&pl, algo, &p, 0);
@@ -101,16 +114,49 @@ float Stepper::vmax_limit() const
         return (float)STEPPER_MAX_SPS_LEIB;
     if (algo_ == RAMP_ALGO_SIMPLISTIC)
         return (float)STEPPER_MAX_SPS_SIMPLISTIC;
+    if (algo_ == RAMP_ALGO_SMOOTH)
+        return (float)STEPPER_MAX_SPS_SMOOTH;
     return (float)MULTI_MAX_SPS;
 }
 
-motion_status_t Stepper::setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks)
+motion_status_t Stepper::set_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks)
 {
-    motion_status_t st;
     if (algo == RAMP_ALGO_SIGMOID)
         return MS_ERR_RAMP_NOT_HERE;
     if (algo != RAMP_ALGO_EXACT && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_SIMPLISTIC)
         return MS_ERR_OUT_OF_RANGE;
+    return switch_ramp(algo, hooks);
+}
+
+/* setRamp(RAMP_ALGO_SMOOTH): the only place that names lib's smooth planner, so that a sketch that
+ * never asks for it links none of smooth_move */
+motion_status_t Stepper::set_ramp_smooth()
+{
+    if (isRunning())
+        return MS_ERR_BUSY;
+    smooth_check_ = step_planner_smooth_check;
+    smooth_init_ = step_planner_init_smooth;
+    smooth_jerk_ = step_planner_set_jerk;
+    if (!smooth_) {
+        /* checked first, so that a refusal allocates nothing */
+        if (params_.vmax_sps > (float)STEPPER_MAX_SPS_SMOOTH)
+            return MS_ERR_OUT_OF_RANGE;
+        motion_status_t st = smooth_check_(&params_, (double)jerk_);
+        if (st != MS_OK)
+            return st;
+        smooth_ = static_cast<step_smooth_t *>(malloc(sizeof(step_smooth_t)));
+        if (!smooth_)
+            return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its planner */
+    }
+    motion_status_t st = switch_ramp(RAMP_ALGO_SMOOTH, 0);
+    if (st == MS_OK && BackgroundPlanner::leadMs() < MOTION_STEPPER_SMOOTH_LEAD_MS)
+        (void)BackgroundPlanner::setLeadMs(MOTION_STEPPER_SMOOTH_LEAD_MS); /* its planner needs the bank */
+    return st;
+}
+
+motion_status_t Stepper::switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks)
+{
+    motion_status_t st;
     if (isRunning())
         return MS_ERR_BUSY;
     {
@@ -164,6 +210,26 @@ motion_status_t Stepper::setMaxSpeed(float steps_per_s)
 motion_status_t Stepper::setAcceleration(float steps_per_s2)
 {
     return set_param(steps_per_s2, (float)STEPPER_MAX_ACCEL_EXACT, P_ACCEL);
+}
+
+motion_status_t Stepper::setJerk(float steps_per_s3)
+{
+    motion_status_t st;
+    if (isnan(steps_per_s3) || isinf(steps_per_s3))
+        return MS_ERR_NOT_FINITE;
+    if (!(steps_per_s3 > 0.0f))
+        return MS_ERR_JERK_NOT_POSITIVE;
+    if (smooth_check_)
+        st = smooth_check_(&params_, (double)steps_per_s3); /* the law's own rule */
+    else
+        st = steps_per_s3 * params_.vmax_sps < params_.accel_sps2 * params_.accel_sps2 ? MS_ERR_JERK_TOO_LOW : MS_OK;
+    if (st != MS_OK)
+        return st;
+    PlannerLock lock;
+    jerk_ = steps_per_s3;
+    if (begun_ && algo_ == RAMP_ALGO_SMOOTH)
+        (void)smooth_jerk_(&planner_, (double)jerk_); /* checked: from its next move from rest */
+    return MS_OK;
 }
 
 motion_status_t Stepper::setMinSpeed(float steps_per_s)

@@ -41,6 +41,22 @@
 
 class StepperGroup;
 
+/* The smooth ramp's highest vmax (setMaxSpeed, setRamp(RAMP_ALGO_SMOOTH): MS_ERR_OUT_OF_RANGE above):
+ * the rate the emulator check of the SmoothMove example verified clean (docs/smooth-move.md). */
+#ifndef STEPPER_MAX_SPS_SMOOTH
+#define STEPPER_MAX_SPS_SMOOTH 20000.0
+#endif
+/* setRamp(RAMP_ALGO_SMOOTH) raises BackgroundPlanner's lead (all axes) to at least this, ms: the
+ * smooth planner's commands near rest and at the knots cost more than the time they cover (smx
+ * solves of up to 8 ms each), and a stop or a new target is planned in 13-22 ms, so the queue must
+ * bank that much ahead (the SmoothMove check: underruns with less). */
+#ifndef MOTION_STEPPER_SMOOTH_LEAD_MS
+#define MOTION_STEPPER_SMOOTH_LEAD_MS 100U
+#endif
+#ifndef STEPPER_DEFAULT_JERK
+#define STEPPER_DEFAULT_JERK 100000.0
+#endif
+
 /* A stop() or a new target while moving cuts the queue (MotionBoard's StepCut.h, shared with the
  * sketches' console): the commands whose first step lies more than MOTION_STEPPER_CUT_US (a stop
  * from the cruise) or MOTION_STEPPER_CUT_SLOW_US (a stop while the speed changes, a new target)
@@ -103,8 +119,31 @@ public:
      * (StepperPins.h; setMaxSpeed and setRamp refuse more: MS_ERR_OUT_OF_RANGE); the parameters in
      * force must suit the new ramp (its own status otherwise). RAMP_ALGO_SIGMOID: MS_ERR_RAMP_NOT_HERE
      * (its table lives in the SCurveStepper sketch). A StepperGroup's moves are always exact. */
-    motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0);
+    /*   RAMP_ALGO_SMOOTH      the filter-shaped, jerk-limited move (lib's smooth_move.h): the velocity
+     *                         command through two moving averages tau1 = vmax/accel, tau2 = accel/jerk
+     *                         (setJerk); |acceleration| <= accel, |jerk| <= jerk, velocity and
+     *                         acceleration continuous, every step within a tick of the law. vmax up to
+     *                         STEPPER_MAX_SPS_SMOOTH; v0 is not used (it starts and ends at rest). A
+     *                         stop() sends the command to 0 and a new target continues from the
+     *                         filter's state, both from the last step planned: they act after the
+     *                         steps already queued (the lead, leadMs()), not at a cut. Its planner
+     *                         (about 1 KB) is allocated from the heap at the first setRamp(SMOOTH) of a
+     *                         Stepper (MS_ERR_OUT_OF_RANGE if there is no room) and kept; a sketch
+     *                         that never asks for it does not link it. Its first step comes some 40 ms
+     *                         after moveTo() from rest (the solver's start; docs/smooth-move.md). */
+    inline __attribute__((always_inline)) motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0)
+    {
+        return algo == RAMP_ALGO_SMOOTH ? set_ramp_smooth() : set_ramp(algo, hooks);
+    }
     ramp_algo_t ramp() const { return algo_; }
+    /* The smooth ramp's peak jerk, steps/s^3 (default STEPPER_DEFAULT_JERK): > 0 and at least
+     * accel^2/vmax of the parameters in force (tau2 <= tau1), else MS_ERR_NOT_FINITE,
+     * MS_ERR_JERK_NOT_POSITIVE or MS_ERR_JERK_TOO_LOW and nothing changes. Kept for the smooth ramp
+     * whatever the ramp in force; while the smooth ramp moves, from its next move from rest. While it
+     * is the ramp in force, setMaxSpeed/setAcceleration refuse values that would make the jerk too
+     * low (MS_ERR_JERK_TOO_LOW). */
+    motion_status_t setJerk(float steps_per_s3);
+    float jerk() const { return jerk_; }
     float maxSpeed() const { return params_.vmax_sps; }
     float acceleration() const { return params_.accel_sps2; }
     float minSpeed() const { return params_.v0_sps; }
@@ -194,6 +233,14 @@ private:
     motion_status_t set_param(float value, float limit, uint8_t which);
     float vmax_limit() const;
     motion_status_t probe(ramp_algo_t algo, const ramp_hooks_t *hooks, const ramp_params_t &p) const;
+    motion_status_t set_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks);
+    motion_status_t set_ramp_smooth();
+    motion_status_t switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks);
+    /* the smooth ramp's lib calls, set by set_ramp_smooth (a sketch without it links none of them) */
+    static motion_status_t (*smooth_check_)(const ramp_params_t *params, double jerk_sps3);
+    static motion_status_t (*smooth_init_)(step_planner_t *pl, const ramp_params_t *params, double jerk_sps3,
+                                           step_smooth_t *store, int32_t pos);
+    static motion_status_t (*smooth_jerk_)(step_planner_t *pl, double jerk_sps3);
     motion_status_t init_planner(int32_t pos);
     static void call_hook(uint8_t axis, bool forward);
     static void hook_x(bool forward);
@@ -230,6 +277,8 @@ private:
     const ramp_hooks_t *ramp_hooks_;
     StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */
     ramp_params_t params_;
+    float jerk_;
+    step_smooth_t *smooth_; /* the smooth ramp's planner state (heap), or none yet */
     step_planner_t planner_;
 };
 
