@@ -942,6 +942,17 @@ def check_smooth_move(env):
         pos = end
     pa = max(peak_a) if peak_a else (0, 0, 1)
     pj = max(peak_j) if peak_j else (0, 0, 1)
+    # docs/smooth-move.md quotes this check's figures: they must be the ones measured now
+    doc_path = os.path.join(env.root, "docs", "smooth-move.md") if hasattr(env, "root") else \
+        os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "docs", "smooth-move.md")
+    if os.path.exists(doc_path):
+        doc = " ".join(open(doc_path).read().split())
+        quoted = [f"{len(edges):,} steps in eight legs", f"2 ticks + {worst_late:.0f} cycles",
+                  f"{pa[0] * 100:.1f} % of accel and {pj[0] * 100:.1f} % of jerk", f"{stack} bytes of stack free",
+                  f"({min(acts_ms, default=0):.1f} ms and {max(acts_ms, default=0):.1f} ms after the call"]
+        for q in quoted:
+            if q not in doc:
+                problems.append(f"docs/smooth-move.md does not quote the figure measured now: {q!r}")
     return CheckResult(not problems,
                        f"{len(edges)} steps in {len(SMOOTH_LEGS)} legs up to 20,000 steps/s (a forceStop() at "
                        f"{halted_at[0] if halted_at else '?'}: no step after it), 0 underruns; every edge on the "
