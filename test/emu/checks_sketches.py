@@ -1055,7 +1055,7 @@ def check_stepper_bad_input(env, sketch):
 # part): the benchmark's reference move at a rate within every sketch's limit, with a `?` during
 # the move; all steps, no underrun, no late edge, every edge on its plan within 8 cycles except
 # those meeting another interrupt (at most 3 %, each within STEPPER_OTHER_ISR_CYCLES).
-ENGINE_RATE = {"exact": 90000, "leib": 7000, "simplistic": 12000, "sigmoid": 50000}
+ENGINE_RATE = {"exact": 80000, "leib": 7000, "simplistic": 12000, "sigmoid": 50000}
 
 
 def check_engine_at_speed(env, sketch):
