@@ -16,6 +16,15 @@
 
 #include "closed_form.h" /* the closed form, urand/lrand */
 
+/* two step commands the same, field by field */
+static void assert_cmd_equal(const step_cmd_t *a, const step_cmd_t *b)
+{
+    assert_int_equal(a->rate, b->rate);
+    assert_int_equal(a->add, b->add);
+    assert_int_equal(a->count, b->count);
+    assert_int_equal(a->flags, b->flags);
+}
+
 /* ---- helpers ------------------------------------------------------------------------------ */
 
 /* Runs commands through the executor (the same functions the step interrupt calls). Records the
@@ -936,10 +945,7 @@ static void sketch_hooks_are_what_runs(void **state)
             assert_int_equal(ma, mb);
             if (!ma)
                 break;
-            assert_int_equal(ca.rate, cb.rate);
-            assert_int_equal(ca.add, cb.add);
-            assert_int_equal(ca.count, cb.count);
-            assert_int_equal(ca.flags, cb.flags);
+            assert_cmd_equal(&ca, &cb);
             if (++k == 40U) {
                 assert_int_equal(step_planner_move(&a, 12000), MS_OK);
                 assert_int_equal(step_planner_move(&b, 12000), MS_OK);
@@ -1030,10 +1036,7 @@ static void one_kind_inits_plan_the_same(void **state)
                 assert_int_equal(ra, rb);
                 if (!ra)
                     break;
-                assert_int_equal(ca.rate, cb.rate);
-                assert_int_equal(ca.add, cb.add);
-                assert_int_equal(ca.count, cb.count);
-                assert_int_equal(ca.flags, cb.flags);
+                assert_cmd_equal(&ca, &cb);
                 n += ca.count;
             }
             assert_int_equal(step_planner_position(&a), step_planner_position(&b));
@@ -1092,10 +1095,7 @@ static void smooth_planner_is_smooth_move(void **state)
             assert_int_equal(ra, rb);
             if (!ra)
                 break;
-            assert_int_equal(ca.rate, cb.rate);
-            assert_int_equal(ca.add, cb.add);
-            assert_int_equal(ca.count, cb.count);
-            assert_int_equal(ca.flags, cb.flags);
+            assert_cmd_equal(&ca, &cb);
             total += ca.count;
         }
         assert_int_equal(step_planner_position(&pl), smooth_move_position(&m));
@@ -1136,10 +1136,7 @@ static void smooth_planner_is_smooth_move(void **state)
         assert_int_equal(ra, rb);
         if (!ra)
             break;
-        assert_int_equal(ca.rate, cb.rate);
-        assert_int_equal(ca.add, cb.add);
-        assert_int_equal(ca.count, cb.count);
-        assert_int_equal(ca.flags, cb.flags);
+        assert_cmd_equal(&ca, &cb);
     }
     assert_int_equal(step_planner_position(&pl), 0);
 }
