@@ -185,6 +185,10 @@ def checks_for(env):
         if fam == "multiaxis" or (fam == "stepper" and "RAMP_ALGO_EXACT" in open(env.ino(s)).read()):
             checks.append((f"{s}: a serial stop or a target behind acts within {SERIAL_CUT_MS:g} ms of its line "
                            f"(the queue is cut), the deceleration on the law", lambda s=s: check_serial_cut(env, s)))
+        if s == "ExactRampStepper":
+            checks.append((f"{s}: {CUT_RACE_TARGETS} new targets whose cut lands as the step interrupt comes (a "
+                           f"build with no margin): every cut whole or none, no underrun, no pause",
+                           lambda s=s: check_cut_race(env, s)))
         if whole_line_scripts(s):
             checks.append((f"{s}: fuzz replays of lines cut in the output queue ({len(whole_line_scripts(s))} "
                            f"script): every reply a whole line of its own", lambda s=s: check_whole_lines(env, s)))
@@ -543,6 +547,64 @@ def check_serial_cut(env, sketch):
     if f.get("pos") != "0" or f.get("underruns") != "0":
         problems.append(f"the `?` at the end says {f}")
     return CheckResult(not problems, f"at {v:g} steps/s, accel {a:g}: " + "; ".join(figures), problems)
+
+
+# A cut laid out as the step interrupt reaches it (make fuzz seed 23 at the 80,000 limit: a target
+# behind at 7,300 steps/s was followed by a step 8.1 ms late, an underrun). The cut's margin alone
+# kept the interrupt away: laying the new commands out in place took up to 4,000 cycles after the
+# margin was checked, and an interrupt that came meanwhile found the first new slot not ready.
+# Here a build whose cut lands 1.5 ms ahead with no margin (tools/emu/emu.mk, EMU_CUTRACE_ELF)
+# takes 300 new targets ahead while cruising, sent at random moments: many of its cuts are laid out
+# just as the interrupt comes. Every cut must come off whole or not at all: no underrun, no pause.
+# With the cut laid out in place (before 2026-12-04) the same runs counted 12, 6 and 2 underruns
+# (and 12, 9 and 2 pauses).
+CUT_RACE_CASES = ((20000, 50000, 1), (50000, 200000, 2), (8000, 20000, 3))
+CUT_RACE_TARGETS = 300
+
+
+def cut_race_script(vmax, accel, seed):
+    import random
+    rnd = random.Random(seed)
+    lines = ["wait ^READY [^ ]+$", "timeout 20000", f"send set vmax {vmax}", "wait ^OK", f"send set accel {accel}",
+             "wait ^OK", "send 2000000000", "wait ^OK", "run 1500"]
+    for i in range(CUT_RACE_TARGETS):
+        lines += [f"send {1000000 + 7 * i}", "wait ^(OK|ERR)",
+                  f"run {rnd.choice([0, 1, 2, 3, 4, 5, 7, 9, 11])}.{rnd.randint(0, 999):03d}"]
+    return "\n".join(lines + ["send ?", "wait ^pos="]) + "\n"
+
+
+def check_cut_race(env, sketch):
+    elf = os.path.join(env.source_dir, "build", "emu", "cutrace", sketch, sketch + ".ino.elf")
+    if not os.path.isfile(elf):
+        return CheckResult(False, "no cut-race build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
+    problems, figures = [], []
+    for vmax, accel, seed in CUT_RACE_CASES:
+        log = emulog.run(elf, cut_race_script(vmax, accel, seed), pins=sketches.stepper_pins(env))
+        fails_of(log, problems)
+        rises = log.rising("STEP")
+        oks = log.lines_matching(r"^OK \d+ 10\d{5}$")
+        cuts = 0
+        for ok in oks:
+            # a cut: the new plan starts within 20 ms of steps of where the axis was at the reply
+            pos = sum(1 for c in rises if c <= ok.cycle)
+            if int(ok.text.split()[1]) - pos < vmax * 0.020:
+                cuts += 1
+        cruise = F_CPU / vmax
+        gaps = [(b, b - a) for a, b in zip(rises, rises[1:]) if a > rises[0] + F_CPU and b - a > 2.5 * cruise]
+        q = log.lines_matching("^pos=")
+        f = emulog.query_fields(q[-1].text) if q else {}
+        tag = f"vmax {vmax}, accel {accel}"
+        if len(oks) != CUT_RACE_TARGETS:
+            problems.append(f"{tag}: {len(oks)} of {CUT_RACE_TARGETS} targets answered OK")
+        if cuts < CUT_RACE_TARGETS // 3:
+            problems.append(f"{tag}: only {cuts} targets cut the queue (the check needs many cuts)")
+        if f.get("underruns") != "0" or f.get("late") != "0":
+            problems.append(f"{tag}: the `?` at the end says underruns={f.get('underruns')} late={f.get('late')}")
+        if gaps:
+            problems.append(f"{tag}: {len(gaps)} pauses in the cruise, the first {gaps[0][1]} cycles at cycle {gaps[0][0]}")
+        figures.append(f"{tag}: {cuts} of {len(oks)} targets cut the queue, {len(rises)} steps, "
+                       f"underruns={f.get('underruns')}, {len(gaps)} pauses")
+    return CheckResult(not problems, "; ".join(figures), problems)
 
 
 # Fuzz replays (test/data/fuzz-replays/README.md): the scripts of `make fuzz` runs that found a bug,

@@ -84,6 +84,16 @@ $(EMU_TIMED_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
 	  FIRMWARE_DEFINES="-DSTEPPER_TIMED_LOOP=1" bash tools/build_firmware.sh LeibRampStepper \
 	  >$(BUILD)/emu/timed.log 2>&1 || { cat $(BUILD)/emu/timed.log; exit 1; }; fi
 
+# ExactRampStepper with the console's cut made as late as it can be (1.5 ms ahead, no margin): its
+# check (checks_reliability.py, check_cut_race) retargets hundreds of times, so that some cuts are
+# laid out just as the step interrupt reaches them
+EMU_CUTRACE_ELF := $(BUILD)/emu/cutrace/ExactRampStepper/ExactRampStepper.ino.elf
+$(EMU_CUTRACE_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/cutrace
+	@if [ -f firmware/ExactRampStepper/ExactRampStepper.ino ]; then FIRMWARE_OUT=$(BUILD)/emu/cutrace \
+	  FIRMWARE_DEFINES="-DSTEP_CONSOLE_CUT_MARGIN_US=0 -DSTEP_CONSOLE_CUT_AHEAD_US=1500" bash tools/build_firmware.sh \
+	  ExactRampStepper >$(BUILD)/emu/cutrace.log 2>&1 || { cat $(BUILD)/emu/cutrace.log; exit 1; }; fi
+
 # The lab sketches with moveOneStep()'s two direction lines (those writing dirPin) replaced by
 # `(void)direction;`: the lab exercise undone. Their emulator check (checks_sketches.py,
 # check_direction_hook) sees DIR never change while the moves go both ways: the sketch's hook, not
@@ -100,7 +110,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

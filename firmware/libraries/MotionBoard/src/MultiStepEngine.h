@@ -263,9 +263,13 @@ public:
      * time); cut_apply() drops those commands and lays c out in their place, if the interrupt is
      * still at least min_ticks_left ticks from them and the ring has room (else it changes nothing
      * and returns false: the planner's work is discarded and the queue goes on as it was).
-     * Nothing else may lay out commands for the axis between the two calls. The drop runs from the newest command back, each slot with interrupts off for a few
-     * cycles; the engine's bookkeeping (queue length and time, positions, direction) then stands
-     * as if c had followed the kept ones all along, and the move's end mark is withdrawn. */
+     * Nothing else may lay out commands for the axis between the two calls. c's slots are made
+     * off the ring first; the first dropped slot then becomes c[0] in one copy with interrupts off
+     * (if the interrupt has not taken it: else nothing changes), so the interrupt never finds a
+     * half-made or missing slot at the cut; the engine's bookkeeping (queue length and time,
+     * positions, direction) then stands as if c had followed the kept ones all along, and the
+     * move's end mark is withdrawn. n is at most MULTI_CUT_MAX_CMDS. */
+    enum { MULTI_CUT_MAX_CMDS = 4 };
     struct Cut {
         uint32_t steps;
         int64_t time16;

@@ -28,7 +28,17 @@
 #ifndef STEP_CONSOLE_CUT_THEN_MIN_US
 #define STEP_CONSOLE_CUT_THEN_MIN_US MOTION_STEPPER_CUT_THEN_MIN_US
 #endif
-static const StepCutTiming CONSOLE_CUT = {16, 5000, 6000, 200, 3000, 4, STEP_CONSOLE_CUT_THEN_MIN_US};
+/* the margin's fixed part, us (a check builds it with 0: cut_apply must then refuse or switch
+ * cleanly however close the interrupt has come) */
+#ifndef STEP_CONSOLE_CUT_MARGIN_US
+#define STEP_CONSOLE_CUT_MARGIN_US 200U
+#endif
+/* how far ahead the cut lands, us: a stop from the cruise; a stop while the speed changes or a new
+ * target 1 ms farther */
+#ifndef STEP_CONSOLE_CUT_AHEAD_US
+#define STEP_CONSOLE_CUT_AHEAD_US 5000U
+#endif
+static const StepCutTiming CONSOLE_CUT = {16, STEP_CONSOLE_CUT_AHEAD_US, STEP_CONSOLE_CUT_AHEAD_US + 1000U, STEP_CONSOLE_CUT_MARGIN_US, 3000, 4, STEP_CONSOLE_CUT_THEN_MIN_US};
 
 static const char AXIS_NAME[MULTI_AXES] = {'x', 'y', 'z'};
 
@@ -201,7 +211,9 @@ bool StepConsole::cut_plan(uint8_t axis, bool stop, int32_t target, int32_t &fro
     float v = fabs(MultiStepEngine::speed(axis));
     if (!f || v > STEP_CONSOLE_CUT_MAX_SPS)
         return false;
+#if STEP_CONSOLE_CUT_MARGIN_US
     t.margin_us = (uint16_t)(t.margin_us + v * 0.015f);
+#endif
     return f(axis, &pl_[axis], stop, target, t, &from, &cuts_missed_);
 }
 
