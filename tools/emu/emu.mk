@@ -94,6 +94,14 @@ $(EMU_CUTRACE_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
 	  FIRMWARE_DEFINES="-DSTEP_CONSOLE_CUT_MARGIN_US=0 -DSTEP_CONSOLE_CUT_AHEAD_US=1500" bash tools/build_firmware.sh \
 	  ExactRampStepper >$(BUILD)/emu/cutrace.log 2>&1 || { cat $(BUILD)/emu/cutrace.log; exit 1; }; fi
 
+# test/emu/SmoothStart: the smooth ramp at a high acceleration and jerk, for its own check
+# (checks_library.py, check_smooth_start)
+EMU_SMOOTHSTART_ELF := $(BUILD)/emu/smoothstart/SmoothStart/SmoothStart.ino.elf
+$(EMU_SMOOTHSTART_ELF): $(EMU_FW_SRCS) test/emu/SmoothStart/SmoothStart.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/smoothstart
+	@FIRMWARE_OUT=$(BUILD)/emu/smoothstart bash tools/build_firmware.sh test/emu/SmoothStart \
+	  >$(BUILD)/emu/smoothstart.log 2>&1 || { cat $(BUILD)/emu/smoothstart.log; exit 1; }
+
 # The lab sketches with moveOneStep()'s two direction lines (those writing dirPin) replaced by
 # `(void)direction;`: the lab exercise undone. Their emulator check (checks_sketches.py,
 # check_direction_hook) sees DIR never change while the moves go both ways: the sketch's hook, not
@@ -110,7 +118,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

@@ -314,13 +314,29 @@ static bool others_stepping(uint8_t axis)
     return false;
 }
 
+static uint8_t s_start_full; /* bit i: axis i starts with its ring full (set_start_full) */
+
+void MultiStepEngine::set_start_full(uint8_t axis, bool full)
+{
+    if (axis >= MULTI_AXES)
+        return;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (full)
+            s_start_full |= (uint8_t)_BV(axis);
+        else
+            s_start_full &= (uint8_t)~_BV(axis);
+    }
+}
+
 bool MultiStepEngine::ready_to_start(uint8_t axis, const AxisSource &src)
 {
     AxisFeed &f = s_feed[axis];
     /* alone, the first MULTI_START_SLOTS commands suffice: the CPU plans the rest faster than they are
      * stepped; while other axes step, it shares the CPU with their planning, so it starts with its
      * ring full (or its lead laid out) */
-    uint8_t want = others_stepping(axis) ? (uint8_t)(f.nslots - 1U) : (uint8_t)MULTI_START_SLOTS;
+    uint8_t want = (others_stepping(axis) || (s_start_full & _BV(axis))) ? (uint8_t)(f.nslots - 1U)
+                                                                          : (uint8_t)MULTI_START_SLOTS;
     return f.ready >= want || f.ready >= f.nslots - 1U || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks;
 }
 
