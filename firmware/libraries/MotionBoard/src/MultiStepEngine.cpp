@@ -222,6 +222,7 @@ static void lay_one(uint8_t axis, AxisState &s, AxisFeed &f, const step_cmd_t &c
     f.duration[f.head] = duration_ticks(c);
     f.queued_ticks += lead_weight(f.duration[f.head]);
     f.ready++;
+    __asm__ __volatile__("" ::: "memory"); /* the fields stored before the flag */
     t.ready = 1; /* one byte, written last: the interrupt sees a complete slot */
     f.head = next_slot(f, f.head);
 }
@@ -606,7 +607,7 @@ int64_t slot_time16(const AxisSlot &t)
 
 /* the time from the edge armed now to the first step of slot `to`, ticks (UINT32_MAX: not before it,
  * or the interrupt has taken it already); cur: its current slot */
-static uint32_t ticks_until(uint8_t axis, uint8_t to)
+static __attribute__((noinline)) uint32_t ticks_until(uint8_t axis, uint8_t to)
 {
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
@@ -697,7 +698,7 @@ static inline void copy_slot(AxisSlot &t, const AxisSlot &c)
     t.p_start = c.p_start;
 }
 
-bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n)
+__attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n)
 {
     if (axis >= MULTI_AXES || r.cmds == 0 || n == 0 || n > MULTI_CUT_MAX_CMDS)
         return false;
@@ -749,6 +750,7 @@ bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_l
         if ((uint8_t)(k + 1U) < r.cmds)
             s.slot[next_slot(f, i)].ready = 0;
         copy_slot(s.slot[i], img[k]);
+        __asm__ __volatile__("" ::: "memory"); /* the fields stored before the flag */
         s.slot[i].ready = 1; /* one byte, written last */
     }
     /* the other dropped slots (none can be taken now: the one at i is not ready) */

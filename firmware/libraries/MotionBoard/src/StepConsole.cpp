@@ -167,6 +167,16 @@ void StepConsole::print_axis(Print &out, uint8_t axis)
     out.print(' ');
 }
 
+void StepConsole::print_ok(uint8_t axis, int32_t from, int32_t to)
+{
+    Print &out = serial_.out();
+    out.print(F("OK "));
+    print_axis(out, axis);
+    out.print(from);
+    out.print(' ');
+    out.print(to);
+}
+
 void StepConsole::report_done(uint8_t axis, int32_t position)
 {
     Print &out = serial_.out();
@@ -336,11 +346,8 @@ void StepConsole::handle_target(uint8_t axis, const char *word)
         /* the move continues into the new plan from a cut a few milliseconds ahead */
         has_next_[axis] = false;
         next_due_[axis] = false;
-        out.print(F("OK "));
-        print_axis(out, axis);
-        out.print(from);
-        out.print(' ');
-        out.println(to);
+        print_ok(axis, from, to);
+        out.println();
         feed();
         return;
     }
@@ -351,11 +358,7 @@ void StepConsole::handle_target(uint8_t axis, const char *word)
         has_next_[axis] = true;
         next_due_[axis] = false;
         next_target_[axis] = to;
-        out.print(F("OK "));
-        print_axis(out, axis);
-        out.print(from);
-        out.print(' ');
-        out.print(to);
+        print_ok(axis, from, to);
         out.print(F(" (after DONE "));
         print_axis(out, axis);
         out.print(from);
@@ -389,11 +392,8 @@ void StepConsole::handle_target(uint8_t axis, const char *word)
         /* where the new plan starts: the position after the steps already handed to the queue */
         from = step_planner_position(&pl);
     }
-    out.print(F("OK "));
-    print_axis(out, axis);
-    out.print(from);
-    out.print(' ');
-    out.println(to);
+    print_ok(axis, from, to);
+    out.println();
     feed();
 }
 

@@ -84,6 +84,7 @@ private:
      * cut (then planned after the queued steps) */
     bool cut_plan(uint8_t axis, bool stop, int32_t target, int32_t &from);
     void print_axis(Print &out, uint8_t axis); /* "x " on three axes, nothing on one */
+    void print_ok(uint8_t axis, int32_t from, int32_t to); /* "OK [x ]<from> <to>", no line end */
     uint8_t coord_mask() const { return co_ ? co_->mask : 0; }
     uint8_t coord_named() const { return co_ ? co_->named : 0; }
 

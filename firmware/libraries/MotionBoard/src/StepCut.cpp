@@ -11,6 +11,8 @@
 #define MOTION_STEPPER_TRACE 0
 #endif
 
+static_assert(STEP_CUT_MAX_CMDS <= MultiStepEngine::MULTI_CUT_MAX_CMDS, "cut_apply takes at most MULTI_CUT_MAX_CMDS commands");
+
 static step_planner_t s_scratch;
 
 step_planner_t &step_cut_scratch()

@@ -10,6 +10,9 @@
 
 #include "StepperGroup.h"
 
+static_assert(MOTION_STEPPER_CUT_CMDS <= MultiStepEngine::MULTI_CUT_MAX_CMDS,
+              "the stop planned ahead is laid out by cut_apply: at most MULTI_CUT_MAX_CMDS commands");
+
 namespace {
 const uint8_t ENABLE_PIN[3] = {38, 56, 62}; /* MultiAxisPins.h: PD7, PF2, PK0 */
 const uint8_t MULTI_DIR_PIN[3] = {55, 61, 48}; /* MultiAxisPins.h: PF1, PF7, PL1 */
