@@ -96,10 +96,11 @@
  * just below vmax does not (found by `make fuzz`): the limit is a rung below the highest rate at
  * which such a ramp keeps up (SimplisticRampStepper 13,000, LeibRampStepper 8,000 steps/s;
  * test/emu/checks_reliability.py checks a long ramp at the limit).
- * ExactRampStepper's is a rung below its bench ceiling: docs/bench.md made at 3f4e8e9 shows it clean
- * to 90,000 (100,000 misses by 19 edges beyond 8 cycles of 20,000; it was clean there at b3a4457,
- * which set the limit to 90,000 a rung below; an earlier run of make fuzz seed 24 at 90,000 also saw
- * an edge 262 cycles after its plan). Near it
+ * ExactRampStepper's is a rung below its bench ceiling: docs/bench.md made at c1572f4 shows it clean
+ * to 100,000 (599 edges beyond 8 cycles of 20,000, against the 600 allowed: only just), so 90,000;
+ * at 3f4e8e9 100,000 missed by 19 edges and the limit was 80,000 for a while (it was clean there at
+ * b3a4457 too, and an earlier run of make fuzz seed 24 at 90,000 saw an edge 262 cycles after its
+ * plan). Near it
  * an edge comes late now and then (`late=`: the core's serial and millis interrupts delayed the step
  * interrupt past its next edge's time, which then fires 2 us after its arming), sometimes a few
  * in a row (the interrupt that fired one ends after the next edge's time too), each less late than
@@ -130,7 +131,7 @@
 #define STEPPER_MAX_SPS_SCURVE 50000.0
 #endif
 #ifndef STEPPER_MAX_SPS_EXACT
-#define STEPPER_MAX_SPS_EXACT 80000.0
+#define STEPPER_MAX_SPS_EXACT 90000.0
 #endif
 #endif
 
