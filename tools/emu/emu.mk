@@ -101,6 +101,13 @@ $(EMU_SMOOTHSTART_ELF): $(EMU_FW_SRCS) test/emu/SmoothStart/SmoothStart.ino tool
 	@mkdir -p $(BUILD)/emu/smoothstart
 	@FIRMWARE_OUT=$(BUILD)/emu/smoothstart bash tools/build_firmware.sh test/emu/SmoothStart \
 	  >$(BUILD)/emu/smoothstart.log 2>&1 || { cat $(BUILD)/emu/smoothstart.log; exit 1; }
+# the same sketch far beyond the smooth planner's throughput (check_smooth_stall)
+EMU_SMOOTHSTALL_ELF := $(BUILD)/emu/smoothstall/SmoothStart/SmoothStart.ino.elf
+$(EMU_SMOOTHSTALL_ELF): $(EMU_FW_SRCS) test/emu/SmoothStart/SmoothStart.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/smoothstall
+	@FIRMWARE_OUT=$(BUILD)/emu/smoothstall FIRMWARE_DEFINES="-DSTEPPER_MAX_SPS_SMOOTH=50000 -DMULTI_MAX_SPS=50000 -DSMOOTHSTART_VMAX=50000 \
+	  -DSMOOTHSTART_ACCEL=250000 -DSMOOTHSTART_JERK=2500000" bash tools/build_firmware.sh test/emu/SmoothStart \
+	  >$(BUILD)/emu/smoothstall.log 2>&1 || { cat $(BUILD)/emu/smoothstall.log; exit 1; }
 
 # The lab sketches with moveOneStep()'s two direction lines (those writing dirPin) replaced by
 # `(void)direction;`: the lab exercise undone. Their emulator check (checks_sketches.py,
@@ -118,7 +125,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

@@ -4,8 +4,22 @@
  * step or two and cost more than the time they cover. Out to 20000, retargeted at 10000 to 25000,
  * back towards 0, stopped at 10000. Prints each call's status, each DONE with the underruns so far,
  * then FINISHED.
+ * Built a second time (tools/emu/emu.mk, EMU_SMOOTHSTALL_ELF) with the smooth limit lifted and
+ * SMOOTHSTART_VMAX 50000, SMOOTHSTART_ACCEL 250000, SMOOTHSTART_JERK 2500000: far beyond what the
+ * smooth planner keeps up with, so the queue runs dry many times, and every time the engine must step
+ * on (check_smooth_stall: once that stalled the axis for good, still "moving").
  */
 #include <MotionStepper.h>
+
+#ifndef SMOOTHSTART_VMAX
+#define SMOOTHSTART_VMAX 20000
+#endif
+#ifndef SMOOTHSTART_ACCEL
+#define SMOOTHSTART_ACCEL 60000
+#endif
+#ifndef SMOOTHSTART_JERK
+#define SMOOTHSTART_JERK 400000
+#endif
 
 Stepper x(Stepper::X);
 static uint8_t leg = 0;
@@ -22,9 +36,9 @@ void setup()
 {
     Serial.begin(115200);
     status(F("setRamp"), x.setRamp(RAMP_ALGO_SMOOTH));
-    status(F("setMaxSpeed"), x.setMaxSpeed(20000));
-    status(F("setJerk"), x.setJerk(400000));
-    status(F("setAcceleration"), x.setAcceleration(60000));
+    status(F("setMaxSpeed"), x.setMaxSpeed(SMOOTHSTART_VMAX));
+    status(F("setJerk"), x.setJerk(SMOOTHSTART_JERK));
+    status(F("setAcceleration"), x.setAcceleration(SMOOTHSTART_ACCEL));
     status(F("begin"), x.begin());
     Serial.println(F("READY SmoothStart"));
     status(F("moveTo 20000"), x.moveTo(20000));

@@ -97,6 +97,15 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s, 
         s_own_masked = s_own_masked | (uint8_t)_BV(axis);
     }
     write_ocr(axis, edge);
+    if (!in_isr) {
+        /* a start: a flag still set is a match of the old compare value (after an underrun the axis's
+         * interrupt is masked, and its last edge comes round again a wrap later). Cleared here, right
+         * after the new value is written, not after the check below: with it set, the check took a
+         * first edge already passed for one that had matched, start_axis then cleared the flag, and
+         * the edge waited a whole wrap (then the re-arming of catch_missed_match; found on a smooth
+         * move at 50,000 steps/s, check_smooth_stall) */
+        TIFR1 = ocf_bit(axis);
+    }
     since = (int16_t)(TCNT1 - prev);
     if (since < 0) {
         /* prev (a move's start) is still ahead, by d ticks: the compare value comes round once before
@@ -213,8 +222,7 @@ void start_axis(uint8_t axis, uint32_t base)
     s.acc = base;
     s.wraps = 0;
     sreg = SREG;
-    arm_step(axis, s, false); /* interrupts off from its arming on */
-    TIFR1 = ocf_bit(axis);
+    arm_step(axis, s, false); /* interrupts off from its arming on; clears the axis's stale match flag */
     s.running = 1;
     sync_g0(s);
     TIMSK1 |= ocie_bit(axis);
@@ -250,6 +258,24 @@ inline bool missed_by(uint16_t now, uint16_t edge)
     return (uint16_t)(now - edge) - 65U < 16320U;
 }
 
+/* Arms OCR1x margin ticks after TCNT1 and makes sure that this match still lies ahead once the value
+ * is written (interrupts off). The time from reading TCNT1 to the write can exceed 2 us at 16 MHz (48
+ * cycles seen for a run-time axis), and a compare value written behind the counter matches only a
+ * whole wrap later; the next look then found it missed again and re-armed it behind again, every
+ * time: the axis stood still for good, still "moving" (found on a smooth move at 50,000 steps/s).
+ * So the margin doubles until the value is ahead (or the match has come meanwhile). */
+static void rearm_ahead(uint8_t axis, uint8_t margin)
+{
+    uint16_t m = margin;
+    for (;;) {
+        uint16_t v = (uint16_t)(TCNT1 + m);
+        write_ocr(axis, v);
+        if ((TIFR1 & ocf_bit(axis)) || (uint16_t)(v - TCNT1) - 1U < 0x8000U)
+            return;
+        m = (uint16_t)(m * 2U);
+    }
+}
+
 void catch_missed_match(uint8_t axis)
 {
     AxisState &s = state(axis);
@@ -260,11 +286,10 @@ void catch_missed_match(uint8_t axis)
     {
         if (s.running && !(s.mode & _BV(AXIS_MODE_WAITING)) && !(s.flags & _BV(AXIS_SLOT_SLOW)) &&
             !(TIFR1 & ocf_bit(axis))) {
-            uint16_t now = TCNT1;
             /* OCR1x: the edge armed (in ahead form acc is the one after it); a re-arming by an earlier
              * look lies ahead */
-            if (missed_by(now, read_ocr(axis))) {
-                write_ocr(axis, now + s.late_ticks);
+            if (missed_by(TCNT1, read_ocr(axis))) {
+                rearm_ahead(axis, s.late_ticks);
                 s.late = s.late + 1U;
             }
         }
