@@ -965,6 +965,115 @@ def check_smooth_move(env):
                        f"after the call (the stop and the target behind); stack {stack} B free at the lowest", problems)
 
 
+# SmoothConsole.ino: the conversation (every refusal with its sentence, nothing changed by it: `?`
+# before and after), then a move from rest (vmax 20,000, accel 50,000, jerk 400,000 after `set jerk`)
+# whose every edge is on the law's closed form (test/emu/smooth_law.py, written apart from lib), and
+# a stop that ends on the DONE's position with every step made.
+SMOOTH_CONSOLE_SCRIPT = """wait ^READY SmoothConsole$
+send ?
+wait ^pos=
+send set jerk 0
+wait ^(OK|ERR)
+send set jerk nan
+wait ^(OK|ERR)
+send set jerk 1000
+wait ^(OK|ERR)
+send set vmax 30000
+wait ^(OK|ERR)
+send set speed 3
+wait ^(OK|ERR)
+send hello
+wait ^(OK|ERR)
+send 12.5
+wait ^(OK|ERR)
+send ?
+wait ^pos=
+send set jerk 400000
+wait ^(OK|ERR)
+send 20000
+wait ^(OK|ERR)
+timeout 20000
+wait ^DONE
+send -5000
+wait ^(OK|ERR)
+run 300
+send stop
+wait ^(OK|ERR)
+wait ^DONE
+send ?
+wait ^pos=
+"""
+SMOOTH_CONSOLE_REPLIES = [
+    "READY SmoothConsole",
+    "pos=0 target=0 state=idle speed=0 algo=smooth vmax=20000 accel=50000 jerk=500000 max_sps=20000 underruns=0",
+    "ERR jerk must be greater than 0 steps/s^3",
+    "ERR not a number",
+    "ERR jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)",
+    "ERR number out of range: vmax at most 20000 steps/s on the smooth ramp",
+    "ERR unknown command: no such parameter (vmax, accel, jerk)",
+    "ERR unknown command: try <target>, stop, !, ?, set vmax|accel|jerk <value>",
+    "ERR not a number: a target is one whole number of steps, -2147483648..2147483647",
+    "pos=0 target=0 state=idle speed=0 algo=smooth vmax=20000 accel=50000 jerk=500000 max_sps=20000 underruns=0",
+    "OK jerk=400000",
+    "OK 20000",
+    "DONE 20000",
+    "OK -5000",
+    "OK stop",
+]
+
+
+def check_smooth_console(env):
+    import numpy as np
+    from smooth_law import Law
+    log = run(env, "SmoothConsole", SMOOTH_CONSOLE_SCRIPT)
+    problems = []
+    common(log, problems)
+    got = [l.text for l in log.rx]
+    n = len(SMOOTH_CONSOLE_REPLIES)
+    if got[:n] != SMOOTH_CONSOLE_REPLIES:
+        bad = next((i for i, (a, b) in enumerate(zip(got, SMOOTH_CONSOLE_REPLIES)) if a != b), min(len(got), n))
+        problems.append(f"reply {bad + 1}: {got[bad] if bad < len(got) else None!r}, expected "
+                        f"{SMOOTH_CONSOLE_REPLIES[bad]!r}")
+        return CheckResult(False, "conversation", problems)
+    rest = got[n:]
+    m = re.match(r"^DONE (-?\d+)$", rest[0]) if rest else None
+    q = rest[1] if len(rest) > 1 else ""
+    if not m or not re.match(rf"^pos={m.group(1)} target={m.group(1)} state=idle speed=0 algo=smooth "
+                             r"vmax=20000 accel=50000 jerk=400000 max_sps=20000 underruns=0$", q):
+        problems.append(f"after the stop: {rest}, expected 'DONE <p>' and an idle `?` at p with 0 underruns")
+        return CheckResult(False, "conversation", problems)
+    stop_at = int(m.group(1))
+    edges = log.rising("XSTEP")
+    go = line_of(log, r"^OK 20000$")
+    back = line_of(log, r"^OK -5000$")
+    first = np.array([c for c in edges if go.cycle < c < back.cycle], dtype=float)
+    par = (20000, 50000, 400000)
+    count, _, times, _ = smooth_plan(Law, par, 0, 20000, None, 0)
+    worst = 0.0
+    if len(first) != count:
+        problems.append(f"the move to 20000: {len(first)} steps, the law has {count}")
+    else:
+        errs = first - times(np.arange(count)) * F_CPU
+        late = errs - errs.min()
+        worst = float(late.max())
+        if worst > LATE_BOUND + 2:
+            k = int(late.argmax())
+            problems.append(f"the move to 20000: step {k + 1} {worst:.0f} cycles after the law (aligned at the "
+                            f"earliest; bound {LATE_BOUND} + 2 ticks)")
+        am, jm = smooth_kinematics(first / F_CPU, np.arange(1, count + 1), par, "the move to 20000", problems)
+    second = [c for c in edges if c > back.cycle]
+    if not (0 < stop_at < 20000) or len(second) != 20000 - stop_at:
+        problems.append(f"the move towards -5000, stopped: {len(second)} steps, DONE {stop_at}")
+    if any(log.level_before("XDIR", c) != 0 for c in second[::97]):
+        problems.append("DIR not low on the way back")
+    summary = (f"{sum(1 for r in SMOOTH_CONSOLE_REPLIES if r.startswith('ERR '))} refusals with their sentences, nothing changed; the move to 20000: "
+               f"{len(first)} steps within 2 ticks + {worst:.0f} cycles of the closed form")
+    if len(first) == count:
+        summary += f", peak acceleration {am:.0f} of 50000, jerk {jm:.0f} of 400000 from the edges"
+    summary += f"; stop on the way back: DONE {stop_at}, {len(second)} steps"
+    return CheckResult(not problems, summary, problems)
+
+
 CHECKS_BY_EXAMPLE = (
     ("MoveAndBack", "X to 10000 and back at 20,000 steps/s: positions, DIR, ENABLE, no underrun, the "
                     "constant-acceleration law", check_move_and_back),
@@ -982,6 +1091,8 @@ CHECKS_BY_EXAMPLE = (
     ("SmoothMove", "setRamp(SMOOTH): every edge on the filter-shaped law's closed form, through a stop and new "
                    "targets ahead and behind, up to 20,000 steps/s, a forceStop(); acceleration and jerk from the "
                    "edges within their limits, 0 underruns, the stack", check_smooth_move),
+    ("SmoothConsole", "the smooth ramp from the serial line: `set jerk` and the other refusals with their "
+                      "sentences (nothing changed), a move on the closed form, a stop", check_smooth_console),
 )
 
 

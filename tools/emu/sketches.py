@@ -318,6 +318,26 @@ send 25000
 wait ^DONE
 run 100
 """,
+    # SmoothConsole: the stepper sketches' commands and `set jerk` for the smooth ramp (115200 baud)
+    "SmoothConsole": """\
+# SmoothConsole: `set jerk 0` refused, jerk 400000, out to 20000, then back towards -5000 and
+# stopped 300 ms later (the stop acts after the smooth ramp's lead, about 0.1 s)
+wait ^READY
+send set jerk 0
+wait ^(OK|ERR)
+send set jerk 400000
+wait ^(OK|ERR)
+send 20000
+timeout 20000
+wait ^DONE
+send -5000
+wait ^(OK|ERR)
+run 300
+send stop
+wait ^DONE
+send ?
+wait ^pos=
+""",
 }
 
 

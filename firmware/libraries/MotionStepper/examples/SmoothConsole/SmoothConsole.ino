@@ -1,0 +1,183 @@
+/* SmoothConsole - jerk-limited moves of the RAMPS X axis from the Serial Monitor: the smooth ramp
+ * (setRamp(RAMP_ALGO_SMOOTH): the velocity command through the moving-average-filter note's two
+ * moving averages, tau1 = vmax/accel, tau2 = accel/jerk) with the stepper sketches' commands and
+ * `set jerk`. Serial Monitor at 115200 baud, any line ending:
+ *   20000              move to absolute position 20000: "OK 20000", later "DONE 20000"; sent while
+ *                      moving, the move goes on from its speed and acceleration to the new target
+ *                      (or stops and comes back, for one behind); the replaced move gets no DONE
+ *   stop               the velocity command goes to 0: "OK stop", later "DONE <position>"
+ *   !                  halt now, no further step: "OK halt", later "DONE <position>"
+ *   ?                  pos= target= state=idle|moving speed= algo=smooth vmax= accel= jerk=
+ *                      max_sps= underruns=
+ *   set jerk 500000    also vmax and accel: "OK jerk=500000"; each takes effect at the next move
+ *                      from rest (setJerk: "while the smooth ramp moves, from its next move")
+ * A refused line gets "ERR <reason>" (the library's sentences, Stepper::statusText) and changes
+ * nothing: a jerk of 0, "nan", a jerk below accel^2/vmax (tau2 longer than tau1), a vmax above the
+ * smooth ramp's limit (STEPPER_MAX_SPS_SMOOTH).
+ * Defaults: vmax 20,000 steps/s, accel 50,000 steps/s^2, jerk 500,000 steps/s^3. A stop or a new
+ * target acts after the steps already queued (the smooth ramp's lead, about 0.1 s:
+ * docs/smooth-move.md); the first step comes about 0.1 s after a move from rest is asked for.
+ * A reply can come up to about 0.15 s after its line: while the planner interrupt banks the smooth
+ * ramp's costly commands near rest, loop() waits for it (a known limit of this ramp).
+ */
+#include <MotionStepper.h>
+#include <PrintReal.h>
+#include <line_reader.h>
+#include <text_parse.h>
+
+Stepper x(Stepper::X);
+static line_reader_t reader;
+
+/* "ERR <the library's sentence>[: detail]" */
+static void reply_error(motion_status_t st, const __FlashStringHelper *detail = 0)
+{
+    Serial.print(F("ERR "));
+    Serial.print(Stepper::statusText(st));
+    if (detail) {
+        Serial.print(F(": "));
+        Serial.print(detail);
+    }
+    Serial.println();
+}
+
+static void print_param(const char *key)
+{
+    Serial.print(key);
+    Serial.print('=');
+    if (text_word_is(key, "vmax"))
+        print_real_exact(Serial, x.maxSpeed(), 0);
+    else if (text_word_is(key, "accel"))
+        print_real_exact(Serial, x.acceleration(), 0);
+    else
+        print_real_exact(Serial, x.jerk(), 0);
+}
+
+/* set <vmax|accel|jerk> <value> */
+static void handle_set(const char *cursor)
+{
+    char key[LINE_READER_MAX + 1], value[LINE_READER_MAX + 1];
+    double v;
+    motion_status_t st;
+    if (text_next_word(&cursor, key, sizeof key) <= 0 || text_next_word(&cursor, value, sizeof value) <= 0 ||
+        !text_at_end(cursor)) {
+        reply_error(MS_ERR_UNKNOWN_COMMAND, F("set vmax|accel|jerk <value>"));
+        return;
+    }
+    if (!text_word_is(key, "vmax") && !text_word_is(key, "accel") && !text_word_is(key, "jerk")) {
+        reply_error(MS_ERR_UNKNOWN_COMMAND, F("no such parameter (vmax, accel, jerk)"));
+        return;
+    }
+    st = text_parse_real(value, -1e30, 1e30, &v);
+    if (st == MS_OK) {
+        if (text_word_is(key, "vmax"))
+            st = x.setMaxSpeed((float)v);
+        else if (text_word_is(key, "accel"))
+            st = x.setAcceleration((float)v);
+        else
+            st = x.setJerk((float)v);
+    }
+    if (st == MS_ERR_OUT_OF_RANGE && text_word_is(key, "vmax")) {
+        Serial.print(F("ERR "));
+        Serial.print(Stepper::statusText(st));
+        Serial.print(F(": vmax at most "));
+        print_real_exact(Serial, STEPPER_MAX_SPS_SMOOTH, 0);
+        Serial.println(F(" steps/s on the smooth ramp"));
+        return;
+    }
+    if (st != MS_OK) {
+        reply_error(st);
+        return;
+    }
+    Serial.print(F("OK "));
+    print_param(key);
+    Serial.println();
+}
+
+static void print_status()
+{
+    Serial.print(F("pos="));
+    Serial.print(x.currentPosition());
+    Serial.print(F(" target="));
+    Serial.print(x.targetPosition());
+    Serial.print(x.isRunning() ? F(" state=moving speed=") : F(" state=idle speed="));
+    print_real_exact(Serial, x.speed(), 0);
+    Serial.print(F(" algo=smooth "));
+    print_param("vmax");
+    Serial.print(' ');
+    print_param("accel");
+    Serial.print(' ');
+    print_param("jerk");
+    Serial.print(F(" max_sps="));
+    print_real_exact(Serial, STEPPER_MAX_SPS_SMOOTH, 0);
+    Serial.print(F(" underruns="));
+    Serial.println(x.underruns());
+}
+
+static void handle(const char *line)
+{
+    const char *cursor = line;
+    char word[LINE_READER_MAX + 1];
+    int32_t target;
+    motion_status_t st;
+    if (text_next_word(&cursor, word, sizeof word) <= 0)
+        return;
+    if (text_word_is(word, "?") && text_at_end(cursor)) {
+        print_status();
+    } else if (text_word_is(word, "set")) {
+        handle_set(cursor);
+    } else if ((text_word_is(word, "stop") || text_word_is(word, "!")) && text_at_end(cursor)) {
+        bool halt = word[0] == '!';
+        bool was = x.isRunning();
+        st = halt ? x.forceStop() : x.stop();
+        if (st != MS_OK) {
+            reply_error(st);
+            return;
+        }
+        Serial.print(halt ? F("OK halt") : F("OK stop"));
+        Serial.println(was ? F("") : F(" (not moving)"));
+    } else if ((word[0] >= '0' && word[0] <= '9') || word[0] == '-' || word[0] == '+') {
+        st = text_at_end(cursor) ? text_parse_whole(word, INT32_MIN, INT32_MAX, &target) : MS_ERR_NOT_A_NUMBER;
+        if (st != MS_OK) {
+            reply_error(st, F("a target is one whole number of steps, -2147483648..2147483647"));
+            return;
+        }
+        st = x.moveTo(target);
+        if (st != MS_OK) {
+            reply_error(st);
+            return;
+        }
+        Serial.print(F("OK "));
+        Serial.println(target);
+    } else {
+        reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <target>, stop, !, ?, set vmax|accel|jerk <value>"));
+    }
+}
+
+void setup()
+{
+    Serial.begin(115200);
+    line_reader_init(&reader);
+    x.setRamp(RAMP_ALGO_SMOOTH);
+    x.setMaxSpeed(20000);
+    x.setJerk(500000); /* before the acceleration: the jerk in force must be at least accel^2/vmax */
+    x.setAcceleration(50000);
+    x.begin();
+    Serial.println(F("READY SmoothConsole"));
+}
+
+void loop()
+{
+    long at;
+    motion_status_t err;
+    while (Serial.available()) {
+        line_event_t ev = line_reader_feed(&reader, (uint8_t)Serial.read(), &err);
+        if (ev == LINE_READY)
+            handle(reader.line);
+        else if (ev == LINE_ERROR)
+            reply_error(err);
+    }
+    if (x.takeDone(at)) {
+        Serial.print(F("DONE "));
+        Serial.println(at);
+    }
+}
