@@ -509,6 +509,7 @@ motion_status_t step_planner_init_smooth(step_planner_t *pl, const ramp_params_t
     if (st != MS_OK)
         return st;
     store->jerk_sps3 = jerk_sps3;
+    store->params_pending = 0;
     pl->ops = &SMOOTH_OPS;
     pl->algo = RAMP_ALGO_SMOOTH;
     pl->hooks = 0;
@@ -535,9 +536,12 @@ static motion_status_t smooth_apply(step_planner_t *pl, const ramp_params_t *par
     if (!pl->active && !pl->has_then && !smooth_move_busy(&pl->smooth->move) &&
         smooth_move_set_params(&pl->smooth->move, &sp) == MS_OK) {
         pl->params_new = 0;
+        pl->smooth->params_pending = 0;
         return MS_OK;
     }
     pl->params_new = 1;
+    pl->smooth->params_pending = 1; /* survives the halt at the move's end (found by a review of the
+                                       SmoothConsole example: a vmax set while moving never applied) */
     return MS_OK;
 }
 
@@ -563,7 +567,7 @@ static uint8_t smooth_left(const step_planner_t *pl)
 static motion_status_t smooth_from_rest(step_planner_t *pl, int32_t to)
 {
     smooth_move_t *m = &pl->smooth->move;
-    if (pl->params_new) {
+    if (pl->params_new || pl->smooth->params_pending) {
         smooth_params_t sp;
         motion_status_t st;
         smooth_params_of(&sp, &pl->params, pl->smooth->jerk_sps3);
@@ -572,6 +576,7 @@ static motion_status_t smooth_from_rest(step_planner_t *pl, int32_t to)
         if (st != MS_OK)
             return st;
         pl->params_new = 0;
+        pl->smooth->params_pending = 0;
     }
     m->max_cmd_ticks = pl->max_cmd_ticks;
     smooth_move_halt(m, pl->pos);

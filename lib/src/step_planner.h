@@ -47,7 +47,9 @@ struct step_planner_ops; /* step_planner.c: the exact ramp's, the stepwise ramps
 /* The smooth move's state, kept outside the planner (step_planner_init_smooth). */
 typedef struct {
     smooth_move_t move;
-    double jerk_sps3; /* the jerk in force for the next move from rest */
+    double jerk_sps3;       /* the jerk in force for the next move from rest */
+    uint8_t params_pending; /* parameters set while moving, for the next move from rest (kept here:
+                               step_planner_halt, at a move's end, clears the planner's own flag) */
 } step_smooth_t;
 
 typedef struct {

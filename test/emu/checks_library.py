@@ -343,6 +343,29 @@ def check_one_stop(log, problems, e, made_before, t_sw, done, v, a):
     return (start - t_sw) * 1000.0 / F_CPU
 
 
+STOP_PHASES = (0.0, 0.2, 0.4, 0.6, 0.8)  # ms added to the 600 ms of cruise before the switch closes
+
+
+def stop_latency_at(env, v, dt, problems):
+    """StopOnSwitch: the speed line sets v, halts end the first move and the move back, and dt ms past
+    600 ms into the next move (at v, counting up as the main run's stops) the stop switch closes: the
+    latency (ms) of that stop, checked as in the main run (None: not measured, a problem said)"""
+    script = (f"pin D3 1\npin D2 1\nwait ^READY StopOnSwitch$\nwait ^MOVE towards 1000000 \nsend {v}\n"
+              f"wait ^SPEED {v}$\npin D2 0\ntimeout 20000\nwait ^DONE\npin D2 1\nwait ^MOVE towards -1000000 \n"
+              f"run 50\npin D2 0\nwait ^DONE\npin D2 1\nwait ^MOVE towards 1000000 \n"
+              f"run {600 + dt:.1f}\npin D3 0\nwait ^DONE\n")
+    log = run(env, "StopOnSwitch", script)
+    common(log, problems)
+    stops = [c for c, t, r in log.events if t == "input" and r.split()[0] == "D3" and r.split()[2] == "0"]
+    dones = log.lines_matching(r"^DONE ")
+    if len(stops) != 1 or len(dones) != 3:
+        problems.append(f"stop at {v}, {dt} ms later: no conversation ({[l.text for l in log.rx]})")
+        return None
+    e = log.rising("XSTEP")
+    made = sum(1 if log.level_before("XDIR", x) else -1 for x in e if x < stops[0])
+    return check_one_stop(log, problems, e, made, stops[0], dones[2], float(v), STOP_ACCEL)
+
+
 def check_stop_on_switch(env):
     """stop() at one switch at three speeds, forceStop() at another (StopOnSwitch.ino): the deceleration's
     length and law, the latency from the switch against docs/library.md, no step after a halt"""
@@ -371,18 +394,28 @@ def check_stop_on_switch(env):
         lat = check_one_stop(log, problems, e, position_at(t_sw), t_sw, d, float(v), STOP_ACCEL)
         if lat is not None:
             latency[v] = lat
+    # the latency depends on where the next command boundary lies after the cut (the cruise's commands
+    # cover up to 1 ms): each rate is also stopped at STOP_PHASES offsets across a millisecond, and the
+    # page quotes the worst of them (one stop alone moved between 1.1 and 2.1 ms with the code's timing)
+    sweep = {v: [lat for lat in (stop_latency_at(env, v, dt, problems) for dt in STOP_PHASES) if lat is not None]
+             for v in (10000, 20000, 25000)}
+    for v, lat in latency.items():
+        sweep.setdefault(v, []).append(lat)
     doc = doc_stop_latency(env)
     if doc is None:
         problems.append("docs/library.md quotes no 'stop latency **<ms> ms** at 10,000 steps/s, **<ms> ms** at "
-                        f"20,000 and **<ms> ms** at 25,000' (measured {latency})")
+                        f"20,000 and **<ms> ms** at 25,000' (measured {sweep})")
     else:
-        for v, lat in sorted(latency.items()):
-            if lat > doc[v]:
-                problems.append(f"stop at {v}: the deceleration began {lat:.2f} ms after the switch, more than the "
-                                f"{doc[v]} ms docs/library.md promises")
-            elif doc[v] - lat > DOC_DRIFT_MS:
-                problems.append(f"docs/library.md quotes a stop latency of {doc[v]} ms at {v}, measured {lat:.2f} ms "
-                                f"(more than {DOC_DRIFT_MS} ms below): update the page")
+        for v, lats in sorted(sweep.items()):
+            if not lats:
+                continue
+            if max(lats) > doc[v]:
+                problems.append(f"stop at {v}: the deceleration began {max(lats):.2f} ms after the switch, more than "
+                                f"the {doc[v]} ms docs/library.md promises")
+            elif doc[v] - max(lats) > DOC_DRIFT_MS:
+                problems.append(f"docs/library.md quotes a stop latency of {doc[v]} ms at {v}, measured at most "
+                                f"{max(lats):.2f} ms over the command's phase (more than {DOC_DRIFT_MS} ms below): "
+                                "update the page")
     # the halts: no step after the switch (loop() reads two pins per pass)
     halt_us = []
     for t_h in halts:
@@ -400,8 +433,10 @@ def check_stop_on_switch(env):
         if line_of(log, r"^HALT switch at ", t_h) is None:
             problems.append("halt: no 'HALT switch at' line")
     took = call_times(log, problems)
-    figs = ("stop: deceleration began " + ", ".join(f"{latency[v]:.2f} ms at {v}" for v in sorted(latency)) +
-            f" steps/s after the switch (lead {LEAD_MS} ms), v^2/2a steps on the law; halts: last step "
+    figs = ("stop: deceleration began " + ", ".join(f"{min(sweep[v]):.2f}-{max(sweep[v]):.2f} ms at {v}"
+                                                     for v in sorted(sweep) if sweep[v]) +
+            f" steps/s after the switch over {len(STOP_PHASES) + 1} phases (lead {LEAD_MS} ms), v^2/2a steps on the "
+            "law; halts: last step "
             f"{max(halt_us):.0f} us after the switch; moveTo/stop/forceStop returned within {took} us")
     return CheckResult(not problems, figs, problems)
 
@@ -966,9 +1001,11 @@ def check_smooth_move(env):
 
 
 # SmoothConsole.ino: the conversation (every refusal with its sentence, nothing changed by it: `?`
-# before and after), then a move from rest (vmax 20,000, accel 50,000, jerk 400,000 after `set jerk`)
-# whose every edge is on the law's closed form (test/emu/smooth_law.py, written apart from lib), and
-# a stop that ends on the DONE's position with every step made.
+# before and after), then a move from rest (vmax 20,000, accel 40,000, jerk 400,000 after `set jerk`)
+# whose every edge is on the law's closed form (test/emu/smooth_law.py, written apart from lib), a
+# `set vmax 10000` while it moves (kept for the next move from rest: the move back never steps faster;
+# the library once dropped such a value at the end of the move, found by a review of this example),
+# and a stop that ends on the DONE's position with every step made.
 SMOOTH_CONSOLE_SCRIPT = """wait ^READY SmoothConsole$
 send ?
 wait ^pos=
@@ -992,20 +1029,24 @@ send set jerk 400000
 wait ^(OK|ERR)
 send 20000
 wait ^(OK|ERR)
+run 200
+send set vmax 10000
+wait ^(OK|ERR)
 timeout 20000
 wait ^DONE
 send -5000
 wait ^(OK|ERR)
-run 300
+run 500
 send stop
 wait ^(OK|ERR)
 wait ^DONE
 send ?
 wait ^pos=
 """
+SMOOTH_CONSOLE_IDLE = "pos=0 target=0 state=idle speed=0 algo=smooth vmax=20000 accel=40000 jerk=200000 max_sps=20000 underruns=0"
 SMOOTH_CONSOLE_REPLIES = [
     "READY SmoothConsole",
-    "pos=0 target=0 state=idle speed=0 algo=smooth vmax=20000 accel=50000 jerk=500000 max_sps=20000 underruns=0",
+    SMOOTH_CONSOLE_IDLE,
     "ERR jerk must be greater than 0 steps/s^3",
     "ERR not a number",
     "ERR jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)",
@@ -1013,9 +1054,10 @@ SMOOTH_CONSOLE_REPLIES = [
     "ERR unknown command: no such parameter (vmax, accel, jerk)",
     "ERR unknown command: try <target>, stop, !, ?, set vmax|accel|jerk <value>",
     "ERR not a number: a target is one whole number of steps, -2147483648..2147483647",
-    "pos=0 target=0 state=idle speed=0 algo=smooth vmax=20000 accel=50000 jerk=500000 max_sps=20000 underruns=0",
+    SMOOTH_CONSOLE_IDLE,
     "OK jerk=400000",
     "OK 20000",
+    "OK vmax=10000",
     "DONE 20000",
     "OK -5000",
     "OK stop",
@@ -1039,7 +1081,7 @@ def check_smooth_console(env):
     m = re.match(r"^DONE (-?\d+)$", rest[0]) if rest else None
     q = rest[1] if len(rest) > 1 else ""
     if not m or not re.match(rf"^pos={m.group(1)} target={m.group(1)} state=idle speed=0 algo=smooth "
-                             r"vmax=20000 accel=50000 jerk=400000 max_sps=20000 underruns=0$", q):
+                             r"vmax=10000 accel=40000 jerk=400000 max_sps=20000 underruns=0$", q):
         problems.append(f"after the stop: {rest}, expected 'DONE <p>' and an idle `?` at p with 0 underruns")
         return CheckResult(False, "conversation", problems)
     stop_at = int(m.group(1))
@@ -1047,7 +1089,7 @@ def check_smooth_console(env):
     go = line_of(log, r"^OK 20000$")
     back = line_of(log, r"^OK -5000$")
     first = np.array([c for c in edges if go.cycle < c < back.cycle], dtype=float)
-    par = (20000, 50000, 400000)
+    par = (20000, 40000, 400000)
     count, _, times, _ = smooth_plan(Law, par, 0, 20000, None, 0)
     worst = 0.0
     if len(first) != count:
@@ -1064,13 +1106,20 @@ def check_smooth_console(env):
     second = [c for c in edges if c > back.cycle]
     if not (0 < stop_at < 20000) or len(second) != 20000 - stop_at:
         problems.append(f"the move towards -5000, stopped: {len(second)} steps, DONE {stop_at}")
+    # the vmax set while the first move ran: the move back's fastest rate (over 20 steps, above the
+    # edges' jitter) at most 10,000 steps/s + 1 %, and near it (it had the time to get there)
+    fastest = max((20 * F_CPU / (b - a) for a, b in zip(second, second[20:])), default=0.0)
+    if not 9000 <= fastest <= 10100:
+        problems.append(f"the move back's fastest rate {fastest:.0f} steps/s: want at most 10,000 + 1 % (the vmax "
+                        "set while the move before ran) and above 9,000")
     if any(log.level_before("XDIR", c) != 0 for c in second[::97]):
         problems.append("DIR not low on the way back")
     summary = (f"{sum(1 for r in SMOOTH_CONSOLE_REPLIES if r.startswith('ERR '))} refusals with their sentences, nothing changed; the move to 20000: "
                f"{len(first)} steps within 2 ticks + {worst:.0f} cycles of the closed form")
     if len(first) == count:
-        summary += f", peak acceleration {am:.0f} of 50000, jerk {jm:.0f} of 400000 from the edges"
-    summary += f"; stop on the way back: DONE {stop_at}, {len(second)} steps"
+        summary += f", peak acceleration {am:.0f} of 40000, jerk {jm:.0f} of 400000 from the edges"
+    summary += (f"; the move back at the vmax set during the first (fastest {fastest:.0f} steps/s), stopped: "
+                f"DONE {stop_at}, {len(second)} steps")
     return CheckResult(not problems, summary, problems)
 
 

@@ -1141,11 +1141,54 @@ static void smooth_planner_is_smooth_move(void **state)
     assert_int_equal(step_planner_position(&pl), 0);
 }
 
+/* Parameters set while a smooth move runs take effect at the next move from rest, also when that
+ * move ended with step_planner_halt (what the step engine's end of a move calls: it dropped them once,
+ * so the new vmax never applied; found by a review of the SmoothConsole example): the next move is
+ * smooth_move's with the new vmax and jerk, and it never steps faster than the new vmax. */
+static void smooth_planner_keeps_parameters_set_while_moving(void **state)
+{
+    ramp_params_t p = {0.0f, 10000.0f, 20000.0f, 16000000U}, slow = {0.0f, 5000.0f, 20000.0f, 16000000U};
+    smooth_params_t sp = {5000.0, 20000.0, 300000.0, 16000000U};
+    step_smooth_t store;
+    smooth_move_t m;
+    step_planner_t pl;
+    step_cmd_t ca, cb;
+    uint32_t min_rate = UINT32_MAX;
+    (void)state;
+    assert_int_equal(step_planner_init_smooth(&pl, &p, 200000.0, &store, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 20000), MS_OK);
+    assert_int_equal(step_planner_next(&pl, &ca), 1);
+    /* while moving: kept for the next move from rest */
+    assert_int_equal(step_planner_set_params(&pl, &slow), MS_OK);
+    assert_int_equal(step_planner_set_jerk(&pl, 300000.0), MS_OK);
+    while (step_planner_next(&pl, &ca))
+        ;
+    step_planner_halt(&pl, step_planner_position(&pl)); /* the engine's end of the move */
+    assert_int_equal(step_planner_position(&pl), 20000);
+    assert_int_equal(smooth_move_init(&m, &sp, 20000), MS_OK);
+    m.max_cmd_ticks = pl.max_cmd_ticks;
+    assert_int_equal(step_planner_move(&pl, 0), MS_OK);
+    assert_int_equal(smooth_move_to(&m, 0), MS_OK);
+    for (;;) {
+        uint8_t ra = step_planner_next(&pl, &ca), rb = smooth_move_next(&m, &cb);
+        assert_int_equal(ra, rb);
+        if (!ra)
+            break;
+        assert_cmd_equal(&ca, &cb);
+        if (!(ca.flags & STEP_CMD_WIDE) && ca.rate < min_rate)
+            min_rate = ca.rate;
+    }
+    /* 5,000 steps/s at 16 MHz: 3,200 ticks a step (2^-16 ticks in rate), within the law's rounding */
+    assert_true(min_rate >= (uint32_t)(3199.0 * 65536.0));
+    assert_int_equal(step_planner_position(&pl), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(one_kind_inits_plan_the_same),
         cmocka_unit_test(smooth_planner_is_smooth_move),
+        cmocka_unit_test(smooth_planner_keeps_parameters_set_while_moving),
         cmocka_unit_test(queue_fifo_full_empty),
         cmocka_unit_test(executor_follows_its_formula),
         cmocka_unit_test(exact_reference_moves_every_step),

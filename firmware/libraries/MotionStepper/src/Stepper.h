@@ -129,8 +129,8 @@ public:
      *                         steps already queued (the lead, leadMs()), not at a cut. Its planner
      *                         (about 1 KB) is allocated from the heap at the first setRamp(SMOOTH) of a
      *                         Stepper (MS_ERR_OUT_OF_RANGE if there is no room) and kept; a sketch
-     *                         that never asks for it does not link it. Its first step comes some 40 ms
-     *                         after moveTo() from rest (the solver's start; docs/smooth-move.md). */
+     *                         that never asks for it does not link it. Its first step comes about 0.1 s
+     *                         after moveTo() from rest (the ring is filled first; docs/smooth-move.md). */
     inline __attribute__((always_inline)) motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0)
     {
         return algo == RAMP_ALGO_SMOOTH ? set_ramp_smooth() : set_ramp(algo, hooks);

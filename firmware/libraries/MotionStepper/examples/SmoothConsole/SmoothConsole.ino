@@ -7,37 +7,41 @@
  *                      (or stops and comes back, for one behind); the replaced move gets no DONE
  *   stop               the velocity command goes to 0: "OK stop", later "DONE <position>"
  *   !                  halt now, no further step: "OK halt", later "DONE <position>"
+ *                      (at rest: "OK stop (not moving)", "OK halt (not moving)", no DONE)
  *   ?                  pos= target= state=idle|moving speed= algo=smooth vmax= accel= jerk=
  *                      max_sps= underruns=
- *   set jerk 500000    also vmax and accel: "OK jerk=500000"; each takes effect at the next move
- *                      from rest (setJerk: "while the smooth ramp moves, from its next move")
+ *   set jerk 200000    also vmax and accel: "OK jerk=200000"; sent while moving, from the next move
+ *                      from rest (the move in progress keeps its own)
  * A refused line gets "ERR <reason>" (the library's sentences, Stepper::statusText) and changes
  * nothing: a jerk of 0, "nan", a jerk below accel^2/vmax (tau2 longer than tau1), a vmax above the
- * smooth ramp's limit (STEPPER_MAX_SPS_SMOOTH).
- * Defaults: vmax 20,000 steps/s, accel 50,000 steps/s^2, jerk 500,000 steps/s^3. A stop or a new
- * target acts after the steps already queued (the smooth ramp's lead, about 0.1 s:
- * docs/smooth-move.md); the first step comes about 0.1 s after a move from rest is asked for.
- * A reply can come up to about 0.15 s after its line: while the planner interrupt banks the smooth
- * ramp's costly commands near rest, loop() waits for it (a known limit of this ramp).
+ * smooth ramp's limit (max_sps), a target that is not one whole number. A target the planner cannot
+ * take when it plans it (more than six changes of the command within tau1 + tau2: "too many
+ * changes") gets its "OK" first and that "ERR" a moment later; the move goes on to the target before.
+ * Defaults: vmax 20,000 steps/s, accel 40,000 steps/s^2, jerk 200,000 steps/s^3 (the parameters the
+ * emulator checks verify clean; with a higher acceleration or jerk the planner can fall behind and
+ * steps come late: underruns= in `?`, docs/smooth-move.md's known limit).
+ * A stop or a new target acts after the steps already queued (the smooth ramp's lead, about 0.1 s);
+ * the first step comes about 0.1 s after a move from rest is asked for. Replies can come up to
+ * about 0.3 s after their line: while the planner interrupt plans the smooth ramp's costly commands
+ * near rest, loop() waits for it (the input is kept meanwhile: MotionSerial, as the sketches'
+ * consoles read it; a line lost all the same is answered "ERR input overrun").
  */
 #include <MotionStepper.h>
+#include <MotionSerial.h>
 #include <PrintReal.h>
-#include <line_reader.h>
 #include <text_parse.h>
 
 Stepper x(Stepper::X);
-static line_reader_t reader;
+static MotionSerial serial(Serial);
+static motion_status_t reported = MS_OK; /* the planner's last refusal already answered */
 
 /* "ERR <the library's sentence>[: detail]" */
 static void reply_error(motion_status_t st, const __FlashStringHelper *detail = 0)
 {
-    Serial.print(F("ERR "));
-    Serial.print(Stepper::statusText(st));
-    if (detail) {
-        Serial.print(F(": "));
-        Serial.print(detail);
-    }
-    Serial.println();
+    if (detail)
+        serial.reply_error(st, detail);
+    else
+        serial.reply_error(st);
 }
 
 static void print_param(const char *key)
@@ -156,11 +160,10 @@ static void handle(const char *line)
 void setup()
 {
     Serial.begin(115200);
-    line_reader_init(&reader);
     x.setRamp(RAMP_ALGO_SMOOTH);
     x.setMaxSpeed(20000);
-    x.setJerk(500000); /* before the acceleration: the jerk in force must be at least accel^2/vmax */
-    x.setAcceleration(50000);
+    x.setJerk(200000); /* before the acceleration: the jerk in force must be at least accel^2/vmax */
+    x.setAcceleration(40000);
     x.begin();
     Serial.println(F("READY SmoothConsole"));
 }
@@ -168,14 +171,14 @@ void setup()
 void loop()
 {
     long at;
-    motion_status_t err;
-    while (Serial.available()) {
-        line_event_t ev = line_reader_feed(&reader, (uint8_t)Serial.read(), &err);
-        if (ev == LINE_READY)
-            handle(reader.line);
-        else if (ev == LINE_ERROR)
-            reply_error(err);
-    }
+    motion_status_t st;
+    const char *line = serial.poll(); /* a bad line (too long, not printable, lost) is answered there */
+    if (line != NULL)
+        handle(line);
+    st = x.lastStatus();
+    if (st != MS_OK && st != reported)
+        reply_error(st, F("the last target was not taken: the move goes on to the one before"));
+    reported = st;
     if (x.takeDone(at)) {
         Serial.print(F("DONE "));
         Serial.println(at);
