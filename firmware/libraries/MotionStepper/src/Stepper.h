@@ -69,9 +69,13 @@ class StepperGroup;
 #include <StepCut.h>
 /* A stop from the cruise is the same profile wherever the cut lands (only the position differs):
  * the planner interrupt plans it ahead, once the cruise has begun, and a stop() in the cruise then
- * only cuts and lays it out: this many microseconds ahead. */
+ * only cuts and lays it out: this many microseconds ahead (the cut itself must be ready
+ * MOTION_STEPPER_CUT_MARGIN_US before it lands, else the stop is planned at a cut as any other).
+ * 600: with 800 the stop's latency reached 2.34 ms at 10,000 steps/s (the cut, plus the cruise
+ * command of up to 1 ms it must wait for); with 600 at most 1.9 ms at every rate checked
+ * (StopOnSwitch's check, docs/library.md). */
 #ifndef MOTION_STEPPER_CUT_CRUISE_US
-#define MOTION_STEPPER_CUT_CRUISE_US 800UL
+#define MOTION_STEPPER_CUT_CRUISE_US 600UL
 #endif
 
 /* The longest time one step command of a Stepper moving alone covers, ms (a cruise is cut into
