@@ -1157,13 +1157,16 @@ def guarded(fn, env):
 # so the engine starts such a move with the axis's ring full (MultiStepEngine::set_start_full). Started
 # after 24 commands, as the other ramps start, the same sketch counted 18 underruns in its first move
 # and 39 by its end (measured 2026-12-04 before the change).
-def check_smooth_start(env):
-    elf = os.path.join(env.source_dir, "build", "emu", "smoothstart", "SmoothStart", "SmoothStart.ino.elf")
+def run_smooth_start(env, build, second):
+    """a build of test/emu/SmoothStart (build/emu/<build>): runs it to FINISHED and checks what every
+    build of it must do: no call refused, DONE 25000 then `second`'s DONE, every X step made (out to
+    25000, back to the second DONE's position). (log, problems, DONE lines, X rises); log None when
+    the build is missing."""
+    elf = os.path.join(env.source_dir, "build", "emu", build, "SmoothStart", "SmoothStart.ino.elf")
     if not os.path.isfile(elf):
-        return CheckResult(False, "no SmoothStart build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
+        return None, [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"], [], []
     log = emulog.run(elf, "timeout 30000\nwait ^FINISHED$\n", pins=sketches.multiaxis_pins(env), timeout=600)
-    problems = []
-    problems += [f"harness: {k} at {c / F_CPU:.4f} s: {t}" for c, k, t in log.fails]
+    problems = [f"harness: {k} at {c / F_CPU:.4f} s: {t}" for c, k, t in log.fails]
     lines = [l.text for l in log.rx]
     bad = [l for l in lines if re.match(r"^(set\w+|begin|moveTo \d+|stop) ", l) and not l.endswith(" 0")]
     if bad:
@@ -1171,13 +1174,20 @@ def check_smooth_start(env):
     dones = [l for l in lines if l.startswith("DONE ")]
     rises = log.rising("XSTEP")
     if len(dones) != 2 or not dones[0].startswith("DONE 25000 "):
-        problems.append(f"DONE lines: {dones}, want DONE 25000 then the stop's")
-    for d in dones:
-        if not d.endswith(" underruns=0"):
-            problems.append(f"underruns: {d}")
+        problems.append(f"DONE lines: {dones}, want DONE 25000 then {second}")
     end = int(dones[-1].split()[1]) if len(dones) == 2 else None
     if end is not None and len(rises) != 25000 + (25000 - end):
         problems.append(f"{len(rises)} X steps, want {25000 + 25000 - end} (out to 25000, back to {end})")
+    return log, problems, dones, rises
+
+
+def check_smooth_start(env):
+    log, problems, dones, rises = run_smooth_start(env, "smoothstart", "the stop's")
+    if log is None:
+        return CheckResult(False, "no SmoothStart build", problems)
+    for d in dones:
+        if not d.endswith(" underruns=0"):
+            problems.append(f"underruns: {d}")
     return CheckResult(not problems, f"{'; '.join(dones)}; {len(rises)} X steps", problems)
 
 
@@ -1190,22 +1200,9 @@ def check_smooth_start(env):
 # "moving", and this run timed out without a DONE. Underruns are expected here (counted, not judged);
 # the steps and the DONEs are not.
 def check_smooth_stall(env):
-    elf = os.path.join(env.source_dir, "build", "emu", "smoothstall", "SmoothStart", "SmoothStart.ino.elf")
-    if not os.path.isfile(elf):
-        return CheckResult(False, "no SmoothStart build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
-    log = emulog.run(elf, "timeout 30000\nwait ^FINISHED$\n", pins=sketches.multiaxis_pins(env), timeout=600)
-    problems = [f"harness: {k} at {c / F_CPU:.4f} s: {t}" for c, k, t in log.fails]
-    lines = [l.text for l in log.rx]
-    bad = [l for l in lines if re.match(r"^(set\w+|begin|moveTo \d+|stop) ", l) and not l.endswith(" 0")]
-    if bad:
-        problems.append(f"calls refused: {bad}")
-    dones = [l for l in lines if l.startswith("DONE ")]
-    rises = log.rising("XSTEP")
-    if len(dones) != 2 or not dones[0].startswith("DONE 25000 "):
-        problems.append(f"DONE lines: {dones}, want DONE 25000 then the move back's")
-    end = int(dones[-1].split()[1]) if len(dones) == 2 else None
-    if end is not None and len(rises) != 25000 + (25000 - end):
-        problems.append(f"{len(rises)} X steps, want {25000 + 25000 - end} (out to 25000, back to {end})")
+    log, problems, dones, rises = run_smooth_start(env, "smoothstall", "the move back's")
+    if log is None:
+        return CheckResult(False, "no SmoothStart build", problems)
     # within each move (the first DONE's line ends the first): an underrun pauses the axis until the
     # planner has laid out more (up to 21 ms here, where a stop's plan costs 13-22 ms); never for a
     # whole lead (100 ms); the stall was for good
