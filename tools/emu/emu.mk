@@ -109,6 +109,18 @@ $(EMU_SMOOTHSTALL_ELF): $(EMU_FW_SRCS) test/emu/SmoothStart/SmoothStart.ino tool
 	  -DSMOOTHSTART_ACCEL=250000 -DSMOOTHSTART_JERK=2500000" bash tools/build_firmware.sh test/emu/SmoothStart \
 	  >$(BUILD)/emu/smoothstall.log 2>&1 || { cat $(BUILD)/emu/smoothstall.log; exit 1; }
 
+# test/emu/ThreeSteppers: two and three Steppers moving at once (checks_library.py, check_three_steppers):
+# three at 10,000 and at 25,000 steps/s, two at 25,000
+EMU_THREE_BUILDS := three-10k:-DTS_N=3 three-25k:-DTS_N=3+-DTS_V=25000+-DTS_A=200000 two-25k:-DTS_N=2+-DTS_V=25000+-DTS_A=200000
+EMU_THREE_ELFS := $(foreach b,$(EMU_THREE_BUILDS),$(BUILD)/emu/$(word 1,$(subst :, ,$(b)))/ThreeSteppers/ThreeSteppers.ino.elf)
+define emu_three_rule
+$(BUILD)/emu/$(1)/ThreeSteppers/ThreeSteppers.ino.elf: $(EMU_FW_SRCS) test/emu/ThreeSteppers/ThreeSteppers.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/$(1)
+	@FIRMWARE_OUT=$(BUILD)/emu/$(1) FIRMWARE_DEFINES="$(subst +, ,$(2))" bash tools/build_firmware.sh test/emu/ThreeSteppers \
+	  >$(BUILD)/emu/$(1).log 2>&1 || { cat $(BUILD)/emu/$(1).log; exit 1; }
+endef
+$(foreach b,$(EMU_THREE_BUILDS),$(eval $(call emu_three_rule,$(word 1,$(subst :, ,$(b))),$(word 2,$(subst :, ,$(b))))))
+
 # The lab sketches with moveOneStep()'s two direction lines (those writing dirPin) replaced by
 # `(void)direction;`: the lab exercise undone. Their emulator check (checks_sketches.py,
 # check_direction_hook) sees DIR never change while the moves go both ways: the sketch's hook, not
@@ -125,7 +137,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

@@ -10,6 +10,7 @@
 #include "StepperGroup.h"
 
 Stepper *BackgroundPlanner::axes_[3];
+uint8_t BackgroundPlanner::count_;
 bool BackgroundPlanner::begun_;
 uint16_t BackgroundPlanner::lead_ms_ = MOTION_STEPPER_LEAD_MS;
 
@@ -59,7 +60,7 @@ void BackgroundPlanner::begin()
     if (begun_)
         return;
     MultiStepEngine::begin_axes(MULTI_TICK_HZ); /* the axes of the Steppers made (their constructors) */
-    MultiStepEngine::set_lead_ms(lead_ms_);
+    apply_lead();
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         /* the core set Timer3 up for analogWrite(): take it over. CTC on OCR3A, 16 MHz / 64 / 250 = 1 kHz */
@@ -85,8 +86,19 @@ bool BackgroundPlanner::setLeadMs(uint16_t ms)
     PlannerLock lock;
     lead_ms_ = ms;
     if (begun_)
-        MultiStepEngine::set_lead_ms(ms);
+        apply_lead();
     return true;
+}
+
+uint16_t BackgroundPlanner::leadMs()
+{
+    uint16_t floor = count_ >= 3 ? MOTION_STEPPER_LEAD_MS_3 : count_ == 2 ? MOTION_STEPPER_LEAD_MS_2 : 0U;
+    return lead_ms_ > floor ? lead_ms_ : floor;
+}
+
+void BackgroundPlanner::apply_lead()
+{
+    MultiStepEngine::set_lead_ms(leadMs());
 }
 
 bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
@@ -94,7 +106,12 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
     PlannerLock lock;
     if (axis >= 3 || (axes_[axis] && axes_[axis] != s))
         return false;
-    axes_[axis] = s;
+    if (!axes_[axis]) {
+        axes_[axis] = s;
+        count_++;
+        if (begun_)
+            apply_lead();
+    }
     return true;
 }
 
@@ -180,7 +197,7 @@ static bool step_isr_active()
 }
 
 /* Timer3's compare match, 1 kHz. Entered with interrupts off for a few dozen cycles: a tick during a
- * tick returns; one while loop() holds a PlannerLock runs at the unlock; a tick that has interrupted a step interrupt comes back 8 us later (TCNT3 two counts
+ * tick returns; one while loop() holds a PlannerLock runs at the unlock; a tick that has interrupted a step interrupt comes back 16 us later (TCNT3 MOTION_STEPPER_RETRY_COUNTS counts
  * before the match); otherwise interrupts are enabled at once and the tick runs, the step interrupts
  * and the core's millis and serial interrupts nesting in it. */
 ISR(TIMER3_COMPA_vect)
@@ -192,7 +209,7 @@ ISR(TIMER3_COMPA_vect)
         return;
     }
     if (step_isr_active()) {
-        TCNT3 = OCR3A - 2U;
+        TCNT3 = OCR3A - MOTION_STEPPER_RETRY_COUNTS;
         return;
     }
     s_in_tick = 1;

@@ -11,7 +11,7 @@
  * check of a few dozen cycles, not at its first instruction: the step interrupts themselves enable
  * interrupts early (so that the axes nest), and a tick that came inside one of them, before it armed
  * its next edge, would hold that edge back for the whole tick; such a tick returns and comes back
- * 8 us later. A guard makes a tick that comes while the previous one still runs (at a move's start,
+ * 16 us later (MOTION_STEPPER_RETRY_COUNTS). A guard makes a tick that comes while the previous one still runs (at a move's start,
  * planning can take longer than 1 ms) return at once. Calls from loop() that change a planner keep
  * the tick from starting (PlannerLock) for their own few hundred microseconds at most; they never
  * wait for it.
@@ -33,9 +33,30 @@
 #ifndef MOTION_STEPPER_LEAD_MS
 #define MOTION_STEPPER_LEAD_MS 10U
 #endif
+/* The lead is at least this with two / three Steppers begun, ms. Their moves from rest start and end
+ * together, and near rest each command (a step or two) costs more of the AVR than the time it
+ * covers: the queues must bank ahead what the CPU cannot make at that moment. Measured
+ * (test/emu/ThreeSteppers, four 20,000-step legs at once, 25,000 steps/s and 200,000 steps/s^2):
+ * two Steppers with a 10 ms lead ran dry 236 / 204 times, with 40 ms never; three with 40 ms 86 / 43
+ * / 29 times, with 100 ms never (the MultiAxisStepper sketch's lead, MULTI_LEAD_MS). */
+#ifndef MOTION_STEPPER_LEAD_MS_2
+#define MOTION_STEPPER_LEAD_MS_2 40U
+#endif
+#ifndef MOTION_STEPPER_LEAD_MS_3
+#define MOTION_STEPPER_LEAD_MS_3 100U
+#endif
 /* commands laid out per tick at most (the axis whose queue reaches least far ahead first) */
 #ifndef MOTION_STEPPER_CMDS_PER_TICK
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
+#endif
+/* A tick that came inside a step interrupt comes back this many counts of Timer3 (4 us each) later.
+ * Not 2 (8 us, as until 2026-12-05): this interrupt's own entry and exit take about as long, so the
+ * step interrupt it waits for got one instruction per retry and took tens of milliseconds to end (a
+ * Z step held 18 ms with three Steppers moving, its STEP high all along). Not 25 (100 us) either:
+ * that is two step intervals at 20,000 steps/s, and the retry then met the next step interrupt
+ * every time (BlockingLoop ran dry). */
+#ifndef MOTION_STEPPER_RETRY_COUNTS
+#define MOTION_STEPPER_RETRY_COUNTS 4U
 #endif
 /* MOTION_STEPPER_TRACE = 1: D4 (PG5) is high while a planner tick runs (nested interrupts included);
  * 2: D4 is high from a stop's or a new target's cut of the queue (Stepper::plan_at_cut) until the
@@ -52,9 +73,12 @@ public:
     /* The step engine (pins, Timer1) and Timer3's interrupt; once (later calls do nothing). */
     static void begin();
     static bool running() { return begun_; }
-    /* Steps kept queued ahead of each axis, ms (1..1000; from the next command laid out). */
+    /* Steps kept queued ahead of each axis, ms (1..1000; from the next command laid out). The lead in
+     * force is at least MOTION_STEPPER_LEAD_MS_2 / _3 with two / three Steppers begun. */
     static bool setLeadMs(uint16_t ms);
-    static uint16_t leadMs() { return lead_ms_; }
+    static uint16_t leadMs();
+    /* Steppers begun (their axes claimed): 0 to 3. */
+    static uint8_t steppers() { return count_; }
 
     /* Registers s as the stepper of its axis; false when another holds it. */
     static bool claim(uint8_t axis, Stepper *s);
@@ -71,7 +95,9 @@ public:
 private:
     static void feed();
     static void collect_done();
+    static void apply_lead();
     static Stepper *axes_[3];
+    static uint8_t count_;
     static bool begun_;
     static uint16_t lead_ms_;
 };

@@ -86,14 +86,21 @@ motion_status_t Stepper::init_planner(int32_t pos)
                              : step_planner_init_hooked(&planner_, algo_, &params_, ramp_hooks_, pos);
     if (st != MS_OK)
         return st;
-    /* the smooth ramp keeps lib's 4 ms: its commands cost more (solves), and a stop acts after the
-     * lead anyway (no cut) */
-    if (planner_.algo != RAMP_ALGO_SMOOTH)
-        planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL * MOTION_STEPPER_CMD_MS;
-    if (planner_.algo == RAMP_ALGO_EXACT)
-        planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
+    set_cmd_length();
     stop_n_ = 0; /* no stop planned ahead for this planner yet */
     return MS_OK;
+}
+
+/* The longest command, for the next plan from rest: MOTION_STEPPER_CMD_MS, or MOTION_STEPPER_CMD_MS_3
+ * with three Steppers begun. The smooth ramp keeps lib's 4 ms: its commands cost more (solves), and
+ * a stop acts after the lead anyway (no cut). */
+void Stepper::set_cmd_length()
+{
+    if (planner_.algo != RAMP_ALGO_SMOOTH)
+        planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL *
+                                 (BackgroundPlanner::steppers() >= 3 ? MOTION_STEPPER_CMD_MS_3 : MOTION_STEPPER_CMD_MS);
+    if (planner_.algo == RAMP_ALGO_EXACT)
+        planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
 }
 
 /* Whether a ramp plans with these parameters: the exact planner checks the set as a whole (vmax >
@@ -341,8 +348,10 @@ void Stepper::run_request()
         else
             c = MultiStepEngine::AT_REST;
     }
-    if (c == MultiStepEngine::AT_REST)
+    if (c == MultiStepEngine::AT_REST) {
         step_planner_halt(&planner_, MultiStepEngine::position(axis_));
+        set_cmd_length(); /* a Stepper begun since the last move may have changed it */
+    }
     st = step_planner_move(&planner_, req_target_);
     last_status_ = st;
     if (st != MS_OK) {

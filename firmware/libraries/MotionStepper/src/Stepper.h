@@ -83,6 +83,13 @@ class StepperGroup;
 #ifndef MOTION_STEPPER_CMD_MS
 #define MOTION_STEPPER_CMD_MS 1U
 #endif
+/* The same with three Steppers begun, ms: three queues of 1 ms commands cost more of the AVR than
+ * there is (the planner interrupt ran 13-15 ms ticks back to back and every axis ran dry thousands
+ * of times at 10,000 steps/s), so their cruise takes commands of 4 ms, as the MultiAxisStepper
+ * sketch's. A stop() in the cruise then waits for up to one such command (docs/library.md). */
+#ifndef MOTION_STEPPER_CMD_MS_3
+#define MOTION_STEPPER_CMD_MS_3 4U
+#endif
 
 class Stepper {
 public:
@@ -246,6 +253,7 @@ private:
                                            step_smooth_t *store, int32_t pos);
     static motion_status_t (*smooth_jerk_)(step_planner_t *pl, double jerk_sps3);
     motion_status_t init_planner(int32_t pos);
+    void set_cmd_length();
     static void call_hook(uint8_t axis, bool forward);
     static void hook_x(bool forward);
     static void hook_y(bool forward);

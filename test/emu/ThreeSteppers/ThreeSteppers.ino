@@ -1,0 +1,81 @@
+// motion-sketch: library
+/* ThreeSteppers - a test sketch (tools/emu/emu.mk builds it; test/emu/checks_library.py,
+ * check_three_steppers): TS_N MotionStepper Steppers (X, Y, Z; 2 or 3) move 0 -> TS_D and back
+ * twice, all at once, at TS_V steps/s and TS_A steps/s^2. It prints each call's status
+ * ("setMaxSpeed X 0", ...), after each leg "ROUND <k> <position> u=<underruns> ..." for every axis,
+ * then FINISHED. Until 2026-12-05 three Steppers moving at once ran their queues dry thousands of
+ * times, even at 10,000 steps/s, and a Z step could hold its STEP high for 18 ms
+ * (BackgroundPlanner.h: MOTION_STEPPER_RETRY_COUNTS, MOTION_STEPPER_LEAD_MS_2/_3; Stepper.h:
+ * MOTION_STEPPER_CMD_MS_3). */
+#ifndef TS_N
+#define TS_N 3
+#endif
+#ifndef TS_V
+#define TS_V 10000
+#endif
+#ifndef TS_A
+#define TS_A 50000
+#endif
+#ifndef TS_D
+#define TS_D 20000L
+#endif
+#include <MotionStepper.h>
+
+Stepper x(Stepper::X), y(Stepper::Y), z(Stepper::Z);
+static Stepper *const all[3] = {&x, &y, &z};
+static uint8_t leg = 0;
+
+static void report(const __FlashStringHelper *what, uint8_t i, motion_status_t st)
+{
+    Serial.print(what);
+    Serial.print(' ');
+    Serial.print("XYZ"[i]);
+    Serial.print(' ');
+    Serial.println((int)st);
+}
+
+static void go()
+{
+    long to = (leg & 1) ? 0L : TS_D;
+    for (uint8_t i = 0; i < TS_N; i++)
+        report(F("moveTo"), i, all[i]->moveTo(to));
+}
+
+void setup()
+{
+    Serial.begin(115200);
+    for (uint8_t i = 0; i < TS_N; i++) {
+        report(F("setMaxSpeed"), i, all[i]->setMaxSpeed(TS_V));
+        report(F("setAcceleration"), i, all[i]->setAcceleration(TS_A));
+        report(F("begin"), i, all[i]->begin());
+    }
+    Serial.print(F("READY ThreeSteppers lead="));
+    Serial.println(BackgroundPlanner::leadMs());
+    go();
+}
+
+void loop()
+{
+    long at;
+    bool moving = false;
+    for (uint8_t i = 0; i < TS_N; i++) {
+        (void)all[i]->takeDone(at);
+        if (all[i]->isRunning())
+            moving = true;
+    }
+    if (moving || leg >= 4)
+        return;
+    Serial.print(F("ROUND "));
+    Serial.print(leg);
+    for (uint8_t i = 0; i < TS_N; i++) {
+        Serial.print(' ');
+        Serial.print(all[i]->currentPosition());
+        Serial.print(F(" u="));
+        Serial.print(all[i]->underruns());
+    }
+    Serial.println();
+    if (++leg == 4)
+        Serial.println(F("FINISHED"));
+    else
+        go();
+}
