@@ -17,13 +17,17 @@ uint16_t BackgroundPlanner::lead_ms_ = MOTION_STEPPER_LEAD_MS;
 static volatile uint8_t s_in_tick;  /* the re-entrancy guard */
 static volatile uint8_t s_locks;    /* PlannerLocks alive */
 static volatile uint8_t s_deferred; /* a tick came while loop() held a lock */
+static volatile uint8_t s_deferrals; /* ticks deferred by locks in a row */
+static uint8_t s_retry = MOTION_STEPPER_RETRY_COUNTS; /* Timer3 counts to the next retry */
 
-/* A tick that finds a lock held returns and leaves itself to the unlock, which runs it there (as
- * the interrupt would have, at that moment: loop() waits for it either way). Not a retry of the
- * interrupt: a loop() that takes locks often would meet the retry inside its next lock again and
- * again. (Nor TIMSK3: the match that comes while the interrupt is masked would wait for the unmask on
- * the chip, but libsimavr drops it.) The count is changed by loop() and, around its own changes, by
- * the tick, which leaves it as it found it: no atomic block needed. */
+/* A tick that finds a lock held returns and leaves itself to the unlock, which brings the interrupt
+ * back two counts (8 us) later: the call that held the lock returns first (a tick may plan for
+ * milliseconds: a group's move from rest, 40 ms of lead, took 13.6 ms, and TwoAxesLine's moveTo then
+ * "returned" after it). If that tick meets a lock again, and the next too, the third unlock runs
+ * it in the caller: a loop() that takes locks all the time (polling three Steppers) does not starve
+ * the planner. (Not TIMSK3: the match that comes while the interrupt is masked would wait for the
+ * unmask on the chip, but libsimavr drops it.) The count is changed by loop() and, around its own
+ * changes, by the tick, which leaves it as it found it: no atomic block needed. */
 PlannerLock::PlannerLock()
 {
     s_locks = s_locks + 1U;
@@ -34,6 +38,16 @@ PlannerLock::~PlannerLock()
     s_locks = s_locks - 1U;
     if (s_locks == 0 && s_deferred && !s_in_tick) {
         s_deferred = 0;
+        if (s_deferrals < 2U) {
+            s_deferrals = s_deferrals + 1U;
+            ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+            {
+                if (TCNT3 < OCR3A - 2U)
+                    TCNT3 = OCR3A - 2U;
+            }
+            return;
+        }
+        s_deferrals = 0;
         s_in_tick = 1;
         BackgroundPlanner::tick();
         s_in_tick = 0;
@@ -47,7 +61,7 @@ void BackgroundPlanner::kick()
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         /* the match two counts (8 us) from now, unless it comes sooner anyway; under a PlannerLock
-         * the tick runs at the unlock */
+         * the unlock brings it */
         if (s_locks)
             s_deferred = 1;
         else if (!s_in_tick && TCNT3 < OCR3A - 2U)
@@ -197,7 +211,7 @@ static bool step_isr_active()
 }
 
 /* Timer3's compare match, 1 kHz. Entered with interrupts off for a few dozen cycles: a tick during a
- * tick returns; one while loop() holds a PlannerLock runs at the unlock; a tick that has interrupted a step interrupt comes back 16 us later (TCNT3 MOTION_STEPPER_RETRY_COUNTS counts
+ * tick returns; one while loop() holds a PlannerLock comes back 8 us after the unlock; a tick that has interrupted a step interrupt comes back 16 us later, then later and later (TCNT3 MOTION_STEPPER_RETRY_COUNTS counts
  * before the match); otherwise interrupts are enabled at once and the tick runs, the step interrupts
  * and the core's millis and serial interrupts nesting in it. */
 ISR(TIMER3_COMPA_vect)
@@ -209,9 +223,15 @@ ISR(TIMER3_COMPA_vect)
         return;
     }
     if (step_isr_active()) {
-        TCNT3 = OCR3A - MOTION_STEPPER_RETRY_COUNTS;
+        /* back in 16, 32, 64, 128, then every 248 us while it keeps landing in step interrupts
+         * (see MOTION_STEPPER_RETRY_COUNTS) */
+        TCNT3 = OCR3A - s_retry;
+        if (s_retry < 62U)
+            s_retry = s_retry * 2U < 62U ? (uint8_t)(s_retry * 2U) : 62U;
         return;
     }
+    s_retry = MOTION_STEPPER_RETRY_COUNTS;
+    s_deferrals = 0;
     s_in_tick = 1;
 #if MOTION_STEPPER_TRACE == 1
     PORTG |= _BV(5); /* D4 high while the tick runs */

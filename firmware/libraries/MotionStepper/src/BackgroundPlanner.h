@@ -11,7 +11,7 @@
  * check of a few dozen cycles, not at its first instruction: the step interrupts themselves enable
  * interrupts early (so that the axes nest), and a tick that came inside one of them, before it armed
  * its next edge, would hold that edge back for the whole tick; such a tick returns and comes back
- * 16 us later (MOTION_STEPPER_RETRY_COUNTS). A guard makes a tick that comes while the previous one still runs (at a move's start,
+ * 16 us later, then later and later (MOTION_STEPPER_RETRY_COUNTS). A guard makes a tick that comes while the previous one still runs (at a move's start,
  * planning can take longer than 1 ms) return at once. Calls from loop() that change a planner keep
  * the tick from starting (PlannerLock) for their own few hundred microseconds at most; they never
  * wait for it.
@@ -49,12 +49,16 @@
 #ifndef MOTION_STEPPER_CMDS_PER_TICK
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
 #endif
-/* A tick that came inside a step interrupt comes back this many counts of Timer3 (4 us each) later.
- * Not 2 (8 us, as until 2026-12-05): this interrupt's own entry and exit take about as long, so the
- * step interrupt it waits for got one instruction per retry and took tens of milliseconds to end (a
- * Z step held 18 ms with three Steppers moving, its STEP high all along). Not 25 (100 us) either:
- * that is two step intervals at 20,000 steps/s, and the retry then met the next step interrupt
- * every time (BlockingLoop ran dry). */
+/* A tick that came inside a step interrupt comes back this many counts of Timer3 (4 us each) later,
+ * then twice as late at each retry that lands in one again (up to 62 counts, 248 us), until a tick
+ * runs. Not a fixed 2 counts (8 us, as until 2026-12-05): this interrupt's entry and exit cost about
+ * 200 cycles (it saves every register the tick may use), so the step interrupt it waited for got one
+ * instruction per retry and took tens of milliseconds to end (a Z step held its STEP high for 18 ms
+ * with three Steppers moving). Not a fixed 16 us either: a step interrupt that had fallen behind (its
+ * edges made back to back until it catches up) kept meeting the retries, lost a quarter of the CPU to
+ * them and never caught up, and the planner starved (three Steppers at 20,000 steps/s: 3,679 edges
+ * made back to back, underruns). Nor a fixed 100 us: two step intervals at 20,000 steps/s, and the
+ * retry met the next step interrupt every time (BlockingLoop ran dry). */
 #ifndef MOTION_STEPPER_RETRY_COUNTS
 #define MOTION_STEPPER_RETRY_COUNTS 4U
 #endif
@@ -85,8 +89,8 @@ public:
     static Stepper *stepper(uint8_t axis) { return axis < 3 ? axes_[axis] : 0; }
 
     /* Brings the next tick forward to within about 10 us (a stop or a new target left by loop()):
-     * it then acts without waiting up to a millisecond for the tick. Under a PlannerLock the tick
-     * runs at the unlock, in the caller. */
+     * it then acts without waiting up to a millisecond for the tick. Under a PlannerLock the unlock
+     * brings it (8 us after the unlock). */
     static void kick();
 
     /* One tick's work (the interrupt calls it; public for the vector only). */
@@ -104,8 +108,9 @@ private:
 
 /* Holds the planner interrupt off while it lives (loop()'s changes to a planner): the planner
  * interrupt is not running when loop() runs (it preempts loop(), never the other way), so keeping it
- * from starting is all the synchronisation the planners need; a tick that comes meanwhile runs at the
- * unlock, in the caller (with interrupts on: do not hold a lock with them off). Nests. */
+ * from starting is all the synchronisation the planners need; a tick that comes meanwhile comes back 8 us
+ * after the unlock (the third in a row deferred so runs at the unlock, in the caller: with
+ * interrupts on, so do not hold a lock with them off). Nests. */
 class PlannerLock {
 public:
     PlannerLock();
