@@ -1217,59 +1217,131 @@ def check_smooth_stall(env):
 
 
 # Two and three Steppers moving at once (test/emu/ThreeSteppers, built three times by tools/emu/emu.mk):
-# four 20,000-step legs, every axis at once. Until 2026-12-05 three Steppers ran dry 1,451 / 2,366 /
-# 3,354 times at 10,000 steps/s (1 ms commands and a 10 ms lead cost more of the AVR than there was),
-# and a tick of the planner that came inside a step interrupt retried every 8 us, which left that
-# interrupt one instruction per retry: a Z step held its STEP high for 18 ms (no underrun counted).
-# Every step must come (80,000 rises per axis, DONE positions), no underrun, and within a move no
-# pause longer than the ramp's first interval from rest (sqrt(2 / accel), the longest of the move).
-THREE_BUILDS = (("three-10k", 3, 10000, 50000), ("three-25k", 3, 25000, 200000), ("two-25k", 2, 25000, 200000))
+# four 20,000-step legs, every axis at once, then a run towards 1,000,000 that a switch stops (stop()
+# on every axis). Until 2026-12-05 three Steppers ran dry 1,451 / 2,366 / 3,354 times at 10,000 steps/s
+# (1 ms commands and a 10 ms lead cost more of the AVR than there was), and a tick of the planner that
+# came inside a step interrupt retried every 8 us, which left that interrupt one instruction per retry:
+# a Z step held its STEP high for 18 ms (no underrun counted).
+# The legs: every step (80,000 rises per axis, the positions), no underrun, within a move no pause longer
+# than the ramp's first interval from rest (sqrt(2 / accel), the longest of the move), and at 10,000
+# steps/s no two steps closer than half the cruise's interval. The stop: X's steps to its DONE, no
+# underrun, v^2/2a steps of deceleration from the cruise and its latency from the switch to the last
+# cruise edge, at STOP_PHASES moments (three Steppers) against docs/library.md's figures.
+# (build, Steppers, vmax, accel, the stop's moments). A stop of three Steppers at once at 20,000 steps/s
+# and more is not checked: its cut misses and it acts after the lead (docs/library.md)
+THREE_BUILDS = (("three-10k", 3, 10000, 50000, STOP_PHASES), ("three-25k", 3, 25000, 50000, ()),
+                ("three-25k-steep", 3, 25000, 200000, ()), ("two-25k", 2, 25000, 50000, STOP_PHASES[:1]))
+THREE_LATE = 700  # cycles: three step interrupts share the CPU (the edges' jitter); a velocity jump is more
+
+
+def doc_three_stop_latency(env):
+    """'... three Steppers' stop latency **a ms** at 10,000 steps/s (two Steppers: **b ms** at 25,000)' in
+    docs/library.md: {build: ms}, or None"""
+    try:
+        with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
+            m = re.search(r"three\s+Steppers'\s+stop\s+latency\s+\*\*([0-9.]+) ms\*\*\s+at\s+10,000\s+steps/s\s+"
+                          r"\(two\s+Steppers:\s+\*\*([0-9.]+) ms\*\*\s+at\s+25,000\)", f.read())
+    except OSError:
+        return None
+    return {"three-10k": float(m.group(1)), "two-25k": float(m.group(2))} if m else None
+
+
+def three_stop(log, problems, build, v, a):
+    """the run towards 1,000,000 stopped at the switch: X's latency (ms) or None"""
+    r3 = next((l.cycle for l in log.rx if l.text.startswith("ROUND 3 ")), None)
+    sw = [c for c, t, r in log.events if t == "input" and r.split()[0] == "D3" and r.split()[2] == "0"]
+    done = next((l for l in log.rx if l.text.startswith("DONE ")), None)
+    if r3 is None or len(sw) != 1 or done is None:
+        problems.append(f"{build}: the stop: no conversation ({[l.text for l in log.rx][-4:]})")
+        return None
+    e = [c for c in log.rising("XSTEP") if c > r3]
+    made = sum(1 for c in e if c < sw[0])
+    after = [c for c in e if sw[0] < c < done.cycle]
+    m = re.match(r"^DONE (-?\d+) underruns=(\d+)$", done.text)
+    if not m or int(m.group(1)) != made + len(after) or m.group(2) != "0":
+        problems.append(f"{build}: the stop: '{done.text}', expected 'DONE {made + len(after)}' with underruns=0")
+        return None
+    n_dec = int(round(v * v / (2 * a)))
+    if len(after) < n_dec + 2:
+        problems.append(f"{build}: the stop: {len(after)} steps after the switch, fewer than v^2/2a = {n_dec}")
+        return None
+    start = after[-n_dec - 1]
+    times = [v / a - math.sqrt(2 * (n_dec - n) / a) for n in range(1, n_dec + 1)]
+    late, at = law_errors([start] + after[-n_dec:], [0.0] + times)
+    if late > THREE_LATE:
+        problems.append(f"{build}: the stop: deceleration step {at} is {late:.0f} cycles off the law (bound {THREE_LATE})")
+    return (start - sw[0]) * 1000.0 / F_CPU
 
 
 def check_three_steppers(env):
-    problems, notes = [], []
+    problems, notes, worst_lat = [], [], {}
     pins = sketches.multiaxis_pins(env)
-    for build, n, vmax, accel in THREE_BUILDS:
+    for build, n, vmax, accel, phases in THREE_BUILDS:
         elf = os.path.join(env.source_dir, "build", "emu", build, "ThreeSteppers", "ThreeSteppers.ino.elf")
         if not os.path.isfile(elf):
             problems.append(f"{elf} is missing: make test builds it (tools/emu/emu.mk)")
             continue
-        log = emulog.run(elf, "timeout 60000\nwait ^FINISHED$\n", pins=pins, timeout=600)
-        problems += [f"{build}: harness: {k} at {c / F_CPU:.4f} s: {t}" for c, k, t in log.fails]
-        lines = [l.text for l in log.rx]
-        bad = [l for l in lines if re.match(r"^(setMaxSpeed|setAcceleration|begin|moveTo) ", l) and not l.endswith(" 0")]
-        if bad:
-            problems.append(f"{build}: calls refused: {bad}")
-        rounds = [l for l in log.rx if l.text.startswith("ROUND ")]
-        if len(rounds) != 4:
-            problems.append(f"{build}: {len(rounds)} ROUND lines, want 4")
-        for k, r in enumerate(rounds):
-            f = r.text.split()[2:]
-            want = 20000 if k % 2 == 0 else 0
-            if len(f) != 2 * n or any(int(f[2 * i]) != want or f[2 * i + 1] != "u=0" for i in range(n)):
-                problems.append(f"{build}: '{r.text}', want every axis at {want} with u=0")
-        limit = ((2.0 / accel) ** 0.5 * 1.05 + 1e-4) * F_CPU
-        worst, shortest = 0, None
-        for ax in "XYZ"[:n]:
-            rises = log.rising(ax + "STEP")
-            if len(rises) != 80000:
-                problems.append(f"{build}: {len(rises)} {ax} steps, want 80,000")
-            for a, b in zip(rises, rises[1:]):
-                if any(a < r.cycle < b for r in rounds):
-                    continue
-                worst = max(worst, b - a)
-                shortest = b - a if shortest is None else min(shortest, b - a)
-        if worst > limit:
-            problems.append(f"{build}: a pause of {worst / F_CPU * 1000:.2f} ms within a move "
-                            f"(the longest interval of the ramp: {limit / F_CPU * 1000:.2f} ms)")
-        # an edge late by the other axes' interrupts brings the next one closer (the timeline is kept);
-        # at 10,000 steps/s (1,600 cycles) two steps never come closer than half of it
-        if vmax <= 10000 and shortest is not None and shortest < F_CPU / vmax / 2:
-            problems.append(f"{build}: two steps {shortest} cycles apart (vmax's interval: {F_CPU / vmax:.0f})")
-        notes.append(f"{build}: longest interval {worst / F_CPU * 1000:.2f} ms, shortest {shortest} cycles "
-                     f"(vmax's: {F_CPU // vmax})")
+        lats = []
+        for k, dt in enumerate(phases or (None,)):
+            script = "pin D3 1\ntimeout 60000\nwait ^MOVE 1000000$\n"
+            if dt is not None:
+                script += f"run {600 + dt:.1f}\npin D3 0\nwait ^FINISHED$\n"
+            log = emulog.run(elf, script, pins=pins, timeout=600)
+            problems += [f"{build}: harness: {kind} at {c / F_CPU:.4f} s: {t}" for c, kind, t in log.fails]
+            if dt is not None:
+                lat = three_stop(log, problems, build, vmax, accel)
+                if lat is not None:
+                    lats.append(lat)
+            if k == 0:
+                notes.append(three_legs(log, problems, build, n, vmax, accel))
+        if lats:
+            worst_lat[build] = max(lats)
+            notes.append(f"{build}: stop latency {min(lats):.2f}-{max(lats):.2f} ms over {len(lats)} moments")
+    doc = doc_three_stop_latency(env)
+    if doc is None:
+        problems.append("docs/library.md quotes no \"three Steppers' stop latency **<ms> ms** at 10,000 steps/s "
+                        f"(two Steppers: **<ms> ms** at 25,000)\" (measured {worst_lat})")
+    else:
+        for build, lat in worst_lat.items():
+            if lat > doc[build] + 0.05 or doc[build] > lat + 0.5:
+                problems.append(f"{build}: stop latency {lat:.2f} ms at worst; docs/library.md says {doc[build]} ms")
     return CheckResult(not problems, "; ".join(notes), problems)
 
+
+def three_legs(log, problems, build, n, vmax, accel):
+    """the four legs of one run: the calls, the positions, the underruns, the steps, the pauses"""
+    lines = [l.text for l in log.rx]
+    bad = [l for l in lines if re.match(r"^(setMaxSpeed|setAcceleration|begin|moveTo) ", l) and not l.endswith(" 0")]
+    if bad:
+        problems.append(f"{build}: calls refused: {bad}")
+    rounds = [l for l in log.rx if l.text.startswith("ROUND ")]
+    if len(rounds) != 4:
+        problems.append(f"{build}: {len(rounds)} ROUND lines, want 4")
+        return f"{build}: no legs"
+    for k, r in enumerate(rounds):
+        f = r.text.split()[2:]
+        want = 20000 if k % 2 == 0 else 0
+        if len(f) != 2 * n or any(int(f[2 * i]) != want or f[2 * i + 1] != "u=0" for i in range(n)):
+            problems.append(f"{build}: '{r.text}', want every axis at {want} with u=0")
+    limit = ((2.0 / accel) ** 0.5 * 1.05 + 1e-4) * F_CPU
+    worst, shortest = 0, None
+    for ax in "XYZ"[:n]:
+        rises = [c for c in log.rising(ax + "STEP") if c < rounds[-1].cycle]
+        if len(rises) != 80000:
+            problems.append(f"{build}: {len(rises)} {ax} steps in the four legs, want 80,000")
+        for a, b in zip(rises, rises[1:]):
+            if any(a < r.cycle < b for r in rounds):
+                continue
+            worst = max(worst, b - a)
+            shortest = b - a if shortest is None else min(shortest, b - a)
+    if worst > limit:
+        problems.append(f"{build}: a pause of {worst / F_CPU * 1000:.2f} ms within a move "
+                        f"(the longest interval of the ramp: {limit / F_CPU * 1000:.2f} ms)")
+    # an edge late by the other axes' interrupts brings the next one closer (the timeline is kept);
+    # at 10,000 steps/s (1,600 cycles) two steps never come closer than half of it
+    if vmax <= 10000 and shortest is not None and shortest < F_CPU / vmax / 2:
+        problems.append(f"{build}: two steps {shortest} cycles apart (vmax's interval: {F_CPU / vmax:.0f})")
+    return f"{build}: longest interval {worst / F_CPU * 1000:.2f} ms, shortest {shortest} cycles (vmax's: {F_CPU // vmax})"
 
 def checks_for(env):
     root = os.path.join(env.source_dir, LIB_EXAMPLES)
@@ -1285,6 +1357,7 @@ def checks_for(env):
                    "steps/s^3 (the limit lifted): the queue runs dry often, the axis always steps on to its DONEs",
                    lambda: guarded(check_smooth_stall, env)))
     checks.append(("MotionStepper library, test sketch ThreeSteppers: three Steppers at once at 10,000 and 25,000 "
-                   "steps/s, two at 25,000: every step, no underrun, no pause within a move",
+                   "steps/s, two at 25,000: every step, no underrun, no pause within a move; a stop() of all at a switch "
+                   "(three at 10,000, two at 25,000): its latency, no underrun",
                    lambda: guarded(check_three_steppers, env)))
     return checks

@@ -2,7 +2,9 @@
 /* ThreeSteppers - a test sketch (tools/emu/emu.mk builds it; test/emu/checks_library.py,
  * check_three_steppers): TS_N MotionStepper Steppers (X, Y, Z; 2 or 3) move 0 -> TS_D and back
  * twice, all at once, at TS_V steps/s and TS_A steps/s^2. It prints each call's status
- * ("setMaxSpeed X 0", ...), after each leg "ROUND <k> <position> u=<underruns> ..." for every axis,
+ * ("setMaxSpeed X 0", ...), after each leg "ROUND <k> <position> u=<underruns> ..." for every axis.
+ * Then every axis moves towards 1,000,000 ("MOVE 1000000"); when D3 goes low (the script's switch)
+ * every axis gets stop() ("STOP"), and at rest "DONE <X's position> underruns=<X's underruns>",
  * then FINISHED. Until 2026-12-05 three Steppers moving at once ran their queues dry thousands of
  * times, even at 10,000 steps/s, and a Z step could hold its STEP high for 18 ms
  * (BackgroundPlanner.h: MOTION_STEPPER_RETRY_COUNTS, MOTION_STEPPER_LEAD_MS_2/_3; Stepper.h:
@@ -24,6 +26,7 @@
 Stepper x(Stepper::X), y(Stepper::Y), z(Stepper::Z);
 static Stepper *const all[3] = {&x, &y, &z};
 static uint8_t leg = 0;
+static bool stopped = false;
 
 static void report(const __FlashStringHelper *what, uint8_t i, motion_status_t st)
 {
@@ -44,6 +47,7 @@ static void go()
 void setup()
 {
     Serial.begin(115200);
+    pinMode(3, INPUT_PULLUP); /* the stop switch: closed = low */
     for (uint8_t i = 0; i < TS_N; i++) {
         report(F("setMaxSpeed"), i, all[i]->setMaxSpeed(TS_V));
         report(F("setAcceleration"), i, all[i]->setAcceleration(TS_A));
@@ -63,7 +67,24 @@ void loop()
         if (all[i]->isRunning())
             moving = true;
     }
-    if (moving || leg >= 4)
+    if (leg == 4) {
+        /* the run towards 1,000,000: stopped at the switch */
+        if (!stopped && digitalRead(3) == LOW) {
+            for (uint8_t i = 0; i < TS_N; i++)
+                (void)all[i]->stop();
+            stopped = true;
+            Serial.println(F("STOP"));
+        } else if (stopped && !moving) {
+            Serial.print(F("DONE "));
+            Serial.print(x.currentPosition());
+            Serial.print(F(" underruns="));
+            Serial.println(x.underruns());
+            Serial.println(F("FINISHED"));
+            leg = 5;
+        }
+        return;
+    }
+    if (moving || leg > 4)
         return;
     Serial.print(F("ROUND "));
     Serial.print(leg);
@@ -74,8 +95,11 @@ void loop()
         Serial.print(all[i]->underruns());
     }
     Serial.println();
-    if (++leg == 4)
-        Serial.println(F("FINISHED"));
-    else
+    if (++leg == 4) {
+        Serial.println(F("MOVE 1000000"));
+        for (uint8_t i = 0; i < TS_N; i++)
+            report(F("moveTo"), i, all[i]->moveTo(1000000L));
+    } else {
         go();
+    }
 }

@@ -41,8 +41,14 @@ namespace {
 #define DUR_SHIFT 4
 uint16_t duration_ticks(const step_cmd_t &c)
 {
-    uint32_t per = (c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16);
-    uint64_t d = ((uint64_t)per * c.count) >> DUR_SHIFT;
+    uint32_t d;
+    if (c.flags & STEP_CMD_WIDE) {
+        uint64_t w = ((uint64_t)c.rate * c.count) >> DUR_SHIFT;
+        return w > 0xFFFFU ? 0xFFFFU : (uint16_t)w;
+    }
+    /* whole ticks of a 16.16 rate times the count: 16 x 16 bits (a 64-bit product cost some 300
+     * cycles of every command laid out) */
+    d = ((uint32_t)(uint16_t)(c.rate >> 16) * c.count) >> DUR_SHIFT;
     return d > 0xFFFFU ? 0xFFFFU : (uint16_t)d;
 }
 

@@ -129,14 +129,16 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
     return true;
 }
 
-/* One command at a time to the stepping axis whose queue reaches least far ahead; a move not yet
- * started only when no stepping axis needs one (MultiAxisConsole::feed's rule). */
+/* Commands to the stepping axis whose queue reaches least far ahead, MOTION_STEPPER_CMDS_PER_PICK at
+ * a time (choosing costs about as much as laying one out); a move not yet started one at a time and
+ * only when no stepping axis needs one (MultiAxisConsole::feed's rule). */
 void BackgroundPlanner::feed()
 {
     uint8_t dry = 0;
-    for (uint8_t k = 0; k < MOTION_STEPPER_CMDS_PER_TICK; k++) {
+    for (uint8_t k = 0; k < MOTION_STEPPER_CMDS_PER_TICK;) {
+        uint8_t laid;
         uint32_t best = UINT32_MAX, most = 0;
-        uint8_t pick = 3, start = 3;
+        uint8_t pick = 3, start = 3, n = MOTION_STEPPER_CMDS_PER_PICK;
         for (uint8_t i = 0; i < 3; i++) {
             uint32_t q;
             if (!axes_[i] || (dry & (1U << i)) || !MultiStepEngine::moving(i))
@@ -154,12 +156,16 @@ void BackgroundPlanner::feed()
                 start = i;
             }
         }
-        if (pick == 3)
+        if (pick == 3) {
             pick = start;
+            n = 1U; /* a move not started yet: one at a time */
+        }
         if (pick == 3)
             break;
-        if (MultiStepEngine::service(pick, axes_[pick]->source(), 1) == 0)
+        laid = MultiStepEngine::service(pick, axes_[pick]->source(), n);
+        if (laid == 0)
             dry |= (uint8_t)(1U << pick);
+        k = (uint8_t)(k + (laid ? laid : 1U));
     }
     for (uint8_t i = 0; i < 3; i++)
         if (axes_[i])

@@ -49,6 +49,11 @@
 #ifndef MOTION_STEPPER_CMDS_PER_TICK
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
 #endif
+/* commands laid out for the axis chosen before choosing again (choosing looks at every axis's queue:
+ * about as costly as a command of the cruise) */
+#ifndef MOTION_STEPPER_CMDS_PER_PICK
+#define MOTION_STEPPER_CMDS_PER_PICK 3U
+#endif
 /* A tick that came inside a step interrupt comes back this many counts of Timer3 (4 us each) later,
  * then twice as late at each retry that lands in one again (up to 62 counts, 248 us), until a tick
  * runs. Not a fixed 2 counts (8 us, as until 2026-12-05): this interrupt's entry and exit cost about

@@ -84,11 +84,13 @@ class StepperGroup;
 #define MOTION_STEPPER_CMD_MS 1U
 #endif
 /* The same with three Steppers begun, ms: three queues of 1 ms commands cost more of the AVR than
- * there is (the planner interrupt ran 13-15 ms ticks back to back and every axis ran dry thousands
- * of times at 10,000 steps/s), so their cruise takes commands of 4 ms, as the MultiAxisStepper
- * sketch's. A stop() in the cruise then waits for up to one such command (docs/library.md). */
+ * there is (a cruise command costs the planner interrupt some 3,000 cycles, laid out; at 10,000
+ * steps/s the ticks ran back to back, 93 % of the time, and every axis ran dry hundreds of times),
+ * so their cruise takes commands of 2 ms (test/emu/ThreeSteppers: clean at 10,000 to 25,000 steps/s
+ * and 50,000 to 200,000 steps/s^2). A stop() in the cruise then waits for up to one such command
+ * (docs/library.md has the latency measured). */
 #ifndef MOTION_STEPPER_CMD_MS_3
-#define MOTION_STEPPER_CMD_MS_3 4U
+#define MOTION_STEPPER_CMD_MS_3 2U
 #endif
 
 class Stepper {
