@@ -261,15 +261,20 @@ STOP_RATES = (20000, 10000, 25000)  # the speeds of the script's three stops, in
 STOP_ACCEL = 50000.0  # StopOnSwitch.ino's setAcceleration
 
 
+def library_doc_search(env, pattern):
+    """pattern's first match in docs/library.md, or None (no such page, or no match)"""
+    try:
+        with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
+            return re.search(pattern, f.read())
+    except OSError:
+        return None
+
+
 def doc_stop_latency(env):
     """the stop latencies docs/library.md quotes ('stop latency **4.1 ms** at 10,000 steps/s, **4.2 ms** at
     20,000 and **4.3 ms** at 25,000'): {rate: ms}, or None"""
-    try:
-        with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
-            m = re.search(r"stop\s+latency\s+\*\*([0-9.]+) ms\*\*\s+at\s+10,000\s+steps/s,\s+\*\*([0-9.]+) ms\*\*\s+at\s+"
-                          r"20,000\s+and\s+\*\*([0-9.]+) ms\*\*\s+at\s+25,000", f.read())
-    except OSError:
-        return None
+    m = library_doc_search(env, r"stop\s+latency\s+\*\*([0-9.]+) ms\*\*\s+at\s+10,000\s+steps/s,\s+\*\*([0-9.]+) ms\*\*"
+                                r"\s+at\s+20,000\s+and\s+\*\*([0-9.]+) ms\*\*\s+at\s+25,000")
     return {10000: float(m.group(1)), 20000: float(m.group(2)), 25000: float(m.group(3))} if m else None
 
 
@@ -1237,12 +1242,8 @@ THREE_LATE = 700  # cycles: three step interrupts share the CPU (the edges' jitt
 def doc_three_stop_latency(env):
     """'... three Steppers' stop latency **a ms** at 10,000 steps/s (two Steppers: **b ms** at 25,000)' in
     docs/library.md: {build: ms}, or None"""
-    try:
-        with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
-            m = re.search(r"three\s+Steppers'\s+stop\s+latency\s+\*\*([0-9.]+) ms\*\*\s+at\s+10,000\s+steps/s\s+"
-                          r"\(two\s+Steppers:\s+\*\*([0-9.]+) ms\*\*\s+at\s+25,000\)", f.read())
-    except OSError:
-        return None
+    m = library_doc_search(env, r"three\s+Steppers'\s+stop\s+latency\s+\*\*([0-9.]+) ms\*\*\s+at\s+10,000\s+steps/s\s+"
+                                r"\(two\s+Steppers:\s+\*\*([0-9.]+) ms\*\*\s+at\s+25,000\)")
     return {"three-10k": float(m.group(1)), "two-25k": float(m.group(2))} if m else None
 
 
