@@ -1221,7 +1221,7 @@ def check_smooth_stall(env):
     return CheckResult(not problems, f"{'; '.join(dones)}; {len(rises)} X steps; longest pause {gap:.2f} ms", problems)
 
 
-# Two and three Steppers moving at once (test/emu/ThreeSteppers, built three times by tools/emu/emu.mk):
+# Two and three Steppers moving at once (test/emu/ThreeSteppers, built four times by tools/emu/emu.mk):
 # four 20,000-step legs, every axis at once, then a run towards 1,000,000 that a switch stops (stop()
 # on every axis). Until 2026-12-05 three Steppers ran dry 1,451 / 2,366 / 3,354 times at 10,000 steps/s
 # (1 ms commands and a 10 ms lead cost more of the AVR than there was), and a tick of the planner that
@@ -1247,14 +1247,21 @@ def doc_three_stop_latency(env):
     return {"three-10k": float(m.group(1)), "two-25k": float(m.group(2))} if m else None
 
 
-def three_stop(log, problems, build, v, a):
-    """the run towards 1,000,000 stopped at the switch: X's latency (ms) or None"""
+def three_stop(log, problems, build, n, v, a):
+    """the run towards 1,000,000 stopped at the switch: every axis's steps to its position at rest and
+    no underrun; X's deceleration on the law and its latency (ms), or None"""
     r3 = next((l.cycle for l in log.rx if l.text.startswith("ROUND 3 ")), None)
     sw = [c for c, t, r in log.events if t == "input" and r.split()[0] == "D3" and r.split()[2] == "0"]
     done = next((l for l in log.rx if l.text.startswith("DONE ")), None)
-    if r3 is None or len(sw) != 1 or done is None:
+    at = next((l for l in log.rx if l.text.startswith("AT ")), None)
+    if r3 is None or len(sw) != 1 or done is None or at is None:
         problems.append(f"{build}: the stop: no conversation ({[l.text for l in log.rx][-4:]})")
         return None
+    f = at.text.split()[1:]
+    for i, ax in enumerate("XYZ"[:n]):
+        made = sum(1 for c in log.rising(ax + "STEP") if r3 < c < at.cycle)
+        if len(f) != 2 * n or f[2 * i] != str(made) or f[2 * i + 1] != "u=0":
+            problems.append(f"{build}: the stop: '{at.text}': {ax} made {made} steps from 0, want that position with u=0")
     e = [c for c in log.rising("XSTEP") if c > r3]
     made = sum(1 for c in e if c < sw[0])
     after = [c for c in e if sw[0] < c < done.cycle]
@@ -1290,7 +1297,7 @@ def check_three_steppers(env):
             log = emulog.run(elf, script, pins=pins, timeout=600)
             problems += [f"{build}: harness: {kind} at {c / F_CPU:.4f} s: {t}" for c, kind, t in log.fails]
             if dt is not None:
-                lat = three_stop(log, problems, build, vmax, accel)
+                lat = three_stop(log, problems, build, n, vmax, accel)
                 if lat is not None:
                     lats.append(lat)
             if k == 0:

@@ -5,7 +5,7 @@
  * ("setMaxSpeed X 0", ...), after each leg "ROUND <k> <position> u=<underruns> ..." for every axis.
  * Then every axis moves towards 1,000,000 ("MOVE 1000000"); when D3 goes low (the script's switch)
  * every axis gets stop() ("STOP"), and at rest "DONE <X's position> underruns=<X's underruns>",
- * then FINISHED. Until 2026-12-05 three Steppers moving at once ran their queues dry thousands of
+ * "AT <position> u=<underruns> ..." for every axis, then FINISHED. Until 2026-12-05 three Steppers moving at once ran their queues dry thousands of
  * times, even at 10,000 steps/s, and a Z step could hold its STEP high for 18 ms
  * (BackgroundPlanner.h: MOTION_STEPPER_RETRY_COUNTS, MOTION_STEPPER_LEAD_MS_2/_3; Stepper.h:
  * MOTION_STEPPER_CMD_MS_3). */
@@ -79,6 +79,14 @@ void loop()
             Serial.print(x.currentPosition());
             Serial.print(F(" underruns="));
             Serial.println(x.underruns());
+            Serial.print(F("AT"));
+            for (uint8_t i = 0; i < TS_N; i++) {
+                Serial.print(' ');
+                Serial.print(all[i]->currentPosition());
+                Serial.print(F(" u="));
+                Serial.print(all[i]->underruns());
+            }
+            Serial.println();
             Serial.println(F("FINISHED"));
             leg = 5;
         }

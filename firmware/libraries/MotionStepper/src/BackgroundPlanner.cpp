@@ -19,6 +19,8 @@ static volatile uint8_t s_locks;    /* PlannerLocks alive */
 static volatile uint8_t s_deferred; /* a tick came while loop() held a lock */
 static volatile uint8_t s_deferrals; /* ticks deferred by locks in a row */
 static uint8_t s_retry = MOTION_STEPPER_RETRY_COUNTS; /* Timer3 counts to the next retry */
+static_assert(MOTION_STEPPER_RETRY_COUNTS >= 1 && MOTION_STEPPER_RETRY_COUNTS <= 62,
+              "MOTION_STEPPER_RETRY_COUNTS: 1 to 62 counts of Timer3 (OCR3A is 249; the retries double up to 62)");
 
 /* A tick that finds a lock held returns and leaves itself to the unlock, which brings the interrupt
  * back two counts (8 us) later: the call that held the lock returns first (a tick may plan for
@@ -35,20 +37,29 @@ PlannerLock::PlannerLock()
 
 PlannerLock::~PlannerLock()
 {
+    bool inline_tick = false;
     s_locks = s_locks - 1U;
-    if (s_locks == 0 && s_deferred && !s_in_tick) {
-        s_deferred = 0;
-        if (s_deferrals < 2U) {
-            s_deferrals = s_deferrals + 1U;
-            ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-            {
+    if (s_locks != 0 || !s_deferred || s_in_tick)
+        return;
+    /* with interrupts off: a tick that came between the count's decrement and here would otherwise
+     * reset s_deferrals under this read-modify-write */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (s_deferred && !s_in_tick) {
+            s_deferred = 0;
+            if (s_deferrals < 2U) {
+                s_deferrals = s_deferrals + 1U;
                 if (TCNT3 < OCR3A - 2U)
                     TCNT3 = OCR3A - 2U;
+            } else {
+                s_deferrals = 0;
+                s_retry = MOTION_STEPPER_RETRY_COUNTS;
+                s_in_tick = 1;
+                inline_tick = true;
             }
-            return;
         }
-        s_deferrals = 0;
-        s_in_tick = 1;
+    }
+    if (inline_tick) {
         BackgroundPlanner::tick();
         s_in_tick = 0;
     }

@@ -45,7 +45,10 @@
 #ifndef MOTION_STEPPER_LEAD_MS_3
 #define MOTION_STEPPER_LEAD_MS_3 100U
 #endif
-/* commands laid out per tick at most (the axis whose queue reaches least far ahead first) */
+/* commands laid out per tick (the axis whose queue reaches least far ahead first): the tick stops
+ * choosing once it has laid out this many, so the last choice may add up to
+ * MOTION_STEPPER_CMDS_PER_PICK - 1 more (capping that last choice instead left three Steppers'
+ * simultaneous stop at 10,000 steps/s a command short: one underrun) */
 #ifndef MOTION_STEPPER_CMDS_PER_TICK
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
 #endif

@@ -76,9 +76,8 @@ motion_status_t (*Stepper::smooth_check_)(const ramp_params_t *, double);
 motion_status_t (*Stepper::smooth_init_)(step_planner_t *, const ramp_params_t *, double, step_smooth_t *, int32_t);
 motion_status_t (*Stepper::smooth_jerk_)(step_planner_t *, double);
 
-/* The planner for the ramp and parameters in force, at rest at pos. Commands of at most
- * MOTION_STEPPER_CMD_MS (lib's default is 4 ms): the queue then holds its lead in short pieces, and
- * a stop waits for less. */
+/* The planner for the ramp and parameters in force, at rest at pos, with the command length of
+ * set_cmd_length: the queue then holds its lead in short pieces, and a stop waits for less. */
 motion_status_t Stepper::init_planner(int32_t pos)
 {
     motion_status_t st = algo_ == RAMP_ALGO_SMOOTH
@@ -719,6 +718,7 @@ void Stepper::engine_done(int32_t position)
     if (has_next_) {
         /* the target accepted while the last steps ran: its move starts now, from rest */
         has_next_ = false;
+        set_cmd_length(); /* a Stepper begun since the last move may have changed it */
         if (step_planner_move(&planner_, next_target_) == MS_OK) {
             MultiStepEngine::open_move(axis_, false);
             return;

@@ -72,13 +72,13 @@ class StepperGroup;
  * only cuts and lays it out: this many microseconds ahead (the cut itself must be ready
  * MOTION_STEPPER_CUT_MARGIN_US before it lands, else the stop is planned at a cut as any other).
  * 600: with 800 the stop's latency reached 2.34 ms at 10,000 steps/s (the cut, plus the cruise
- * command of up to 1 ms it must wait for); with 600 at most 1.9 ms at every rate checked
- * (StopOnSwitch's check, docs/library.md). */
+ * command of up to 1 ms it must wait for); with 600 at most 2.0 ms at every rate checked
+ * (StopOnSwitch's check, docs/library.md; about 2 ms at worst by construction). */
 #ifndef MOTION_STEPPER_CUT_CRUISE_US
 #define MOTION_STEPPER_CUT_CRUISE_US 600UL
 #endif
 
-/* The longest time one step command of a Stepper moving alone covers, ms (a cruise is cut into
+/* The longest time one step command covers with one or two Steppers begun, ms (a cruise is cut into
  * such commands): with the lead, what a stop or a new target waits for. */
 #ifndef MOTION_STEPPER_CMD_MS
 #define MOTION_STEPPER_CMD_MS 1U
