@@ -110,9 +110,9 @@ $(EMU_SMOOTHSTALL_ELF): $(EMU_FW_SRCS) test/emu/SmoothStart/SmoothStart.ino tool
 	  >$(BUILD)/emu/smoothstall.log 2>&1 || { cat $(BUILD)/emu/smoothstall.log; exit 1; }
 
 # test/emu/ThreeSteppers: two and three Steppers moving at once (checks_library.py, check_three_steppers):
-# three at 10,000 and at 25,000 steps/s (50,000 steps/s^2, and 200,000 for the legs alone), two at 25,000
+# three at 10,000 and at 25,000 steps/s (50,000 steps/s^2, and 200,000 for the legs alone), two at 25,000 and 20,000
 EMU_THREE_BUILDS := three-10k:-DTS_N=3 three-25k:-DTS_N=3+-DTS_V=25000 three-25k-steep:-DTS_N=3+-DTS_V=25000+-DTS_A=200000 \
-  two-25k:-DTS_N=2+-DTS_V=25000
+  two-25k:-DTS_N=2+-DTS_V=25000 two-20k:-DTS_N=2+-DTS_V=20000
 EMU_THREE_ELFS := $(foreach b,$(EMU_THREE_BUILDS),$(BUILD)/emu/$(word 1,$(subst :, ,$(b)))/ThreeSteppers/ThreeSteppers.ino.elf)
 define emu_three_rule
 $(BUILD)/emu/$(1)/ThreeSteppers/ThreeSteppers.ino.elf: $(EMU_FW_SRCS) test/emu/ThreeSteppers/ThreeSteppers.ino tools/build_firmware.sh

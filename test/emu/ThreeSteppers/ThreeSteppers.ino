@@ -37,6 +37,18 @@ static void report(const __FlashStringHelper *what, uint8_t i, motion_status_t s
     Serial.println((int)st);
 }
 
+/* " <position> u=<underruns>" for every axis, then the line's end */
+static void print_axes()
+{
+    for (uint8_t i = 0; i < TS_N; i++) {
+        Serial.print(' ');
+        Serial.print(all[i]->currentPosition());
+        Serial.print(F(" u="));
+        Serial.print(all[i]->underruns());
+    }
+    Serial.println();
+}
+
 static void go()
 {
     long to = (leg & 1) ? 0L : TS_D;
@@ -80,13 +92,7 @@ void loop()
             Serial.print(F(" underruns="));
             Serial.println(x.underruns());
             Serial.print(F("AT"));
-            for (uint8_t i = 0; i < TS_N; i++) {
-                Serial.print(' ');
-                Serial.print(all[i]->currentPosition());
-                Serial.print(F(" u="));
-                Serial.print(all[i]->underruns());
-            }
-            Serial.println();
+            print_axes();
             Serial.println(F("FINISHED"));
             leg = 5;
         }
@@ -96,13 +102,7 @@ void loop()
         return;
     Serial.print(F("ROUND "));
     Serial.print(leg);
-    for (uint8_t i = 0; i < TS_N; i++) {
-        Serial.print(' ');
-        Serial.print(all[i]->currentPosition());
-        Serial.print(F(" u="));
-        Serial.print(all[i]->underruns());
-    }
-    Serial.println();
+    print_axes();
     if (++leg == 4) {
         Serial.println(F("MOVE 1000000"));
         for (uint8_t i = 0; i < TS_N; i++)
