@@ -618,6 +618,7 @@ uint8_t smooth_law_moving(const smooth_law_t *law)
 #define WIDE_ABOVE16 ((int64_t)65536 << 16) /* intervals of 65536 ticks or more go WIDE */
 #define TOL_TICKS 0.45f                     /* |executor time - law time| allowed inside a command */
 #define SPAN_MAX 65535U
+#define SPAN_PROBE 3U /* after a command of one step, commands of one step before two are tried again */
 #define F2M16 1.52587890625e-05f /* 2^-16 */
 #define F2M12 2.44140625e-04f
 #define F2M21 4.76837158203125e-07f
@@ -644,6 +645,7 @@ static void move_rest(smooth_move_t *s, int32_t pos)
     s->xf_a = 0;
     s->a_in_seg = 0;
     s->seg_ok = 0;
+    s->probe = 0;
 }
 
 motion_status_t smooth_move_init(smooth_move_t *s, const smooth_params_t *p, int32_t pos)
@@ -858,6 +860,23 @@ static int64_t mul_shr(int64_t h, int32_t x, uint8_t sh) /* h x / 2^sh toward 0;
     return (h < 0) != (x < 0) ? -(int64_t)r : (int64_t)r;
 }
 
+/* v 2^16, and round(x 2^-16) for |x| < 2^46: the halves moved as words (a 64-bit shift is a loop
+ * of library calls on the AVR) */
+static int64_t shl16(int32_t v)
+{
+    w64_t u;
+    u.w[0] = (uint32_t)v << 16;
+    u.w[1] = (uint32_t)(v < 0 ? ~(~(uint32_t)v >> 16) : (uint32_t)v >> 16);
+    return (int64_t)u.u;
+}
+
+static int32_t round_q16(int64_t x)
+{
+    w64_t u;
+    u.u = (uint64_t)(x + 0x8000);
+    return (int32_t)((u.w[1] << 16) | (u.w[0] >> 16));
+}
+
 static int64_t fp_resid(const smooth_move_t *s, int32_t x, uint32_t m)
 {
     int64_t h = s->fp_c[3] == 0 ? s->fp_c[2] : s->fp_c[2] + mul_shr(s->fp_c[3], x, s->fp_s[2]);
@@ -922,11 +941,12 @@ static uint8_t fp_solve(const smooth_move_t *s, uint32_t m, int64_t *x16, float 
     if (!(te > 0))
         return 0;
     for (i = 0; i < 3; i++) {
-        int32_t xi = (int32_t)((x + 0x8000) >> 16);
+        int32_t xi = round_q16(x);
         float dx = ldexpf((float)fp_resid(s, xi, m), -(int)s->fp_m) * te;
         if (!(fabsf(dx) < 16384.0f))
             return 0;
-        x = (int64_t)xi * 65536 - (int64_t)(dx * 65536.0f + (dx >= 0 ? 0.5f : -0.5f));
+        /* |dx| 2^16 < 2^30: a 32-bit conversion (the 64-bit one costs the AVR 3 times as much) */
+        x = shl16(xi) - (int32_t)(dx * 65536.0f + (dx >= 0 ? 0.5f : -0.5f));
         if (fabsf(dx) <= 1.0f) {
             *moved = (float)(x - *x16) * F2M16;
             *x16 = x;
@@ -1119,11 +1139,34 @@ static void emit(smooth_move_t *s, step_cmd_t *c, uint32_t len, int64_t rate, in
         s->acc16 += rate << 16;
     } else {
         c->add = (int32_t)add;
-        s->acc16 += (int64_t)len * rate + quad; /* quad: len (len - 1)/2 add */
+        /* quad: len (len - 1)/2 add; rate < 2^32: a 32 x 32-bit product */
+        s->acc16 += (int64_t)((uint64_t)len * (uint32_t)rate) + quad;
     }
     s->n += len;
     s->span = (uint16_t)len;
     s->pos = (int32_t)(s->law.origin + s->law.dir * (int64_t)s->n);
+}
+
+/* rate and quad (len (len - 1)/2 add) of a command of len >= 2 steps covering e_end (2^-16 ticks)
+ * with add: 1 when its first and last intervals are normal (1 .. 65535 ticks) */
+static uint8_t lay(int64_t e_end, uint32_t len, int32_t add, int64_t *rate, int64_t *quad)
+{
+    int64_t last, sum;
+    /* len < 2^16: len (len - 1)/2 < 2^31, times a 32-bit add (32 x 32-bit products) */
+    *quad = (int64_t)(int32_t)(((uint32_t)len * (len - 1U)) >> 1) * add;
+    sum = e_end - *quad;
+    if (sum >= 0 && sum < (int64_t)0xFFFFFFFFLL - len) /* a 32-bit division where it fits */
+        *rate = (int64_t)(((uint32_t)sum + (uint32_t)(len / 2U)) / (uint32_t)len);
+    else
+        *rate = div_round(sum, len);
+    last = *rate + (int64_t)(int32_t)(len - 1U) * add;
+    return *rate >= 1 && *rate < WIDE_ABOVE16 && last >= 1 && last < WIDE_ABOVE16;
+}
+
+static uint8_t phase_of(const smooth_move_t *s, float a, float dur)
+{
+    float a_end = a + s->f_j * dur;
+    return fabsf(a_end) <= s->f_acc_eps ? 2U : a_end > 0 ? 1U : 3U;
 }
 
 /* A command on the cruise's line: step n + l at y + l / v, in 2^-48 ticks (0: not possible). */
@@ -1157,8 +1200,9 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
     int64_t rate = 0, add = 0, e_end = 0, t16 = 0, x16 = 0, quad = 0;
     uint8_t wide = 0, fast = 0;
     int tries;
-    float xf, v, a, dv, da, e0, t1 = 0, t2 = 0, t3 = 0, relv = 0, dur = 0;
-    float q1, q2, q3, budget, tmax;
+    float xf, v, a, e0, t1 = 0, t2 = 0, t3 = 0, t4 = 0, dur = 0;
+    float q1 = 0, q2 = 0, q3 = 0, q4 = 0, budget = 0, tmax = 0, h2 = 0, h3 = 0, h4 = 0;
+    uint8_t probed = 0;
     smx_t x_end = smx_zero();
     if (s == NULL || c == NULL)
         return 0;
@@ -1192,52 +1236,82 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         return 1;
     make_exact(s);
     xf = s->xf_a;
-    seg_local(s, xf, &v, &a, &dv, &da);
+    {
+        float ax = s->f_a0 * xf, jx = s->f_j * xf;
+        v = s->f_v0 + ax + 0.5f * jx * xf;
+        a = s->f_a0 + jx;
+    }
     e0 = fabsf((float)s->err16) * F2M16;
     len = 1;
     if (v > 0) {
-        float r2, r3, t1s;
+        float r2, r3, t1s, t1c, dv, da, relv;
         t1 = 1.0f / v;
         t1s = t1 * t1;
-        r2 = a * t1s;           /* a / v^2: the relative change of the interval per step */
-        r3 = s->f_j * t1s * t1; /* j / v^3 */
-        t2 = -t1 * r2;          /* the derivatives of the time law in steps */
+        t1c = t1s * t1;
+        r2 = a * t1s;                          /* a / v^2: the relative change of the interval per step */
+        t2 = -a * t1c;                         /* the derivatives of the time law in steps */
+        r3 = s->f_j * t1c;                     /* j t1^3 = j / v^3 */
         t3 = t1 * (3 * r2 * r2 - r3);
-        relv = dv * t1;
-        len = 2U * s->span;
-        if (len > cap)
-            len = cap;
-    }
-    {
-        /* the bound on |executor - law| inside a span of l steps (ticks): e0 decaying, plus
-         * l (q1 + l (q2 + l q3)): the rate's rounding (q1), the float error of the
-         * shape (q2, q3), and the rounding of add (|add - ideal| l^2/8), the cubic term beyond the quadratic through
-         * the span's ends and middle (0.00802 |t3| l^3); the terms beyond it are bounded after the
-         * solve by the Newton correction from the series' end (0.55 times it: a quartic error
-         * pinned at both ends moves the middle by at most 0.47 of its value at the end) */
-        q1 = 0.5f * F2M16;
-        q2 = 0.5f * relv * fabsf(t2) + da * t1 * t1 * t1 * 0.125f;
-        q3 = (0.00802f + relv * (1.0f / 12)) * fabsf(t3);
-        budget = TOL_TICKS - e0;
-        tmax = (float)s->max_cmd_ticks - e0 - 2;
+        t4 = t1 * r2 * (10 * r3 - 15 * r2 * r2); /* (10 a j v - 15 a^3) / v^7 (a cubic law) */
+        /* from a quarter more than the last span (spans change by a few per cent from one
+         * command to the next; one that fits costs one evaluation of the bound); after one
+         * step, two are tried only every SPAN_PROBE commands (near rest, where a command of
+         * one step costs more than the time it covers, the bound's terms below are saved) */
+        if (s->span > 1 || s->probe == 0) {
+            len = (uint32_t)s->span + s->span / 4U + 1U;
+            if (len > cap)
+                len = cap;
+        } else {
+            s->probe--;
+        }
+        if (len > 1) {
+            /* the bound on |executor - law| inside a span of l steps (ticks): e0 decaying, plus
+             * l (q1 + l (q2 + l (q3 + l q4))): the rate's rounding (q1), the float error of the
+             * shape (q2, q3, q4), and the rounding of add (|add - ideal| l^2/8); the cubic and
+             * quartic terms beyond the quadratic through the span's ends and middle (0.00802 |t3|
+             * l^3 and 0.00460 |t4| l^4, the largest gaps of u^3/6 and u^4/24 to their quadratics
+             * through u = 0, 1/2, 1); the terms beyond those are bounded after the solve by the
+             * Newton correction from the series' end (0.55 times it: a quintic error pinned at
+             * both ends moves the middle by at most 0.535 of its value at the end) */
+            {
+                float ax = s->f_a0 * xf, jx = s->f_j * xf;
+                /* the rounding errors of v and a (the terms' magnitudes times 2^-21: x itself is a float) */
+                dv = F2M21 * (fabsf(s->f_v0) + fabsf(ax) + fabsf(0.5f * jx * xf));
+                da = F2M21 * (fabsf(s->f_a0) + fabsf(jx));
+            }
+            relv = dv * t1;
+            probed = 1;
+            q1 = 0.5f * F2M16;
+            q2 = 0.5f * relv * fabsf(t2) + da * t1c * 0.125f;
+            q3 = (0.00802f + relv * (1.0f / 12)) * fabsf(t3);
+            q4 = (0.00461f + relv * (1.0f / 16)) * fabsf(t4);
+            budget = TOL_TICKS - e0;
+            tmax = (float)s->max_cmd_ticks - e0 - 2;
+            h2 = 0.5f * t2;
+            h3 = t3 * (1.0f / 6.0f);
+            h4 = t4 * (1.0f / 24.0f);
+        }
     }
     for (tries = 0;; tries++) {
         float moved, lf = (float)len, e_pre = e0;
         int32_t addi = 0;
-        /* the span: the longest (from twice the last one) within the budget and max_cmd_ticks */
+        /* the span: the longest (from a quarter more than the last one) within the budget and
+         * max_cmd_ticks */
         if (len > 1) {
             int k;
             if ((float)len * t1 > tmax) { /* about the longest span within max_cmd_ticks */
-                float l0 = tmax / t1;
-                float lt = tmax / (t1 + 0.5f * l0 * (t2 + l0 * t3 * (1.0f / 3))) * 0.995f;
+                float l0 = tmax * v, d = 0.5f * l0 * (t2 + l0 * t3 * (1.0f / 3)) * v;
+                /* tmax / (t1 (1 + d)) without dividing: l0 (1 - d) is below it for any d > -1 */
+                float lt = (d > -0.5f ? l0 * (1 - d) : tmax / (t1 * (1 + d))) * 0.995f;
                 if (lt < (float)len)
                     len = lt < 1 ? 1 : (uint32_t)lt;
                 lf = (float)len;
             }
             for (k = 0; k < 16 && len > 1; k++) {
-                float eb = lf * (q1 + lf * (q2 + lf * q3));
-                dur = eb <= budget ? lf * (t1 + lf * (0.5f * t2 + lf * t3 * (1.0f / 6.0f))) : 0;
-                if (eb <= budget && dur <= tmax && t1 + t2 * lf < 65000.0f) {
+                float eb = lf * (q1 + lf * (q2 + lf * (q3 + lf * q4)));
+                dur = eb <= budget ? lf * (t1 + lf * (h2 + lf * (h3 + lf * h4))) : 0;
+                /* the last interval below 65000 ticks: only a slowing move's intervals grow */
+                if (eb <= budget && dur <= tmax && (t2 <= 0 ? t1 < 65000.0f : t1 + t2 * lf < 65000.0f)) {
                     e_pre = e0 + eb;
                     break;
                 }
@@ -1246,7 +1320,8 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
                     len = l < len ? l : len - 1;
                 } else if (eb > budget) {
                     float r = budget / eb;
-                    uint32_t l = r < 0.125f ? len / 2 : (uint32_t)(lf * (1 + 2 * r) * (1.0f / 3));
+                    /* 0.4286 + 0.5714 r: below r's cube root on [1/8, 1] */
+                    uint32_t l = r < 0.125f ? len / 2 : (uint32_t)(lf * (0.4286f + 0.5714f * r));
                     len = l < len ? l : len - 1;
                 } else {
                     len = len / 2;
@@ -1261,7 +1336,8 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
                 len = 1;
             lf = (float)len;
             if (len > 1) {
-                float addf = (t2 + 0.5f * t3 * lf) * 65536.0f;
+                /* the second difference of that quadratic: t2 + t3 l/2 + 7 t4 l^2/48 */
+                float addf = (t2 + lf * (0.5f * t3 + lf * t4 * (7.0f / 48.0f))) * 65536.0f;
                 if (fabsf(addf) < 2.0e9f) {
                     float dq;
                     addi = (int32_t)(addf + (addf >= 0 ? 0.5f : -0.5f));
@@ -1285,7 +1361,7 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
             float y;
             if (series) {
                 if (len == 1)
-                    dur = t1 + 0.5f * t2 + t3 * (1.0f / 6.0f);
+                    dur = t1 + 0.5f * t2 + t3 * (1.0f / 6.0f) + t4 * (1.0f / 24.0f);
                 y = dur;
             } else {
                 float ymax = s->seg_final ? -xf : smx_to_float(s->seg_hi) - xf;
@@ -1298,7 +1374,7 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
             } else {
                 if (series && s->fp_ok) {
                     /* ticks per step at the span's end from the series: dt/dn */
-                    float te = t1 + lf * (t2 + 0.5f * lf * t3);
+                    float te = t1 + lf * (t2 + lf * (0.5f * t3 + lf * t4 * (1.0f / 6.0f)));
                     x16 = s->xa16 + (int64_t)(y * 65536.0f + 0.5f);
                     fast = fp_solve(s, s->n + len, &x16, te, &moved);
                 }
@@ -1326,29 +1402,19 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
             quad = 0;
             break;
         }
+        add = addi;
+        if (lay(e_end, len, addi, &rate, &quad) && e_end <= (int64_t)s->max_cmd_ticks << 16 &&
+            e_pre + 0.55f * fabsf(moved) <= TOL_TICKS)
+            break;
         {
-            int64_t last, l64 = len, sum;
-            add = addi;
-            quad = l64 * (l64 - 1) / 2 * add;
-            sum = e_end - quad;
-            if (sum >= 0 && sum < (int64_t)0xFFFFFFFFLL - l64) /* a 32-bit division where it fits */
-                rate = (int64_t)(((uint32_t)sum + (uint32_t)(l64 / 2)) / (uint32_t)l64);
-            else
-                rate = div_round(sum, l64);
-            last = rate + (l64 - 1) * add;
-            if (rate >= 1 && rate < WIDE_ABOVE16 && last >= 1 && last < WIDE_ABOVE16 &&
-                e_end <= (int64_t)s->max_cmd_ticks << 16 && e_pre + 0.55f * fabsf(moved) <= TOL_TICKS)
-                break;
             len = tries > 3 ? len / 2 : len - (len + 3) / 4;
             if (len < 1)
                 len = 1;
         }
     }
-    {
-        float a_end = a + s->f_j * dur;
-        uint8_t ph = fabsf(a_end) <= s->f_acc_eps ? 2U : a_end > 0 ? 1U : 3U;
-        emit(s, c, len, rate, add, quad, wide, ph);
-    }
+    emit(s, c, len, rate, add, quad, wide, phase_of(s, a, dur));
+    if (probed && len == 1)
+        s->probe = SPAN_PROBE; /* two steps did not fit: one step for a while */
     if (fast)
         set_anchor(s, NULL, x16);
     else

@@ -202,7 +202,8 @@ typedef struct {
     uint32_t n_end;         /* the last step of the plan (frame) */
     int64_t acc16;          /* the executor's time of step n, 2^-16 ticks from the timeline's start */
     int64_t err16;          /* acc16 - (t16_a + y16): the executor's offset from the law at step n */
-    uint16_t span;          /* steps of the last command (the next one tries twice as many) */
+    uint16_t span;          /* steps of the last command (the next one tries a quarter more) */
+    uint8_t probe;          /* after one step: commands of one step before two are tried again */
     uint8_t active;         /* a plan is being handed out */
     uint8_t has_then;       /* after the stop in progress: the move to then_target */
     int32_t then_target;

@@ -725,7 +725,7 @@ SMOOTH_REPLIES_SETUP = [
     "setJerk(0): jerk must be greater than 0 steps/s^3",
     "setJerk(NAN): a parameter is NaN or infinite",
     "setJerk(30000): jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)",
-    "setJerk(200000): OK", "setRamp(SMOOTH): OK", "setMaxSpeed(30000): number out of range", "begin(): OK",
+    "setJerk(200000): OK", "setRamp(SMOOTH): OK", "setMaxSpeed(50000): number out of range", "begin(): OK",
     "READY SmoothMove"]
 # the legs: (start, target, (vmax, accel, jerk), event): event None, ("stop", at), ("to", at, target)
 SMOOTH_LEGS = [
@@ -738,7 +738,15 @@ SMOOTH_LEGS = [
     (31000, 0, (20000, 40000, 200000), ("halt", r"^forceStop at ")),
     (None, 0, (20000, 40000, 200000), None),
 ]
-SMOOTH_LEAD_MS = 100     # Stepper.h's MOTION_STEPPER_SMOOTH_LEAD_MS: a stop or a new target acts after it
+def stepper_h_define(name):
+    """a number #defined in MotionStepper's Stepper.h (a limit or a setting the checks follow)"""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "firmware", "libraries",
+                        "MotionStepper", "src", "Stepper.h")
+    with open(path, encoding="utf-8") as f:
+        return int(float(re.search(r"#define " + name + r" ([0-9.]+)", f.read()).group(1)))
+
+
+SMOOTH_LEAD_MS = stepper_h_define("MOTION_STEPPER_SMOOTH_LEAD_MS")  # a stop or a new target acts after it
 SMOOTH_ACCEL_TOL = 1.02  # the estimates' bounds: accel + 2 %, jerk + 5 % (edge jitter, see below)
 SMOOTH_JERK_TOL = 1.05
 SMOOTH_H_V, SMOOTH_H_A, SMOOTH_H_J = 0.010, 0.040, 0.060  # node spacings (s) of the estimates
@@ -1011,6 +1019,7 @@ def check_smooth_move(env):
 # `set vmax 10000` while it moves (kept for the next move from rest: the move back never steps faster;
 # the library once dropped such a value at the end of the move, found by a review of this example),
 # and a stop that ends on the DONE's position with every step made.
+SMOOTH_LIMIT = stepper_h_define("STEPPER_MAX_SPS_SMOOTH")  # the smooth ramp's highest vmax
 SMOOTH_CONSOLE_SCRIPT = """wait ^READY SmoothConsole$
 send ?
 wait ^pos=
@@ -1020,7 +1029,7 @@ send set jerk nan
 wait ^(OK|ERR)
 send set jerk 1000
 wait ^(OK|ERR)
-send set vmax 30000
+send set vmax %d
 wait ^(OK|ERR)
 send set speed 3
 wait ^(OK|ERR)
@@ -1047,15 +1056,16 @@ wait ^(OK|ERR)
 wait ^DONE
 send ?
 wait ^pos=
-"""
-SMOOTH_CONSOLE_IDLE = "pos=0 target=0 state=idle speed=0 algo=smooth vmax=20000 accel=40000 jerk=200000 max_sps=20000 underruns=0"
+""" % (SMOOTH_LIMIT + 1)
+SMOOTH_CONSOLE_IDLE = ("pos=0 target=0 state=idle speed=0 algo=smooth vmax=20000 accel=40000 jerk=200000 "
+                      f"max_sps={SMOOTH_LIMIT} underruns=0")
 SMOOTH_CONSOLE_REPLIES = [
     "READY SmoothConsole",
     SMOOTH_CONSOLE_IDLE,
     "ERR jerk must be greater than 0 steps/s^3",
     "ERR not a number",
     "ERR jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)",
-    "ERR number out of range: vmax at most 20000 steps/s on the smooth ramp",
+    f"ERR number out of range: vmax at most {SMOOTH_LIMIT} steps/s on the smooth ramp",
     "ERR unknown command: no such parameter (vmax, accel, jerk)",
     "ERR unknown command: try <target>, stop, !, ?, set vmax|accel|jerk <value>",
     "ERR not a number: a target is one whole number of steps, -2147483648..2147483647",
@@ -1086,7 +1096,7 @@ def check_smooth_console(env):
     m = re.match(r"^DONE (-?\d+)$", rest[0]) if rest else None
     q = rest[1] if len(rest) > 1 else ""
     if not m or not re.match(rf"^pos={m.group(1)} target={m.group(1)} state=idle speed=0 algo=smooth "
-                             r"vmax=10000 accel=40000 jerk=400000 max_sps=20000 underruns=0$", q):
+                             rf"vmax=10000 accel=40000 jerk=400000 max_sps={SMOOTH_LIMIT} underruns=0$", q):
         problems.append(f"after the stop: {rest}, expected 'DONE <p>' and an idle `?` at p with 0 underruns")
         return CheckResult(False, "conversation", problems)
     stop_at = int(m.group(1))

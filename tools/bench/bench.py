@@ -211,6 +211,113 @@ def fmt(res):
             f"{mn} / {me:.0f} / {mx} | {100 * res.get('cpu_left', 0):.0f} % | {verdict} |")
 
 
+# ---- the smooth ramp (issue 24): the MotionStepper library's SmoothConsole example --------------------
+# The reference move with the filter-shaped law: vmax, accel vmax^2/10,000 as above, and jerk 2 accel^2/vmax
+# (tau2 = accel/jerk half of tau1 = vmax/accel: the acceleration ramps up over half the time it is held).
+# The plan is `motionsim ramp --algo smooth --queue`: the executor's whole-tick edges from lib's commands.
+SMOOTH_LADDER = [20000, 30000, 40000, 50000]
+SMOOTH_SKETCH = os.path.join("firmware", "libraries", "MotionStepper", "examples", "SmoothConsole")
+SMOOTH_LIFT = "-DSTEPPER_MAX_SPS_SMOOTH=200000 -DMULTI_MAX_SPS=200000 -DSTEPPER_TRACE=1"
+
+
+def smooth_params(v):
+    a = v * v / 10000.0
+    return v, a, 2 * a * a / v
+
+
+def smooth_script(v):
+    vmax, a, j = smooth_params(v)
+    # vmax, then jerk, then accel: each is checked against the others in force (tau2 <= tau1)
+    s = ["wait ^READY", "timeout 20000"]
+    for k, val in (("vmax", vmax), ("jerk", j), ("accel", a)):
+        s += [f"send set {k} {val:g}", "wait ^(OK|ERR) "]
+    s += ["send ?", "wait ^pos=", "mark move", f"send {MOVE}", f"wait ^(OK {MOVE}|ERR)", "send ?", "wait ^pos=",
+          "timeout 120000", "wait ^DONE ", "timeout 5000", "send ?", "wait ^pos="]
+    return "\n".join(s) + "\n"
+
+
+def smooth_plan(motionsim, v):
+    vmax, a, j = smooth_params(v)
+    args = ["ramp", "--algo", "smooth", "--jerk", f"{j:g}", "--to", str(MOVE), "--vmax", f"{vmax:g}", "--accel",
+            f"{a:g}", "--tick-hz", str(F_CPU), "--queue"]
+    r = subprocess.run([motionsim] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if r.returncode != 0:
+        raise RuntimeError(f"motionsim {' '.join(args)}: {r.stderr.strip()}")
+    t, out = 0, []
+    for row in r.stdout.splitlines()[1:]:
+        if row:
+            t += int(float(row.split(",")[3]))
+            out.append(t)
+    return out
+
+
+def run_smooth(elf, motionsim, v, pins):
+    log = emulog.run(elf, smooth_script(v), pins=pins, timeout=900)
+    res = {"sketch": "SmoothConsole", "algo": "smooth", "rate": v, "problems": []}
+    errs = [l.text for l in log.rx if l.text.startswith("ERR")]
+    if errs:
+        res["problems"].append("refused: " + "; ".join(errs))
+    for c, k, t in log.fails:
+        res["problems"].append(f"harness {k}: {t}")
+    m = log.mark("move")
+    qs = [emulog.query_fields(l.text) for l in log.lines_matching("^pos=", m or 0)]
+    q_after = qs[-1] if qs else {}
+    rises = [c for c in log.rising("STEP") if m is None or c > m]
+    res["steps"] = len(rises)
+    res["underruns"] = int(q_after.get("underruns", -1))
+    res["late"] = "-"
+    tr = log.pins.get("TRACE", [])
+    isr = [b[0] - a[0] + ENTRY_CYCLES for a, b in zip(tr, tr[1:]) if a[1] == 1 and b[1] == 0 and (m is None or a[0] > m)]
+    res["isr"] = (min(isr), sum(isr) / len(isr), max(isr)) if isr else (0, 0, 0)
+    if rises:
+        span = rises[-1] - rises[0]
+        res["cpu_left"] = 1.0 - sum(isr) / span if span > 0 else 0.0
+    if len(rises) != MOVE:
+        res["problems"].append(f"{len(rises)} steps of {MOVE}")
+        return res
+    plan = smooth_plan(motionsim, v)
+    e = [(c - rises[0]) - (r - plan[0]) for c, r in zip(rises, plan)]
+    med = sorted(e)[len(e) // 2]
+    e = [x - med for x in e]
+    res["vs_plan"] = max(e, key=abs)
+    res["beyond8"] = sum(1 for x in e if abs(x) > 8)
+    res["worst_cycles"] = max(abs(x) for x in e)
+    if not (res["underruns"] == 0 and res["beyond8"] <= 0.03 * MOVE and res["worst_cycles"] <= OTHER_ISR_CYCLES):
+        res["problems"].append("not clean")
+    return res
+
+
+def smooth_section(motionsim, out_dir, rates=None):
+    out = os.path.join(out_dir, "smooth")
+    env = dict(os.environ, FIRMWARE_DEFINES=SMOOTH_LIFT, FIRMWARE_OUT=out)
+    r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh"), SMOOTH_SKETCH], env=env, cwd=ROOT,
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit("bench: building SmoothConsole failed:\n" + r.stdout[-2000:])
+    elf = os.path.join(out, "SmoothConsole", "SmoothConsole.ino.elf")
+    pins = {"STEP": "D54", "DIR": "D55", "TRACE": "D40"}
+    rows, best, broken = [], 0, False
+    for v in rates or SMOOTH_LADDER:
+        res = run_smooth(elf, motionsim, v, pins)
+        rows.append(fmt(res))
+        print(rows[-1], flush=True)
+        broken = broken or bool(res["problems"])
+        if not broken:
+            best = v
+    return ["## The smooth ramp: the filter-shaped move (docs/smooth-move.md)", "",
+            "The MotionStepper library's SmoothConsole example (setRamp(RAMP_ALGO_SMOOTH): Timer3 plans in the "
+            "background, Timer1 steps X), built with its speed limit lifted, on the reference move of "
+            f"{MOVE:,} steps from rest with vmax, accel vmax^2/10,000 steps/s^2 and jerk 2 accel^2/vmax steps/s^3 "
+            "(tau2 = tau1/2), a `?` sent during the move. The plan is `motionsim ramp --algo smooth --queue` (lib's "
+            "commands through the interrupt's executor, 16 MHz ticks = CPU cycles), aligned at the median edge; "
+            "clean as above (every step, no underrun, at most 3 % of the edges beyond 8 cycles, none beyond "
+            f"{OTHER_ISR_CYCLES}).", "",
+            "| sketch | algorithm | steps/s | steps | worst vs plan (ticks) | beyond 8 cycles | worst vs exact (ticks) "
+            "| underruns | late | ISR cycles min / mean / max | CPU left | verdict |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|"] + rows + \
+        ["", f"Highest clean rate of the smooth ramp (every rung below it clean too): {best:,} steps/s", ""]
+
+
 def planner_costs(elf):
     if not elf or not os.path.isfile(elf):
         return []
@@ -599,9 +706,16 @@ def main(argv):
                     help="the table to write (default docs/bench.md)")
     ap.add_argument("--multi-only", action="store_true",
                     help="only the multi-axis section (MultiAxisStepper), printed; no file is written")
+    ap.add_argument("--smooth-only", action="store_true",
+                    help="only the smooth ramp's section (SmoothConsole), printed; no file is written")
+    ap.add_argument("--smooth-rates", default="", help="with --smooth-only: only these rungs, e.g. 40000,50000")
     ap.add_argument("--multi-rates", default="",
                     help="with --multi-only: only these rungs of the multi-axis ladders, e.g. 25000,30000")
     a = ap.parse_args(argv)
+    if a.smooth_only:
+        rates = [int(r) for r in a.smooth_rates.split(",") if r.strip()] or None
+        print("\n".join(smooth_section(a.motionsim, a.out, rates)))
+        return 0
     if a.multi_only:
         rates = [int(r) for r in a.multi_rates.split(",") if r.strip()] or None
         lines = multi_section(a.motionsim, a.out, a.only, rates)
@@ -645,6 +759,7 @@ def main(argv):
               ""]
     lines += multi_section(a.motionsim, a.out, a.only)
     if not a.only:
+        lines += smooth_section(a.motionsim, a.out)
         lines += library_section(a.out)
         lines += sizes_section(a.out, names + multi)
     pc = planner_costs(a.planner_elf)

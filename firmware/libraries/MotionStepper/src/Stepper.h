@@ -42,16 +42,26 @@
 class StepperGroup;
 
 /* The smooth ramp's highest vmax (setMaxSpeed, setRamp(RAMP_ALGO_SMOOTH): MS_ERR_OUT_OF_RANGE above):
- * the rate the emulator check of the SmoothMove example verified clean (docs/smooth-move.md). */
+ * the highest rate `make bench` measures clean (docs/bench.md, "Highest clean rate of the smooth
+ * ramp": the reference move with accel vmax^2/10,000 and jerk 2 accel^2/vmax; at 50,000 steps/s its
+ * planner falls behind while the move speeds up, docs/smooth-move.md). */
 #ifndef STEPPER_MAX_SPS_SMOOTH
-#define STEPPER_MAX_SPS_SMOOTH 20000.0
+#define STEPPER_MAX_SPS_SMOOTH 40000.0
 #endif
 /* setRamp(RAMP_ALGO_SMOOTH) raises BackgroundPlanner's lead (all axes) to at least this, ms: the
  * smooth planner's commands near rest and at the knots cost more than the time they cover (smx
  * solves of up to 8 ms each), and a stop or a new target is planned in 13-22 ms, so the queue must
- * bank that much ahead (the SmoothMove check: underruns with less). */
+ * bank that much ahead (the SmoothMove check: underruns with less). 150, not 100 (until
+ * 2026-12-05): the last steps of a move from 40,000 steps/s come one per command at up to 1.6 ms of
+ * the AVR each, and with 100 ms banked the queue ran dry 10 times there (make bench's smooth rung). */
 #ifndef MOTION_STEPPER_SMOOTH_LEAD_MS
-#define MOTION_STEPPER_SMOOTH_LEAD_MS 100U
+#define MOTION_STEPPER_SMOOTH_LEAD_MS 150U
+#endif
+/* A smooth move from rest starts once this much is laid out (or its ring is full), ms: the lead's
+ * 100 ms of before 2026-12-05, enough for the start (the costly commands near rest are banked); the
+ * first step comes no later than with a 100 ms lead. */
+#ifndef MOTION_STEPPER_SMOOTH_START_MS
+#define MOTION_STEPPER_SMOOTH_START_MS 100U
 #endif
 #ifndef STEPPER_DEFAULT_JERK
 #define STEPPER_DEFAULT_JERK 100000.0

@@ -61,7 +61,7 @@ void setup()
     say(F("setJerk(30000)"), x.setJerk(30000)); /* below accel^2/vmax = 40000: tau2 > tau1 */
     say(F("setJerk(200000)"), x.setJerk(200000));
     say(F("setRamp(SMOOTH)"), x.setRamp(RAMP_ALGO_SMOOTH));
-    say(F("setMaxSpeed(30000)"), x.setMaxSpeed(30000)); /* above STEPPER_MAX_SPS_SMOOTH */
+    say(F("setMaxSpeed(50000)"), x.setMaxSpeed(50000)); /* above STEPPER_MAX_SPS_SMOOTH */
     say(F("begin()"), x.begin());
     Serial.println(F("READY SmoothMove"));
     go(20000);
