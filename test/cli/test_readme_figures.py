@@ -79,3 +79,19 @@ def test_no_link_to_the_uncommitted_build_bench():
     for path in ["README.md"] + sorted(glob.glob(os.path.join(ROOT, "docs", "*.md"))) + sorted(sources):
         text = read(path)
         assert "build/bench/bench.md" not in text, path
+
+
+def test_the_smooth_ramps_limit_is_its_highest_clean_rate_in_bench_md():
+    """issue 24: STEPPER_MAX_SPS_SMOOTH (MotionStepper's Stepper.h) is the rate `make bench` proves
+    clean for the smooth ramp ("Highest clean rate of the smooth ramp" in docs/bench.md), and
+    docs/smooth-move.md quotes that same figure"""
+    bench = re.search(r"^Highest clean rate of the smooth ramp \(.*?\): ([\d,]+) steps/s", read("docs", "bench.md"),
+                      re.M)
+    assert bench, "docs/bench.md has no smooth ramp section (make bench)"
+    header = read("firmware", "libraries", "MotionStepper", "src", "Stepper.h")
+    limit = re.search(r"#define STEPPER_MAX_SPS_SMOOTH ([0-9.]+)", header)
+    quoted = re.search(r"`STEPPER_MAX_SPS_SMOOTH`, \*\*([\d,]+)\*\* steps/s\) is the highest\s+rate `make bench` "
+                       r"measures clean", read("docs", "smooth-move.md"))
+    assert limit and quoted, "Stepper.h's define or docs/smooth-move.md's sentence is missing"
+    assert int(float(limit.group(1))) == number(bench.group(1)) == number(quoted.group(1)), \
+        (limit.group(1), bench.group(1), quoted.group(1))

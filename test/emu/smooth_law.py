@@ -76,7 +76,10 @@ class Law:
         return out
 
     def times(self, n):
-        """t when the position reaches each n (array of step numbers, 0 < n <= final): bisection"""
+        """t when the position reaches each n (array of step numbers, 0 < n <= final): bisection; the
+        final position itself is reached at t_final, where the law comes to rest (its velocity,
+        acceleration and jerk all 0 there, the position is flat to the third order: a bisection on
+        pos() in float64 would place that step up to some 10 us early)"""
         n = np.asarray(n, dtype=float)
         lo = np.zeros_like(n)
         hi = np.full_like(n, self.t_final())
@@ -85,4 +88,4 @@ class Law:
             below = self.pos(mid) < n
             lo = np.where(below, mid, lo)
             hi = np.where(below, hi, mid)
-        return (lo + hi) / 2
+        return np.where(np.abs(n - self.final()) < 1e-6, self.t_final(), (lo + hi) / 2)
