@@ -117,7 +117,11 @@ def script(name, prm):
 def plan_ticks(motionsim, q):
     """the algorithm's own whole-tick step times (absolute, step 1..D) from motionsim"""
     import emulate  # tools/emu: the argument mapping `make emulate` uses
-    args = emulate.stepper_sim_args(q, 0, MOVE)
+    return motionsim_edges(motionsim, emulate.stepper_sim_args(q, 0, MOVE))
+
+
+def motionsim_edges(motionsim, args):
+    """the step times (absolute ticks, step 1..D) of a `motionsim ramp` table: its intervals summed"""
     r = subprocess.run([motionsim] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if r.returncode != 0:
         raise RuntimeError(f"motionsim {' '.join(args)}: {r.stderr.strip()}")
@@ -150,10 +154,10 @@ def exact_ticks(q):
     return [round(t(n) * f) for n in range(1, d + 1)]
 
 
-def run_one(elf, motionsim, name, algo, v, pins):
-    prm = params_for(algo, v)
-    log = emulog.run(elf, script(name, prm), pins=pins, timeout=900)
-    res = {"sketch": name, "algo": algo, "rate": v, "problems": []}
+def measure(log, res):
+    """what every ladder's run measures: refusals, harness failures, the STEP rises after the mark
+    'move', the `?` after it (underruns, late), the step interrupt's cycles (TRACE) and the CPU left.
+    (mark, rises)"""
     errs = [l.text for l in log.rx if l.text.startswith("ERR")]
     if errs:
         res["problems"].append("refused: " + "; ".join(errs))
@@ -161,18 +165,33 @@ def run_one(elf, motionsim, name, algo, v, pins):
         res["problems"].append(f"harness {k}: {t}")
     m = log.mark("move")
     qs = [emulog.query_fields(l.text) for l in log.lines_matching("^pos=", m or 0)]
-    q_before = emulog.query_fields(log.lines_matching("^pos=", 0, m)[-1].text) if m else {}
     q_after = qs[-1] if qs else {}
     rises = [c for c in log.rising("STEP") if m is None or c > m]
     res["steps"] = len(rises)
     res["underruns"] = int(q_after.get("underruns", -1))
-    res["late"] = int(q_after.get("late", -1))
+    res["late"] = int(q_after["late"]) if "late" in q_after else "-"
     tr = log.pins.get("TRACE", [])
     isr = [b[0] - a[0] + ENTRY_CYCLES for a, b in zip(tr, tr[1:]) if a[1] == 1 and b[1] == 0 and (m is None or a[0] > m)]
     res["isr"] = (min(isr), sum(isr) / len(isr), max(isr)) if isr else (0, 0, 0)
     if rises:
         span = rises[-1] - rises[0]
         res["cpu_left"] = 1.0 - sum(isr) / span if span > 0 else 0.0
+    return m, rises
+
+
+def judge(res):
+    # late edges (fired 2 us after an armed edge was found in the past) are reported; a run is clean
+    # when every edge still lands within the bound for edges that meet another interrupt
+    if not (res["underruns"] == 0 and res["beyond8"] <= 0.03 * MOVE and res["worst_cycles"] <= OTHER_ISR_CYCLES):
+        res["problems"].append("not clean")
+
+
+def run_one(elf, motionsim, name, algo, v, pins):
+    prm = params_for(algo, v)
+    log = emulog.run(elf, script(name, prm), pins=pins, timeout=900)
+    res = {"sketch": name, "algo": algo, "rate": v, "problems": []}
+    m, rises = measure(log, res)
+    q_before = emulog.query_fields(log.lines_matching("^pos=", 0, m)[-1].text) if m else {}
     if len(rises) != MOVE or not q_before:
         res["problems"].append(f"{len(rises)} steps of {MOVE}")
         return res
@@ -191,11 +210,7 @@ def run_one(elf, motionsim, name, algo, v, pins):
     res["vs_plan"], res["beyond8"], res["worst_cycles"] = compare(plan)
     if algo == "exact":
         res["vs_exact"], _, _ = compare(exact_ticks(q_before))
-    # late edges (fired 2 us after an armed edge was found in the past) are reported; a run is clean
-    # when every edge still lands within the bound for edges that meet another interrupt
-    clean = (res["underruns"] == 0 and res["beyond8"] <= 0.03 * MOVE and res["worst_cycles"] <= OTHER_ISR_CYCLES)
-    if not clean:
-        res["problems"].append("not clean")
+    judge(res)
     return res
 
 
@@ -238,40 +253,14 @@ def smooth_script(v):
 
 def smooth_plan(motionsim, v):
     vmax, a, j = smooth_params(v)
-    args = ["ramp", "--algo", "smooth", "--jerk", f"{j:g}", "--to", str(MOVE), "--vmax", f"{vmax:g}", "--accel",
-            f"{a:g}", "--tick-hz", str(F_CPU), "--queue"]
-    r = subprocess.run([motionsim] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if r.returncode != 0:
-        raise RuntimeError(f"motionsim {' '.join(args)}: {r.stderr.strip()}")
-    t, out = 0, []
-    for row in r.stdout.splitlines()[1:]:
-        if row:
-            t += int(float(row.split(",")[3]))
-            out.append(t)
-    return out
+    return motionsim_edges(motionsim, ["ramp", "--algo", "smooth", "--jerk", f"{j:g}", "--to", str(MOVE), "--vmax",
+                                       f"{vmax:g}", "--accel", f"{a:g}", "--tick-hz", str(F_CPU), "--queue"])
 
 
 def run_smooth(elf, motionsim, v, pins):
     log = emulog.run(elf, smooth_script(v), pins=pins, timeout=900)
     res = {"sketch": "SmoothConsole", "algo": "smooth", "rate": v, "problems": []}
-    errs = [l.text for l in log.rx if l.text.startswith("ERR")]
-    if errs:
-        res["problems"].append("refused: " + "; ".join(errs))
-    for c, k, t in log.fails:
-        res["problems"].append(f"harness {k}: {t}")
-    m = log.mark("move")
-    qs = [emulog.query_fields(l.text) for l in log.lines_matching("^pos=", m or 0)]
-    q_after = qs[-1] if qs else {}
-    rises = [c for c in log.rising("STEP") if m is None or c > m]
-    res["steps"] = len(rises)
-    res["underruns"] = int(q_after.get("underruns", -1))
-    res["late"] = "-"
-    tr = log.pins.get("TRACE", [])
-    isr = [b[0] - a[0] + ENTRY_CYCLES for a, b in zip(tr, tr[1:]) if a[1] == 1 and b[1] == 0 and (m is None or a[0] > m)]
-    res["isr"] = (min(isr), sum(isr) / len(isr), max(isr)) if isr else (0, 0, 0)
-    if rises:
-        span = rises[-1] - rises[0]
-        res["cpu_left"] = 1.0 - sum(isr) / span if span > 0 else 0.0
+    _, rises = measure(log, res)
     if len(rises) != MOVE:
         res["problems"].append(f"{len(rises)} steps of {MOVE}")
         return res
@@ -282,8 +271,7 @@ def run_smooth(elf, motionsim, v, pins):
     res["vs_plan"] = max(e, key=abs)
     res["beyond8"] = sum(1 for x in e if abs(x) > 8)
     res["worst_cycles"] = max(abs(x) for x in e)
-    if not (res["underruns"] == 0 and res["beyond8"] <= 0.03 * MOVE and res["worst_cycles"] <= OTHER_ISR_CYCLES):
-        res["problems"].append("not clean")
+    judge(res)
     return res
 
 
