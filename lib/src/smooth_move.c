@@ -618,7 +618,7 @@ uint8_t smooth_law_moving(const smooth_law_t *law)
 #define WIDE_ABOVE16 ((int64_t)65536 << 16) /* intervals of 65536 ticks or more go WIDE */
 #define TOL_TICKS 0.45f                     /* |executor time - law time| allowed inside a command */
 #define SPAN_MAX 65535U
-#define SPAN_PROBE 3U /* after a command of one step, commands of one step before two are tried again */
+#define SPAN_PROBE 3U /* after two steps were refused: commands of one step before two are tried again */
 #define F2M16 1.52587890625e-05f /* 2^-16 */
 #define F2M12 2.44140625e-04f
 #define F2M21 4.76837158203125e-07f
@@ -1254,9 +1254,9 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         t3 = t1 * (3 * r2 * r2 - r3);
         t4 = t1 * r2 * (10 * r3 - 15 * r2 * r2); /* (10 a j v - 15 a^3) / v^7 (a cubic law) */
         /* from a quarter more than the last span (spans change by a few per cent from one
-         * command to the next; one that fits costs one evaluation of the bound); after one
-         * step, two are tried only every SPAN_PROBE commands (near rest, where a command of
-         * one step costs more than the time it covers, the bound's terms below are saved) */
+         * command to the next; one that fits costs one evaluation of the bound); after two steps
+         * were refused, SPAN_PROBE commands of one step follow without evaluating it (near rest,
+         * where a command of one step costs more than the time it covers), then two are tried */
         if (s->span > 1 || s->probe == 0) {
             len = (uint32_t)s->span + s->span / 4U + 1U;
             if (len > cap)
@@ -1301,8 +1301,9 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
             int k;
             if ((float)len * t1 > tmax) { /* about the longest span within max_cmd_ticks */
                 float l0 = tmax * v, d = 0.5f * l0 * (t2 + l0 * t3 * (1.0f / 3)) * v;
-                /* tmax / (t1 (1 + d)) without dividing: l0 (1 - d) is below it for any d > -1 */
-                float lt = (d > -0.5f ? l0 * (1 - d) : tmax / (t1 * (1 + d))) * 0.995f;
+                /* tmax / (t1 (1 + d)) without dividing where |d| < 1/2: l0 (1 - d) is below it (for
+                 * any d > -1; within 1 - d^2 of it) */
+                float lt = (d > -0.5f && d < 0.5f ? l0 * (1 - d) : tmax / (t1 * (1 + d))) * 0.995f;
                 if (lt < (float)len)
                     len = lt < 1 ? 1 : (uint32_t)lt;
                 lf = (float)len;

@@ -88,4 +88,4 @@ class Law:
             below = self.pos(mid) < n
             lo = np.where(below, mid, lo)
             hi = np.where(below, hi, mid)
-        return np.where(np.abs(n - self.final()) < 1e-6, self.t_final(), (lo + hi) / 2)
+        return np.where(np.abs(n - self.final()) < 1e-9, self.t_final(), (lo + hi) / 2)

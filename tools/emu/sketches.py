@@ -321,7 +321,7 @@ run 100
     # SmoothConsole: the stepper sketches' commands and `set jerk` for the smooth ramp (115200 baud)
     "SmoothConsole": """\
 # SmoothConsole: `set jerk 0` refused, jerk 400000, out to 20000, then back towards -5000 and
-# stopped 300 ms later (the stop acts after the smooth ramp's lead, about 0.1 s)
+# stopped 300 ms later (the stop acts after the smooth ramp's lead, up to 0.15 s)
 wait ^READY
 send set jerk 0
 wait ^(OK|ERR)

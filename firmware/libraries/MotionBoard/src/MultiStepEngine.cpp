@@ -321,21 +321,18 @@ static bool others_stepping(uint8_t axis)
     return false;
 }
 
-static uint8_t s_start_full;                /* bit i: axis i starts with its ring full (set_start_full) */
-static uint32_t s_start_ticks[MULTI_AXES]; /* or with this much laid out (0: its lead) */
+static uint8_t s_start_full; /* bit i: axis i starts with its ring full (set_start_full) */
 
-void MultiStepEngine::set_start_full(uint8_t axis, bool full, uint16_t bank_ms)
+void MultiStepEngine::set_start_full(uint8_t axis, bool full)
 {
     if (axis >= MULTI_AXES)
         return;
-    uint32_t t = s_tick_hz / 1000UL * bank_ms;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         if (full)
             s_start_full |= (uint8_t)_BV(axis);
         else
             s_start_full &= (uint8_t)~_BV(axis);
-        s_start_ticks[axis] = full ? t : 0;
     }
 }
 
@@ -347,8 +344,7 @@ bool MultiStepEngine::ready_to_start(uint8_t axis, const AxisSource &src)
      * ring full (or its lead laid out) */
     uint8_t want = (others_stepping(axis) || (s_start_full & _BV(axis))) ? (uint8_t)(f.nslots - 1U)
                                                                           : (uint8_t)MULTI_START_SLOTS;
-    uint32_t bank = s_start_ticks[axis] != 0 ? s_start_ticks[axis] : s_lead_ticks;
-    return f.ready >= want || f.ready >= f.nslots - 1U || !src.busy(src.ctx) || f.queued_ticks >= bank;
+    return f.ready >= want || f.ready >= f.nslots - 1U || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks;
 }
 
 bool MultiStepEngine::stepping(uint8_t axis)

@@ -200,10 +200,10 @@ public:
      * axis steps, or when set_start_full(axis, true) asked for it), its lead, or everything its
      * planner has. */
     static bool ready_to_start(uint8_t axis, const AxisSource &src);
-    /* The axis's moves start only with its ring full (or bank_ms of steps laid out, the lead when
-     * 0, or all of them): for a planner whose first commands cost more than the time they cover
-     * (the smooth ramp's near rest), the queue banks what it can before the first step. */
-    static void set_start_full(uint8_t axis, bool full, uint16_t bank_ms = 0);
+    /* The axis's moves start only with its ring full (or their lead laid out, or all of them):
+     * for a planner whose first commands cost more than the time they cover (the smooth ramp's
+     * near rest), the queue banks what it can before the first step. */
+    static void set_start_full(uint8_t axis, bool full);
 
     /* Starts the held moves of the axes in mask (bit i: axis i) on one tick of Timer1. */
     static void start_together(uint8_t mask);

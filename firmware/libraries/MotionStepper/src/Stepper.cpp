@@ -181,9 +181,7 @@ motion_status_t Stepper::switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks
         return MS_ERR_BUSY; /* a move was asked meanwhile (from an interrupt?) */
     algo_ = algo;
     ramp_hooks_ = hooks;
-    /* the smooth ramp's first commands cost more than they last: its moves start with the ring full
-     * or MOTION_STEPPER_SMOOTH_START_MS laid out */
-    MultiStepEngine::set_start_full(axis_, algo == RAMP_ALGO_SMOOTH, MOTION_STEPPER_SMOOTH_START_MS);
+    MultiStepEngine::set_start_full(axis_, algo == RAMP_ALGO_SMOOTH); /* its first commands cost more than they last */
     if (begun_)
         (void)init_planner(MultiStepEngine::position(axis_)); /* probed: plans */
     return MS_OK;

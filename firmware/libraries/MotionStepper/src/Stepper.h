@@ -52,16 +52,12 @@ class StepperGroup;
  * smooth planner's commands near rest and at the knots cost more than the time they cover (smx
  * solves of up to 8 ms each), and a stop or a new target is planned in 13-22 ms, so the queue must
  * bank that much ahead (the SmoothMove check: underruns with less). 150, not 100 (until
- * 2026-12-05): the last steps of a move from 40,000 steps/s come one per command at up to 1.6 ms of
- * the AVR each, and with 100 ms banked the queue ran dry 10 times there (make bench's smooth rung). */
+ * 2026-12-05): near the end of a move from 40,000 steps/s each step is a command that costs the AVR
+ * more than the time it covers, and with 100 ms banked the queue ran dry there (make bench's
+ * smooth ladder). A move from rest waits for its ring to fill or this much, so its first step
+ * comes later too (docs/smooth-move.md has both figures measured). */
 #ifndef MOTION_STEPPER_SMOOTH_LEAD_MS
 #define MOTION_STEPPER_SMOOTH_LEAD_MS 150U
-#endif
-/* A smooth move from rest starts once this much is laid out (or its ring is full), ms: the lead's
- * 100 ms of before 2026-12-05, enough for the start (the costly commands near rest are banked); the
- * first step comes no later than with a 100 ms lead. */
-#ifndef MOTION_STEPPER_SMOOTH_START_MS
-#define MOTION_STEPPER_SMOOTH_START_MS 100U
 #endif
 #ifndef STEPPER_DEFAULT_JERK
 #define STEPPER_DEFAULT_JERK 100000.0

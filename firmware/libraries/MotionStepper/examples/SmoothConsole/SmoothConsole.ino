@@ -21,7 +21,7 @@
  * emulator checks verify clean; with a higher acceleration or jerk the planner can fall behind and
  * steps come late: underruns= in `?`, docs/smooth-move.md's known limit).
  * A stop or a new target acts after the steps already queued (the smooth ramp's lead, up to 0.15 s);
- * the first step comes about 0.1 s after a move from rest is asked for. Replies can come up to
+ * the first step comes about 0.14 s after a move from rest is asked for. Replies can come up to
  * about 0.3 s after their line: while the planner interrupt plans the smooth ramp's costly commands
  * near rest, loop() waits for it (the input is kept meanwhile: MotionSerial, as the sketches'
  * consoles read it; a line lost all the same is answered "ERR input overrun").

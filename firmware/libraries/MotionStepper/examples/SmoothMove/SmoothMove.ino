@@ -11,8 +11,8 @@
  *     smoothly, then comes back from rest;
  *   then at 20,000 steps/s (accel 40,000): out to 41000, retargeted at 20000 to 31000;
  *   back towards 0, halted by forceStop() at 25000 (no step after it), and from there to 0.
- * The first step of each move comes about 100 ms after moveTo() (the smooth planner banks its first
- * commands); a stop or a new target acts after the steps already queued (the lead, 100 ms).
+ * The first step of each move comes some 140 ms after moveTo() (the smooth planner banks its first
+ * commands); a stop or a new target acts after the steps already queued (the lead, 150 ms).
  * loop() only looks.
  */
 #include <MotionStepper.h>
