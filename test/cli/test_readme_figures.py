@@ -84,7 +84,7 @@ def test_no_link_to_the_uncommitted_build_bench():
 def test_the_smooth_ramps_limit_is_its_highest_clean_rate_in_bench_md():
     """issue 24: STEPPER_MAX_SPS_SMOOTH (MotionStepper's Stepper.h) is the rate `make bench` proves
     clean for the smooth ramp ("Highest clean rate of the smooth ramp" in docs/bench.md), and
-    docs/smooth-move.md quotes that same figure"""
+    docs/smooth-move.md and README quote that same figure"""
     bench = re.search(r"^Highest clean rate of the smooth ramp \(.*?\): (?:>= )?([\d,]+) steps/s",
                       read("docs", "bench.md"), re.M)
     assert bench, "docs/bench.md has no smooth ramp section (make bench)"
@@ -92,6 +92,8 @@ def test_the_smooth_ramps_limit_is_its_highest_clean_rate_in_bench_md():
     limit = re.search(r"#define STEPPER_MAX_SPS_SMOOTH ([0-9.]+)", header)
     quoted = re.search(r"`STEPPER_MAX_SPS_SMOOTH`, \*\*([\d,]+)\*\* steps/s\) is the highest\s+rate `make bench` "
                        r"measures clean", read("docs", "smooth-move.md"))
-    assert limit and quoted, "Stepper.h's define or docs/smooth-move.md's sentence is missing"
-    assert int(float(limit.group(1))) == number(bench.group(1)) == number(quoted.group(1)), \
-        (limit.group(1), bench.group(1), quoted.group(1))
+    readme = re.search(r"Jerk-limited moves \(\[docs/smooth-move.md\]\(docs/smooth-move.md\)\) are clean to\s+"
+                       r"\*\*([\d,]+)\*\* steps/s", read("README.md"))
+    assert limit and quoted and readme, "Stepper.h's define, docs/smooth-move.md's or README's sentence is missing"
+    assert int(float(limit.group(1))) == number(bench.group(1)) == number(quoted.group(1)) == number(readme.group(1)), \
+        (limit.group(1), bench.group(1), quoted.group(1), readme.group(1))
