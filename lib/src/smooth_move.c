@@ -790,14 +790,20 @@ static smx_t seg_pos(const smooth_move_t *s, smx_t x)
     return smx_add(s->seg.p, smx_mul(x, smx_add(s->seg.v, smx_mul(x, smx_add(s->seg_ah, smx_mul(x, s->seg_j6))))));
 }
 
-/* Velocity and acceleration of the segment at local time xf (floats), with bounds on their
- * rounding errors (the terms' magnitudes times 2^-21: x itself is a float). */
-static void seg_local(const smooth_move_t *s, float xf, float *v, float *a, float *dv, float *da)
+/* Velocity and acceleration of the segment at local time xf (floats) */
+static void seg_va(const smooth_move_t *s, float xf, float *v, float *a)
 {
-    float ax = s->f_a0 * xf, jx = s->f_j * xf, jxx = 0.5f * jx * xf;
-    *v = s->f_v0 + ax + jxx;
+    float ax = s->f_a0 * xf, jx = s->f_j * xf;
+    *v = s->f_v0 + ax + 0.5f * jx * xf;
     *a = s->f_a0 + jx;
-    *dv = F2M21 * (fabsf(s->f_v0) + fabsf(ax) + fabsf(jxx));
+}
+
+/* Bounds on the rounding errors of seg_va's v and a (the terms' magnitudes times 2^-21: x itself
+ * is a float) */
+static void seg_err(const smooth_move_t *s, float xf, float *dv, float *da)
+{
+    float ax = s->f_a0 * xf, jx = s->f_j * xf;
+    *dv = F2M21 * (fabsf(s->f_v0) + fabsf(ax) + fabsf(0.5f * jx * xf));
     *da = F2M21 * (fabsf(s->f_a0) + fabsf(jx));
 }
 
@@ -1028,7 +1034,8 @@ static smx_t seg_solve(const smooth_move_t *s, smx_t m, smx_t x, float xf, smx_t
             lo = x;
         else
             hi = x;
-        seg_local(s, xf, &v, &a, &dv, &da);
+        seg_va(s, xf, &v, &a);
+        seg_err(s, xf, &dv, &da);
         if (v > 0) {
             dx = smx_to_float(f) / v;
             xn = smx_sub(x, smx_from_float(dx));
@@ -1236,11 +1243,7 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
         return 1;
     make_exact(s);
     xf = s->xf_a;
-    {
-        float ax = s->f_a0 * xf, jx = s->f_j * xf;
-        v = s->f_v0 + ax + 0.5f * jx * xf;
-        a = s->f_a0 + jx;
-    }
+    seg_va(s, xf, &v, &a);
     e0 = fabsf((float)s->err16) * F2M16;
     len = 1;
     if (v > 0) {
@@ -1273,12 +1276,7 @@ uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c)
              * through u = 0, 1/2, 1); the terms beyond those are bounded after the solve by the
              * Newton correction from the series' end (0.55 times it: a quintic error pinned at
              * both ends moves the middle by at most 0.535 of its value at the end) */
-            {
-                float ax = s->f_a0 * xf, jx = s->f_j * xf;
-                /* the rounding errors of v and a (the terms' magnitudes times 2^-21: x itself is a float) */
-                dv = F2M21 * (fabsf(s->f_v0) + fabsf(ax) + fabsf(0.5f * jx * xf));
-                da = F2M21 * (fabsf(s->f_a0) + fabsf(jx));
-            }
+            seg_err(s, xf, &dv, &da);
             relv = dv * t1;
             probed = 1;
             q1 = 0.5f * F2M16;
