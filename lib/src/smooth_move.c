@@ -616,7 +616,7 @@ uint8_t smooth_law_moving(const smooth_law_t *law)
 /* ---- the stepper planner ---- */
 
 #define WIDE_ABOVE16 ((int64_t)65536 << 16) /* intervals of 65536 ticks or more go WIDE */
-#define TOL_TICKS 0.45f                     /* |executor time - law time| allowed inside a command */
+#define TOL_TICKS 0.9f /* |executor time - law time| allowed inside a command (below 1: the edge, floor(acc) half a tick in, within 1 tick of round(F t_n)) */
 #define SPAN_MAX 65535U
 #define SPAN_PROBE 3U /* after two steps were refused: commands of one step before two are tried again */
 #define F2M16 1.52587890625e-05f /* 2^-16 */

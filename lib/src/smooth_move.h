@@ -36,8 +36,10 @@
  * segment's cubic, and the command's shape from the step series t(n + l) = t_n + l t1 + l^2 t2/2
  * + l^3 t3/6 (t1 = 1/v, t2 = -a/v^3, t3 = (3a^2 - v j)/v^5, from the segment's state at step n in
  * floats):
- *   - the span l: the longest (from twice the last one, at most to the segment's knot and 65535
- *     steps) whose bound on |executor time - law time| stays within 0.45 tick: the offset at its
+ *   - the span l: the longest (from a quarter more than the last one, at most to the segment's
+ *     knot and 65535 steps) whose bound on |executor time - law time| stays within 0.9 tick (below
+ *     1: the engine's timeline starts half a tick in, so the edge floor(acc) is the tick nearest
+ *     the executor's time, within 1 tick of round(F t_n)): the offset at its
  *     start, the cubic term beyond the quadratic through its ends and middle (0.00802 |t3| l^3),
  *     the rounding of add (|add - ideal| l^2/8) and of rate (l 2^-17), the float error of the
  *     shape; and it covers at most max_cmd_ticks; intervals of 65536 ticks or more go into WIDE
@@ -58,7 +60,7 @@
  * from the line plus l 2^-17 stays within the budget (else the exact solve). After a knot, the
  * first command is solved on the new segment (the step before it lies on the old one). The
  * executor's time is predicted exactly, so the next command absorbs every rounding: no drift.
- * Every edge floor(acc) is within 1 tick of round(F t_n), |acc - F t_n| <= 0.45 tick for normal
+ * Every edge (floor(acc), acc half a tick in) is within 1 tick of round(F t_n), |acc - F t_n| below 0.95 tick for normal
  * commands and 1/2 (+ the solve's 2^-12) for WIDE ones (test_smooth_move: random moves, stops and
  * new targets against the closed form in quadruple precision, and the move of 2^31 - 1 steps).
  * The host and the AVR compute the same commands: the float work is IEEE single precision

@@ -230,7 +230,7 @@ def fmt(res):
 # The reference move with the filter-shaped law: vmax, accel vmax^2/10,000 as above, and jerk 2 accel^2/vmax
 # (tau2 = accel/jerk half of tau1 = vmax/accel: the acceleration ramps up over half the time it is held).
 # The plan is `motionsim ramp --algo smooth --queue`: the executor's whole-tick edges from lib's commands.
-SMOOTH_LADDER = [20000, 30000, 40000, 50000]
+SMOOTH_LADDER = [20000, 30000, 40000, 50000, 60000]
 SMOOTH_SKETCH = os.path.join("firmware", "libraries", "MotionStepper", "examples", "SmoothConsole")
 SMOOTH_LIFT = "-DSTEPPER_MAX_SPS_SMOOTH=200000 -DMULTI_MAX_SPS=200000 -DSTEPPER_TRACE=1"
 

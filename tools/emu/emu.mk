@@ -105,8 +105,8 @@ $(EMU_SMOOTHSTART_ELF): $(EMU_FW_SRCS) test/emu/SmoothStart/SmoothStart.ino tool
 EMU_SMOOTHSTALL_ELF := $(BUILD)/emu/smoothstall/SmoothStart/SmoothStart.ino.elf
 $(EMU_SMOOTHSTALL_ELF): $(EMU_FW_SRCS) test/emu/SmoothStart/SmoothStart.ino tools/build_firmware.sh
 	@mkdir -p $(BUILD)/emu/smoothstall
-	@FIRMWARE_OUT=$(BUILD)/emu/smoothstall FIRMWARE_DEFINES="-DSTEPPER_MAX_SPS_SMOOTH=50000 -DMULTI_MAX_SPS=50000 -DSMOOTHSTART_VMAX=50000 \
-	  -DSMOOTHSTART_ACCEL=250000 -DSMOOTHSTART_JERK=2500000" bash tools/build_firmware.sh test/emu/SmoothStart \
+	@FIRMWARE_OUT=$(BUILD)/emu/smoothstall FIRMWARE_DEFINES="-DSTEPPER_MAX_SPS_SMOOTH=80000 -DMULTI_MAX_SPS=80000 -DSMOOTHSTART_VMAX=80000 \
+	  -DSMOOTHSTART_ACCEL=640000 -DSMOOTHSTART_JERK=10240000" bash tools/build_firmware.sh test/emu/SmoothStart \
 	  >$(BUILD)/emu/smoothstall.log 2>&1 || { cat $(BUILD)/emu/smoothstall.log; exit 1; }
 
 # test/emu/ThreeSteppers: two and three Steppers moving at once (checks_library.py, check_three_steppers):

@@ -43,18 +43,18 @@ class StepperGroup;
 
 /* The smooth ramp's highest vmax (setMaxSpeed, setRamp(RAMP_ALGO_SMOOTH): MS_ERR_OUT_OF_RANGE above):
  * the highest rate `make bench` measures clean (docs/bench.md, "Highest clean rate of the smooth
- * ramp": the reference move with accel vmax^2/10,000 and jerk 2 accel^2/vmax; at 50,000 steps/s its
- * planner falls behind while the move speeds up, docs/smooth-move.md). */
+ * ramp": the reference move with accel vmax^2/10,000 and jerk 2 accel^2/vmax; at 60,000 steps/s its
+ * planner falls behind near rest, docs/smooth-move.md). */
 #ifndef STEPPER_MAX_SPS_SMOOTH
-#define STEPPER_MAX_SPS_SMOOTH 40000.0
+#define STEPPER_MAX_SPS_SMOOTH 50000.0
 #endif
 /* setRamp(RAMP_ALGO_SMOOTH) raises BackgroundPlanner's lead (all axes) to at least this, ms: the
  * smooth planner's commands near rest and at the knots cost more than the time they cover (smx
  * solves of up to 8 ms each), and a stop or a new target is planned in 13-22 ms, so the queue must
  * bank that much ahead (the SmoothMove check: underruns with less). 150, not 100 (until
- * 2026-12-05): near the end of a move from 40,000 steps/s each step is a command that costs the AVR
- * more than the time it covers, and with 100 ms banked the queue ran dry there (make bench's
- * smooth ladder). A move from rest waits for its ring to fill or this much, so its first step
+ * 2026-12-05): near the end of a move from 40,000 steps/s each step was a command that cost the AVR
+ * more than the time it covered, and with 100 ms banked the queue ran dry there (make bench's
+ * smooth ladder); at 50,000 steps/s it still runs dry with 100 ms (125 was clean). A move from rest waits for its ring to fill or this much, so its first step
  * comes later too (docs/smooth-move.md has both figures measured). */
 #ifndef MOTION_STEPPER_SMOOTH_LEAD_MS
 #define MOTION_STEPPER_SMOOTH_LEAD_MS 150U
@@ -148,7 +148,7 @@ public:
      *                         steps already queued (the lead, leadMs()), not at a cut. Its planner
      *                         (about 1 KB) is allocated from the heap at the first setRamp(SMOOTH) of a
      *                         Stepper (MS_ERR_OUT_OF_RANGE if there is no room) and kept; a sketch
-     *                         that never asks for it does not link it. Its first step comes about 0.1 s
+     *                         that never asks for it does not link it. Its first step comes about 0.15 s
      *                         after moveTo() from rest (the ring is filled first; docs/smooth-move.md). */
     inline __attribute__((always_inline)) motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0)
     {

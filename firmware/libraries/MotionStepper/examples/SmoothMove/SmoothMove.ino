@@ -11,7 +11,7 @@
  *     smoothly, then comes back from rest;
  *   then at 20,000 steps/s (accel 40,000): out to 41000, retargeted at 20000 to 31000;
  *   back towards 0, halted by forceStop() at 25000 (no step after it), and from there to 0.
- * The first step of each move comes some 140 ms after moveTo() (the smooth planner banks its first
+ * The first step of each move comes some 150 ms after moveTo() (the smooth planner banks its first
  * commands); a stop or a new target acts after the steps already queued (the lead, 150 ms).
  * loop() only looks.
  */
@@ -61,7 +61,7 @@ void setup()
     say(F("setJerk(30000)"), x.setJerk(30000)); /* below accel^2/vmax = 40000: tau2 > tau1 */
     say(F("setJerk(200000)"), x.setJerk(200000));
     say(F("setRamp(SMOOTH)"), x.setRamp(RAMP_ALGO_SMOOTH));
-    say(F("setMaxSpeed(50000)"), x.setMaxSpeed(50000)); /* above STEPPER_MAX_SPS_SMOOTH */
+    say(F("setMaxSpeed(60000)"), x.setMaxSpeed(60000)); /* above STEPPER_MAX_SPS_SMOOTH */
     say(F("begin()"), x.begin());
     Serial.println(F("READY SmoothMove"));
     go(20000);
