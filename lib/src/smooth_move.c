@@ -192,12 +192,16 @@ static smx_t last_knot_of(const smooth_law_t *law, smx_t s)
     return smx_add(smx_add(s, law->tau1), law->tau2);
 }
 
-motion_status_t smooth_law_set_params(smooth_law_t *law, const smooth_params_t *p)
+/* The law's parameters from p, checked (smooth_law_set_params' statuses), into the caller's
+ * variables (the law itself is not needed: a check costs no copy of it). */
+typedef struct {
+    smx_t tau1, tau2, vmax, inv_t1t2;
+} law_params_t;
+
+static motion_status_t law_params(const smooth_params_t *p, law_params_t *out)
 {
     float vmax, accel, jerk;
     smx_t f, t1, t2;
-    if (law == NULL || p == NULL)
-        return MS_ERR_NULL;
     vmax = (float)p->vmax_sps;
     accel = (float)p->accel_sps2;
     jerk = (float)p->jerk_sps3;
@@ -220,12 +224,32 @@ motion_status_t smooth_law_set_params(smooth_law_t *law, const smooth_params_t *
         return MS_ERR_JERK_TOO_LOW;
     if (smx_cmp(t1, smx_from_i64((int64_t)1 << 34)) > 0)
         return MS_ERR_ACCEL_PHASE_TOO_LONG;
-    law->tau1 = t1;
-    law->tau2 = t2;
-    law->vmax = smx_div(smx_from_float(vmax), f);
-    law->inv_t1t2 = smx_div(smx_from_i64(1), smx_mul(t1, t2));
-    law->tick_hz = p->tick_hz;
+    out->tau1 = t1;
+    out->tau2 = t2;
+    out->vmax = smx_div(smx_from_float(vmax), f);
+    out->inv_t1t2 = smx_div(smx_from_i64(1), smx_mul(t1, t2));
     return MS_OK;
+}
+
+static void law_params_set(smooth_law_t *law, const law_params_t *lp, uint32_t tick_hz)
+{
+    law->tau1 = lp->tau1;
+    law->tau2 = lp->tau2;
+    law->vmax = lp->vmax;
+    law->inv_t1t2 = lp->inv_t1t2;
+    law->tick_hz = tick_hz;
+}
+
+motion_status_t smooth_law_set_params(smooth_law_t *law, const smooth_params_t *p)
+{
+    law_params_t lp;
+    motion_status_t st;
+    if (law == NULL || p == NULL)
+        return MS_ERR_NULL;
+    st = law_params(p, &lp);
+    if (st == MS_OK)
+        law_params_set(law, &lp, p->tick_hz);
+    return st;
 }
 
 void smooth_law_reset(smooth_law_t *law, int32_t pos)
@@ -404,28 +428,31 @@ static const smx_t *limit_t(void)
     return &lim;
 }
 
-/* Replaces the command from the cursor's time on: to `goal` (frame) or, with stop, to 0 now. */
+/* Replaces the command from the cursor's time on: to `goal` (frame) or, with stop, to 0 now. In
+ * place: on an error the law is left changed (its future changes dropped), so smooth_law_retarget
+ * works on a copy; a stop cannot fail (smooth_law_start builds its law itself). One copy at most on the stack: the law is some 800 bytes on the AVR, and the planner runs
+ * in an interrupt on top of the sketch's stack. */
 static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
 {
-    smooth_law_t t = *law;
-    smx_t u, p_stop, r, h, len;
-    drop_old_changes(&t, 1);
-    u = level_now(&t);
-    /* where a stop now comes to rest */
-    if (t.n_chg + 1 > SMOOTH_MAX_CHANGES)
+    smx_t u, p_stop, r, h, len, j0;
+    uint8_t n0;
+    drop_old_changes(law, 1);
+    u = level_now(law);
+    /* where a stop now comes to rest: the stop's change put in, the knots made, then taken out */
+    if (law->n_chg + 1 > SMOOTH_MAX_CHANGES)
         return MS_ERR_SMOOTH_TOO_MANY;
-    {
-        smooth_law_t s = t;
-        if (u.m != 0)
-            add_change(&s, s.cur.t, smx_neg(u));
-        rebuild_knots(&s);
-        p_stop = rest_position(&s);
-        if (stop) {
-            s.p_final = p_stop;
-            *law = s;
-            return MS_OK;
-        }
+    n0 = law->n_chg;
+    j0 = law->cur.j;
+    if (u.m != 0)
+        add_change(law, law->cur.t, smx_neg(u));
+    rebuild_knots(law);
+    p_stop = rest_position(law);
+    if (stop) {
+        law->p_final = p_stop;
+        return MS_OK;
     }
+    law->n_chg = n0;
+    law->cur.j = j0;
     r = smx_sub(goal, p_stop);
     if (r.m < 0)
         return MS_ERR_SMOOTH_REVERSE;
@@ -433,35 +460,45 @@ static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
         h = smx_zero();
         len = smx_zero();
     } else {
-        rectangle(&t, r, &h, &len);
+        rectangle(law, r, &h, &len);
     }
-    if (t.n_chg + 2 > SMOOTH_MAX_CHANGES - 1) /* one is kept for a stop */
+    if (law->n_chg + 2 > SMOOTH_MAX_CHANGES - 1) /* one is kept for a stop */
         return MS_ERR_SMOOTH_TOO_MANY;
     if (smx_cmp(h, u) != 0)
-        add_change(&t, t.cur.t, smx_sub(h, u));
+        add_change(law, law->cur.t, smx_sub(h, u));
     if (h.m != 0)
-        add_change(&t, smx_add(t.cur.t, len), smx_neg(h));
-    rebuild_knots(&t);
-    if (smx_cmp(t.t_final, *limit_t()) > 0)
+        add_change(law, smx_add(law->cur.t, len), smx_neg(h));
+    rebuild_knots(law);
+    if (smx_cmp(law->t_final, *limit_t()) > 0)
         return MS_ERR_SMOOTH_TOO_LONG;
-    t.p_final = goal;
-    *law = t;
+    law->p_final = goal;
     return MS_OK;
 }
 
 motion_status_t smooth_law_start(smooth_law_t *law, int32_t to)
 {
     int64_t d = (int64_t)to - law->origin;
+    smx_t g = smx_from_i64(d < 0 ? -d : d), h, len, end;
+    if (d != 0) { /* what replan makes of it from rest, checked before anything changes */
+        rectangle(law, g, &h, &len);
+        end = smx_add(smx_zero(), len);
+        if (smx_cmp(last_knot_of(law, end), *limit_t()) > 0)
+            return MS_ERR_SMOOTH_TOO_LONG;
+    }
     smooth_law_reset(law, law->origin);
     law->dir = d < 0 ? -1 : 1;
     if (d == 0)
         return MS_OK;
-    return replan(law, smx_from_i64(d < 0 ? -d : d), 0);
+    add_change(law, law->cur.t, h);
+    add_change(law, end, smx_neg(h));
+    rebuild_knots(law);
+    law->p_final = g;
+    return MS_OK;
 }
 
 motion_status_t smooth_law_retarget(smooth_law_t *law, smx_t now, int32_t to)
 {
-    smooth_law_t t = *law;
+    smooth_law_t t = *law; /* replan changes it in place, also when it refuses */
     motion_status_t st;
     cur_advance(&t.cur, &t, now);
     st = replan(&t, smx_from_i64(((int64_t)to - law->origin) * law->dir), 0);
@@ -623,9 +660,9 @@ uint8_t smooth_law_moving(const smooth_law_t *law)
 #define F2M12 2.44140625e-04f
 #define F2M21 4.76837158203125e-07f
 
-static void move_rest(smooth_move_t *s, int32_t pos)
+/* the planner's own state at rest at pos (the law apart) */
+static void fields_rest(smooth_move_t *s, int32_t pos)
 {
-    smooth_law_reset(&s->law, pos);
     s->pos = pos;
     s->n = 0;
     s->n_end = 0;
@@ -648,16 +685,20 @@ static void move_rest(smooth_move_t *s, int32_t pos)
     s->probe = 0;
 }
 
+static void move_rest(smooth_move_t *s, int32_t pos)
+{
+    smooth_law_reset(&s->law, pos);
+    fields_rest(s, pos);
+}
+
 motion_status_t smooth_move_init(smooth_move_t *s, const smooth_params_t *p, int32_t pos)
 {
-    smooth_law_t law;
     motion_status_t st;
     if (s == NULL || p == NULL)
         return MS_ERR_NULL;
-    st = smooth_law_set_params(&law, p);
+    st = smooth_law_set_params(&s->law, p); /* changes nothing on error */
     if (st != MS_OK)
         return st;
-    s->law = law;
     s->max_cmd_ticks = p->tick_hz / 250U;
     if (s->max_cmd_ticks == 0)
         s->max_cmd_ticks = 1;
@@ -667,17 +708,16 @@ motion_status_t smooth_move_init(smooth_move_t *s, const smooth_params_t *p, int
 
 motion_status_t smooth_move_set_params(smooth_move_t *s, const smooth_params_t *p)
 {
-    smooth_law_t law;
+    law_params_t lp;
     motion_status_t st;
     if (s == NULL || p == NULL)
         return MS_ERR_NULL;
-    law = s->law;
-    st = smooth_law_set_params(&law, p);
+    st = law_params(p, &lp);
     if (st != MS_OK)
         return st;
     if (smooth_move_busy(s))
         return MS_ERR_BUSY;
-    s->law = law;
+    law_params_set(&s->law, &lp, p->tick_hz);
     s->max_cmd_ticks = p->tick_hz / 250U ? p->tick_hz / 250U : 1U;
     return MS_OK;
 }
@@ -691,15 +731,17 @@ static uint32_t plan_end(const smooth_law_t *law)
 
 static motion_status_t start_from_rest(smooth_move_t *s, int32_t to)
 {
-    smooth_move_t n = *s;
+    int32_t origin = s->law.origin;
     motion_status_t st;
-    move_rest(&n, s->pos);
-    st = smooth_law_start(&n.law, to);
-    if (st != MS_OK)
+    s->law.origin = s->pos; /* the move's frame; smooth_law_start checks first, changes nothing on error */
+    st = smooth_law_start(&s->law, to);
+    if (st != MS_OK) {
+        s->law.origin = origin;
         return st;
-    n.n_end = plan_end(&n.law);
-    n.active = n.n_end > 0;
-    *s = n;
+    }
+    fields_rest(s, s->pos);
+    s->n_end = plan_end(&s->law);
+    s->active = s->n_end > 0;
     return MS_OK;
 }
 
@@ -1433,35 +1475,32 @@ static void setpoint_rest(smooth_setpoint_t *s, int32_t pos)
 
 motion_status_t smooth_setpoint_init(smooth_setpoint_t *s, const smooth_params_t *p, int32_t pos)
 {
-    smooth_law_t law;
     motion_status_t st;
     if (s == NULL || p == NULL)
         return MS_ERR_NULL;
     if (p->tick_hz != 1000000U)
         return MS_ERR_OUT_OF_RANGE;
-    st = smooth_law_set_params(&law, p);
+    st = smooth_law_set_params(&s->law, p); /* changes nothing on error */
     if (st != MS_OK)
         return st;
-    s->law = law;
     setpoint_rest(s, pos);
     return MS_OK;
 }
 
 motion_status_t smooth_setpoint_set_params(smooth_setpoint_t *s, const smooth_params_t *p)
 {
-    smooth_law_t law;
+    law_params_t lp;
     motion_status_t st;
     if (s == NULL || p == NULL)
         return MS_ERR_NULL;
     if (p->tick_hz != 1000000U)
         return MS_ERR_OUT_OF_RANGE;
-    law = s->law;
-    st = smooth_law_set_params(&law, p);
+    st = law_params(p, &lp);
     if (st != MS_OK)
         return st;
     if (smooth_setpoint_moving(s))
         return MS_ERR_BUSY;
-    s->law = law;
+    law_params_set(&s->law, &lp, p->tick_hz);
     return MS_OK;
 }
 
@@ -1481,12 +1520,13 @@ motion_status_t smooth_setpoint_move(smooth_setpoint_t *s, uint32_t now_ms, int3
     if (s == NULL)
         return MS_ERR_NULL;
     if (!smooth_setpoint_moving(s)) {
-        smooth_law_t law = s->law;
-        smooth_law_reset(&law, s->last);
-        st = smooth_law_start(&law, to);
-        if (st != MS_OK)
+        int32_t origin = s->law.origin;
+        s->law.origin = s->last; /* from the setpoint in force; smooth_law_start changes nothing on error */
+        st = smooth_law_start(&s->law, to);
+        if (st != MS_OK) {
+            s->law.origin = origin;
             return st;
-        s->law = law;
+        }
         s->t0_ms = now_ms;
         return MS_OK;
     }
