@@ -16,6 +16,7 @@
  */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include <stdlib.h>
 
 #include "cli.h"
@@ -197,8 +198,21 @@ int cmd_servo(int argc, char **argv)
         if (cli_float_range(mv_vmax) || cli_float_range(mv_accel) || cli_float_range(mv_jerk))
             return cli_error(argv[0], "--vmax/--accel/--jerk: does not fit a float (the sketches compute in float)");
         st = smooth_setpoint_init(&shaped, &mp, 0);
-        if (st != MS_OK)
-            return cli_error(argv[0], "--profile smooth: %s", motion_status_text(st));
+        if (st != MS_OK) {
+            /* the statuses speak of a stepper's steps; the servo's unit is the encoder count */
+            char text[160];
+            const char *from = motion_status_text(st), *hit;
+            size_t k = 0;
+            while ((hit = strstr(from, "steps/s")) != NULL && k + (size_t)(hit - from) + 9 < sizeof text) {
+                memcpy(text + k, from, (size_t)(hit - from));
+                k += (size_t)(hit - from);
+                memcpy(text + k, "counts/s", 8);
+                k += 8;
+                from = hit + 7;
+            }
+            snprintf(text + k, sizeof text - k, "%s", from);
+            return cli_error(argv[0], "--profile smooth: %s", text);
+        }
         (void)smooth_setpoint_move(&shaped, 0, setpoint);
     }
     if (kp < 0 || ki < 0 || kd < 0)

@@ -428,6 +428,19 @@ static const smx_t *limit_t(void)
     return &lim;
 }
 
+/* A rest point that is a whole step but for the rounding of the law's arithmetic (within 2^-50 of
+ * its size; the error of its few dozen operations is some 2^-60) is that whole step, so that a stop
+ * whose rest is exactly on a step makes that step, whatever the rounding (its last step is then at
+ * the end of the law). */
+static smx_t whole_if_on_it(smx_t p)
+{
+    int64_t n = smx_round(p);
+    smx_t d = smx_sub(p, smx_from_i64(n));
+    if (p.m != 0 && (d.m == 0 || d.e <= p.e - 51))
+        return smx_from_i64(n);
+    return p;
+}
+
 /* Replaces the command from the cursor's time on: to `goal` (frame) or, with stop, to 0 now. In
  * place: on an error the law is left changed (its future changes dropped), so smooth_law_retarget
  * works on a copy; a stop cannot fail (smooth_law_start builds its law itself). One copy at most on the stack: the law is some 800 bytes on the AVR, and the planner runs
@@ -446,7 +459,7 @@ static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
     if (u.m != 0)
         add_change(law, law->cur.t, smx_neg(u));
     rebuild_knots(law);
-    p_stop = rest_position(law);
+    p_stop = whole_if_on_it(rest_position(law));
     if (stop) {
         law->p_final = p_stop;
         return MS_OK;

@@ -22,7 +22,7 @@
  * 2 h/(tau1 tau2) (the end of the acceleration meets the start of the deceleration).
  * Stop: the command goes to 0 now (the time of the last step handed out); the filter's memory
  * carries the move on to where it comes to rest (a real position; the last step is the last whole
- * step before it). New target while moving: the command's future is replaced from now on by a new
+ * step at or before it: a rest within 2^-50 of its size from a whole step is on it). New target while moving: the command's future is replaced from now on by a new
  * rectangle (the rule above for R = target - where a stop now would come to rest), continuing
  * from the filter's state, so velocity and acceleration stay continuous and |acceleration| <= accel.
  * A target behind that rest point (it would need to reverse) is reached by a stop, then a move

@@ -73,7 +73,7 @@ def test_figures_in_docs_are_current_and_the_overshoot_is_halved():
     (["--vmax", "2000"], "--vmax needs --profile smooth"),
     (["--profile", "step", "--jerk", "1e6"], "--jerk needs --profile smooth"),
     (["--profile", "smooth", "--jerk", "100"], "jerk too low"),
-    (["--profile", "smooth", "--jerk", "0"], "jerk must be greater than 0"),
+    (["--profile", "smooth", "--jerk", "0"], "jerk must be greater than 0 counts/s^3"),
     (["--profile", "smooth", "--accel", "-1"], "acceleration must be greater than 0"),
     (["--profile", "ramp"], "--profile"),
 ])

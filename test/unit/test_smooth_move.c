@@ -135,6 +135,15 @@ static smx_t smx_from_double_ticks(long double t)
     return x;
 }
 
+/* The last whole step of a stop that comes to rest at `rest`: floor(rest), or the whole step it is
+ * on within 2^-50 of its size (smooth_move.c counts such a rest as on that step: its own arithmetic
+ * cannot tell them apart). */
+static long double whole_steps(long double rest)
+{
+    long double n = roundl(rest);
+    return fabsl(rest - n) <= fabsl(rest) * 0x1p-50L ? n : floorl(rest);
+}
+
 /* ---- running the planner through the executor ---- */
 
 /* |acc - F t_n| allowed: the planner's budget (0.9 tick) and the terms beyond its quartic bound, which
@@ -447,17 +456,49 @@ static void stop_follows_the_zeroed_command(void **state)
             rest = u == 0 ? (long double)d : m_pos(&m, m_end(&m));
         }
         smooth_move_stop(&s);
-        assert_int_equal(smooth_move_target(&s), (int32_t)floorl(rest));
+        assert_int_equal(smooth_move_target(&s), (int32_t)whole_steps(rest));
         while (smooth_move_next(&s, &c))
             run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
         assert_true(r.worst <= 1);
         assert_true(r.worst_cont <= CONT_MAX);
-        assert_int_equal(r.steps, (uint32_t)floorl(rest));
+        assert_int_equal(r.steps, (uint32_t)whole_steps(rest));
         for (i = 0; i <= 2000; i++) {
             t = m_end(&m) * i / 2000;
             assert_true(fabsl(m_acc(&m, t)) <= p.accel_sps2 * (1 + 1e-9));
             assert_true(m_vel(&m, t) >= -1e-9);
         }
+    }
+}
+
+/* A stop in the cruise comes to rest vmax (tau1 + tau2)/2 steps beyond the step where it is given
+ * (the command's area still in the filters): when that is a whole number, the rest is a whole step,
+ * and the stop makes that step, at the end of the law (the reviewer's case of 2026-12-05: 50,000
+ * steps/s, stopped at step 5039, rest 8164, ended at 8163 because the law's arithmetic put the rest
+ * 2e-15 step below it). */
+static void stop_on_a_whole_step_makes_it(void **state)
+{
+    static const double cases[][4] = {/* vmax, accel, jerk, steps before the stop */
+                                      {50000, 500000, 20000000, 5000}, {20000, 40000, 400000, 12000},
+                                      {1000, 2000, 8000, 1500}, {50000, 400000, 3200000, 30000}};
+    unsigned k;
+    (void)state;
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        smooth_params_t p = params(cases[k][0], cases[k][1], cases[k][2], 16000000);
+        long double beyond = (long double)p.vmax_sps * (p.vmax_sps / p.accel_sps2 + p.accel_sps2 / p.jerk_sps3) / 2;
+        smooth_move_t s;
+        step_cmd_t c;
+        int32_t n;
+        assert_int_equal(smooth_move_init(&s, &p, 0), MS_OK);
+        assert_int_equal(smooth_move_to(&s, 1000000), MS_OK);
+        while (smooth_move_position(&s) < (int32_t)cases[k][3])
+            assert_true(smooth_move_next(&s, &c));
+        n = smooth_move_position(&s);
+        assert_true(fabsl(beyond - roundl(beyond)) < 1e-9L); /* whole: the case is what it says */
+        smooth_move_stop(&s);
+        assert_int_equal(smooth_move_target(&s), n + (int32_t)roundl(beyond));
+        while (smooth_move_next(&s, &c))
+            ;
+        assert_int_equal(smooth_move_position(&s), n + (int32_t)roundl(beyond));
     }
 }
 
@@ -661,6 +702,7 @@ int main(void)
         cmocka_unit_test(every_edge_within_one_tick),
         cmocka_unit_test(longest_move),
         cmocka_unit_test(stop_follows_the_zeroed_command),
+        cmocka_unit_test(stop_on_a_whole_step_makes_it),
         cmocka_unit_test(new_target_continues_from_the_filter_state),
         cmocka_unit_test(bad_parameters_refused),
         cmocka_unit_test(servo_setpoint_moves_stops_and_jumps),
