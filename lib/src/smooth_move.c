@@ -441,23 +441,35 @@ static smx_t whole_if_on_it(smx_t p)
     return p;
 }
 
-/* Replaces the command from the cursor's time on: to `goal` (frame) or, with stop, to 0 now. In
- * place: on an error the law is left changed (its future changes dropped), so smooth_law_retarget
- * works on a copy; a stop cannot fail (smooth_law_start builds its law itself). One copy at most on the stack: the law is some 800 bytes on the AVR, and the planner runs
- * in an interrupt on top of the sketch's stack. */
-static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
+/* |jerk| of the law from the cursor's time on within J = vmax/(tau1 tau2) (+2^-20): the cursor's
+ * piece and each knot's (after rebuild_knots, every knot is after the cursor). Pieces shorter than
+ * a tick are not judged: two windows that meet (one ends where the other starts, as a rectangle of
+ * length tau1 + tau2 makes them) fall a rounding apart, in either order. */
+static uint8_t jerk_within(const smooth_law_t *law)
 {
-    smx_t u, p_stop, r, h, len, j0;
-    uint8_t n0;
-    drop_old_changes(law, 1);
-    u = level_now(law);
-    /* where a stop now comes to rest: the stop's change put in, the knots made, then taken out */
-    if (law->n_chg + 1 > SMOOTH_MAX_CHANGES)
-        return MS_ERR_SMOOTH_TOO_MANY;
-    n0 = law->n_chg;
-    j0 = law->cur.j;
+    smx_t lim = smx_mul(law->vmax, law->inv_t1t2), j = law->cur.j, one = smx_from_i64(1);
+    uint8_t i;
+    lim = smx_add(lim, smx_ldexp(lim, -20));
+    for (i = 0;; i++) {
+        uint8_t brief = i < law->n_knot &&
+                        smx_cmp(smx_sub(law->knot[i].t, i ? law->knot[i - 1].t : law->cur.t), one) < 0;
+        if (!brief && (smx_cmp(j, lim) > 0 || smx_cmp(smx_neg(j), lim) > 0))
+            return 0;
+        if (i >= law->n_knot)
+            return 1;
+        j = smx_add(j, law->knot[i].dj);
+    }
+}
+
+/* The command from time e on (at or after the cursor's; its future changes already dropped, u its
+ * level): to 0 (stop), or the rectangle to goal from where a stop at e comes to rest. n0, j0: the
+ * changes and the cursor's jerk before (what the caller puts back to try another e). */
+static motion_status_t plan_from(smooth_law_t *law, smx_t goal, uint8_t stop, smx_t u, smx_t e, uint8_t n0,
+                                 smx_t j0)
+{
+    smx_t p_stop, r, h, len;
     if (u.m != 0)
-        add_change(law, law->cur.t, smx_neg(u));
+        add_change(law, e, smx_neg(u));
     rebuild_knots(law);
     p_stop = whole_if_on_it(rest_position(law));
     if (stop) {
@@ -478,14 +490,59 @@ static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
     if (law->n_chg + 2 > SMOOTH_MAX_CHANGES - 1) /* one is kept for a stop */
         return MS_ERR_SMOOTH_TOO_MANY;
     if (smx_cmp(h, u) != 0)
-        add_change(law, law->cur.t, smx_sub(h, u));
+        add_change(law, e, smx_sub(h, u));
     if (h.m != 0)
-        add_change(law, smx_add(law->cur.t, len), smx_neg(h));
+        add_change(law, smx_add(e, len), smx_neg(h));
     rebuild_knots(law);
     if (smx_cmp(law->t_final, *limit_t()) > 0)
         return MS_ERR_SMOOTH_TOO_LONG;
     law->p_final = goal;
     return MS_OK;
+}
+
+/* Replaces the command from the cursor's time on: to `goal` (frame) or, with stop, to 0. In place:
+ * on an error the law is left changed (its future changes dropped), so smooth_law_retarget works on
+ * a copy; a stop cannot fail (smooth_law_start builds its law itself).
+ * When: now (the cursor's time), unless the new change's jerk windows would add to a running window
+ * of the same sign (a stop, or a lower command, within tau2 of the end of the acceleration's
+ * ramp-down: the jerk would reach 2 J there); then at the first end of a running window from which
+ * the jerk stays within J (+2^-20) all along: at most tau1 + tau2 after now (then the filters hold
+ * the level alone, and any stop keeps it). A new target that no such time keeps within J (or that
+ * such a time would put behind the rest point) is planned from now, as before; one that could
+ * only start when the plan has come to rest (the command already at 0) gets MS_ERR_SMOOTH_REVERSE:
+ * the callers then let the plan end and move from rest (solved there as any start: a change
+ * exactly at the rest, where the position is flat to the third order, would leave that step's
+ * time ill-conditioned). */
+static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
+{
+    smx_t u, j0, cand[SMOOTH_MAX_KNOTS + 1];
+    uint8_t n0, nc, k;
+    motion_status_t st;
+    drop_old_changes(law, 1);
+    u = level_now(law);
+    if (law->n_chg + 1 > SMOOTH_MAX_CHANGES)
+        return MS_ERR_SMOOTH_TOO_MANY;
+    n0 = law->n_chg;
+    j0 = law->cur.j;
+    rebuild_knots(law); /* the running windows' ends: the knots of the changes kept */
+    cand[0] = law->cur.t;
+    for (k = 0; k < law->n_knot; k++)
+        cand[k + 1] = law->knot[k].t;
+    nc = (uint8_t)(law->n_knot + 1);
+    for (k = 0; k < nc; k++) {
+        if (k > 0 && smx_cmp(cand[k], cand[k - 1]) == 0)
+            continue;
+        if (!stop && u.m == 0 && k > 0 && k == nc - 1)
+            return MS_ERR_SMOOTH_REVERSE; /* only once the plan has come to rest: a move from rest after it */
+        st = plan_from(law, goal, stop, u, cand[k], n0, j0);
+        if (st == MS_OK && jerk_within(law))
+            return MS_OK;
+        if (k == 0 && st != MS_OK)
+            return st;
+        law->n_chg = n0;
+        law->cur.j = j0;
+    }
+    return plan_from(law, goal, stop, u, cand[0], n0, j0);
 }
 
 motion_status_t smooth_law_start(smooth_law_t *law, int32_t to)

@@ -22,11 +22,15 @@
  * 2 h/(tau1 tau2) (the end of the acceleration meets the start of the deceleration).
  * Stop: the command goes to 0 now (the time of the last step handed out); the filter's memory
  * carries the move on to where it comes to rest (a real position; the last step is the last whole
- * step at or before it: a rest within 2^-50 of its size from a whole step is on it). New target while moving: the command's future is replaced from now on by a new
- * rectangle (the rule above for R = target - where a stop now would come to rest), continuing
- * from the filter's state, so velocity and acceleration stay continuous and |acceleration| <= accel.
- * A target behind that rest point (it would need to reverse) is reached by a stop, then a move
- * from rest, as step_planner does for the exact ramp.
+ * step at or before it: a rest within 2^-50 of its size from a whole step is on it). New target
+ * while moving: the command's future is replaced from now on by a new rectangle (the rule above
+ * for R = target - where a stop now would come to rest), continuing from the filter's state, so
+ * velocity and acceleration stay continuous and |acceleration| <= accel. A target behind that rest
+ * point (it would need to reverse) is reached by a stop, then a move from rest, as step_planner
+ * does for the exact ramp. "Now" unless the change's jerk windows would add to a running one of
+ * the same sign (a stop within tau2 of the end of the acceleration's ramp-down: 2 jerk): then the
+ * change waits for the first end of a running window from which |jerk| <= jerk all along (at most
+ * tau1 + tau2; replan() has the rule and its one exception).
  *
  * The law's arithmetic: a small floating point of our own in integers (smx_t: 62-bit mantissa,
  * 16-bit exponent; +, -, x, / with fixed rounding): knots, stops, new targets and the servo's

@@ -6,8 +6,12 @@ of the command by c at time s adds c P(t - s) to the position,
 A move of R steps from rest: a rectangle of height h and length T, h T = R (h = vmax, T = R/vmax,
 unless vmax (tau1 - tau2) < R < vmax (tau1 + tau2): then T = tau1 + tau2, h = R/T). A stop at time s:
 the command goes to 0 at s. A new target at s: the command from s on is the rectangle of that rule
-for R = target - where a stop at s would come to rest. Step n comes when the position reaches n
-(seconds, in the move's frame: steps from its start, in its direction); numpy, float64."""
+for R = target - where a stop at s would come to rest. When: at s, unless that puts a jerk window
+over one still running of the same sign (the jerk would exceed jerk); then at the first end of a
+running window from which it stays within jerk (a new target that could only start once the
+command is at 0 and the motion has come to rest: a stop, then a move from rest, as one behind).
+Step n comes when the position reaches n (seconds, in the move's frame: steps from its start, in
+its direction); numpy, float64."""
 import numpy as np
 
 
@@ -32,31 +36,71 @@ class Law:
     def command_at(self, s):
         return sum(c for t, c in self.chg if t <= s)
 
-    def _cut(self, s):
-        """the changes before s, and the command dropped to 0 at s"""
+    def _cut(self, s, e=None):
+        """the changes before s, and the command dropped to 0 at e (default s)"""
         kept = [(t, c) for t, c in self.chg if t <= s]
         u = sum(c for _, c in kept)
         if u != 0:
-            kept.append((s, -u))
+            kept.append((s if e is None else e, -u))
         return kept, u
 
-    def rest_if_stopped(self, s):
-        kept, _ = self._cut(s)
+    def rest_if_stopped(self, s, e=None):
+        kept, _ = self._cut(s, e)
         return -sum(c * t for t, c in kept)
 
+    def jerk_max_after(self, chg, s):
+        """the largest |jerk| after s of a change list: +c/(tau1 tau2) over [t, t + tau2), -c/(tau1 tau2)
+        over [t + tau1, t + tau1 + tau2) for each change c at t (pieces shorter than 0.1 us not judged:
+        windows that meet, a rounding apart)"""
+        t1, t2 = self.tau1, self.tau2
+        pts = sorted({s} | {t + d for t, _ in chg for d in (0.0, t2, t1, t1 + t2) if t + d > s})
+        worst = 0.0
+        for a, b in zip(pts, pts[1:] + [pts[-1] + 1.0]):
+            if b - a <= 1e-7:
+                continue
+            m = (a + b) / 2
+            j = sum(c * ((0 <= m - t < t2) - (t1 <= m - t < t1 + t2)) for t, c in chg) / (t1 * t2)
+            worst = max(worst, abs(j))
+        return worst
+
+    def _when(self, s):
+        """the times a change given at s may take: s, then the ends of the running windows"""
+        t1, t2 = self.tau1, self.tau2
+        kept = [(t, c) for t, c in self.chg if t <= s]
+        return kept, [s] + sorted({t + d for t, _ in kept for d in (t2, t1, t1 + t2) if t + d > s})
+
     def stop(self, s):
+        kept, when = self._when(s)
+        lim = self.vmax / (self.tau1 * self.tau2) * (1 + 1e-6)
+        for e in when:
+            chg, _ = self._cut(s, e)
+            if self.jerk_max_after(chg, s) <= lim:
+                self.chg = chg
+                return
         self.chg, _ = self._cut(s)
 
     def retarget(self, s, R_total):
-        """new target R_total (frame) at s: False if behind the rest point of a stop at s"""
-        p_stop = self.rest_if_stopped(s)
-        R = R_total - p_stop
-        if R < 0:
-            return False
-        kept = [(t, c) for t, c in self.chg if t <= s]
+        """new target R_total (frame) at s: False if behind the rest point of a stop at s, or if it could
+        only start once the motion has come to rest (then: a stop, a move from rest)"""
+        kept, when = self._when(s)
         u = sum(c for _, c in kept)
-        h, T = self.rect(R)
-        self.chg = kept + [(s, h - u), (s + T, -h)]
+        lim = self.vmax / (self.tau1 * self.tau2) * (1 + 1e-6)
+        first = None
+        for k, e in enumerate(when):
+            if u == 0 and k > 0 and k == len(when) - 1:
+                return False
+            R = R_total - self.rest_if_stopped(s, e)
+            if R < 0:
+                if k == 0:
+                    return False
+                continue
+            h, T = self.rect(R)
+            chg = kept + [(e, h - u)] * (h != u) + [(e + T, -h)] * (h != 0)
+            first = chg if first is None else first
+            if self.jerk_max_after(chg, s) <= lim:
+                self.chg = chg
+                return True
+        self.chg = first
         return True
 
     def final(self):

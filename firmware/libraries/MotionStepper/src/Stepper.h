@@ -145,7 +145,9 @@ public:
      *                         STEPPER_MAX_SPS_SMOOTH; v0 is not used (it starts and ends at rest). A
      *                         stop() sends the command to 0 and a new target continues from the
      *                         filter's state, both from the last step planned: they act after the
-     *                         steps already queued (the lead, leadMs()), not at a cut. Its planner
+     *                         steps already queued (the lead, leadMs()), not at a cut (and up to
+     *                         2 tau2 later where acting at once would exceed the jerk: a stop near
+     *                         the end of the acceleration, docs/smooth-move.md). Its planner
      *                         (about 1 KB) is allocated from the heap at the first setRamp(SMOOTH) of a
      *                         Stepper (MS_ERR_OUT_OF_RANGE if there is no room) and kept; a sketch
      *                         that never asks for it does not link it. Its first step comes about 0.15 s
