@@ -508,11 +508,10 @@ static motion_status_t plan_from(smooth_law_t *law, smx_t goal, uint8_t stop, sm
  * ramp-down: the jerk would reach 2 J there); then at the first end of a running window from which
  * the jerk stays within J (+2^-20) all along: at most tau1 + tau2 after now (then the filters hold
  * the level alone, and any stop keeps it). A new target that no such time keeps within J (or that
- * such a time would put behind the rest point) is planned from now, as before; one that could
- * only start when the plan has come to rest (the command already at 0) gets MS_ERR_SMOOTH_REVERSE:
- * the callers then let the plan end and move from rest (solved there as any start: a change
- * exactly at the rest, where the position is flat to the third order, would leave that step's
- * time ill-conditioned). */
+ * such a time would put behind the rest point), or that could only start when the plan has come
+ * to rest (the command already at 0), gets MS_ERR_SMOOTH_REVERSE: the callers then stop (within J)
+ * and move from rest (solved there as any start: a change exactly at the rest, where the position
+ * is flat to the third order, would leave that step's time ill-conditioned). */
 static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
 {
     smx_t u, j0, cand[SMOOTH_MAX_KNOTS + 1];
@@ -542,7 +541,9 @@ static motion_status_t replan(smooth_law_t *law, smx_t goal, uint8_t stop)
         law->n_chg = n0;
         law->cur.j = j0;
     }
-    return plan_from(law, goal, stop, u, cand[0], n0, j0);
+    if (!stop)
+        return MS_ERR_SMOOTH_REVERSE; /* no time keeps it within J: a stop, then a move from rest */
+    return plan_from(law, goal, stop, u, cand[0], n0, j0); /* not met: the last end keeps a stop within J */
 }
 
 motion_status_t smooth_law_start(smooth_law_t *law, int32_t to)

@@ -20,7 +20,8 @@
  * [1 on (0, tau2)] - [1 on (T, T + tau2)] - [1 on (tau1, tau1 + tau2)] + [1 on (T + tau1, T + tau1 + tau2)],
  * so a rectangle with |T - tau1| < tau2 overlaps the two negative windows and the jerk reaches
  * 2 h/(tau1 tau2) (the end of the acceleration meets the start of the deceleration).
- * Stop: the command goes to 0 now (the time of the last step handed out); the filter's memory
+ * Stop: the command goes to 0 now (the time of the last step handed out; or later, see below, where
+ * now would exceed the jerk limit); the filter's memory
  * carries the move on to where it comes to rest (a real position; the last step is the last whole
  * step at or before it: a rest within 2^-50 of its size from a whole step is on it). New target
  * while moving: the command's future is replaced from now on by a new rectangle (the rule above
@@ -30,7 +31,8 @@
  * does for the exact ramp. "Now" unless the change's jerk windows would add to a running one of
  * the same sign (a stop within tau2 of the end of the acceleration's ramp-down: 2 jerk): then the
  * change waits for the first end of a running window from which |jerk| <= jerk all along (at most
- * tau1 + tau2; replan() has the rule and its one exception).
+ * tau1 + tau2; a stop always finds one); a new target none keeps within it is a stop, then a move
+ * from rest (replan() has the rule).
  *
  * The law's arithmetic: a small floating point of our own in integers (smx_t: 62-bit mantissa,
  * 16-bit exponent; +, -, x, / with fixed rounding): knots, stops, new targets and the servo's

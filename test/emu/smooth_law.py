@@ -9,7 +9,8 @@ the command goes to 0 at s. A new target at s: the command from s on is the rect
 for R = target - where a stop at s would come to rest. When: at s, unless that puts a jerk window
 over one still running of the same sign (the jerk would exceed jerk); then at the first end of a
 running window from which it stays within jerk (a new target that could only start once the
-command is at 0 and the motion has come to rest: a stop, then a move from rest, as one behind).
+command is at 0 and the motion has come to rest, or that no such time keeps within jerk: a stop,
+then a move from rest, as one behind).
 Step n comes when the position reaches n (seconds, in the move's frame: steps from its start, in
 its direction); numpy, float64."""
 import numpy as np
@@ -80,28 +81,28 @@ class Law:
         self.chg, _ = self._cut(s)
 
     def retarget(self, s, R_total):
-        """new target R_total (frame) at s: False if behind the rest point of a stop at s, or if it could
-        only start once the motion has come to rest (then: a stop, a move from rest)"""
+        """new target R_total (frame) at s: False if behind the rest point of a stop at s, if it could
+        only start once the motion has come to rest, or if no time keeps the jerk within its limit
+        (then: a stop, a move from rest)"""
         kept, when = self._when(s)
         u = sum(c for _, c in kept)
         lim = self.vmax / (self.tau1 * self.tau2) * (1 + 1e-6)
-        first = None
         for k, e in enumerate(when):
             if u == 0 and k > 0 and k == len(when) - 1:
                 return False
             R = R_total - self.rest_if_stopped(s, e)
+            if R < 0 and R > -1e-9 * max(1.0, abs(R_total)):
+                R = 0.0  # the target is the rest point, but for float rounding
             if R < 0:
                 if k == 0:
                     return False
                 continue
-            h, T = self.rect(R)
+            h, T = self.rect(R) if R > 0 else (0.0, 0.0)
             chg = kept + [(e, h - u)] * (h != u) + [(e + T, -h)] * (h != 0)
-            first = chg if first is None else first
             if self.jerk_max_after(chg, s) <= lim:
                 self.chg = chg
                 return True
-        self.chg = first
-        return True
+        return False  # no time keeps it within jerk: a stop, then a move from rest
 
     def final(self):
         return -sum(c * t for t, c in self.chg)

@@ -146,8 +146,10 @@ public:
      *                         stop() sends the command to 0 and a new target continues from the
      *                         filter's state, both from the last step planned: they act after the
      *                         steps already queued (the lead, leadMs()), not at a cut (and up to
-     *                         2 tau2 later where acting at once would exceed the jerk: a stop near
-     *                         the end of the acceleration, docs/smooth-move.md). Its planner
+     *                         tau1 + tau2 later where acting then would exceed the jerk: a stop near
+     *                         the end of an acceleration, which then comes to rest farther; a new
+     *                         target no time keeps within it is a stop and a move from rest;
+     *                         forceStop() halts at once; docs/smooth-move.md). Its planner
      *                         (about 1 KB) is allocated from the heap at the first setRamp(SMOOTH) of a
      *                         Stepper (MS_ERR_OUT_OF_RANGE if there is no room) and kept; a sketch
      *                         that never asks for it does not link it. Its first step comes about 0.15 s
