@@ -361,7 +361,10 @@ def plot(data, out_png, title=None, x=None, panels=None, overlays=(), label=None
                     ax.plot(xs, moving_mean(ys, w), style, linewidth=1.4, color=line.get_color(),
                             label=f"{text} (moving mean of {w} steps; raw pale)")
                 else:
-                    ax.plot(xs, ys, style, linewidth=1.4 if j == 0 else 1.1, label=text)
+                    # a jerk is piecewise constant (the filter-shaped move's law: it changes at the
+                    # knots, between two step times): held between the samples, not sloped
+                    ax.plot(xs, ys, style, linewidth=1.4 if j == 0 else 1.1, label=text,
+                            drawstyle="steps-mid" if y == "jerk_sps3" else "default")
                 drawn.append((y, xs, ys))
                 n_lines += 1
         if len(data) == 0:
