@@ -2,6 +2,7 @@
 #include "smooth_move.h"
 
 #include <math.h>
+#include <string.h>
 
 /* ---- smx_t: m x 2^e in integers ---- */
 
@@ -754,6 +755,8 @@ static void fields_rest(smooth_move_t *s, int32_t pos)
     s->a_in_seg = 0;
     s->seg_ok = 0;
     s->probe = 0;
+    s->n_evt = 0;
+    s->t_evt = smx_zero();
 }
 
 static void move_rest(smooth_move_t *s, int32_t pos)
@@ -834,6 +837,10 @@ motion_status_t smooth_move_to(smooth_move_t *s, int32_t to)
     make_exact(s);
     sync_tn(s);
     st = smooth_law_retarget(&s->law, s->t_n, to);
+    if (st == MS_OK || st == MS_ERR_SMOOTH_REVERSE) {
+        s->n_evt = s->n; /* the law's knots start after this step now */
+        s->t_evt = s->t_n;
+    }
     if (st == MS_ERR_SMOOTH_REVERSE) {
         smooth_law_stop(&s->law, s->t_n);
         s->n_end = plan_end(&s->law);
@@ -859,6 +866,8 @@ void smooth_move_stop(smooth_move_t *s)
     make_exact(s);
     sync_tn(s);
     smooth_law_stop(&s->law, s->t_n);
+    s->n_evt = s->n;
+    s->t_evt = s->t_n;
     s->n_end = plan_end(&s->law);
     if (s->n_end < s->n)
         s->n_end = s->n;
@@ -868,6 +877,64 @@ void smooth_move_stop(smooth_move_t *s)
 void smooth_move_halt(smooth_move_t *s, int32_t pos)
 {
     move_rest(s, pos);
+}
+
+uint32_t smooth_move_rewindable(const smooth_move_t *s)
+{
+    return s->active && s->n > s->n_evt + 1U ? s->n - s->n_evt - 1U : 0U;
+}
+
+/* The law's cursor back to a time at or before t (not before t_evt): across the knots it has
+ * applied since the last change of the law, each undone on its own segment's polynomial (the
+ * cursor is on a knot, or at t_evt before the first: smooth_law_knots_to moves it only so). */
+static void cur_back(smooth_move_t *s, smx_t t)
+{
+    smooth_law_t *law = &s->law;
+    smooth_cursor_t *c = &law->cur;
+    while (c->next > 0 && smx_cmp(c->t, t) > 0) {
+        c->next--;
+        c->j = smx_sub(c->j, law->knot[c->next].dj); /* the jerk before that knot */
+        cur_move(c, c->next > 0 ? law->knot[c->next - 1].t : s->t_evt);
+    }
+}
+
+motion_status_t smooth_move_rewind(smooth_move_t *s, uint32_t steps, int64_t time16)
+{
+    smooth_cursor_t cur;
+    smx_t t_k, lo;
+    uint32_t k;
+    int64_t acc16, d16;
+    if (s == NULL)
+        return MS_ERR_NULL;
+    if (steps < 1 || steps > smooth_move_rewindable(s))
+        return MS_ERR_OUT_OF_RANGE;
+    k = s->n - steps;
+    acc16 = s->acc16 - time16;
+    /* a time two ticks before the executor's for step k (within a tick of the law's) */
+    lo = smx_ldexp(smx_from_i64(acc16 - 2 * 65536), -16);
+    if (smx_cmp(lo, s->t_evt) < 0)
+        lo = s->t_evt;
+    memcpy(&cur, &s->law.cur, sizeof cur); /* put back if time16 is not the dropped commands' */
+    cur_back(s, lo);
+    t_k = smooth_law_time_of(&s->law, k, NULL);
+    d16 = acc16 - smx_round_q16(t_k);
+    if (smx_cmp(t_k, s->t_evt) <= 0 || d16 > 65536 || d16 < -65536) {
+        memcpy(&s->law.cur, &cur, sizeof cur); /* byte for byte, padding too */
+        return MS_ERR_OUT_OF_RANGE;
+    }
+    smooth_law_knots_to(&s->law, t_k); /* on the last knot at or before it, as the planner leaves it */
+    s->n = k;
+    s->pos = (int32_t)(s->law.origin + s->law.dir * (int64_t)k);
+    s->acc16 = acc16;
+    s->t_n = t_k;
+    s->tn_stale = 0;
+    s->n_a = k;                  /* step k is exactly solved: the anchor */
+    s->y16 = 0;
+    s->y_lo = 0;
+    s->err16 = d16;
+    s->probe = 0;
+    s->seg_ok = 0;               /* the segment that holds step k + 1, set up by the next call */
+    return MS_OK;
 }
 
 uint8_t smooth_move_busy(const smooth_move_t *s)

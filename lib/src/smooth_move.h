@@ -215,6 +215,10 @@ typedef struct {
     uint8_t active;         /* a plan is being handed out */
     uint8_t has_then;       /* after the stop in progress: the move to then_target */
     int32_t then_target;
+    /* the law's last change (a start, stop or new target) was made at step n_evt, time t_evt: the
+     * law holds every knot after it, so smooth_move_rewind can go back to any step after it */
+    uint32_t n_evt;
+    smx_t t_evt;
     /* the last exact solve (step n_a at t_n) and, on a cruise, how far step n is past it */
     smx_t t_n;              /* the law's time of step n_a, ticks (exact; seg.t + x_a when tn_stale) */
     uint8_t tn_stale;
@@ -268,6 +272,23 @@ void smooth_move_stop(smooth_move_t *s);
 
 /* Forgets everything not handed out and stands at pos (after a halt). */
 void smooth_move_halt(smooth_move_t *s, int32_t pos);
+
+/* Takes back the last `steps` steps handed out (the commands a step engine drops from its queue to
+ * act sooner on a stop or a new target), as if only the commands kept had been handed out: then
+ * smooth_move_stop, smooth_move_to and smooth_move_next plan from step k = n - steps, whose
+ * executor time is the kept commands' (acc16 - time16: time16 is the dropped commands' time in the
+ * executor's arithmetic, 2^-16 ticks). The law's cursor goes back across its knots to step k's time
+ * (solved exactly there), so every later edge is within a tick of the law as before; the commands
+ * that follow need not be those dropped, bit for bit (their spans start from the last one's).
+ * Only within the law's current plan: k must come after the last start, stop or new target
+ * (1 <= steps <= smooth_move_rewindable(s)), else MS_ERR_OUT_OF_RANGE; time16 must leave step k's time
+ * within a tick of the law's (else MS_ERR_OUT_OF_RANGE: not the dropped commands' time). On error
+ * nothing changes. Cost: an smx solve of step k's time (a few milliseconds on the AVR). */
+motion_status_t smooth_move_rewind(smooth_move_t *s, uint32_t steps, int64_t time16);
+
+/* How many of the steps handed out can be taken back now (0 at rest): those after the first one
+ * after the last start, stop or new target. */
+uint32_t smooth_move_rewindable(const smooth_move_t *s);
 
 /* The next command: 1 and *c, or 0 when the plan is complete (at rest). */
 uint8_t smooth_move_next(smooth_move_t *s, step_cmd_t *c);

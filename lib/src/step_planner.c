@@ -25,6 +25,9 @@ struct step_planner_ops {
     void (*stop)(step_planner_t *pl);
     uint8_t (*next)(step_planner_t *pl, step_cmd_t *c);       /* a command of the active plan */
     void (*reset)(step_planner_t *pl);                        /* at rest at pl->pos */
+    /* step_planner_rewind's own part and how far it reaches (NULL: no rewind) */
+    motion_status_t (*rewind)(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count);
+    uint32_t (*rewindable)(const step_planner_t *pl);
 };
 static const struct step_planner_ops EXACT_OPS;
 static const struct step_planner_ops RAMP_OPS;
@@ -451,10 +454,29 @@ static uint8_t exact_next(step_planner_t *pl, step_cmd_t *c)
     return 1;
 }
 
+static motion_status_t exact_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count)
+{
+    motion_status_t st;
+    /* k stays the profile's while it is handed out; after its last command a set may have changed it */
+    if (steps >= pl->exact.n || (!pl->active && !step_exact_profile_intact(&pl->exact)))
+        return MS_ERR_OUT_OF_RANGE;
+    st = step_exact_rewind(&pl->exact, pl->exact.n - steps, pl->exact.acc16 - time16, last_count);
+    if (st != MS_OK)
+        return st;
+    pl->pos = pl->exact.pos;
+    pl->active = 1; /* the profile has commands to hand out again (or ends at the next call) */
+    return MS_OK;
+}
+
+static uint32_t exact_rewindable(const step_planner_t *pl)
+{
+    return pl->exact.n >= 2U ? pl->exact.n - 1U : 0U;
+}
+
 static const struct step_planner_ops EXACT_OPS = {exact_set_params, exact_left, exact_from_rest, exact_move,
-                                                  exact_stop, exact_next, exact_reset};
+                                                  exact_stop, exact_next, exact_reset, exact_rewind, exact_rewindable};
 static const struct step_planner_ops RAMP_OPS = {ramp_set_params, ramp_left, ramp_from_rest, ramp_move,
-                                                 ramp_stop, next_from_ramp, ramp_reset};
+                                                 ramp_stop, next_from_ramp, ramp_reset, 0, 0};
 
 uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c)
 {
@@ -618,23 +640,37 @@ static void smooth_reset(step_planner_t *pl)
     smooth_move_halt(&pl->smooth->move, pl->pos);
 }
 
+static motion_status_t smooth_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count)
+{
+    motion_status_t st;
+    (void)last_count;
+    if (!pl->active)
+        return MS_ERR_OUT_OF_RANGE;
+    st = smooth_move_rewind(&pl->smooth->move, steps, time16); /* its own checks */
+    if (st == MS_OK)
+        pl->pos = smooth_move_position(&pl->smooth->move);
+    return st;
+}
+
+static uint32_t smooth_rewindable(const step_planner_t *pl)
+{
+    return pl->active ? smooth_move_rewindable(&pl->smooth->move) : 0U;
+}
+
 static const struct step_planner_ops SMOOTH_OPS = {smooth_set_params, smooth_left, smooth_from_rest, smooth_move_op,
-                                                   smooth_stop, smooth_next, smooth_reset};
+                                                   smooth_stop, smooth_next, smooth_reset, smooth_rewind,
+                                                   smooth_rewindable};
 
 motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count)
 {
-    motion_status_t st;
     if (pl == 0)
         return MS_ERR_NULL;
-    if (pl->algo != RAMP_ALGO_EXACT)
+    if (!pl->ops->rewind)
         return MS_ERR_NOT_SUPPORTED; /* the stepwise ramps cannot (yet) go back to a boundary */
-    /* k stays the profile's while it is handed out; after its last command a set may have changed it */
-    if (steps >= pl->exact.n || (!pl->active && !step_exact_profile_intact(&pl->exact)))
-        return MS_ERR_OUT_OF_RANGE;
-    st = step_exact_rewind(&pl->exact, pl->exact.n - steps, pl->exact.acc16 - time16, last_count);
-    if (st != MS_OK)
-        return st;
-    pl->pos = pl->exact.pos;
-    pl->active = 1; /* the profile has commands to hand out again (or ends at the next call) */
-    return MS_OK;
+    return pl->ops->rewind(pl, steps, time16, last_count);
+}
+
+uint32_t step_planner_rewindable(const step_planner_t *pl)
+{
+    return pl->ops->rewindable ? pl->ops->rewindable(pl) : 0U;
 }

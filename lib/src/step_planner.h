@@ -24,7 +24,8 @@
  * continues from the filter's state (one behind: its stop, then the move from rest), a stop sends
  * the velocity command to 0 at the last step handed out; v0 is not used (a smooth move starts and
  * ends at rest). Parameters set while moving take effect at the next move from rest (smooth_move
- * keeps one set per move). No rewind (step_planner_rewind: MS_ERR_NOT_SUPPORTED). A firmware that
+ * keeps one set per move). Its rewind is smooth_move_rewind's (to a step after the law's last start,
+ * stop or new target; step_planner_rewindable). A firmware that
  * never calls step_planner_init_smooth does not link smooth_move.
  */
 #ifndef STEP_PLANNER_H
@@ -136,12 +137,17 @@ uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c);
  * step_planner_move and step_planner_next give the same commands, bit for bit, as on a planner
  * that handed out only the commands kept. time16: the time the dropped commands take in the
  * executor, the sum of step_exact_cmd_time16 over them; last_count: the count of the last
- * command kept. The exact ramp only (step_exact_rewind, which says what it refuses); the others
- * return MS_ERR_NOT_SUPPORTED for now. The commands dropped must all be of the current profile
+ * command kept. The exact ramp (step_exact_rewind, which says what it refuses) and the smooth move
+ * (smooth_move_rewind: not bit for bit, every edge still within a tick of the law; last_count not
+ * used); the others return MS_ERR_NOT_SUPPORTED for now. The commands dropped must all be of the current profile
  * and at least one of its commands must stay (steps < the profile's steps handed out): else
  * MS_ERR_OUT_OF_RANGE, as when the profile has been handed out to its end and a set has changed
  * the parameters since (step_exact_profile_intact). On error nothing changes. */
 motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count);
+
+/* The most steps step_planner_rewind can take back now (0: none; the exact ramp: all but the
+ * profile's first; the smooth move: smooth_move_rewindable; the stepwise ramps: 0). */
+uint32_t step_planner_rewindable(const step_planner_t *pl);
 
 /* Something is still to be handed out. */
 uint8_t step_planner_busy(const step_planner_t *pl);

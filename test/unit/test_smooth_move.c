@@ -688,6 +688,151 @@ static void new_target_continues_from_the_filter_state(void **state)
     assert_true(reversed > 5 && ahead > 30);
 }
 
+/* the time of command c in the executor's arithmetic (step_queue.h: count rate + add count (count - 1)/2,
+ * WIDE: rate whole ticks), 2^-16 ticks: what a step engine tells of the commands it drops */
+static int64_t cmd_time16(const step_cmd_t *c)
+{
+    int64_t n = c->count;
+    if (c->flags & STEP_CMD_WIDE)
+        return (int64_t)c->rate << 16;
+    return n * (int64_t)c->rate + n * (n - 1) / 2 * (int64_t)c->add;
+}
+
+/* A cut of the queue (smooth_move_rewind): commands handed out beyond a point are taken back, and
+ * the stop, the new target or nothing (the move continues) is planned from the step where the kept
+ * commands end. Every edge, kept and new, is then within a tick of the law of a planner that handed
+ * out only the kept commands and did the same there (the model's stop or new target at that step's
+ * time, as in the two tests above), the move ends where that law comes to rest, and the jerk stays
+ * within its limit. */
+static void rewind_then_stop_new_target_or_nothing(void **state)
+{
+    int trial, done[3] = {0, 0, 0};
+    (void)state;
+    for (trial = 0; trial < 90; trial++) {
+        double vmax = lrand(100, 30000), accel = lrand(vmax / 5, vmax * 20);
+        double jerk = lrand(accel * accel / vmax, accel * accel / vmax * 20);
+        smooth_params_t p = params(vmax, accel, jerk, 16000000);
+        smooth_move_t s;
+        step_cmd_t c, dropped[64];
+        model_t m;
+        run_t r;
+        long double tp = 0, ts, rest;
+        int32_t d = (int32_t)lrand(50, 20000), goal = 0;
+        uint32_t at, steps = 0;
+        int64_t t16 = 0;
+        int i, nd = 0, what = trial % 3; /* 0: stop, 1: new target, 2: nothing */
+        if (smooth_move_init(&s, &p, 0) != MS_OK)
+            continue;
+        s.max_cmd_ticks = 16000; /* 1 ms commands, as the MotionStepper library's */
+        model_move(&m, &p, d);
+        memset(&r, 0, sizeof r);
+        assert_int_equal(smooth_move_to(&s, d), MS_OK);
+        at = (uint32_t)urand(2, d);
+        while (r.steps < at && smooth_move_next(&s, &c))
+            run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
+        /* handed out, then dropped: up to 40 commands more */
+        nd = (int)urand(1, 40);
+        for (i = 0; i < nd && smooth_move_next(&s, &dropped[i]); i++) {
+            steps += dropped[i].count;
+            t16 += cmd_time16(&dropped[i]);
+        }
+        nd = i;
+        if (nd == 0 || r.steps >= (uint32_t)d || !smooth_move_busy(&s))
+            continue;
+        assert_true(smooth_move_rewindable(&s) >= steps);
+        {
+            smooth_move_t before;
+            memcpy(&before, &s, sizeof s);
+            /* a time that is not the dropped commands': refused, nothing changed */
+            assert_int_equal(smooth_move_rewind(&s, steps, t16 + 3 * 65536), MS_ERR_OUT_OF_RANGE);
+            assert_int_equal(smooth_move_rewind(&s, smooth_move_rewindable(&s) + 1, t16), MS_ERR_OUT_OF_RANGE);
+            assert_int_equal(smooth_move_rewind(&s, 0, 0), MS_ERR_OUT_OF_RANGE);
+            assert_memory_equal(&s, &before, sizeof s);
+        }
+        assert_int_equal(smooth_move_rewind(&s, steps, t16), MS_OK);
+        assert_int_equal(smooth_move_position(&s), (int32_t)r.steps);
+        ts = m_time_of(&m, r.steps, 0); /* the last step kept */
+        if (what == 0) {
+            q_t u = 0;
+            for (i = 0; i < m.n; i++)
+                if (m.s[i] <= ts)
+                    u += m.c[i];
+            (void)m_event(&m, ts, (float)p.vmax_sps, -1);
+            rest = u == 0 ? (long double)d : m_pos(&m, m_end(&m));
+            smooth_move_stop(&s);
+            goal = (int32_t)whole_steps(rest);
+        } else if (what == 1) {
+            model_t st = m;
+            q_t u = 0;
+            for (i = 0; i < st.n; i++)
+                if (st.s[i] <= ts)
+                    u += st.c[i];
+            st.n = 0;
+            for (i = 0; i < m.n; i++)
+                if (m.s[i] <= ts) {
+                    st.s[st.n] = m.s[i];
+                    st.c[st.n++] = m.c[i];
+                }
+            if (u != 0) {
+                st.s[st.n] = ts;
+                st.c[st.n++] = -u;
+            }
+            goal = (int32_t)ceill((long double)m_der(&st, 0, m_endq(&st))) + (int32_t)lrand(1, 6000);
+            if (!m_event(&m, ts, (float)p.vmax_sps, goal))
+                continue; /* a stop and a move from rest: new_target_continues_from_the_filter_state's */
+            assert_int_equal(smooth_move_to(&s, goal), MS_OK);
+        } else {
+            goal = d;
+        }
+        assert_int_equal(smooth_move_target(&s), goal);
+        while (smooth_move_next(&s, &c))
+            run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
+        if (r.worst > 1 || r.worst_cont > CONT_MAX)
+            printf("# rewind %d: vmax %.9g accel %.9g jerk %.9g d %d at %u dropped %u: %.3Lf tick\n", what, p.vmax_sps,
+                   p.accel_sps2, p.jerk_sps3, d, at, steps, r.worst_cont);
+        assert_true(r.worst <= 1);
+        assert_true(r.worst_cont <= CONT_MAX);
+        assert_int_equal(r.steps, (uint32_t)goal);
+        assert_true(m_jerk_max_after(&m, 0) <= (q_t)p.jerk_sps3 * (1 + 1e-6L));
+        done[what]++;
+    }
+    printf("# rewinds: %d stops, %d new targets, %d moves continued\n", done[0], done[1], done[2]);
+    assert_true(done[0] > 15 && done[1] > 10 && done[2] > 15);
+}
+
+/* A rewind never reaches back before the law's last change: after a stop, only the steps handed out
+ * since (less one) can be taken back, and at rest none. */
+static void rewind_stays_after_the_last_change(void **state)
+{
+    smooth_params_t p = params(20000, 40000, 400000, 16000000);
+    smooth_move_t s, before;
+    step_cmd_t c;
+    uint32_t since = 0;
+    int64_t t16 = 0;
+    int i;
+    (void)state;
+    assert_int_equal(smooth_move_init(&s, &p, 0), MS_OK);
+    assert_int_equal(smooth_move_rewindable(&s), 0);
+    assert_int_equal(smooth_move_rewind(&s, 1, 0), MS_ERR_OUT_OF_RANGE);
+    assert_int_equal(smooth_move_to(&s, 100000), MS_OK);
+    for (i = 0; i < 50; i++)
+        assert_true(smooth_move_next(&s, &c));
+    smooth_move_stop(&s);
+    assert_int_equal(smooth_move_rewindable(&s), 0);
+    for (i = 0; i < 3; i++) {
+        assert_true(smooth_move_next(&s, &c));
+        since += c.count;
+        t16 += cmd_time16(&c);
+    }
+    assert_int_equal(smooth_move_rewindable(&s), since - 1);
+    memcpy(&before, &s, sizeof s);
+    assert_int_equal(smooth_move_rewind(&s, since, t16), MS_ERR_OUT_OF_RANGE);
+    assert_memory_equal(&s, &before, sizeof s);
+    while (smooth_move_next(&s, &c))
+        ;
+    assert_int_equal(smooth_move_rewindable(&s), 0);
+}
+
 /* Bad parameters: each refused with its own status, nothing changed. */
 static void bad_parameters_refused(void **state)
 {
@@ -806,6 +951,8 @@ int main(void)
         cmocka_unit_test(stop_follows_the_zeroed_command),
         cmocka_unit_test(stop_on_a_whole_step_makes_it),
         cmocka_unit_test(new_target_continues_from_the_filter_state),
+        cmocka_unit_test(rewind_then_stop_new_target_or_nothing),
+        cmocka_unit_test(rewind_stays_after_the_last_change),
         cmocka_unit_test(bad_parameters_refused),
         cmocka_unit_test(servo_setpoint_moves_stops_and_jumps),
     };

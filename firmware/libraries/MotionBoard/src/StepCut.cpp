@@ -14,10 +14,24 @@
 static_assert(STEP_CUT_MAX_CMDS <= MultiStepEngine::MULTI_CUT_MAX_CMDS, "cut_apply takes at most MULTI_CUT_MAX_CMDS commands");
 
 static step_planner_t s_scratch;
+static step_smooth_t *s_smooth_backup;
 
 step_planner_t &step_cut_scratch()
 {
     return s_scratch;
+}
+
+void step_cut_smooth_backup(step_smooth_t *backup)
+{
+    s_smooth_backup = backup;
+}
+
+/* the planner as it was before the cut (saved: the planner, and a smooth move's own state) */
+static void put_back(step_planner_t *pl, const step_planner_t &saved)
+{
+    *pl = saved;
+    if (pl->algo == RAMP_ALGO_SMOOTH)
+        *pl->smooth = *s_smooth_backup;
 }
 
 void step_cut_trace(bool on)
@@ -67,17 +81,32 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
     uint8_t n;
     uint16_t ahead_us;
     int32_t at;
-    if (pl->algo != RAMP_ALGO_EXACT || pl->exact.n < 2U || pl->params_new)
+    uint32_t reach;
+    if (pl->params_new)
         return false; /* new parameters: converting them costs milliseconds more (after the lead then) */
-    /* a stop from the cruise (y = 0) is the cheapest plan; a stop while the speed changes, or a new
-     * target (a move plan, maybe a reversal), costs up to twice as much */
-    ahead_us = (stop && pl->exact.y == 0) ? t.ahead_us : t.ahead_slow_us;
+    if (pl->algo == RAMP_ALGO_EXACT) {
+        if (pl->exact.n < 2U)
+            return false;
+        reach = pl->exact.n - 1U; /* all but the profile's first step (step_planner_rewindable) */
+        /* a stop from the cruise (y = 0) is the cheapest plan; a stop while the speed changes, or a
+         * new target (a move plan, maybe a reversal), costs up to twice as much */
+        ahead_us = (stop && pl->exact.y == 0) ? t.ahead_us : t.ahead_slow_us;
+    } else if (pl->algo == RAMP_ALGO_SMOOTH && s_smooth_backup && t.ahead_smooth_us) {
+        reach = step_planner_rewindable(pl); /* the steps the planner can take back */
+        if (reach == 0)
+            return false;
+        ahead_us = t.ahead_smooth_us;
+    } else {
+        return false;
+    }
     step_cut_trace(true);
-    if (MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * ahead_us, pl->exact.n - 1U, cut) == 0) {
+    if (MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * ahead_us, reach, cut) == 0) {
         step_cut_trace(false);
         return false;
     }
     saved = *pl; /* planned in place: put back if the cut does not come off */
+    if (pl->algo == RAMP_ALGO_SMOOTH)
+        *s_smooth_backup = *pl->smooth;
     if (rewind_to(pl, cut) != MS_OK) {
         (*missed)++;
         step_cut_trace(false);
@@ -87,7 +116,7 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
     if (stop)
         step_planner_stop(pl);
     else if (step_planner_move(pl, target) != MS_OK) {
-        *pl = saved; /* planned again the usual way, which reports the status */
+        put_back(pl, saved); /* planned again the usual way, which reports the status */
         step_cut_trace(false);
         return false;
     }
@@ -99,7 +128,7 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
         float v = fabs(MultiStepEngine::speed(axis));
         float a = pl->params.accel_sps2;
         if (!(a > 0.0f) || (v - (float)pl->params.v0_sps) < a * (float)t.then_min_us * 1e-6f) {
-            *pl = saved;
+            put_back(pl, saved);
             step_cut_trace(false);
             return false;
         }
@@ -107,7 +136,7 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
     n = step_cut_first_cmds(pl, first, t.ticks_per_us, t.new_us, t.max_cmds < STEP_CUT_MAX_CMDS ? t.max_cmds : STEP_CUT_MAX_CMDS);
     if (n == 0 ||
         !MultiStepEngine::cut_apply(axis, cut, (uint32_t)t.ticks_per_us * t.margin_us, first, n)) {
-        *pl = saved;
+        put_back(pl, saved);
         (*missed)++;
         step_cut_trace(false);
         return false;

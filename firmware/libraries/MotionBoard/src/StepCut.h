@@ -3,8 +3,9 @@
  * goes back to where the kept commands end (lib's step_planner_rewind: bit for bit as if it had
  * planned only those), plans the stop or the new move from there, and its first commands take the
  * place of the dropped ones (MultiStepEngine::cut_apply) if the step interrupt has not come too
- * close meanwhile. Exact ramp only (the lab's ramps cannot be rewound): the MotionStepper library's
- * Stepper and the stepper sketches' console (StepConsole.h) share it.
+ * close meanwhile. The exact ramp and the smooth move (lib's smooth_move_rewind; the lab's ramps
+ * cannot be rewound): the MotionStepper library's Stepper and the stepper sketches' console
+ * (StepConsole.h, exact only) share it.
  * docs/stepper-engine.md "Cutting the queue" has the rule and the measured latencies.
  */
 #ifndef STEP_CUT_H
@@ -56,10 +57,13 @@ struct StepCutTiming {
     uint8_t max_cmds;      /* ... in at most this many commands (<= STEP_CUT_MAX_CMDS) */
     uint16_t then_min_us;  /* a target behind (a stop, then a move from rest) is cut only if the
                               stop lasts this long: the move from rest is planned meanwhile */
+    uint16_t ahead_smooth_us; /* the smooth move's stop or new target (its plans cost tens of
+                                 milliseconds); 0: no cut of a smooth move */
 };
 
 /* A stop (stop true) or a move to target (engine coordinates) of axis, whose planner pl is in an
- * exact move that the engine is stepping, planned from a cut of its queue, timed by t; the new
+ * exact or smooth move that the engine is stepping, planned from a cut of its queue, timed by t
+ * (a smooth move only with t.ahead_smooth_us and a backup, step_cut_smooth_backup); the new
  * plan's first t.new_us of steps are laid out at the cut (the queue then holds that much while the
  * planner plans on). True: done (pl plans on from the new plan's first commands, already laid out; *from:
  * the position where the new plan starts). False: nothing changed (no exact move, parameters set
@@ -76,6 +80,11 @@ uint8_t step_cut_first_cmds(step_planner_t *pl, step_cmd_t *c, uint8_t ticks_per
 
 /* A planner for the cut's work, one for all (the cut is planned for one axis at a time). */
 step_planner_t &step_cut_scratch();
+
+/* Where step_cut_plan keeps a smooth move's state while it cuts (put back if the cut does not come
+ * off): one for all axes, about 1 KB, given by the MotionStepper library when a Stepper first takes
+ * the smooth ramp. Without it a smooth move is not cut. */
+void step_cut_smooth_backup(step_smooth_t *backup);
 
 /* MOTION_STEPPER_TRACE = 2: D4 (PG5) high while a cut is planned (the MotionStepper library's
  * BackgroundPlanner.h) */

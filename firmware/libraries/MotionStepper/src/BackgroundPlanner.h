@@ -52,6 +52,16 @@
 #ifndef MOTION_STEPPER_CMDS_PER_TICK
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
 #endif
+/* With the smooth ramp in use (shareLongTicks()), a tick that has run this long (us) stops laying
+ * out commands once every stepping queue holds at least a quarter of the lead: loop() then gets its
+ * turn before the next tick (Timer3's next millisecond). Without it, the smooth ramp's planner, whose commands can cost milliseconds each,
+ * held loop() for up to 184 ms while it banked its 150 ms lead again after a cut of the queue (the
+ * SmoothMove example; 113 ms with half the lead as the bound). Below a quarter of the lead the tick
+ * goes on (the queue comes first). Only then: for all ramps it made three exact Steppers' stop at
+ * 10,000 steps/s run dry once and two Steppers' stop at 20,000 steps/s miss its cut (test/emu/ThreeSteppers). */
+#ifndef MOTION_STEPPER_TICK_US
+#define MOTION_STEPPER_TICK_US 2000UL
+#endif
 /* commands laid out for the axis chosen before choosing again (choosing looks at every axis's queue:
  * about as costly as a command of the cruise) */
 #ifndef MOTION_STEPPER_CMDS_PER_PICK
@@ -101,6 +111,11 @@ public:
      * brings it (8 us after the unlock). */
     static void kick();
 
+    /* From now on a tick that has run MOTION_STEPPER_TICK_US stops laying out commands once every
+     * stepping queue holds a quarter of the lead (setRamp(RAMP_ALGO_SMOOTH) turns it on: its
+     * commands can cost milliseconds each; the other ramps' ticks stay as they were). */
+    static void shareLongTicks() { share_ = true; }
+
     /* One tick's work (the interrupt calls it; public for the vector only). */
     static void tick();
 
@@ -112,6 +127,7 @@ private:
     static uint8_t count_;
     static bool begun_;
     static uint16_t lead_ms_;
+    static bool share_;
 };
 
 /* Holds the planner interrupt off while it lives (loop()'s changes to a planner): the planner

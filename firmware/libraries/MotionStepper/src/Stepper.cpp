@@ -92,7 +92,7 @@ motion_status_t Stepper::init_planner(int32_t pos)
 
 /* The longest command, for the next plan from rest: MOTION_STEPPER_CMD_MS, or MOTION_STEPPER_CMD_MS_3
  * with three Steppers begun. The smooth ramp keeps lib's 4 ms: its commands cost more (solves), and
- * a stop acts after the lead anyway (no cut). */
+ * a stop is cut tens of milliseconds ahead anyway (MOTION_STEPPER_SMOOTH_CUT_US). */
 void Stepper::set_cmd_length()
 {
     if (planner_.algo != RAMP_ALGO_SMOOTH)
@@ -153,6 +153,14 @@ motion_status_t Stepper::set_ramp_smooth()
         motion_status_t st = smooth_check_(&params_, (double)jerk_);
         if (st != MS_OK)
             return st;
+        /* its planner, and (once for all Steppers) the copy a cut of its queue keeps (StepCut.h) */
+        static step_smooth_t *backup;
+        if (!backup) {
+            backup = static_cast<step_smooth_t *>(malloc(sizeof(step_smooth_t)));
+            if (!backup)
+                return MS_ERR_OUT_OF_RANGE; /* no room on the heap */
+            step_cut_smooth_backup(backup);
+        }
         smooth_ = static_cast<step_smooth_t *>(malloc(sizeof(step_smooth_t)));
         if (!smooth_)
             return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its planner */
@@ -160,6 +168,8 @@ motion_status_t Stepper::set_ramp_smooth()
     motion_status_t st = switch_ramp(RAMP_ALGO_SMOOTH, 0);
     if (st == MS_OK && BackgroundPlanner::leadMs() < MOTION_STEPPER_SMOOTH_LEAD_MS)
         (void)BackgroundPlanner::setLeadMs(MOTION_STEPPER_SMOOTH_LEAD_MS); /* its planner needs the bank */
+    if (st == MS_OK)
+        BackgroundPlanner::shareLongTicks(); /* its ticks can last long: loop() gets turns */
     return st;
 }
 
@@ -321,8 +331,15 @@ void Stepper::run_request()
     if (r == REQ_STOP) {
         c = MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
-            if (!stop_in_cruise(false, 0) && !plan_at_cut(REQ_STOP, 0))
+            if (stop_in_cruise(false, 0) || plan_at_cut(REQ_STOP, 0)) {
+                /* with three Steppers stopped at once the cuts come one after the other, each plan
+                 * taking milliseconds: a few more of this one's commands first (else the first axis
+                 * cut ran dry once, test/emu/ThreeSteppers) */
+                if (BackgroundPlanner::steppers() >= 3)
+                    (void)MultiStepEngine::service(axis_, source(), MOTION_STEPPER_CMDS_PER_PICK);
+            } else {
                 step_planner_stop(&planner_);
+            }
         } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
         return;
@@ -460,7 +477,7 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
     int32_t from;
     static const StepCutTiming timing = {MULTI_TICK_HZ / 1000000UL, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
                                          MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
-                                         MOTION_STEPPER_CUT_THEN_MIN_US};
+                                         MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US};
     return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &from, &cuts_missed_);
 }
 

@@ -73,6 +73,13 @@ class StepperGroup;
  * it). No cut when parameters were set since the move was planned (their conversion costs
  * milliseconds more). docs/library.md has the measured times. MOTION_STEPPER_CUT_US 0: no cut. */
 #include <StepCut.h>
+/* The smooth ramp's stop and new targets cut its queue too, this many microseconds ahead: its plans
+ * cost tens of milliseconds (the law's cursor taken back to the cut and step k's time solved, the
+ * stop or the new target with its jerk rule, the first commands). 0: no cut (they act after the
+ * lead, MOTION_STEPPER_SMOOTH_LEAD_MS). */
+#ifndef MOTION_STEPPER_SMOOTH_CUT_US
+#define MOTION_STEPPER_SMOOTH_CUT_US 60000UL
+#endif
 /* A stop from the cruise is the same profile wherever the cut lands (only the position differs):
  * the planner interrupt plans it ahead, once the cruise has begun, and a stop() in the cruise then
  * only cuts and lays it out: this many microseconds ahead (the cut itself must be ready
@@ -144,14 +151,16 @@ public:
      *                         acceleration continuous, every step within a tick of the law. vmax up to
      *                         STEPPER_MAX_SPS_SMOOTH; v0 is not used (it starts and ends at rest). A
      *                         stop() sends the command to 0 and a new target continues from the
-     *                         filter's state, both from the last step planned: they act after the
-     *                         steps already queued (the lead, leadMs()), not at a cut (and up to
+     *                         filter's state, both from a cut of the queue
+     *                         MOTION_STEPPER_SMOOTH_CUT_US ahead (after the lead when that plan is
+     *                         not ready in time: cutsMissed()) (and up to
      *                         tau1 + tau2 later where acting then would exceed the jerk: a stop near
      *                         the end of an acceleration, which then comes to rest farther; a new
      *                         target no time keeps within it is a stop and a move from rest;
      *                         forceStop() halts at once; docs/smooth-move.md). Its planner
      *                         (about 1 KB) is allocated from the heap at the first setRamp(SMOOTH) of a
-     *                         Stepper (MS_ERR_OUT_OF_RANGE if there is no room) and kept; a sketch
+     *                         Stepper, with (once for all) the copy a cut keeps (another 1 KB;
+     *                         MS_ERR_OUT_OF_RANGE if there is no room), and kept; a sketch
      *                         that never asks for it does not link it. Its first step comes about 0.15 s
      *                         after moveTo() from rest (the ring is filled first; docs/smooth-move.md). */
     inline __attribute__((always_inline)) motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0)

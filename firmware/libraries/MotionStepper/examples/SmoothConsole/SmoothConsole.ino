@@ -20,11 +20,12 @@
  * Defaults: vmax 20,000 steps/s, accel 40,000 steps/s^2, jerk 200,000 steps/s^3 (the parameters the
  * emulator checks verify clean; with a higher acceleration or jerk the planner can fall behind and
  * steps come late: underruns= in `?`, docs/smooth-move.md's known limit).
- * A stop or a new target acts after the steps already queued (the smooth ramp's lead, up to 0.15 s);
- * the first step comes about 0.14 s after a move from rest is asked for. Replies can come up to
- * about 0.3 s after their line: while the planner interrupt plans the smooth ramp's costly commands
- * near rest, loop() waits for it (the input is kept meanwhile: MotionSerial, as the sketches'
- * consoles read it; a line lost all the same is answered "ERR input overrun").
+ * A stop or a new target cuts the queue and acts about 60 ms later (MOTION_STEPPER_SMOOTH_CUT_US;
+ * after the lead, up to 0.15 s, when its plan is not ready in time); the first step comes about
+ * 0.14 s after a move from rest is asked for. Replies can come tens of milliseconds after their line:
+ * while the planner interrupt plans the smooth ramp's costly commands (a start, a cut), loop() waits
+ * for it (the input is kept meanwhile: MotionSerial, as the sketches' consoles read it; a line lost
+ * all the same is answered "ERR input overrun").
  */
 #include <MotionStepper.h>
 #include <MotionSerial.h>

@@ -12,14 +12,18 @@
  *   then at 20,000 steps/s (accel 40,000): out to 41000, retargeted at 20000 to 31000;
  *   back towards 0, halted by forceStop() at 25000 (no step after it), and from there to 0.
  * The first step of each move comes some 150 ms after moveTo() (the smooth planner banks its first
- * commands); a stop or a new target acts after the steps already queued (the lead, 150 ms).
- * loop() only looks.
+ * commands); a stop or a new target cuts the queue MOTION_STEPPER_SMOOTH_CUT_US (60 ms) ahead and
+ * acts there (after the lead of 150 ms if planning it took longer: cutsMissed() counts those).
+ * loop() only looks; at the end it prints cutsMissed() and its longest pass (the planner
+ * interrupt's work at a move's start and after a cut holds loop() for tens of milliseconds:
+ * docs/smooth-move.md has the figure).
  */
 #include <MotionStepper.h>
 
 Stepper x(Stepper::X);
 static uint8_t leg = 0;
 static bool acted = false; /* this leg's stop or new target has been given */
+static unsigned long last_pass = 0, longest_pass = 0; /* micros() */
 
 static void say(const __FlashStringHelper *what, motion_status_t st)
 {
@@ -70,10 +74,14 @@ void setup()
 void loop()
 {
     long at;
+    unsigned long now = micros();
+    if (last_pass != 0 && now - last_pass > longest_pass)
+        longest_pass = now - last_pass; /* how long loop() waited for the planner interrupt */
+    last_pass = now;
     if (leg == 2 && passed(8000, true)) {
-        motion_status_t st = x.stop();
         Serial.print(F("stop at "));
         Serial.println(x.currentPosition());
+        motion_status_t st = x.stop();
         if (st != MS_OK)
             say(F("stop"), st);
     } else if (leg == 3 && passed(9000, false)) {
@@ -117,6 +125,12 @@ void loop()
         go(41000);
     } else if (leg == 6 || leg == 7)
         go(0);
-    else
+    else {
+        Serial.print(F("cutsMissed() "));
+        Serial.print(x.cutsMissed());
+        Serial.print(F(", longest loop() pass "));
+        Serial.print(longest_pass);
+        Serial.println(F(" us"));
         Serial.println(F("FINISHED"));
+    }
 }
