@@ -80,9 +80,9 @@ motion_status_t (*Stepper::smooth_jerk_)(step_planner_t *, double);
  * set_cmd_length: the queue then holds its lead in short pieces, and a stop waits for less. */
 motion_status_t Stepper::init_planner(int32_t pos)
 {
-    motion_status_t st = algo_ == RAMP_ALGO_SMOOTH
-                             ? smooth_init_(&planner_, &params_, (double)jerk_, smooth_, pos)
-                             : step_planner_init_hooked(&planner_, algo_, &params_, ramp_hooks_, pos);
+    motion_status_t st = algo_ == RAMP_ALGO_SMOOTH ? smooth_init_(&planner_, &params_, (double)jerk_, smooth_, pos)
+                         : algo_ == RAMP_ALGO_EXACT ? step_planner_init_exact(&planner_, &params_, pos)
+                                                    : lab_init_(&planner_, algo_, &params_, ramp_hooks_, pos);
     if (st != MS_OK)
         return st;
     set_cmd_length();
@@ -111,10 +111,10 @@ motion_status_t Stepper::probe(ramp_algo_t algo, const ramp_hooks_t *hooks, cons
         return smooth_check_(&p, (double)jerk_); /* set with algo_ by set_ramp_smooth */
     if (algo == RAMP_ALGO_EXACT) {
         step_planner_t pl;
-        return step_planner_init_trapezoid(&pl, algo, &p, 0);
+        return step_planner_init_exact(&pl, &p, 0);
     }
     ramp_t r;
-    return ramp_plan_hooked(&r, algo, &p, hooks, 0, 1);
+    return lab_probe_(&r, algo, &p, hooks, 0, 1); /* set with algo_ by set_ramp */
 }
 
 float Stepper::vmax_limit() const
@@ -134,8 +134,16 @@ motion_status_t Stepper::set_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks)
         return MS_ERR_RAMP_NOT_HERE;
     if (algo != RAMP_ALGO_EXACT && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_SIMPLISTIC)
         return MS_ERR_OUT_OF_RANGE;
+    lab_init_ = step_planner_init_lab; /* the only place that names the lab's ramps: a sketch that */
+    lab_probe_ = ramp_plan_hooked;     /* never calls setRamp() links only the exact planner */
     return switch_ramp(algo, hooks);
 }
+
+/* set by set_ramp (null in a sketch that never calls it: then every ramp is exact) */
+motion_status_t (*Stepper::lab_init_)(step_planner_t *, ramp_algo_t, const ramp_params_t *, const ramp_hooks_t *,
+                                      int32_t);
+motion_status_t (*Stepper::lab_probe_)(ramp_t *, ramp_algo_t, const ramp_params_t *, const ramp_hooks_t *, int32_t,
+                                       int32_t);
 
 /* setRamp(RAMP_ALGO_SMOOTH): the only place that names lib's smooth planner, so that a sketch that
  * never asks for it links none of smooth_move */
