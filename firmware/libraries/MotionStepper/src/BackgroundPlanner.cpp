@@ -147,10 +147,10 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
 void BackgroundPlanner::feed()
 {
     uint8_t dry = 0;
-    /* with share_: the tick's start, and a quarter of the lead in ticks: above it a long tick leaves
-     * loop() its turn (MOTION_STEPPER_TICK_US); without, nothing (the other ramps' ticks as before) */
+    /* with share_: the tick's start, and half the lead in ticks: above it a long tick leaves loop()
+     * its turn (MOTION_STEPPER_TICK_US); without, nothing (the other ramps' ticks as before) */
     uint32_t t0 = share_ ? micros() : 0;
-    uint32_t quarter = share_ ? (uint32_t)leadMs() * (MULTI_TICK_HZ / 4000UL) : 0;
+    uint32_t half = share_ ? (uint32_t)leadMs() * (MULTI_TICK_HZ / 2000UL) : 0;
     for (uint8_t k = 0; k < MOTION_STEPPER_CMDS_PER_TICK;) {
         uint8_t laid;
         uint32_t best = UINT32_MAX, most = 0;
@@ -172,8 +172,8 @@ void BackgroundPlanner::feed()
                 start = i;
             }
         }
-        if (share_ && pick != 3 && best >= quarter && micros() - t0 >= MOTION_STEPPER_TICK_US)
-            break; /* every stepping queue holds a quarter of the lead: the rest at the next tick */
+        if (share_ && pick != 3 && best >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
+            break; /* every stepping queue holds half the lead: the rest at the next tick */
         if (pick == 3) {
             pick = start;
             n = 1U; /* a move not started yet: one at a time */

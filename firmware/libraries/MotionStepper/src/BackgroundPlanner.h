@@ -53,12 +53,14 @@
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
 #endif
 /* With the smooth ramp in use (shareLongTicks()), a tick that has run this long (us) stops laying
- * out commands once every stepping queue holds at least a quarter of the lead: loop() then gets its
- * turn before the next tick (Timer3's next millisecond). Without it, the smooth ramp's planner, whose commands can cost milliseconds each,
- * held loop() for up to 184 ms while it banked its 150 ms lead again after a cut of the queue (the
- * SmoothMove example; 113 ms with half the lead as the bound). Below a quarter of the lead the tick
- * goes on (the queue comes first). Only then: for all ramps it made three exact Steppers' stop at
- * 10,000 steps/s run dry once and two Steppers' stop at 20,000 steps/s miss its cut (test/emu/ThreeSteppers). */
+ * out commands once every stepping queue holds at least half the lead: loop() then gets its turn
+ * before the next tick (Timer3's next millisecond). Without it, the smooth ramp's planner, whose
+ * commands can cost milliseconds each, held loop() for up to 184 ms while it banked its 150 ms lead
+ * again after a cut of the queue (the SmoothMove example). Below half the lead the tick goes on (the
+ * queue comes first): with a quarter or a third as that bound, make bench's 50,000 steps/s smooth
+ * move ran dry 5 times / once near rest. Only with the smooth ramp: for all ramps it made three exact
+ * Steppers' stop at 10,000 steps/s run dry once and two Steppers' stop at 20,000 steps/s miss its
+ * cut (test/emu/ThreeSteppers). */
 #ifndef MOTION_STEPPER_TICK_US
 #define MOTION_STEPPER_TICK_US 2000UL
 #endif
@@ -112,7 +114,7 @@ public:
     static void kick();
 
     /* From now on a tick that has run MOTION_STEPPER_TICK_US stops laying out commands once every
-     * stepping queue holds a quarter of the lead (setRamp(RAMP_ALGO_SMOOTH) turns it on: its
+     * stepping queue holds half the lead (setRamp(RAMP_ALGO_SMOOTH) turns it on: its
      * commands can cost milliseconds each; the other ramps' ticks stay as they were). */
     static void shareLongTicks() { share_ = true; }
 
