@@ -327,11 +327,25 @@ void smooth_law_knots_to(smooth_law_t *law, smx_t t)
 /* The knots after the cursor's time from the changes, sorted; the cursor starts on them. */
 static void rebuild_knots(smooth_law_t *law)
 {
-    uint8_t i, k, n = 0;
+    uint8_t i, j, k, n = 0;
     for (i = 0; i < law->n_chg; i++) {
-        smx_t s = law->chg[i].c, dj = smx_mul(s, law->inv_t1t2), t0 = law->chg[i].t;
+        smx_t s = law->chg[i].c, dj, t0 = law->chg[i].t;
         smx_t tt[4];
         smx_t dd[4];
+        /* changes at one time act as their sum: a stop given at the step of a new target that
+         * started from a command at 0 cancels its rectangle's start exactly (h - h), and has no
+         * knots then (else the law ended tau1 + tau2 later with nothing moving, and a last step on
+         * a whole rest waited that long: found by a review on 2026-12-05) */
+        for (j = 0; j < i && smx_cmp(law->chg[j].t, t0) != 0; j++)
+            ;
+        if (j < i)
+            continue; /* counted with the first change at that time */
+        for (j = i + 1; j < law->n_chg; j++)
+            if (smx_cmp(law->chg[j].t, t0) == 0)
+                s = smx_add(s, law->chg[j].c);
+        if (s.m == 0)
+            continue;
+        dj = smx_mul(s, law->inv_t1t2);
         tt[0] = t0;
         tt[1] = smx_add(t0, law->tau1);
         tt[2] = smx_add(t0, law->tau2);

@@ -723,7 +723,8 @@ static void rewind_then_stop_new_target_or_nothing(void **state)
         int i, nd = 0, what = trial % 3; /* 0: stop, 1: new target, 2: nothing */
         if (smooth_move_init(&s, &p, 0) != MS_OK)
             continue;
-        s.max_cmd_ticks = 16000; /* 1 ms commands, as the MotionStepper library's */
+        if (trial % 2)
+            s.max_cmd_ticks = 16000; /* 1 ms commands; else lib's 4 ms, which the MotionStepper library keeps */
         model_move(&m, &p, d);
         memset(&r, 0, sizeof r);
         assert_int_equal(smooth_move_to(&s, d), MS_OK);
@@ -798,6 +799,39 @@ static void rewind_then_stop_new_target_or_nothing(void **state)
     }
     printf("# rewinds: %d stops, %d new targets, %d moves continued\n", done[0], done[1], done[2]);
     assert_true(done[0] > 15 && done[1] > 10 && done[2] > 15);
+}
+
+/* A stop given at the very step of a new target (no command handed out between) whose rectangle
+ * started from a command already at 0 (in the final deceleration): the stop cancels that start, and
+ * the move comes to rest where the old plan did, its last step at the law's time (the review of
+ * 2026-12-05: the cancelled change's knots stayed, the law "ended" tau1 + tau2 later, and the last
+ * step, on a whole rest, came 17 s late). */
+static void stop_at_the_step_of_a_new_target(void **state)
+{
+    smooth_params_t p = params(555.187378, 29.7960758, 356.329437, 16000000);
+    smooth_move_t s;
+    step_cmd_t c;
+    model_t m;
+    run_t r;
+    long double tp = 0, ts;
+    (void)state;
+    assert_int_equal(smooth_move_init(&s, &p, 0), MS_OK);
+    s.max_cmd_ticks = 16000;
+    model_move(&m, &p, 3556);
+    memset(&r, 0, sizeof r);
+    assert_int_equal(smooth_move_to(&s, 3556), MS_OK);
+    while (r.steps < 3527 && smooth_move_next(&s, &c))
+        run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
+    ts = m_time_of(&m, r.steps, 0);
+    assert_int_equal(smooth_move_to(&s, 3558), MS_OK);
+    assert_true(m_event(&m, ts, (float)p.vmax_sps, 3558));
+    smooth_move_stop(&s);
+    (void)m_event(&m, ts, (float)p.vmax_sps, -1);
+    assert_int_equal(smooth_move_target(&s), 3556);
+    while (smooth_move_next(&s, &c))
+        run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
+    assert_int_equal(r.steps, 3556);
+    assert_true(r.worst <= 1); /* the last step too: at the model's time of step 3556 */
 }
 
 /* A rewind never reaches back before the law's last change: after a stop, only the steps handed out
@@ -953,6 +987,7 @@ int main(void)
         cmocka_unit_test(new_target_continues_from_the_filter_state),
         cmocka_unit_test(rewind_then_stop_new_target_or_nothing),
         cmocka_unit_test(rewind_stays_after_the_last_change),
+        cmocka_unit_test(stop_at_the_step_of_a_new_target),
         cmocka_unit_test(bad_parameters_refused),
         cmocka_unit_test(servo_setpoint_moves_stops_and_jumps),
     };

@@ -56,7 +56,8 @@ struct StepCutTiming {
     uint16_t new_us;       /* the new plan's first commands cover at least this much */
     uint8_t max_cmds;      /* ... in at most this many commands (<= STEP_CUT_MAX_CMDS) */
     uint16_t then_min_us;  /* a target behind (a stop, then a move from rest) is cut only if the
-                              stop lasts this long: the move from rest is planned meanwhile */
+                              stop lasts this long: the move from rest is planned meanwhile (the
+                              exact ramp; the smooth move's stop lasts tau1 + tau2 at least) */
     uint16_t ahead_smooth_us; /* the smooth move's stop or new target (its plans cost tens of
                                  milliseconds); 0: no cut of a smooth move */
 };

@@ -148,7 +148,7 @@ void BackgroundPlanner::feed()
 {
     uint8_t dry = 0;
     /* with share_: the tick's start, and half the lead in ticks: above it a long tick leaves loop()
-     * its turn (MOTION_STEPPER_TICK_US); without, nothing (the other ramps' ticks as before) */
+     * its turn (MOTION_STEPPER_TICK_US); without (no smooth ramp taken), nothing: the ticks as before */
     uint32_t t0 = share_ ? micros() : 0;
     uint32_t half = share_ ? (uint32_t)leadMs() * (MULTI_TICK_HZ / 2000UL) : 0;
     for (uint8_t k = 0; k < MOTION_STEPPER_CMDS_PER_TICK;) {

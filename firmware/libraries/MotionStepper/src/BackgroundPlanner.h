@@ -52,7 +52,7 @@
 #ifndef MOTION_STEPPER_CMDS_PER_TICK
 #define MOTION_STEPPER_CMDS_PER_TICK 24U
 #endif
-/* With the smooth ramp in use (shareLongTicks()), a tick that has run this long (us) stops laying
+/* Once a Stepper has taken the smooth ramp (shareLongTicks()), a tick that has run this long (us) stops laying
  * out commands once every stepping queue holds at least half the lead: loop() then gets its turn
  * before the next tick (Timer3's next millisecond). Without it, the smooth ramp's planner, whose
  * commands can cost milliseconds each, held loop() for up to 184 ms while it banked its 150 ms lead
@@ -114,8 +114,10 @@ public:
     static void kick();
 
     /* From now on a tick that has run MOTION_STEPPER_TICK_US stops laying out commands once every
-     * stepping queue holds half the lead (setRamp(RAMP_ALGO_SMOOTH) turns it on: its
-     * commands can cost milliseconds each; the other ramps' ticks stay as they were). */
+     * stepping queue holds half the lead (setRamp(RAMP_ALGO_SMOOTH) turns it on: its commands can
+     * cost milliseconds each). It stays on, for every axis, also after a Stepper goes back to
+     * another ramp (as the smooth ramp's lead does); a sketch that never takes the smooth ramp
+     * keeps its ticks as they were. */
     static void shareLongTicks() { share_ = true; }
 
     /* One tick's work (the interrupt calls it; public for the vector only). */

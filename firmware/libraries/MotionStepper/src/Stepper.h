@@ -153,7 +153,8 @@ public:
      *                         stop() sends the command to 0 and a new target continues from the
      *                         filter's state, both from a cut of the queue
      *                         MOTION_STEPPER_SMOOTH_CUT_US ahead (after the lead when that plan is
-     *                         not ready in time: cutsMissed()) (and up to
+     *                         not ready in time: cutsMissed(), or when the move's last command is
+     *                         queued already) (and up to
      *                         tau1 + tau2 later where acting then would exceed the jerk: a stop near
      *                         the end of an acceleration, which then comes to rest farther; a new
      *                         target no time keeps within it is a stop and a move from rest;
