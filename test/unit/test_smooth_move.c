@@ -18,6 +18,7 @@
 
 #include "ma2_filter.h"
 #include "smooth_move.h"
+#include "step_exact.h" /* step_exact_cmd_time16: a command's time in the executor's sums, as an engine counts what it drops */
 #include "step_queue.h"
 
 #include "closed_form.h" /* urand/lrand */
@@ -230,6 +231,46 @@ static int m_event(model_t *m, q_t ts, q_t vmax, q_t goal)
         return 0; /* no time keeps the new target within J: a stop, then a move from rest */
     *m = first;
     return 1;
+}
+
+/* The command's level at ts: the sum of the changes at or before it. */
+static q_t m_level(const model_t *m, q_t ts)
+{
+    q_t u = 0;
+    int i;
+    for (i = 0; i < m->n; i++)
+        if (m->s[i] <= ts)
+            u += m->c[i];
+    return u;
+}
+
+/* Where a stop at ts comes to rest if it acts at ts (the changes after ts dropped, the level to 0
+ * there): what a new target is measured from. */
+static q_t m_stop_point(const model_t *m, q_t ts)
+{
+    model_t st = *m;
+    q_t u = m_level(m, ts);
+    int i;
+    st.n = 0;
+    for (i = 0; i < m->n; i++)
+        if (m->s[i] <= ts) {
+            st.s[st.n] = m->s[i];
+            st.c[st.n++] = m->c[i];
+        }
+    if (u != 0) {
+        st.s[st.n] = ts;
+        st.c[st.n++] = -u;
+    }
+    return m_der(&st, 0, m_endq(&st));
+}
+
+/* The model's stop at ts (m_event's rule) for a move of d steps; returns where it comes to rest
+ * (a stop after the command has gone to 0 changes nothing: the move ends at d). */
+static long double m_stop(model_t *m, q_t ts, q_t vmax, long double d)
+{
+    q_t u = m_level(m, ts);
+    (void)m_event(m, ts, vmax, -1);
+    return u == 0 ? d : m_pos(m, m_end(m));
 }
 
 /* a long double as the lib's smx_t (m x 2^e, 2^61 <= |m| < 2^62) */
@@ -550,15 +591,7 @@ static void stop_follows_the_zeroed_command(void **state)
             continue;
         ts = m_time_of(&m, r.steps, 0); /* the last step handed out */
         /* the model: future changes dropped, the level to 0 (at ts or when that keeps the jerk within J) */
-        {
-            q_t u = 0;
-            for (i = 0; i < m.n; i++)
-                if (m.s[i] <= ts)
-                    u += m.c[i];
-            (void)m_event(&m, ts, (float)p.vmax_sps, -1);
-            /* a stop after the command has gone to 0 changes nothing: the move ends at d */
-            rest = u == 0 ? (long double)d : m_pos(&m, m_end(&m));
-        }
+        rest = m_stop(&m, ts, (float)p.vmax_sps, d);
         smooth_move_stop(&s);
         assert_int_equal(smooth_move_target(&s), (int32_t)whole_steps(rest));
         while (smooth_move_next(&s, &c))
@@ -625,10 +658,10 @@ static void new_target_continues_from_the_filter_state(void **state)
         model_t m;
         run_t r;
         long double tp = 0, ts;
-        q_t u = 0, stop_at;
+        q_t stop_at;
         int32_t d = (int32_t)lrand(10, 5000), d2;
         uint32_t at;
-        int i, k = 0;
+        int i;
         if (smooth_move_init(&s, &p, 0) != MS_OK)
             continue;
         model_move(&m, &p, d);
@@ -640,21 +673,7 @@ static void new_target_continues_from_the_filter_state(void **state)
         if (r.steps >= (uint32_t)d)
             continue;
         ts = m_time_of(&m, r.steps, 0);
-        for (i = 0; i < m.n; i++)
-            if (m.s[i] <= ts) {
-                u += m.c[i];
-                m.s[k] = m.s[i];
-                m.c[k++] = m.c[i];
-            }
-        m.n = k;
-        {
-            model_t st = m;
-            if (u != 0) {
-                st.s[st.n] = ts;
-                st.c[st.n++] = -u;
-            }
-            stop_at = m_der(&st, 0, m_endq(&st));
-        }
+        stop_at = m_stop_point(&m, ts);
         d2 = (int32_t)(trial % 4 == 0 ? urand(-1000, (double)stop_at - 1) : ceill((long double)stop_at) + lrand(1, 6000));
         assert_int_equal(smooth_move_to(&s, d2), MS_OK);
         assert_int_equal(smooth_move_target(&s), d2);
@@ -686,16 +705,6 @@ static void new_target_continues_from_the_filter_state(void **state)
     }
     printf("# new targets: %d ahead, %d by a stop and a move from rest\n", ahead, reversed);
     assert_true(reversed > 5 && ahead > 30);
-}
-
-/* the time of command c in the executor's arithmetic (step_queue.h: count rate + add count (count - 1)/2,
- * WIDE: rate whole ticks), 2^-16 ticks: what a step engine tells of the commands it drops */
-static int64_t cmd_time16(const step_cmd_t *c)
-{
-    int64_t n = c->count;
-    if (c->flags & STEP_CMD_WIDE)
-        return (int64_t)c->rate << 16;
-    return n * (int64_t)c->rate + n * (n - 1) / 2 * (int64_t)c->add;
 }
 
 /* A cut of the queue (smooth_move_rewind): commands handed out beyond a point are taken back, and
@@ -735,7 +744,7 @@ static void rewind_then_stop_new_target_or_nothing(void **state)
         nd = (int)urand(1, 40);
         for (i = 0; i < nd && smooth_move_next(&s, &dropped[i]); i++) {
             steps += dropped[i].count;
-            t16 += cmd_time16(&dropped[i]);
+            t16 += step_exact_cmd_time16(&dropped[i]);
         }
         nd = i;
         if (nd == 0 || r.steps >= (uint32_t)d || !smooth_move_busy(&s))
@@ -754,31 +763,11 @@ static void rewind_then_stop_new_target_or_nothing(void **state)
         assert_int_equal(smooth_move_position(&s), (int32_t)r.steps);
         ts = m_time_of(&m, r.steps, 0); /* the last step kept */
         if (what == 0) {
-            q_t u = 0;
-            for (i = 0; i < m.n; i++)
-                if (m.s[i] <= ts)
-                    u += m.c[i];
-            (void)m_event(&m, ts, (float)p.vmax_sps, -1);
-            rest = u == 0 ? (long double)d : m_pos(&m, m_end(&m));
+            rest = m_stop(&m, ts, (float)p.vmax_sps, d);
             smooth_move_stop(&s);
             goal = (int32_t)whole_steps(rest);
         } else if (what == 1) {
-            model_t st = m;
-            q_t u = 0;
-            for (i = 0; i < st.n; i++)
-                if (st.s[i] <= ts)
-                    u += st.c[i];
-            st.n = 0;
-            for (i = 0; i < m.n; i++)
-                if (m.s[i] <= ts) {
-                    st.s[st.n] = m.s[i];
-                    st.c[st.n++] = m.c[i];
-                }
-            if (u != 0) {
-                st.s[st.n] = ts;
-                st.c[st.n++] = -u;
-            }
-            goal = (int32_t)ceill((long double)m_der(&st, 0, m_endq(&st))) + (int32_t)lrand(1, 6000);
+            goal = (int32_t)ceill((long double)m_stop_point(&m, ts)) + (int32_t)lrand(1, 6000);
             if (!m_event(&m, ts, (float)p.vmax_sps, goal))
                 continue; /* a stop and a move from rest: new_target_continues_from_the_filter_state's */
             assert_int_equal(smooth_move_to(&s, goal), MS_OK);
@@ -856,7 +845,7 @@ static void rewind_stays_after_the_last_change(void **state)
     for (i = 0; i < 3; i++) {
         assert_true(smooth_move_next(&s, &c));
         since += c.count;
-        t16 += cmd_time16(&c);
+        t16 += step_exact_cmd_time16(&c);
     }
     assert_int_equal(smooth_move_rewindable(&s), since - 1);
     memcpy(&before, &s, sizeof s);

@@ -1057,6 +1057,23 @@ static void one_kind_inits_plan_the_same(void **state)
  * smooth_move_t: its own tests hold them against the closed form), through a move from rest, a new
  * target ahead, one behind (its stop, then the move back), a stop; parameters and jerk refused as
  * smooth_law_set_params refuses them, nothing changed then. */
+/* The planner and smooth_move hand out the same commands, bit for bit: up to max of them, or until
+ * both end together; returns their steps. */
+static uint32_t same_smooth_commands(step_planner_t *pl, smooth_move_t *m, uint32_t max)
+{
+    step_cmd_t ca, cb;
+    uint32_t i, steps = 0;
+    for (i = 0; i < max; i++) {
+        uint8_t ra = step_planner_next(pl, &ca), rb = smooth_move_next(m, &cb);
+        assert_int_equal(ra, rb);
+        if (!ra)
+            break;
+        assert_cmd_equal(&ca, &cb);
+        steps += ca.count;
+    }
+    return steps;
+}
+
 static void smooth_planner_is_smooth_move(void **state)
 {
     ramp_params_t p = {0.0f, 10000.0f, 20000.0f, 16000000U};
@@ -1074,7 +1091,7 @@ static void smooth_planner_is_smooth_move(void **state)
     m.max_cmd_ticks = 16000U;
     assert_int_equal(pl.algo, RAMP_ALGO_SMOOTH);
     for (phase = 0; phase < 5; phase++) {
-        unsigned i, cmds = phase == 4 ? 100000U : 60U;
+        unsigned cmds = phase == 4 ? 100000U : 60U;
         if (phase == 0) {
             assert_int_equal(step_planner_move(&pl, 20100), MS_OK);
             assert_int_equal(smooth_move_to(&m, 20100), MS_OK);
@@ -1090,14 +1107,7 @@ static void smooth_planner_is_smooth_move(void **state)
             step_planner_stop(&pl);
             smooth_move_stop(&m);
         }
-        for (i = 0; i < cmds; i++) {
-            uint8_t ra = step_planner_next(&pl, &ca), rb = smooth_move_next(&m, &cb);
-            assert_int_equal(ra, rb);
-            if (!ra)
-                break;
-            assert_cmd_equal(&ca, &cb);
-            total += ca.count;
-        }
+        total += same_smooth_commands(&pl, &m, cmds);
         assert_int_equal(step_planner_position(&pl), smooth_move_position(&m));
         assert_int_equal(step_planner_target(&pl), smooth_move_target(&m));
         assert_int_equal(step_planner_busy(&pl), smooth_move_busy(&m));
@@ -1123,9 +1133,8 @@ static void smooth_planner_is_smooth_move(void **state)
             assert_cmd_equal(&kept[i], &cb);
         }
         for (i = 4; i < 6; i++) { /* the last two dropped: their time in the executor's sums */
-            int64_t n = kept[i].count;
             steps += kept[i].count;
-            t16 += n * (int64_t)kept[i].rate + n * (n - 1) / 2 * (int64_t)kept[i].add;
+            t16 += step_exact_cmd_time16(&kept[i]);
         }
         assert_int_equal(step_planner_rewindable(&pl), smooth_move_rewindable(&m));
         assert_int_equal(step_planner_rewind(&pl, steps, t16, kept[3].count), MS_OK);
@@ -1133,13 +1142,7 @@ static void smooth_planner_is_smooth_move(void **state)
         assert_int_equal(step_planner_position(&pl), smooth_move_position(&m));
         step_planner_stop(&pl);
         smooth_move_stop(&m);
-        for (;;) {
-            uint8_t ra = step_planner_next(&pl, &ca), rb = smooth_move_next(&m, &cb);
-            assert_int_equal(ra, rb);
-            if (!ra)
-                break;
-            assert_cmd_equal(&ca, &cb);
-        }
+        (void)same_smooth_commands(&pl, &m, UINT32_MAX);
         assert_int_equal(step_planner_position(&pl), smooth_move_position(&m));
     }
     /* refusals: nothing changes */
