@@ -328,6 +328,46 @@ def smooth_section(motionsim, out_dir, rates=None):
          (f"{'>= ' if best == rungs[-1] else ''}{best:,} steps/s" if best else "none"), ""]
 
 
+# ---- the MotionStepper library, one Stepper: the reference move through the API ------------------------
+# test/emu/OneStepper: a Stepper on X with the exact ramp, driven from the serial line (Timer3 plans in the
+# background, Timer1 steps), built with the library's speed limit lifted: the same ladder and verdict as the
+# sketches' exact rows, so that the two can be read side by side.
+ONE_LADDER = [20000, 40000, 60000, 70000, 80000, 90000, 100000]
+ONE_SKETCH = os.path.join("test", "emu", "OneStepper")
+ONE_LIFT = "-DMULTI_MAX_SPS=200000 -DSTEPPER_TRACE=1"
+
+
+def one_stepper_section(motionsim, out_dir, rates=None):
+    out = os.path.join(out_dir, "onestepper")
+    env = dict(os.environ, FIRMWARE_DEFINES=ONE_LIFT, FIRMWARE_OUT=out)
+    r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh"), ONE_SKETCH], env=env, cwd=ROOT,
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit("bench: building OneStepper failed:\n" + r.stdout[-2000:])
+    elf = os.path.join(out, "OneStepper", "OneStepper.ino.elf")
+    pins = {"STEP": "D54", "DIR": "D55", "TRACE": "D40"}
+    rows, best, broken = [], 0, False
+    rungs = sorted(rates or ONE_LADDER)
+    for v in rungs:
+        res = run_one(elf, motionsim, "OneStepper", "exact", v, pins)
+        rows.append(fmt(res))
+        print(rows[-1], flush=True)
+        broken = broken or bool(res["problems"])
+        if not broken:
+            best = v
+    return ["## The MotionStepper library, one Stepper: the exact ramp through the API", "",
+            "The test sketch test/emu/OneStepper (a Stepper on X with the exact ramp, moveTo() from the serial line; "
+            "Timer3 plans in the background, Timer1 steps), built with the library's speed limit lifted "
+            "(MULTI_MAX_SPS; as shipped a Stepper is refused above 25,000 steps/s), on the reference move as the "
+            "sketches' rows above; plan and verdict as there (the Stepper's commands last up to 1 ms, motionsim's "
+            "up to 4 ms: the same steps within a tick). No `late` column: the library does not report it.", "",
+            "| sketch | algorithm | steps/s | steps | worst vs plan (ticks) | beyond 8 cycles | worst vs exact (ticks) "
+            "| underruns | late | ISR cycles min / mean / max | CPU left | verdict |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|"] + rows + \
+        ["", "Highest clean rate of one Stepper (every rung below it clean too, >= at the top of the ladder): " +
+         (f"{'>= ' if best == rungs[-1] else ''}{best:,} steps/s" if best else "none"), ""]
+
+
 def planner_costs(elf):
     if not elf or not os.path.isfile(elf):
         return []
@@ -719,12 +759,19 @@ def main(argv):
     ap.add_argument("--smooth-only", action="store_true",
                     help="only the smooth ramp's section (SmoothConsole), printed; no file is written")
     ap.add_argument("--smooth-rates", default="", help="with --smooth-only: only these rungs, e.g. 40000,50000")
+    ap.add_argument("--one-only", action="store_true",
+                    help="only the section of one Stepper through the library (test/emu/OneStepper), printed")
+    ap.add_argument("--one-rates", default="", help="with --one-only: only these rungs, e.g. 60000,80000")
     ap.add_argument("--multi-rates", default="",
                     help="with --multi-only: only these rungs of the multi-axis ladders, e.g. 25000,30000")
     a = ap.parse_args(argv)
     if a.smooth_only:
         rates = [int(r) for r in a.smooth_rates.split(",") if r.strip()] or None
         print("\n".join(smooth_section(a.motionsim, a.out, rates)))
+        return 0
+    if a.one_only:
+        rates = [int(r) for r in a.one_rates.split(",") if r.strip()] or None
+        print("\n".join(one_stepper_section(a.motionsim, a.out, rates)))
         return 0
     if a.multi_only:
         rates = [int(r) for r in a.multi_rates.split(",") if r.strip()] or None
@@ -770,6 +817,7 @@ def main(argv):
     lines += multi_section(a.motionsim, a.out, a.only)
     if not a.only:
         lines += smooth_section(a.motionsim, a.out)
+        lines += one_stepper_section(a.motionsim, a.out)
         lines += library_section(a.out)
         lines += sizes_section(a.out, names + multi)
         lines += code_size.section(ROOT, names + multi)

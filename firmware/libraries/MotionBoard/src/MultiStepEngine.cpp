@@ -662,32 +662,47 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
     i = next_slot(f, curi);
     if (i == f.head || !s.slot[i].ready)
         return 0;
+    /* The steps of every slot after the current one first: the cut is chosen after this loop, so
+     * that the time from its choice to cut_apply's check of it stays short (the loops over a ring
+     * of 40 commands took 0.6 ms with two Steppers at 20,000 steps/s stepping meanwhile, and a cut
+     * 600 us ahead, checked 200 us before it, never came off: test/emu/ThreeSteppers). The slots
+     * the interrupt takes meanwhile are before the cut, which lies beyond them. */
+    steps = 0;
+    for (first = i; first != f.head; first = next_slot(f, first))
+        steps += slot_count(s.slot[first]);
+    /* less the slots the interrupt has taken meanwhile (their steps are not dropped) */
+    first = i;
+    i = next_slot(f, cur_index(s));
+    for (; first != i; first = next_slot(f, first)) {
+        if (first == f.head)
+            return 0; /* it has taken every slot */
+        steps -= slot_count(s.slot[first]);
+    }
+    if (i == f.head || !s.slot[i].ready)
+        return 0;
     /* the first slot whose first step lies beyond min_ticks_ahead */
     ahead = ticks_until(axis, i);
     if (ahead == UINT32_MAX)
         return 0;
     while (ahead <= min_ticks_ahead) {
         ahead += lead_weight(f.duration[i]);
+        steps -= slot_count(s.slot[i]);
         i = next_slot(f, i);
         if (i == f.head)
             return 0;
     }
     first = i;
     /* at most max_steps steps: keep more from the front */
-    steps = 0;
-    for (i = first; i != f.head; i = next_slot(f, i))
-        steps += slot_count(s.slot[i]);
     while (first != f.head && steps > max_steps) {
         steps -= slot_count(s.slot[first]);
         first = next_slot(f, first);
     }
     if (first == f.head)
         return 0;
-    for (i = first; i != f.head; i = next_slot(f, i)) {
-        if (time16)
+    r.cmds = (uint8_t)(f.head >= first ? f.head - first : f.head + f.nslots - first);
+    if (time16)
+        for (i = first; i != f.head; i = next_slot(f, i))
             r.time16 += slot_time16(s.slot[i]);
-        r.cmds++;
-    }
     r.steps = steps;
     r.last_count = (uint16_t)slot_count(s.slot[prev_slot(f, first)]);
     r.first = first;

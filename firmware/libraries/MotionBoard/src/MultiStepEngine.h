@@ -168,8 +168,8 @@ public:
 #endif
 
     /* For an interrupt of low priority that enables interrupts to run long (MotionStepper's planner
-     * tick): whether it has interrupted a step interrupt, which then waits for the whole of it; call
-     * with interrupts off. True while an axis's asm path runs (its own compare interrupt masked:
+     * tick): whether it has interrupted a step interrupt, which then waits for the whole of it (callable
+     * with interrupts on: it reads Timer1 in one snapshot with them off). True while an axis's asm path runs (its own compare interrupt masked:
      * TIMSK1's OCIE1x clear while the axis runs) or its C path runs before it arms the next edge (the
      * match has come: OCR1x at or less than 4000 ticks before TCNT1, and its flag is clear). An axis
      * counting out wraps looks busy for 4000 ticks after each. Timed-loop mode: false. */

@@ -330,8 +330,18 @@ using namespace mse;
 
 bool MultiStepEngine::in_step_interrupt()
 {
-    uint8_t on = TIMSK1, flags = TIFR1;
-    uint16_t now = TCNT1;
+    uint8_t on, flags;
+    uint16_t now;
+    /* one snapshot, with interrupts off: TCNT1's read goes through Timer1's TEMP byte, which a step
+     * interrupt nesting between its two halves would overwrite (its OCR1x write). The rest may run
+     * with interrupts on: an interrupt that nests from here on ends before this goes on, and one that
+     * this has interrupted stands still. */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        on = TIMSK1;
+        flags = TIFR1;
+        now = TCNT1;
+    }
     for (uint8_t a = 0; a < MULTI_AXES; a++) {
         const AxisState *s = s_state[a];
         if (!s || !s->running)

@@ -94,7 +94,7 @@ void BackgroundPlanner::begin()
         TCCR3A = 0;
         TCCR3B = 0;
         TCNT3 = 0;
-        OCR3A = 249;
+        OCR3A = 249; /* the vector's retry counts from 249 */
         TIFR3 = _BV(OCF3A) | _BV(OCF3B) | _BV(OCF3C) | _BV(TOV3) | _BV(ICF3);
         TCCR3B = _BV(WGM32) | _BV(CS31) | _BV(CS30);
         TIMSK3 = _BV(OCIE3A);
@@ -234,11 +234,25 @@ static bool step_isr_active()
     return MultiStepEngine::in_step_interrupt();
 }
 
-/* Timer3's compare match, 1 kHz. Entered with interrupts off for a few dozen cycles: a tick during a
- * tick returns; one while loop() holds a PlannerLock comes back 8 us after the unlock; a tick that has interrupted a step interrupt comes back 16 us later, then later and later (TCNT3 MOTION_STEPPER_RETRY_COUNTS counts
- * before the match); otherwise interrupts are enabled at once and the tick runs, the step interrupts
- * and the core's millis and serial interrupts nesting in it. */
-ISR(TIMER3_COMPA_vect)
+/* Timer3's compare match, 1 kHz, in two parts. The vector itself (naked, below) runs with interrupts
+ * off for about 30 cycles: it saves r24 and SREG only, returns at once during a tick or a
+ * PlannerLock, and comes back later when a step interrupt is under way (the retry, about 50 cycles
+ * all told). Otherwise it enables interrupts and jumps to __vector_planner_tick, whose register
+ * saving, last check and tick run with interrupts on: a step edge due meanwhile nests. Until
+ * 2026-12-05 one ISR() did it all, with interrupts off for its prologue of 22 registers and its
+ * checks (about 250 cycles when it retried, 150 before a tick): a step interrupt it had interrupted,
+ * or an edge due then, waited that long, and a Stepper at 60,000 steps/s had edges 310 cycles late
+ * (90,000: 510; the sketches' bound is 260); now 132 and 193 (make bench, "The MotionStepper
+ * library, one Stepper"). __vector_planner_tick: the checks again (a tick during a tick returns; one
+ * while loop() holds a PlannerLock comes back 8 us after the unlock), then a step interrupt the
+ * vector cannot see (its C path without STEP, a coordinated move's master: in_step_interrupt, which
+ * reads Timer1 in one snapshot) retries as above; otherwise the tick runs, the step interrupts and
+ * the core's millis and serial interrupts nesting in it. No other Timer3 match can come while it
+ * checks (the next is a retry 16 us away or the next millisecond; kick() is loop()'s). Its end, from
+ * the cli(), runs with interrupts off, as before: a tick that came between s_in_tick's clearing and
+ * the return would nest a whole tick on this one's frame. */
+extern "C" void __vector_planner_tick(void) __attribute__((signal, used, externally_visible));
+void __vector_planner_tick(void)
 {
     if (s_in_tick)
         return;
@@ -247,9 +261,10 @@ ISR(TIMER3_COMPA_vect)
         return;
     }
     if (step_isr_active()) {
-        /* back in 16, 32, 64, 128, then every 248 us while it keeps landing in step interrupts
-         * (see MOTION_STEPPER_RETRY_COUNTS) */
-        TCNT3 = OCR3A - s_retry;
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+        {
+            TCNT3 = OCR3A - s_retry; /* see the vector below */
+        }
         if (s_retry < 62U)
             s_retry = s_retry * 2U < 62U ? (uint8_t)(s_retry * 2U) : 62U;
         return;
@@ -258,13 +273,90 @@ ISR(TIMER3_COMPA_vect)
     s_deferrals = 0;
     s_in_tick = 1;
 #if MOTION_STEPPER_TRACE == 1
-    PORTG |= _BV(5); /* D4 high while the tick runs */
+    PORTG |= _BV(5); /* D4 high while the tick runs (sbi: atomic) */
 #endif
-    sei();
     BackgroundPlanner::tick();
     cli();
 #if MOTION_STEPPER_TRACE == 1
     PORTG &= (uint8_t)~_BV(5);
 #endif
     s_in_tick = 0;
+}
+
+/* The vector: a tick under way -> return (no frame of __vector_planner_tick on top of a tick's: with
+ * two Steppers the stack has little to spare: test/emu/ThreeSteppers overflowed it without this);
+ * a PlannerLock held -> the unlock brings the tick (s_deferred); a step interrupt under way -> the
+ * retry; else sei and on to __vector_planner_tick. Under way: an axis's STEP high (from a step
+ * interrupt's first instructions to its end: the common path, and the C path of a step; also the
+ * window between its sei and its arming, where a tick that was pending while it entered lands,
+ * Timer1's vectors coming first), or a common-path step interrupt in its masked stretch (ANY clear
+ * and OCIE1x clear: STEP may be low already at its end, `again`). TCNT3 = 249 - s_retry (OCR3A is
+ * 249: begin()); s_retry doubles up to 62, as the C part's retry. */
+ISR(TIMER3_COMPA_vect, ISR_NAKED)
+{
+    asm volatile(
+        "push r24\n\t"
+        "in r24, __SREG__\n\t"
+        "push r24\n\t"
+        "lds r24, %[intick]\n\t"
+        "tst r24\n\t"
+        "brne 6f\n\t"
+        "lds r24, %[locks]\n\t"
+        "tst r24\n\t"
+        "breq 7f\n\t"
+        "ldi r24, 1\n\t"
+        "sts %[deferred], r24\n\t"
+        "rjmp 6f\n\t"
+        "7: lds r24, %[xport]\n\t"
+        "sbrc r24, %[xbit]\n\t"
+        "rjmp 4f\n\t"
+        "lds r24, %[yport]\n\t"
+        "sbrc r24, %[ybit]\n\t"
+        "rjmp 4f\n\t"
+        "lds r24, %[zport]\n\t"
+        "sbrc r24, %[zbit]\n\t"
+        "rjmp 4f\n\t"
+        "lds r24, %[timsk]\n\t"
+        "sbic %[g0], %[anyx]\n\t"
+        "rjmp 1f\n\t"
+        "sbrs r24, %[ociea]\n\t"
+        "rjmp 4f\n\t"
+        "1: sbic %[g0], %[anyy]\n\t"
+        "rjmp 2f\n\t"
+        "sbrs r24, %[ocieb]\n\t"
+        "rjmp 4f\n\t"
+        "2: sbic %[g0], %[anyz]\n\t"
+        "rjmp 3f\n\t"
+        "sbrs r24, %[ociec]\n\t"
+        "rjmp 4f\n\t"
+        "3: pop r24\n\t"
+        "out __SREG__, r24\n\t"
+        "pop r24\n\t"
+        "sei\n\t"
+        "jmp __vector_planner_tick\n\t"
+        "4: push r25\n\t"
+        "lds r25, %[retry]\n\t"
+        "ldi r24, 0\n\t"
+        "sts %[tcnth], r24\n\t"
+        "ldi r24, 249\n\t"
+        "sub r24, r25\n\t"
+        "sts %[tcntl], r24\n\t"
+        "lsl r25\n\t"
+        "cpi r25, 62\n\t"
+        "brlo 5f\n\t"
+        "ldi r25, 62\n\t"
+        "5: sts %[retry], r25\n\t"
+        "pop r25\n\t"
+        "6: pop r24\n\t"
+        "out __SREG__, r24\n\t"
+        "pop r24\n\t"
+        "reti\n\t"
+        :
+        : [timsk] "i"(_SFR_MEM_ADDR(TIMSK1)), [g0] "I"(_SFR_IO_ADDR(GPIOR0)), [anyx] "I"(MULTI_G_ANY_X),
+          [anyy] "I"(MULTI_G_ANY_Y), [anyz] "I"(MULTI_G_ANY_Z), [ociea] "I"(OCIE1A), [ocieb] "I"(OCIE1B),
+          [ociec] "I"(OCIE1C), [retry] "i"(&s_retry), [tcnth] "i"(_SFR_MEM_ADDR(TCNT3H)),
+          [tcntl] "i"(_SFR_MEM_ADDR(TCNT3L)), [xport] "i"(_SFR_MEM_ADDR(MULTI_X_STEP_PORT)),
+          [xbit] "I"(MULTI_X_STEP_BIT), [yport] "i"(_SFR_MEM_ADDR(MULTI_Y_STEP_PORT)), [ybit] "I"(MULTI_Y_STEP_BIT),
+          [zport] "i"(_SFR_MEM_ADDR(MULTI_Z_STEP_PORT)), [zbit] "I"(MULTI_Z_STEP_BIT), [intick] "i"(&s_in_tick), [locks] "i"(&s_locks),
+          [deferred] "i"(&s_deferred));
 }

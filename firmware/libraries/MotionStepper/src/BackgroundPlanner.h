@@ -7,11 +7,11 @@
  * interrupts (MultiStepEngine.h): no analogWrite() on D11, D12, D13 either; GPIOR0 is the engine's.
  *
  * The tick runs with interrupts enabled (as ISR_NOBLOCK would), so a step interrupt (Timer1) is never
- * delayed by planning, nor are the core's millis and serial interrupts. It enables them after a
- * check of a few dozen cycles, not at its first instruction: the step interrupts themselves enable
- * interrupts early (so that the axes nest), and a tick that came inside one of them, before it armed
- * its next edge, would hold that edge back for the whole tick; such a tick returns and comes back
- * 16 us later, then later and later (MOTION_STEPPER_RETRY_COUNTS). A guard makes a tick that comes while the previous one still runs (at a move's start,
+ * delayed by planning, nor are the core's millis and serial interrupts. Its vector enables them
+ * after a check of about 30 cycles that saves two registers only, not at its first instruction:
+ * the step interrupts themselves enable interrupts early (so that the axes nest), and a tick that
+ * came inside one of them would hold its next edge back for the whole tick; such a tick returns and
+ * comes back 16 us later, then later and later (MOTION_STEPPER_RETRY_COUNTS), in about 50 cycles. A guard makes a tick that comes while the previous one still runs (at a move's start,
  * planning can take longer than 1 ms) return at once. Calls from loop() that change a planner keep
  * the tick from starting (PlannerLock) for their own few hundred microseconds at most; they never
  * wait for it.
@@ -72,7 +72,8 @@
 /* A tick that came inside a step interrupt comes back this many counts of Timer3 (4 us each) later,
  * then twice as late at each retry that lands in one again (up to 62 counts, 248 us), until a tick
  * runs. Not a fixed 2 counts (8 us, as until 2026-12-05): this interrupt's entry and exit cost about
- * 200 cycles (it saves every register the tick may use), so the step interrupt it waited for got one
+ * 200 cycles then (it saved every register the tick may use; 50 since its vector checks first,
+ * BackgroundPlanner.cpp), so the step interrupt it waited for got one
  * instruction per retry and took tens of milliseconds to end (a Z step held its STEP high for 18 ms
  * with three Steppers moving). Not a fixed 16 us either: a step interrupt that had fallen behind (its
  * edges made back to back until it catches up) kept meeting the retries, lost a quarter of the CPU to

@@ -340,10 +340,11 @@ void Stepper::run_request()
         c = MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
             if (stop_in_cruise(false, 0) || plan_at_cut(REQ_STOP, 0)) {
-                /* with three Steppers stopped at once the cuts come one after the other, each plan
-                 * taking milliseconds: a few more of this one's commands first (else the first axis
-                 * cut ran dry once, test/emu/ThreeSteppers) */
-                if (BackgroundPlanner::steppers() >= 3)
+                /* with two or three Steppers stopped at once the cuts come one after the other,
+                 * each taking up to a millisecond or more: a few more of this one's commands first
+                 * (else the first axis cut ran dry once: test/emu/ThreeSteppers, three at 10,000
+                 * steps/s, and two at 20,000) */
+                if (BackgroundPlanner::steppers() >= 2)
                     (void)MultiStepEngine::service(axis_, source(), MOTION_STEPPER_CMDS_PER_PICK);
             } else {
                 step_planner_stop(&planner_);
@@ -448,20 +449,21 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
         return false;
     step_cut_trace(true);
     if (MultiStepEngine::cut_find(axis_, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_CRUISE_US, e.n - 1U, cut, false) ==
-        0)
+        0) {
+        step_cut_trace(false);
         return false;
+    }
     /* the kept commands end in the cruise: its last one starts there, and nothing of the
      * deceleration is kept */
     nb = e.n - cut.steps;
-    if (nb - cut.last_count < e.n1 || nb > e.n2)
-        return false;
     /* the position at the cut */
     dp = planner_.pos + (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps);
-    if (then && (e.dir > 0 ? to > dp : to < dp))
-        return false; /* ahead of the cut: a plan of its own */
-    if (!MultiStepEngine::cut_apply(axis_, cut, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_MARGIN_US, stop_cmds_,
-                                    stop_n_))
-        return false;
+    if (nb - cut.last_count < e.n1 || nb > e.n2 || (then && (e.dir > 0 ? to > dp : to < dp)) ||
+        !MultiStepEngine::cut_apply(axis_, cut, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_MARGIN_US, stop_cmds_,
+                                    stop_n_)) {
+        step_cut_trace(false);
+        return false; /* not in the cruise, a target ahead of the cut (a plan of its own), or too late */
+    }
     /* the stop planned ahead, moved to where the cut lands */
     dp -= stop_from_;
     planner_.exact = stop_exact_;
