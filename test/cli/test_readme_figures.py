@@ -97,3 +97,15 @@ def test_the_smooth_ramps_limit_is_its_highest_clean_rate_in_bench_md():
     assert limit and quoted and readme, "Stepper.h's define, docs/smooth-move.md's or README's sentence is missing"
     assert int(float(limit.group(1))) == number(bench.group(1)) == number(quoted.group(1)) == number(readme.group(1)), \
         (limit.group(1), bench.group(1), quoted.group(1), readme.group(1))
+
+
+def test_readmes_rate_of_one_stepper_through_the_library_is_bench_mds():
+    """README's figure for one Stepper of the MotionStepper library (its limit lifted) is the "Highest
+    clean rate of one Stepper" that `make bench` wrote into docs/bench.md"""
+    bench = re.search(r"^Highest clean rate of one Stepper \(.*?\): (?:>= )?([\d,]+) steps/s",
+                      read("docs", "bench.md"), re.M)
+    assert bench, "docs/bench.md has no section of one Stepper through the library (make bench)"
+    readme = re.search(r"Through the MotionStepper library \(one `Stepper`.*?\) the same move is clean to\s+"
+                       r"\*\*([\d,]+)\*\* steps/s", read("README.md"), re.S)
+    assert readme, "README's sentence on one Stepper of the library is missing"
+    assert number(readme.group(1)) == number(bench.group(1)), (readme.group(1), bench.group(1))
