@@ -105,7 +105,7 @@ def test_readmes_rate_of_one_stepper_through_the_library_is_bench_mds():
     bench = re.search(r"^Highest clean rate of one Stepper \(.*?\): (?:>= )?([\d,]+) steps/s",
                       read("docs", "bench.md"), re.M)
     assert bench, "docs/bench.md has no section of one Stepper through the library (make bench)"
-    readme = re.search(r"Through the MotionStepper library \(one `Stepper`.*?\) the same move is clean to\s+"
+    readme = re.search(r"Through the MotionStepper library \(one\s+`Stepper`.*?\) it is clean to\s+"
                        r"\*\*([\d,]+)\*\* steps/s", read("README.md"), re.S)
     assert readme, "README's sentence on one Stepper of the library is missing"
     assert number(readme.group(1)) == number(bench.group(1)), (readme.group(1), bench.group(1))
