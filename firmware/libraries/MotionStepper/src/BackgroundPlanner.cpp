@@ -19,6 +19,9 @@ static volatile uint8_t s_in_tick;  /* the re-entrancy guard */
 static volatile uint8_t s_locks;    /* PlannerLocks alive */
 static volatile uint8_t s_deferred; /* a tick came while loop() held a lock */
 static volatile uint8_t s_deferrals; /* ticks deferred by locks in a row */
+/* each claimed axis's STEP bit in its port (0: no Stepper on that axis): the vector's test of a step
+ * interrupt under way looks at these alone, so that a sketch may drive the other axes' STEP pins */
+static volatile uint8_t s_step_mask[3];
 static uint8_t s_retry = MOTION_STEPPER_RETRY_COUNTS; /* Timer3 counts to the next retry */
 static_assert(MOTION_STEPPER_RETRY_COUNTS >= 1 && MOTION_STEPPER_RETRY_COUNTS <= 62,
               "MOTION_STEPPER_RETRY_COUNTS: 1 to 62 counts of Timer3 (OCR3A is 249; the retries double up to 62)");
@@ -135,6 +138,7 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
     if (!axes_[axis]) {
         axes_[axis] = s;
         count_++;
+        s_step_mask[axis] = (uint8_t)_BV(axis == 0 ? MULTI_X_STEP_BIT : axis == 1 ? MULTI_Y_STEP_BIT : MULTI_Z_STEP_BIT);
         if (begun_)
             apply_lead();
     }
@@ -235,31 +239,24 @@ static bool step_isr_active()
 }
 
 /* Timer3's compare match, 1 kHz, in two parts. The vector itself (naked, below) runs with interrupts
- * off for about 30 cycles: it saves r24 and SREG only, returns at once during a tick or a
+ * off for about 35 cycles: it saves r24, SREG and r25 only, returns at once during a tick or a
  * PlannerLock, and comes back later when a step interrupt is under way (the retry, about 50 cycles
- * all told). Otherwise it enables interrupts and jumps to __vector_planner_tick, whose register
- * saving, last check and tick run with interrupts on: a step edge due meanwhile nests. Until
- * 2026-12-05 one ISR() did it all, with interrupts off for its prologue of 22 registers and its
- * checks (about 250 cycles when it retried, 150 before a tick): a step interrupt it had interrupted,
- * or an edge due then, waited that long, and a Stepper at 60,000 steps/s had edges 310 cycles late
- * (90,000: 510; the sketches' bound is 260); now 132 and 193 (make bench, "The MotionStepper
- * library, one Stepper"). __vector_planner_tick: the checks again (a tick during a tick returns; one
- * while loop() holds a PlannerLock comes back 8 us after the unlock), then a step interrupt the
+ * all told). Otherwise it marks the tick under way (s_in_tick), enables interrupts and jumps to
+ * __vector_planner_tick, whose register saving, last check and tick run with interrupts on: a step
+ * edge due meanwhile nests. Until 2026-12-05 one ISR() did it all, with interrupts off for its
+ * prologue of 22 registers and its checks (about 250 cycles when it retried, 150 before a tick): a
+ * step interrupt it had interrupted, or an edge due then, waited that long, and a Stepper at 60,000
+ * steps/s had edges 310 cycles late (90,000: 510; the sketches' bound is 260); now under 140 (make
+ * bench, "The MotionStepper library, one Stepper"). __vector_planner_tick: a step interrupt the
  * vector cannot see (its C path without STEP, a coordinated move's master: in_step_interrupt, which
- * reads Timer1 in one snapshot) retries as above; otherwise the tick runs, the step interrupts and
- * the core's millis and serial interrupts nesting in it. No other Timer3 match can come while it
- * checks (the next is a retry 16 us away or the next millisecond; kick() is loop()'s). Its end, from
- * the cli(), runs with interrupts off, as before: a tick that came between s_in_tick's clearing and
- * the return would nest a whole tick on this one's frame. */
+ * reads Timer1 in one snapshot) retries as the vector does; otherwise the tick runs, the step
+ * interrupts and the core's millis and serial interrupts nesting in it. Its end clears s_in_tick with
+ * interrupts off; its epilogue restores the SREG its prologue saved (interrupts on) before the last
+ * two pops, where a tick that came just then finds the frame all but gone. */
 extern "C" void __vector_planner_tick(void) __attribute__((signal, used, externally_visible));
 void __vector_planner_tick(void)
 {
-    if (s_in_tick)
-        return;
-    if (s_locks) {
-        s_deferred = 1;
-        return;
-    }
+    /* s_in_tick: set by the vector (no other tick can start from here on) */
     if (step_isr_active()) {
         ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
         {
@@ -267,11 +264,11 @@ void __vector_planner_tick(void)
         }
         if (s_retry < 62U)
             s_retry = s_retry * 2U < 62U ? (uint8_t)(s_retry * 2U) : 62U;
+        s_in_tick = 0;
         return;
     }
     s_retry = MOTION_STEPPER_RETRY_COUNTS;
     s_deferrals = 0;
-    s_in_tick = 1;
 #if MOTION_STEPPER_TRACE == 1
     PORTG |= _BV(5); /* D4 high while the tick runs (sbi: atomic) */
 #endif
@@ -286,36 +283,44 @@ void __vector_planner_tick(void)
 /* The vector: a tick under way -> return (no frame of __vector_planner_tick on top of a tick's: with
  * two Steppers the stack has little to spare: test/emu/ThreeSteppers overflowed it without this);
  * a PlannerLock held -> the unlock brings the tick (s_deferred); a step interrupt under way -> the
- * retry; else sei and on to __vector_planner_tick. Under way: an axis's STEP high (from a step
- * interrupt's first instructions to its end: the common path, and the C path of a step; also the
- * window between its sei and its arming, where a tick that was pending while it entered lands,
- * Timer1's vectors coming first), or a common-path step interrupt in its masked stretch (ANY clear
- * and OCIE1x clear: STEP may be low already at its end, `again`). TCNT3 = 249 - s_retry (OCR3A is
- * 249: begin()); s_retry doubles up to 62, as the C part's retry. */
+ * retry; else s_in_tick, sei and on to __vector_planner_tick. Under way: the STEP pin of an axis
+ * that has a Stepper high (s_step_mask: from a step interrupt's first instructions to its end, the
+ * common path, a master raising its followers' pins, and the C path of a step; also the window
+ * between its sei and its arming, where a tick that was pending while it entered lands, Timer1's
+ * vectors coming first; the other axes' STEP pins are the sketch's), or a common-path step interrupt
+ * in its masked stretch (ANY clear and OCIE1x clear: STEP may be low already at its end, `again`).
+ * TCNT3 = 249 - (s_retry + 0..3 counts: TCNT0's low bits, so that the retries do not lock onto a
+ * cruise whose step period divides theirs) (OCR3A is 249: begin()); s_retry doubles up to 62, as
+ * the C part's retry. */
 ISR(TIMER3_COMPA_vect, ISR_NAKED)
 {
     asm volatile(
         "push r24\n\t"
         "in r24, __SREG__\n\t"
         "push r24\n\t"
+        "push r25\n\t"
         "lds r24, %[intick]\n\t"
         "tst r24\n\t"
-        "brne 6f\n\t"
-        "lds r24, %[locks]\n\t"
+        "breq 8f\n\t"
+        "rjmp 6f\n\t" /* (6 is beyond a branch's reach) */
+        "8: lds r24, %[locks]\n\t"
         "tst r24\n\t"
         "breq 7f\n\t"
         "ldi r24, 1\n\t"
         "sts %[deferred], r24\n\t"
         "rjmp 6f\n\t"
         "7: lds r24, %[xport]\n\t"
-        "sbrc r24, %[xbit]\n\t"
-        "rjmp 4f\n\t"
+        "lds r25, %[maskx]\n\t"
+        "and r24, r25\n\t"
+        "brne 4f\n\t"
         "lds r24, %[yport]\n\t"
-        "sbrc r24, %[ybit]\n\t"
-        "rjmp 4f\n\t"
+        "lds r25, %[masky]\n\t"
+        "and r24, r25\n\t"
+        "brne 4f\n\t"
         "lds r24, %[zport]\n\t"
-        "sbrc r24, %[zbit]\n\t"
-        "rjmp 4f\n\t"
+        "lds r25, %[maskz]\n\t"
+        "and r24, r25\n\t"
+        "brne 4f\n\t"
         "lds r24, %[timsk]\n\t"
         "sbic %[g0], %[anyx]\n\t"
         "rjmp 1f\n\t"
@@ -329,25 +334,30 @@ ISR(TIMER3_COMPA_vect, ISR_NAKED)
         "rjmp 3f\n\t"
         "sbrs r24, %[ociec]\n\t"
         "rjmp 4f\n\t"
-        "3: pop r24\n\t"
+        "3: ldi r24, 1\n\t"
+        "sts %[intick], r24\n\t"
+        "pop r25\n\t"
+        "pop r24\n\t"
         "out __SREG__, r24\n\t"
         "pop r24\n\t"
         "sei\n\t"
         "jmp __vector_planner_tick\n\t"
-        "4: push r25\n\t"
-        "lds r25, %[retry]\n\t"
+        "4: lds r25, %[retry]\n\t"
         "ldi r24, 0\n\t"
         "sts %[tcnth], r24\n\t"
-        "ldi r24, 249\n\t"
-        "sub r24, r25\n\t"
+        "in r24, %[tcnt0]\n\t"
+        "andi r24, 3\n\t"
+        "add r24, r25\n\t"
+        "subi r24, 249\n\t"
+        "neg r24\n\t"
         "sts %[tcntl], r24\n\t"
         "lsl r25\n\t"
         "cpi r25, 62\n\t"
         "brlo 5f\n\t"
         "ldi r25, 62\n\t"
         "5: sts %[retry], r25\n\t"
-        "pop r25\n\t"
-        "6: pop r24\n\t"
+        "6: pop r25\n\t"
+        "pop r24\n\t"
         "out __SREG__, r24\n\t"
         "pop r24\n\t"
         "reti\n\t"
@@ -355,8 +365,9 @@ ISR(TIMER3_COMPA_vect, ISR_NAKED)
         : [timsk] "i"(_SFR_MEM_ADDR(TIMSK1)), [g0] "I"(_SFR_IO_ADDR(GPIOR0)), [anyx] "I"(MULTI_G_ANY_X),
           [anyy] "I"(MULTI_G_ANY_Y), [anyz] "I"(MULTI_G_ANY_Z), [ociea] "I"(OCIE1A), [ocieb] "I"(OCIE1B),
           [ociec] "I"(OCIE1C), [retry] "i"(&s_retry), [tcnth] "i"(_SFR_MEM_ADDR(TCNT3H)),
-          [tcntl] "i"(_SFR_MEM_ADDR(TCNT3L)), [xport] "i"(_SFR_MEM_ADDR(MULTI_X_STEP_PORT)),
-          [xbit] "I"(MULTI_X_STEP_BIT), [yport] "i"(_SFR_MEM_ADDR(MULTI_Y_STEP_PORT)), [ybit] "I"(MULTI_Y_STEP_BIT),
-          [zport] "i"(_SFR_MEM_ADDR(MULTI_Z_STEP_PORT)), [zbit] "I"(MULTI_Z_STEP_BIT), [intick] "i"(&s_in_tick), [locks] "i"(&s_locks),
+          [tcntl] "i"(_SFR_MEM_ADDR(TCNT3L)), [tcnt0] "I"(_SFR_IO_ADDR(TCNT0)),
+          [xport] "i"(_SFR_MEM_ADDR(MULTI_X_STEP_PORT)), [yport] "i"(_SFR_MEM_ADDR(MULTI_Y_STEP_PORT)),
+          [zport] "i"(_SFR_MEM_ADDR(MULTI_Z_STEP_PORT)), [maskx] "i"(&s_step_mask[0]), [masky] "i"(&s_step_mask[1]),
+          [maskz] "i"(&s_step_mask[2]), [intick] "i"(&s_in_tick), [locks] "i"(&s_locks),
           [deferred] "i"(&s_deferred));
 }
