@@ -288,26 +288,40 @@ def run_smooth(elf, motionsim, v, pins):
     return res
 
 
-def smooth_section(motionsim, out_dir, rates=None):
-    out = os.path.join(out_dir, "smooth")
-    env = dict(os.environ, FIRMWARE_DEFINES=SMOOTH_LIFT, FIRMWARE_OUT=out)
-    r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh"), SMOOTH_SKETCH], env=env, cwd=ROOT,
-                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        sys.exit("bench: building SmoothConsole failed:\n" + r.stdout[-2000:])
-    elf = os.path.join(out, "SmoothConsole", "SmoothConsole.ino.elf")
-    pins = {"STEP": "D54", "DIR": "D55", "TRACE": "D40"}
-    rows, best, broken, peaks = [], 0, False, []
-    rungs = sorted(rates or SMOOTH_LADDER)
+def climb(rungs, run):
+    """each rung in order (run(v): its result): the table's rows, the results, and the highest rung with
+    every rung up to it clean (0: none)"""
+    rows, results, best, broken = [], [], 0, False
     for v in rungs:
-        res = run_smooth(elf, motionsim, v, pins)
+        res = run(v)
+        results.append(res)
         rows.append(fmt(res))
         print(rows[-1], flush=True)
-        if "peaks" in res:
-            peaks.append(f"{v:,}: {100 * res['peaks'][0]:.1f} % / {100 * res['peaks'][1]:.1f} %")
         broken = broken or bool(res["problems"])
         if not broken:
             best = v
+    return rows, results, best
+
+
+def build_lifted(sketch, defines, out):
+    """one sketch (its directory, from the tree's root) built with these FIRMWARE_DEFINES into out: its ELF
+    (the bench stops when the build fails)"""
+    name = os.path.basename(sketch)
+    env = dict(os.environ, FIRMWARE_DEFINES=defines, FIRMWARE_OUT=out)
+    r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh"), sketch], env=env, cwd=ROOT,
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit(f"bench: building {name} failed:\n" + r.stdout[-2000:])
+    return os.path.join(out, name, name + ".ino.elf")
+
+
+def smooth_section(motionsim, out_dir, rates=None):
+    elf = build_lifted(SMOOTH_SKETCH, SMOOTH_LIFT, os.path.join(out_dir, "smooth"))
+    pins = {"STEP": "D54", "DIR": "D55", "TRACE": "D40"}
+    rungs = sorted(rates or SMOOTH_LADDER)
+    rows, results, best = climb(rungs, lambda v: run_smooth(elf, motionsim, v, pins))
+    peaks = [f"{res['rate']:,}: {100 * res['peaks'][0]:.1f} % / {100 * res['peaks'][1]:.1f} %"
+             for res in results if "peaks" in res]
     return ["## The smooth ramp: the filter-shaped move (docs/smooth-move.md)", "",
             "The MotionStepper library's SmoothConsole example (setRamp(RAMP_ALGO_SMOOTH): Timer3 plans in the "
             "background, Timer1 steps X), built with its speed limit lifted, on the reference move of "
@@ -338,23 +352,10 @@ ONE_LIFT = "-DMULTI_MAX_SPS=200000 -DSTEPPER_TRACE=1"
 
 
 def one_stepper_section(motionsim, out_dir, rates=None):
-    out = os.path.join(out_dir, "onestepper")
-    env = dict(os.environ, FIRMWARE_DEFINES=ONE_LIFT, FIRMWARE_OUT=out)
-    r = subprocess.run(["bash", os.path.join(ROOT, "tools", "build_firmware.sh"), ONE_SKETCH], env=env, cwd=ROOT,
-                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        sys.exit("bench: building OneStepper failed:\n" + r.stdout[-2000:])
-    elf = os.path.join(out, "OneStepper", "OneStepper.ino.elf")
+    elf = build_lifted(ONE_SKETCH, ONE_LIFT, os.path.join(out_dir, "onestepper"))
     pins = {"STEP": "D54", "DIR": "D55", "TRACE": "D40"}
-    rows, best, broken = [], 0, False
     rungs = sorted(rates or ONE_LADDER)
-    for v in rungs:
-        res = run_one(elf, motionsim, "OneStepper", "exact", v, pins)
-        rows.append(fmt(res))
-        print(rows[-1], flush=True)
-        broken = broken or bool(res["problems"])
-        if not broken:
-            best = v
+    rows, _, best = climb(rungs, lambda v: run_one(elf, motionsim, "OneStepper", "exact", v, pins))
     return ["## The MotionStepper library, one Stepper: the exact ramp through the API", "",
             "The test sketch test/emu/OneStepper (a Stepper on X with the exact ramp, moveTo() from the serial line; "
             "Timer3 plans in the background, Timer1 steps), built with the library's speed limit lifted "
