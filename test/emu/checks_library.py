@@ -1293,6 +1293,50 @@ def three_stop(log, problems, build, n, v, a):
     return (start - sw[0]) * 1000.0 / F_CPU
 
 
+# ---- OneStepper: the planner tick never holds a step edge back -----------------------------------
+
+ONE_RATES = (40000, 60000)  # steps/s: the reference move of make bench at two rungs
+# cycles an edge of one Stepper may come after the law: a step interrupt waits for one other interrupt
+# with interrupts off (the core's millis interrupt, about 90 cycles; the planner tick's vector, about
+# 35) and its own few dozen cycles, not for the 260 of the sketches' bound (where serial traffic and
+# other axes meet it). Measured on 2026-12-05: 101 at both rates; with the planner tick's former vector
+# (22 registers saved and its checks made with interrupts off) 208 and 169.
+ONE_BOUND = 140
+
+
+def check_one_stepper(env):
+    """test/emu/OneStepper built with the limit lifted: the reference move (20,000 steps, accel v^2/10,000)
+    at ONE_RATES through the library: every edge on the constant-acceleration law within ONE_BOUND, DIR,
+    ENABLE, no underrun"""
+    elf = os.path.join(env.source_dir, "build", "emu", "onestepper", "OneStepper", "OneStepper.ino.elf")
+    if not os.path.isfile(elf):
+        return CheckResult(False, "no OneStepper build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
+    problems, figs = [], []
+    for v in ONE_RATES:
+        acc = v * v / 10000
+        script = (f"wait ^READY OneStepper$\nsend set vmax {v}\nwait ^(OK|ERR) \nsend set accel {acc:.0f}\n"
+                  "wait ^(OK|ERR) \nmark move\nsend 20000\nwait ^(OK 0 20000|ERR)\ntimeout 20000\nwait ^DONE \n"
+                  "send ?\nwait ^pos=\n")
+        log = emulog.run(elf, script, pins=sketches.multiaxis_pins(env), timeout=600)
+        common(log, problems)
+        errs = [l.text for l in log.rx if l.text.startswith("ERR")]
+        done = line_of(log, r"^DONE ")
+        q = line_of(log, r"^pos=")
+        if errs or not done or not q:
+            problems.append(f"at {v}: no conversation: replies {[l.text for l in log.rx]}")
+            continue
+        if done.text != "DONE 20000" or not q.text.endswith(" underruns=0"):
+            problems.append(f"at {v}: '{done.text}', '{q.text}': expected DONE 20000 and underruns=0")
+        e = [c for c in log.rising("XSTEP") if c > log.mark("move")]
+        late = check_move(log, problems, "X", e, 0, 20000, v, acc, f"at {v} steps/s")
+        if late > ONE_BOUND + 2:
+            problems.append(f"at {v} steps/s: an edge {late:.0f} cycles after the law (bound {ONE_BOUND} + 2: the "
+                            "planner tick held a step edge back)")
+        figs.append(f"{v:,} steps/s: 2 ticks + {late:.0f} cycles")
+    return CheckResult(not problems, f"20000 steps each, every edge on the constant-acceleration law within "
+                       f"{', '.join(figs)} late at most (bound {ONE_BOUND}), 0 underruns", problems)
+
+
 def check_three_steppers(env):
     problems, notes, worst_lat = [], [], {}
     pins = sketches.multiaxis_pins(env)
@@ -1376,6 +1420,10 @@ def checks_for(env):
     checks.append(("MotionStepper library, test sketch SmoothStart at 80,000 steps/s, 640,000 steps/s^2, 10,240,000 "
                    "steps/s^3 (the limit lifted): the queue runs dry often, the axis always steps on to its DONEs",
                    lambda: guarded(check_smooth_stall, env)))
+    checks.append(("MotionStepper library, test sketch OneStepper at 40,000 and 60,000 steps/s (the limit lifted): "
+                   "the planner tick holds no step edge back: every edge on the constant-acceleration law within "
+                   f"{ONE_BOUND} cycles",
+                   lambda: guarded(check_one_stepper, env)))
     checks.append(("MotionStepper library, test sketch ThreeSteppers: three Steppers at once at 10,000 and 25,000 "
                    "steps/s, two at 20,000 and 25,000: every step, no underrun, no pause within a move; a stop() of all at a switch "
                    "(three at 10,000, two at 20,000): its latency, no underrun",

@@ -109,6 +109,14 @@ $(EMU_SMOOTHSTALL_ELF): $(EMU_FW_SRCS) test/emu/SmoothStart/SmoothStart.ino tool
 	  -DSMOOTHSTART_ACCEL=640000 -DSMOOTHSTART_JERK=10240000" bash tools/build_firmware.sh test/emu/SmoothStart \
 	  >$(BUILD)/emu/smoothstall.log 2>&1 || { cat $(BUILD)/emu/smoothstall.log; exit 1; }
 
+# test/emu/OneStepper: one Stepper with its limit lifted, for the check that the planner tick never holds a
+# step edge back (checks_library.py, check_one_stepper; make bench's ladder builds it the same way)
+EMU_ONESTEPPER_ELF := $(BUILD)/emu/onestepper/OneStepper/OneStepper.ino.elf
+$(EMU_ONESTEPPER_ELF): $(EMU_FW_SRCS) test/emu/OneStepper/OneStepper.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/onestepper
+	@FIRMWARE_OUT=$(BUILD)/emu/onestepper FIRMWARE_DEFINES="-DMULTI_MAX_SPS=200000" bash tools/build_firmware.sh \
+	  test/emu/OneStepper >$(BUILD)/emu/onestepper.log 2>&1 || { cat $(BUILD)/emu/onestepper.log; exit 1; }
+
 # test/emu/ThreeSteppers: two and three Steppers moving at once (checks_library.py, check_three_steppers):
 # three at 10,000 and at 25,000 steps/s (50,000 steps/s^2, and 200,000 for the legs alone), two at 25,000 and 20,000
 EMU_THREE_BUILDS := three-10k:-DTS_N=3 three-25k:-DTS_N=3+-DTS_V=25000 three-25k-steep:-DTS_N=3+-DTS_V=25000+-DTS_A=200000 \
@@ -138,7 +146,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 
