@@ -398,6 +398,16 @@ static void model_move(model_t *m, const smooth_params_t *p, long double d)
     m->c[1] = -h;
 }
 
+/* A move of d steps (its sign: the direction) from `from`, which s stands at: the model's law, a
+ * clear run at `from`, and the move asked of s (which must take it). */
+static void start_move(smooth_move_t *s, model_t *m, run_t *r, const smooth_params_t *p, int32_t from, int64_t d)
+{
+    model_move(m, p, (long double)(d < 0 ? -d : d));
+    memset(r, 0, sizeof *r);
+    r->pos = from;
+    assert_int_equal(smooth_move_to(s, (int32_t)(from + d)), MS_OK);
+}
+
 /* ---- tests ---- */
 
 /* The law's velocity at t = k Ts equals ma2_filter's y[k] for the same rectangle (tau1 = 50 Ts,
@@ -507,10 +517,7 @@ static void every_edge_within_one_tick(void **state)
         int dir = trial % 3 == 0 ? -1 : 1;
         if (smooth_move_init(&s, &p, from) != MS_OK)
             continue;
-        model_move(&m, &p, d);
-        memset(&r, 0, sizeof r);
-        r.pos = from;
-        assert_int_equal(smooth_move_to(&s, from + dir * d), MS_OK);
+        start_move(&s, &m, &r, &p, from, (int64_t)dir * d);
         while (smooth_move_next(&s, &c)) {
             assert_true(c.count >= 1);
             assert_int_equal((c.flags & STEP_CMD_REVERSE) != 0, dir < 0);
@@ -545,10 +552,7 @@ static void longest_move(void **state)
     (void)state;
     assert_int_equal(smooth_move_init(&s, &p, INT32_MIN / 2), MS_OK);
     s.max_cmd_ticks = 1UL << 24; /* 1 s per command: spans up to 32768 steps, to keep the test short (the reviewer of 2026-12-05 ran every edge of it with the 4 ms commands: none beyond 1 tick) */
-    model_move(&m, &p, 2147483647.0L);
-    memset(&r, 0, sizeof r);
-    r.pos = INT32_MIN / 2;
-    assert_int_equal(smooth_move_to(&s, INT32_MIN / 2 + INT32_MAX), MS_OK);
+    start_move(&s, &m, &r, &p, INT32_MIN / 2, INT32_MAX);
     /* every edge of the first and the last 20,000 steps (where the law bends most and commands are
      * short), three of each command in between */
     while (smooth_move_next(&s, &c))
@@ -581,9 +585,7 @@ static void stop_follows_the_zeroed_command(void **state)
         int i;
         if (smooth_move_init(&s, &p, 0) != MS_OK)
             continue;
-        model_move(&m, &p, d);
-        memset(&r, 0, sizeof r);
-        assert_int_equal(smooth_move_to(&s, d), MS_OK);
+        start_move(&s, &m, &r, &p, 0, d);
         stop_after = (uint32_t)urand(1, d);
         while (r.steps < stop_after && smooth_move_next(&s, &c))
             run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
@@ -664,9 +666,7 @@ static void new_target_continues_from_the_filter_state(void **state)
         int i;
         if (smooth_move_init(&s, &p, 0) != MS_OK)
             continue;
-        model_move(&m, &p, d);
-        memset(&r, 0, sizeof r);
-        assert_int_equal(smooth_move_to(&s, d), MS_OK);
+        start_move(&s, &m, &r, &p, 0, d);
         at = (uint32_t)urand(1, d);
         while (r.steps < at && smooth_move_next(&s, &c))
             run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
@@ -734,9 +734,7 @@ static void rewind_then_stop_new_target_or_nothing(void **state)
             continue;
         if (trial % 2)
             s.max_cmd_ticks = 16000; /* 1 ms commands; else lib's 4 ms, which the MotionStepper library keeps */
-        model_move(&m, &p, d);
-        memset(&r, 0, sizeof r);
-        assert_int_equal(smooth_move_to(&s, d), MS_OK);
+        start_move(&s, &m, &r, &p, 0, d);
         at = (uint32_t)urand(2, d);
         while (r.steps < at && smooth_move_next(&s, &c))
             run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
@@ -806,9 +804,7 @@ static void stop_at_the_step_of_a_new_target(void **state)
     (void)state;
     assert_int_equal(smooth_move_init(&s, &p, 0), MS_OK);
     s.max_cmd_ticks = 16000;
-    model_move(&m, &p, 3556);
-    memset(&r, 0, sizeof r);
-    assert_int_equal(smooth_move_to(&s, 3556), MS_OK);
+    start_move(&s, &m, &r, &p, 0, 3556);
     while (r.steps < 3527 && smooth_move_next(&s, &c))
         run_cmd(&r, &c, &m, 16e6L, r.steps, 0, 1, &tp);
     ts = m_time_of(&m, r.steps, 0);
