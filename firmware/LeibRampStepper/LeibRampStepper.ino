@@ -16,31 +16,38 @@
  *                                       FWDS, low for BWDS; the engine calls it whenever the
  *                                       direction is set (a move's first step, a reversal). Delete
  *                                       them and the motor runs one way only, as the handout says.
- * The two ramp functions run in loop(), ahead of the motor: the planner turns their intervals into
- * step commands, and Timer1's compare interrupt only plays those back (the STEP pulses), so the
- * float arithmetic never delays a step. The arithmetic itself is lib's ramp_leib.c, the code
- * `motionsim ramp --algo leib` runs: change it here and the board follows your version.
+ * The two ramp functions run ahead of the motor, in the MotionStepper library's planner interrupt
+ * (Timer3): the planner turns their intervals into step commands, and Timer1's compare interrupt
+ * only plays those back (the STEP pulses), so the float arithmetic never delays a step and loop()
+ * only reads the serial commands. The arithmetic itself is lib's ramp_leib.c, the code `motionsim
+ * ramp --algo leib` runs: change it here and the board follows your version.
  *
- * Following this sketch from setup()/loop() to the STEP pin takes these 5 files (each names the
- * few-line glue it hands over through):
+ * The sketch is a user of the MotionStepper library's Stepper, as your own sketch would be
+ * (docs/library.md): setup() gives it the handout's parameters, its ramp (your two functions) and
+ * your moveOneStep(); the console turns each serial command into one of its calls (a target ->
+ * x.moveTo(), stop -> x.stop(), ! -> x.forceStop(), set -> x.setMaxSpeed() ...). Following this
+ * sketch from setup()/loop() to the STEP pin takes these 5 files (each names the few-line glue it
+ * hands over through):
  *   1. LeibRampStepper.ino (this file)  setup(), loop(), the three functions of the handout
- *   2. StepConsole.cpp      poll(): a target line -> step_planner_move(), then feed():
- *                           MultiStepEngine::service(); begin() (StepperConsole.h) starts the engine
- *                           for X at 2 MHz, and TrapezoidRamp (StepperRamps.cpp) hands your two ramp
- *                           functions to the planner
- *   3. step_planner.c       a move into step commands: for each interval it asks ramp.c's
+ *   2. MotionConsole.cpp    poll(): a target line -> x.moveTo(target), then its "OK" once planned
+ *   3. Stepper.cpp          moveTo() leaves the request; run_request(), called by the planner
+ *                           interrupt (Timer3, BackgroundPlanner.cpp: tick()), plans it with
+ *                           step_planner_move(), and the tick hands the commands to X's queue
+ *                           (MultiStepEngine::service(), MultiStepEngine.cpp)
+ *   4. step_planner.c       a move into step commands: for each interval it asks ramp.c's
  *                           ramp_next_ticks(), which calls your computeNewSpeed() (and your
  *                           preComputation() once for every move)
- *   4. MultiStepEngine.cpp  service(): the queue of axis 0 (X); at a move's start (start_axis() in
- *                           MultiStepEngineTimer.cpp) and at a reversal (the interrupt's rare path,
- *                           also there) set_dir() of MultiStepEngineInternal.h calls your moveOneStep()
  *   5. MultiStepEngineIsr.inc  the step interrupt itself (Timer1 compare A, made for X by
- *                           MultiStepEngineX.S): STEP high, the next edge, STEP low
+ *                           MultiStepEngineX.S): STEP high, the next edge, STEP low. At a move's
+ *                           start and at a reversal set_dir() of MultiStepEngineInternal.h calls
+ *                           your moveOneStep() (through the Stepper, x.setDirectionHook)
  * Pins, timer and the compile-time options (STEPPER_TIMED_LOOP, STEPPER_LED_MIRROR, STEPPER_TRACE,
  * given to every file through FIRMWARE_DEFINES) are in MotionBoard's StepperPins.h: STEP D54, DIR
- * D55, ENABLE D38 (the RAMPS 1.4 X axis).
+ * D55, ENABLE D38 (the RAMPS 1.4 X axis). With STEPPER_TIMED_LOOP = 1 (the lab's original structure)
+ * loop() makes the steps itself: console.poll() calls BackgroundPlanner::poll().
  */
-#include <StepperConsole.h>
+#include <MotionStepper.h>
+#include <MotionConsole.h>
 #include <ramp_leib.h>
 
 // ---- the handout's constants: the defaults of `set v0|vmax|accel` ----
@@ -84,18 +91,23 @@ void moveOneStep(bool direction)
 }
 
 static const ramp_hooks_t labCode = {preComputation, computeNewSpeed, 0, 0};
-static TrapezoidRamp ramp(RAMP_ALGO_LEIB, minSpeed, maxPermisSpeed, maxAccel, STEPPER_MAX_SPS_LEIB,
-                          STEPPER_TICK_HZ_LAB, &labCode);
-static StepperConsole console(ramp);
+Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38
+static MotionConsole console(x); // the serial commands, each one a call of x
 
 
 void setup()
 {
-    MultiStepEngine::set_direction_hook(0, moveOneStep); // DIR is yours: the engine calls moveOneStep()
+    Stepper::setTickRate(STEPPER_TICK_HZ_LAB); // F = 2 MHz (Timer1 at 16 MHz / 8), the handout's F
+    x.setMaxSpeed(maxPermisSpeed);              // first: the library's default (10,000) is above
+    x.setMinSpeed(minSpeed);                    //   the Leib ramp's limit (max_sps in `?`)
+    x.setAcceleration(maxAccel);
+    x.setRamp(RAMP_ALGO_LEIB, &labCode);        // your preComputation() and computeNewSpeed()
+    x.setDirectionHook(moveOneStep);            // DIR is yours: the engine calls moveOneStep()
+    x.begin();
     console.begin(F("LeibRampStepper"));
 }
 
 void loop()
 {
-    console.poll(); // serial commands, and the planner keeping the step queue ahead
+    console.poll(); // serial commands; the planner interrupt keeps the step queue ahead
 }

@@ -17,14 +17,17 @@
  *   moveOneStep(), step 11              moveOneStep() below: its two lines set dirPin high for
  *                                       FWDS, low for BWDS; the engine calls it whenever the
  *                                       direction is set (a move's first step, a reversal)
- * The ramp functions run in loop(), ahead of the motor; Timer1's compare interrupt only plays back
- * the step commands the planner made of their intervals. The arithmetic is lib's
- * ramp_simplistic.c, the code `motionsim ramp --algo simplistic` runs; `motionsim ramp --compare`
- * shows how far it is from ideal. From setup()/loop() to the STEP pin: this file,
- * StepConsole.cpp, step_planner.c, MultiStepEngineInternal.h, MultiStepEngineIsr.inc (what each does: the list in
- * LeibRampStepper.ino). Pins, timer and compile-time options: StepperPins.h.
+ * The ramp functions run ahead of the motor, in the MotionStepper library's planner interrupt;
+ * Timer1's compare interrupt only plays back the step commands the planner made of their
+ * intervals. The arithmetic is lib's ramp_simplistic.c, the code `motionsim ramp --algo simplistic`
+ * runs; `motionsim ramp --compare` shows how far it is from ideal. The sketch is a user of the
+ * library's Stepper (docs/library.md), each serial command one of its calls. From setup()/loop() to
+ * the STEP pin: this file, MotionConsole.cpp, Stepper.cpp, step_planner.c, MultiStepEngine.cpp,
+ * MultiStepEngineIsr.inc (what each does: the list in LeibRampStepper.ino). Pins, timer and
+ * compile-time options: StepperPins.h.
  */
-#include <StepperConsole.h>
+#include <MotionStepper.h>
+#include <MotionConsole.h>
 #include <ramp_simplistic.h>
 
 // ---- the handout's constants: the defaults of `set v0|vmax|accel` ----
@@ -64,18 +67,23 @@ void moveOneStep(bool direction)
 }
 
 static const ramp_hooks_t labCode = {0, 0, preComputation, computeNewSpeed};
-static TrapezoidRamp ramp(RAMP_ALGO_SIMPLISTIC, minSpeed, maxPermisSpeed, maxAccel, STEPPER_MAX_SPS_SIMPLISTIC,
-                          STEPPER_TICK_HZ_LAB, &labCode);
-static StepperConsole console(ramp);
+Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38
+static MotionConsole console(x); // the serial commands, each one a call of x
 
 
 void setup()
 {
-    MultiStepEngine::set_direction_hook(0, moveOneStep); // DIR is yours: the engine calls moveOneStep()
+    Stepper::setTickRate(STEPPER_TICK_HZ_LAB); // F = 2 MHz (Timer1 at 16 MHz / 8), the handout's F
+    x.setMaxSpeed(maxPermisSpeed);              // first: the library's default (10,000) is above
+    x.setMinSpeed(minSpeed);                    //   this ramp's limit (max_sps in `?`), and its
+    x.setAcceleration(maxAccel);                //   v0 must be above 0
+    x.setRamp(RAMP_ALGO_SIMPLISTIC, &labCode);  // your preComputation() and computeNewSpeed()
+    x.setDirectionHook(moveOneStep);            // DIR is yours: the engine calls moveOneStep()
+    x.begin();
     console.begin(F("SimplisticRampStepper"));
 }
 
 void loop()
 {
-    console.poll(); // serial commands, and the planner keeping the step queue ahead
+    console.poll(); // serial commands; the planner interrupt keeps the step queue ahead
 }

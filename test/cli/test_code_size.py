@@ -49,6 +49,6 @@ def test_section_counts_the_engine_and_the_consoles(tmp_path):
     write(tmp_path / "firmware" / "LeibRampStepper" / "LeibRampStepper.ino", '#include "StepConsole.h"\n')
     out = "\n".join(code_size.section(str(tmp_path), ["LeibRampStepper"]))
     assert "| step engine (MultiStepEngine*, StepCut.*) | 2 | 5 | 3 |" in out
-    assert "| consoles (StepConsole.*, StepperConsole.h, MultiAxisConsole.*) | 1 | 3 | 2 |" in out
+    assert "| consoles (StepConsole.*, StepperConsole.h, MultiAxisConsole.*, MotionConsole.*) | 1 | 3 | 2 |" in out
     assert "| engine + consoles | 3 | 8 | 5 |" in out
     assert "| LeibRampStepper | 1 |" in out  # StepConsole.h does not exist: only the sketch

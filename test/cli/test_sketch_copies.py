@@ -105,26 +105,33 @@ def test_a_servo_sketch_is_followed_end_to_end_in_five_files():
 
 def test_a_lab_stepper_sketch_is_followed_to_the_step_pin_in_five_files():
     """Issue 11: LeibRampStepper's top comment lists the files from setup()/loop() to the STEP pin;
-    at most 5, each in the tree, and the path they describe is there: the console plans and feeds
-    the engine, the planner calls the sketch's ramp functions through ramp_next_ticks, the engine
-    calls the sketch's moveOneStep through its hook, the assembly routine raises STEP."""
+    at most 5, each in the tree, and the path they describe is there: the console calls the sketch's
+    Stepper (issue 23: the sketches are users of the MotionStepper library), the Stepper plans in the
+    planner interrupt and that feeds the engine, the planner calls the sketch's ramp functions through
+    ramp_next_ticks, the engine calls the sketch's moveOneStep through its hook, the assembly routine
+    raises STEP."""
     name = "LeibRampStepper"
     text = open(os.path.join(ROOT, "firmware", name, name + ".ino")).read()
     listed = re.findall(r"^ \*   \d\. (\S+)", text, re.M)
     assert 1 <= len(listed) <= 5, listed
+    libs = os.path.join(ROOT, "firmware", "libraries")
     where = {f: p for d in (os.path.join(ROOT, "firmware", name), os.path.join(ROOT, "lib", "src"),
-                            os.path.join(ROOT, "firmware", "libraries", "MotionBoard", "src"))
+                            os.path.join(libs, "MotionBoard", "src"), os.path.join(libs, "MotionStepper", "src"))
              for f in os.listdir(d) for p in [os.path.join(d, f)]}
     assert all(f in where for f in listed), listed
     body = {f: open(where[f]).read() for f in listed}
-    assert "MultiStepEngine::service" in body["StepConsole.cpp"] and "step_planner_move" in body["StepConsole.cpp"]
+    assert "x_.moveTo(" in body["MotionConsole.cpp"]
+    assert "step_planner_move" in body["Stepper.cpp"] and "void Stepper::run_request" in body["Stepper.cpp"]
+    # the glue entry 3 names: the tick runs the request and feeds X's queue through the engine's service
+    assert "BackgroundPlanner.cpp" in text and "MultiStepEngine::service" in text
+    planner = open(where["BackgroundPlanner.cpp"]).read()
+    assert "run_request()" in planner and "MultiStepEngine::service(" in planner
     assert "ramp_next_ticks" in body["step_planner.c"]
-    assert "MultiStepEngine::service" in body["MultiStepEngine.cpp"]
-    # the direction hook is called by the engine's glue the list names in its fourth entry
+    # the direction hook is called by the engine's glue the list names in its fifth entry
     assert "MultiStepEngineInternal.h" in text
     assert "s_dir_hook[axis](forward)" in open(where["MultiStepEngineInternal.h"]).read()
     assert "sbi \\step_port, \\step_bit" in body["MultiStepEngineIsr.inc"]
-    assert "MultiStepEngine::set_direction_hook(0, moveOneStep)" in text
+    assert "x.setDirectionHook(moveOneStep)" in text
 
 
 def test_a_sketch_without_the_marker_is_refused_in_one_line_naming_the_marker(tmp_path):

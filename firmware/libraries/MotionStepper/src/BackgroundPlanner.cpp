@@ -14,6 +14,7 @@ uint8_t BackgroundPlanner::count_;
 bool BackgroundPlanner::begun_;
 uint16_t BackgroundPlanner::lead_ms_ = MOTION_STEPPER_LEAD_MS;
 bool BackgroundPlanner::share_;
+uint32_t BackgroundPlanner::tick_hz_ = MULTI_TIMED_LOOP ? 1000000UL : MULTI_TICK_HZ;
 
 static volatile uint8_t s_in_tick;  /* the re-entrancy guard */
 static volatile uint8_t s_locks;    /* PlannerLocks alive */
@@ -88,8 +89,12 @@ void BackgroundPlanner::begin()
 {
     if (begun_)
         return;
-    MultiStepEngine::begin_axes(MULTI_TICK_HZ); /* the axes of the Steppers made (their constructors) */
+    MultiStepEngine::begin_axes(tick_hz_); /* the axes of the Steppers made (their constructors) */
     apply_lead();
+#if MULTI_TIMED_LOOP
+    begun_ = true; /* no Timer3: poll() runs the tick from loop() */
+    return;
+#endif
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         /* the core set Timer3 up for analogWrite(): take it over. CTC on OCR3A, 16 MHz / 64 / 250 = 1 kHz */
@@ -107,6 +112,26 @@ void BackgroundPlanner::begin()
     }
     begun_ = true;
 }
+
+bool BackgroundPlanner::setTickHz(uint32_t hz)
+{
+    if (begun_)
+        return false;
+    tick_hz_ = hz;
+    return true;
+}
+
+#if MULTI_TIMED_LOOP
+void BackgroundPlanner::poll()
+{
+    MultiStepEngine::poll();
+    if (!begun_ || s_in_tick || s_locks)
+        return;
+    s_in_tick = 1;
+    tick();
+    s_in_tick = 0;
+}
+#endif
 
 bool BackgroundPlanner::setLeadMs(uint16_t ms)
 {
@@ -154,7 +179,7 @@ void BackgroundPlanner::feed()
     /* with share_: the tick's start, and half the lead in ticks: above it a long tick leaves loop()
      * its turn (MOTION_STEPPER_TICK_US); without (no smooth ramp taken), nothing: the ticks as before */
     uint32_t t0 = share_ ? micros() : 0;
-    uint32_t half = share_ ? (uint32_t)leadMs() * (MULTI_TICK_HZ / 2000UL) : 0;
+    uint32_t half = share_ ? (uint32_t)leadMs() * (tick_hz_ / 2000UL) : 0;
     for (uint8_t k = 0; k < MOTION_STEPPER_CMDS_PER_TICK;) {
         uint8_t laid;
         uint32_t best = UINT32_MAX, most = 0;

@@ -30,6 +30,8 @@
 #include <Arduino.h>
 #include <stdint.h>
 
+#include <MultiAxisPins.h> /* MULTI_TIMED_LOOP, MULTI_TICK_HZ */
+
 #ifndef MOTION_STEPPER_LEAD_MS
 #define MOTION_STEPPER_LEAD_MS 10U
 #endif
@@ -102,6 +104,21 @@ public:
      * force is at least MOTION_STEPPER_LEAD_MS_2 / _3 with two / three Steppers begun. */
     static bool setLeadMs(uint16_t ms);
     static uint16_t leadMs();
+    /* The step timer's ticks per second (Stepper::setTickRate): 16 MHz by default, 2 MHz for the
+     * lab's ramps; 1 MHz in timed-loop mode (micros()). */
+    static uint32_t tickHz() { return tick_hz_; }
+    static bool setTickHz(uint32_t hz);
+
+#if MULTI_TIMED_LOOP
+    /* Timed-loop mode (STEPPER_TIMED_LOOP = 1, the lab's original structure): no interrupt steps or
+     * plans; call this on every pass of loop(): it makes X's steps that are due (micros()) and runs
+     * the planner's tick between them. */
+    static void poll();
+#else
+    /* With the interrupts (every other build) it does nothing: loop() is free. */
+    static inline void poll() {}
+#endif
+
     /* Steppers begun (their axes claimed): 0 to 3. */
     static uint8_t steppers() { return count_; }
 
@@ -133,6 +150,7 @@ private:
     static bool begun_;
     static uint16_t lead_ms_;
     static bool share_;
+    static uint32_t tick_hz_;
 };
 
 /* Holds the planner interrupt off while it lives (loop()'s changes to a planner): the planner

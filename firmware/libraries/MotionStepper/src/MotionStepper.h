@@ -4,6 +4,9 @@
  *   #include <MotionStepper.h>
  *   Stepper x(Stepper::X);              one RAMPS axis (X, Y, Z): Stepper.h
  *   StepperGroup xy(x, y);              straight-line moves of 2-3 of them: StepperGroup.h
+ * and, for a sketch driven from the Serial Monitor as the stepper sketches are (#include
+ * <MotionConsole.h> after this header): MotionConsole console(x), the sketches' protocol carried
+ * out through x's calls (the lab sketches LeibRampStepper and SimplisticRampStepper use it).
  *
  * Timer1 (compare A/B/C) makes the steps (MotionBoard's MultiStepEngine), Timer3 plans them in the
  * background (BackgroundPlanner.h); both are taken. docs/library.md explains it all, with a table

@@ -31,7 +31,8 @@ enum { P_VMAX, P_ACCEL, P_V0 };
 
 Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
-      done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0),
+      done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0), plan_from_(0),
+      plan_after_done_(false),
       last_status_(MS_OK), cuts_missed_(0), stop_up_(0), stop_from_(0), stop_pos_(0), stop_target_(0), stop_n_(0),
       stop_active_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
       ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0)
@@ -80,6 +81,7 @@ motion_status_t (*Stepper::smooth_jerk_)(step_planner_t *, double);
  * set_cmd_length: the queue then holds its lead in short pieces, and a stop waits for less. */
 motion_status_t Stepper::init_planner(int32_t pos)
 {
+    params_.tick_hz = BackgroundPlanner::tickHz();
     motion_status_t st = algo_ == RAMP_ALGO_SMOOTH ? smooth_init_(&planner_, &params_, (double)jerk_, smooth_, pos)
                          : algo_ == RAMP_ALGO_EXACT ? step_planner_init_exact(&planner_, &params_, pos)
                                                     : lab_init_(&planner_, algo_, &params_, ramp_hooks_, pos);
@@ -96,8 +98,9 @@ motion_status_t Stepper::init_planner(int32_t pos)
 void Stepper::set_cmd_length()
 {
     if (planner_.algo != RAMP_ALGO_SMOOTH)
-        planner_.max_cmd_ticks = MULTI_TICK_HZ / 1000UL *
-                                 (BackgroundPlanner::steppers() >= 3 ? MOTION_STEPPER_CMD_MS_3 : MOTION_STEPPER_CMD_MS);
+        planner_.max_cmd_ticks = MULTI_TIMED_LOOP ? 1UL /* one step per command: it fits between two deadlines */
+                                 : BackgroundPlanner::tickHz() / 1000UL *
+                                       (BackgroundPlanner::steppers() >= 3 ? MOTION_STEPPER_CMD_MS_3 : MOTION_STEPPER_CMD_MS);
     if (planner_.algo == RAMP_ALGO_EXACT)
         planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
 }
@@ -115,6 +118,35 @@ motion_status_t Stepper::probe(ramp_algo_t algo, const ramp_hooks_t *hooks, cons
     }
     ramp_t r;
     return lab_probe_(&r, algo, &p, hooks, 0, 1); /* set with algo_ by set_ramp */
+}
+
+float Stepper::accelerationLimit() const
+{
+    /* the lab's ramps plan each step alone: the sketches' limit (StepperRamps.h) */
+    return algo_ == RAMP_ALGO_LEIB || algo_ == RAMP_ALGO_SIMPLISTIC ? (float)STEPPER_MAX_ACCEL
+                                                                    : (float)STEPPER_MAX_ACCEL_EXACT;
+}
+
+float Stepper::minSpeedLimit() const
+{
+    return (float)STEPPER_MAX_V0_EXACT < vmax_limit() ? (float)STEPPER_MAX_V0_EXACT : vmax_limit();
+}
+
+motion_status_t Stepper::setTickRate(uint32_t ticks_per_s)
+{
+#if MULTI_TIMED_LOOP
+    if (ticks_per_s != 1000000UL)
+        return MS_ERR_OUT_OF_RANGE;
+#else
+    if (ticks_per_s != 16000000UL && ticks_per_s != 2000000UL)
+        return MS_ERR_OUT_OF_RANGE;
+#endif
+    return BackgroundPlanner::setTickHz(ticks_per_s) ? MS_OK : MS_ERR_BUSY;
+}
+
+uint32_t Stepper::tickRate()
+{
+    return BackgroundPlanner::tickHz();
 }
 
 float Stepper::vmax_limit() const
@@ -188,8 +220,10 @@ motion_status_t Stepper::switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks
         return MS_ERR_BUSY;
     {
         ramp_algo_t was = algo_;
-        algo_ = algo; /* for vmax_limit() */
-        st = params_.vmax_sps > vmax_limit() ? MS_ERR_OUT_OF_RANGE : probe(algo, hooks, params_);
+        algo_ = algo; /* for the limits */
+        params_.tick_hz = BackgroundPlanner::tickHz();
+        st = params_.vmax_sps > vmax_limit() || params_.accel_sps2 > accelerationLimit() ? MS_ERR_OUT_OF_RANGE
+                                                                                       : probe(algo, hooks, params_);
         algo_ = was;
     }
     if (st != MS_OK)
@@ -210,6 +244,7 @@ motion_status_t Stepper::set_param(float value, float limit, uint8_t which)
 {
     ramp_params_t p = params_;
     motion_status_t st;
+    p.tick_hz = BackgroundPlanner::tickHz();
     if (isnan(value) || isinf(value))
         return MS_ERR_NOT_FINITE;
     if (value > limit)
@@ -237,7 +272,7 @@ motion_status_t Stepper::setMaxSpeed(float steps_per_s)
 
 motion_status_t Stepper::setAcceleration(float steps_per_s2)
 {
-    return set_param(steps_per_s2, (float)STEPPER_MAX_ACCEL_EXACT, P_ACCEL);
+    return set_param(steps_per_s2, accelerationLimit(), P_ACCEL);
 }
 
 motion_status_t Stepper::setJerk(float steps_per_s3)
@@ -262,8 +297,7 @@ motion_status_t Stepper::setJerk(float steps_per_s3)
 
 motion_status_t Stepper::setMinSpeed(float steps_per_s)
 {
-    float hi = (float)STEPPER_MAX_V0_EXACT < vmax_limit() ? (float)STEPPER_MAX_V0_EXACT : vmax_limit();
-    return set_param(steps_per_s, hi, P_V0);
+    return set_param(steps_per_s, minSpeedLimit(), P_V0);
 }
 
 /* ---- moves ----
@@ -353,16 +387,21 @@ void Stepper::run_request()
             engine_done(ended); /* it had just ended: its end is reported */
         return;
     }
+    plan_after_done_ = false;
     if (MultiStepEngine::moving(axis_) && (stop_in_cruise(true, req_target_) || plan_at_cut(REQ_MOVE, req_target_))) {
-        /* the move continues into the new plan from the cut */
+        /* the move continues into the new plan from the cut (plan_from_: set there) */
         has_next_ = false;
         last_status_ = MS_OK;
         return;
     }
     if (MultiStepEngine::moving(axis_) && !step_planner_busy(&planner_)) {
-        /* every step of the move is queued already: the new move starts from rest at its end */
+        /* every step of the move is queued already: it ends at its target (with its end), and the
+         * new move starts from rest there */
         has_next_ = true;
         next_target_ = req_target_;
+        plan_from_ = step_planner_target(&planner_);
+        plan_after_done_ = true;
+        last_status_ = MS_OK;
         return;
     }
     c = MultiStepEngine::extend(axis_, ended);
@@ -379,6 +418,7 @@ void Stepper::run_request()
     }
     st = step_planner_move(&planner_, req_target_);
     last_status_ = st;
+    plan_from_ = step_planner_position(&planner_); /* after the steps already handed to the queue */
     if (st != MS_OK) {
         /* a continuing move goes on as planned (service() marks its end again); from rest nothing moves */
         if (c == MultiStepEngine::AT_REST && auto_disable_)
@@ -408,7 +448,7 @@ void Stepper::run_request()
  * rewound, every command the same). */
 void Stepper::prepare_stop()
 {
-#if MOTION_STEPPER_CUT_US
+#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
     const step_exact_t &e = planner_.exact;
     if (group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
         !(e.n > e.n1 && e.n < e.n2))
@@ -420,7 +460,7 @@ void Stepper::prepare_stop()
     s_scratch = planner_;
     step_planner_stop(&s_scratch);
     stop_n_ = 0;
-    stop_n_ = step_cut_first_cmds(&s_scratch, stop_cmds_, MULTI_TICK_HZ / 1000000UL, MOTION_STEPPER_CUT_NEW_US,
+    stop_n_ = step_cut_first_cmds(&s_scratch, stop_cmds_, BackgroundPlanner::tickHz() / 1000000UL, MOTION_STEPPER_CUT_NEW_US,
                                   MOTION_STEPPER_CUT_CMDS);
     stop_exact_ = s_scratch.exact;
     stop_up_ = e.up;
@@ -438,7 +478,7 @@ void Stepper::prepare_stop()
  * nothing changed. */
 bool Stepper::stop_in_cruise(bool then, int32_t to)
 {
-#if MOTION_STEPPER_CUT_US
+#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
     const step_exact_t &e = planner_.exact;
     MultiStepEngine::Cut cut;
     uint32_t nb;
@@ -448,7 +488,8 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
         stop_exact_.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_exact_.k, &e.k, sizeof e.k) != 0)
         return false;
     step_cut_trace(true);
-    if (MultiStepEngine::cut_find(axis_, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_CRUISE_US, e.n - 1U, cut, false) ==
+    const uint32_t tpu = BackgroundPlanner::tickHz() / 1000000UL;
+    if (MultiStepEngine::cut_find(axis_, tpu * MOTION_STEPPER_CUT_CRUISE_US, e.n - 1U, cut, false) ==
         0) {
         step_cut_trace(false);
         return false;
@@ -459,12 +500,13 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     /* the position at the cut */
     dp = planner_.pos + (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps);
     if (nb - cut.last_count < e.n1 || nb > e.n2 || (then && (e.dir > 0 ? to > dp : to < dp)) ||
-        !MultiStepEngine::cut_apply(axis_, cut, MULTI_TICK_HZ / 1000000UL * MOTION_STEPPER_CUT_MARGIN_US, stop_cmds_,
+        !MultiStepEngine::cut_apply(axis_, cut, tpu * MOTION_STEPPER_CUT_MARGIN_US, stop_cmds_,
                                     stop_n_)) {
         step_cut_trace(false);
         return false; /* not in the cruise, a target ahead of the cut (a plan of its own), or too late */
     }
     /* the stop planned ahead, moved to where the cut lands */
+    plan_from_ = dp;
     dp -= stop_from_;
     planner_.exact = stop_exact_;
     planner_.exact.pos += dp;
@@ -484,11 +526,17 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
 
 bool Stepper::plan_at_cut(uint8_t req, int32_t target)
 {
-    int32_t from;
-    static const StepCutTiming timing = {MULTI_TICK_HZ / 1000000UL, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
-                                         MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
-                                         MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US};
-    return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &from, &cuts_missed_);
+#if MULTI_TIMED_LOOP
+    (void)req;
+    (void)target;
+    return false; /* loop() makes the steps: no interrupt to cut ahead of */
+#else
+    StepCutTiming timing = {16, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
+                            MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
+                            MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US};
+    timing.ticks_per_us = (uint8_t)(BackgroundPlanner::tickHz() / 1000000UL); /* the timer's (setTickRate) */
+    return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_);
+#endif
 }
 
 /* ---- state ---- */
@@ -584,6 +632,32 @@ bool Stepper::takeDone(long &position)
 uint16_t Stepper::underruns() const
 {
     return begun_ ? MultiStepEngine::underruns(axis_) : 0;
+}
+
+uint16_t Stepper::lateEdges() const
+{
+    return begun_ ? MultiStepEngine::late_edges(axis_) : 0;
+}
+
+ramp_phase_t Stepper::rampState() const
+{
+    uint8_t phase;
+    if (!isRunning())
+        return RAMP_IDLE;
+    phase = MultiStepEngine::phase(axis_);
+    return phase != 0 && !group_now() ? (ramp_phase_t)phase : RAMP_ACCEL;
+}
+
+bool Stepper::planStart(PlanStart &start) const
+{
+    if (req_ == REQ_MOVE)
+        return false; /* a one-byte read: not planned yet */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        start.from = to_user(plan_from_);
+        start.afterDone = plan_after_done_;
+    }
+    return true;
 }
 
 /* ---- enable and direction ---- */
@@ -743,9 +817,12 @@ void Stepper::engine_done(int32_t position)
 {
     step_planner_halt(&planner_, position);
     if (has_next_) {
-        /* the target accepted while the last steps ran: its move starts now, from rest */
+        /* the target accepted while the last steps ran: the move that ended keeps its end (planStart's
+         * afterDone), and the new one starts now, from rest */
         has_next_ = false;
         set_cmd_length(); /* a Stepper begun since the last move may have changed it */
+        done_pos_ = position;
+        done_ = true;
         if (step_planner_move(&planner_, next_target_) == MS_OK) {
             MultiStepEngine::open_move(axis_, false);
             return;

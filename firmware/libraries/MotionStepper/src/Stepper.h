@@ -214,6 +214,39 @@ public:
     motion_status_t lastStatus() const { return last_status_; }
     /* Steps the queue ran dry before they were planned (0 on a healthy machine). */
     uint16_t underruns() const;
+    /* STEP edges made 2 us or more after their planned time (another interrupt held the step
+     * interrupt up; a few near the engine's top rate, none at the rates the checks run). */
+    uint16_t lateEdges() const;
+    /* Where the move being stepped is in its ramp: RAMP_IDLE at rest, else RAMP_ACCEL, RAMP_CRUISE or
+     * RAMP_DECEL (ramp.h; FastAccelStepper's rampState(); a move just asked and not yet stepping:
+     * RAMP_ACCEL). */
+    ramp_phase_t rampState() const;
+
+    /* How the last moveTo()/move() was planned, once the planner interrupt has planned it (false
+     * until then: within about a millisecond of the call, longer while it plans another move).
+     * from: where the new plan starts (the step where the queue was cut, or where the steps queued
+     * before the call end); afterDone: every step of the move in progress was queued already, so
+     * that move ends at its target with its own end (takeDone) and the new one starts from there
+     * (from is that target). lastStatus() tells whether the plan was taken. */
+    struct PlanStart {
+        long from;
+        bool afterDone;
+    };
+    bool planStart(PlanStart &start) const;
+
+    /* This library's limits for the ramp in force (the setters refuse more: MS_ERR_OUT_OF_RANGE). */
+    float maxSpeedLimit() const { return vmax_limit(); }
+    float accelerationLimit() const;
+    float minSpeedLimit() const;
+
+    /* The step timer's ticks per second, for every Stepper (the engine has one timeline):
+     * 16,000,000 (the default: every step within 1/16 us of its time) or 2,000,000 (Timer1 at
+     * 16 MHz / 8, the lab's F: the lab's ramps count their intervals in its ticks, as the
+     * LeibRampStepper sketch does). Only before the first begin() (MS_ERR_BUSY after; any other
+     * value MS_ERR_OUT_OF_RANGE). With STEPPER_TIMED_LOOP = 1 (no step interrupt: loop() makes the
+     * steps by micros(), BackgroundPlanner::poll()) the only rate is 1,000,000. */
+    static motion_status_t setTickRate(uint32_t ticks_per_s);
+    static uint32_t tickRate();
     /* Stops and new targets that could not cut the queue in time (their plan took longer than
      * MOTION_STEPPER_CUT_US, or the planner refused the cut): they acted after the lead instead. */
     uint16_t cutsMissed() const { return cuts_missed_; }
@@ -298,6 +331,8 @@ private:
     int32_t done_pos_;    /* engine coordinates */
     int32_t next_target_; /* engine coordinates: the target accepted while the last steps ran */
     int32_t req_target_;  /* engine coordinates: REQ_MOVE's target */
+    int32_t plan_from_;   /* engine coordinates: where the last move planned starts (planStart) */
+    bool plan_after_done_;
     motion_status_t last_status_;
     uint16_t cuts_missed_;
     /* the stop from the cruise, planned ahead (prepare_stop) from position stop_from_: the planner's

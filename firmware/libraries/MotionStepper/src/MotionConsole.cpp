@@ -1,0 +1,261 @@
+/* MotionConsole.cpp - the stepper sketches' serial protocol on a Stepper (see MotionConsole.h). */
+#include "MotionConsole.h"
+
+#include <line_reader.h>
+#include <text_parse.h>
+
+#include <PrintReal.h>
+#include <StepperPins.h> /* STEPPER_LED_MIRROR, STEP_ENGINE_LEAD_MS(_LEIB), STEPPER_TIMED_LOOP */
+
+/* Room a DONE line needs in the output queue ("DONE -2147483648" and CR LF: 18 bytes); a `?` line
+ * about 140 bytes. */
+#define MOTION_CONSOLE_DONE_ROOM 24U
+#define MOTION_CONSOLE_STATUS_ROOM 160U
+
+MotionConsole::MotionConsole(Stepper &x)
+    : x_(x), ok_pending_(false), status_pending_(false), ok_target_(0), queue_(Serial), serial_(Serial, queue_, 240)
+{
+}
+
+void MotionConsole::begin(const __FlashStringHelper *sketch_name)
+{
+    Serial.begin(9600);
+    serial_.set_rx_interrupt(false); /* poll() drains the input on every pass (SerialRx.h) */
+    /* the lab's ramps plan every step, in floats: their sketches keep the lead they always had
+     * (StepperPins.h; the Leib ramp's update costs nearly a step's time near its top rate) */
+    if (x_.ramp() == RAMP_ALGO_LEIB)
+        (void)BackgroundPlanner::setLeadMs(STEP_ENGINE_LEAD_MS_LEIB);
+    else if (x_.ramp() == RAMP_ALGO_SIMPLISTIC)
+        (void)BackgroundPlanner::setLeadMs(STEP_ENGINE_LEAD_MS);
+    MultiStepEngine::set_led_mirror(STEPPER_LED_MIRROR && x_.axis() == Stepper::X);
+    serial_.out().print(F("READY "));
+    serial_.out().println(sketch_name);
+}
+
+bool MotionConsole::collect_done()
+{
+    long at;
+    if (queue_.room() < MOTION_CONSOLE_DONE_ROOM)
+        return false; /* no line is read before a DONE that may be waiting */
+    if (x_.takeDone(at)) {
+        serial_.out().print(F("DONE "));
+        serial_.out().println(at);
+    }
+    return true;
+}
+
+void MotionConsole::poll()
+{
+    const char *line;
+    BackgroundPlanner::poll(); /* the timed-loop build steps and plans here; otherwise nothing */
+    if (!collect_done() || (ok_pending_ && !finish_ok())) {
+        serial_.drain_input(); /* no line is read meanwhile, but input must not pile up in the core */
+        queue_.pump();
+        return;
+    }
+    if (status_pending_) {
+        serial_.drain_input();
+        if (queue_.room() >= MOTION_CONSOLE_STATUS_ROOM) {
+            print_status();
+            status_pending_ = false;
+        }
+    } else {
+        line = serial_.poll();
+        if (line != NULL)
+            handle(line);
+    }
+    queue_.pump();
+}
+
+void MotionConsole::handle(const char *line)
+{
+    const char *cursor = line;
+    char word[LINE_READER_MAX + 1];
+    if (text_next_word(&cursor, word, sizeof word) == 0)
+        return; /* a line of blanks: nothing to do */
+    if (text_word_is(word, "?")) {
+        if (!text_at_end(cursor))
+            serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("'?' takes no arguments"));
+        else
+            status_pending_ = true;
+    } else if (text_word_is(word, "set")) {
+        handle_set(cursor);
+    } else if (text_word_is(word, "stop") || text_word_is(word, "!")) {
+        handle_stop(cursor, word[0] == '!');
+    } else if ((word[0] >= '0' && word[0] <= '9') || word[0] == '-' || word[0] == '+') {
+        if (!text_at_end(cursor))
+            serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("one target per line"));
+        else
+            handle_target(word);
+    } else {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <target>, stop, !, ?, set v0|vmax|accel <value>"));
+    }
+}
+
+void MotionConsole::handle_target(const char *word)
+{
+    int32_t to;
+    motion_status_t st = text_parse_whole(word, INT32_MIN, INT32_MAX, &to);
+    if (st != MS_OK) {
+        serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
+        return;
+    }
+    st = x_.moveTo(to);
+    if (st != MS_OK) {
+        serial_.reply_error(st);
+        return;
+    }
+    /* the planner interrupt plans it within microseconds (longer while it plans another move):
+     * its OK tells where the plan starts, so it waits for that (poll() reads no line meanwhile) */
+    ok_pending_ = true;
+    ok_target_ = to;
+    (void)finish_ok();
+}
+
+bool MotionConsole::finish_ok()
+{
+    Stepper::PlanStart p;
+    Print &out = serial_.out();
+    motion_status_t st;
+    if (!x_.planStart(p))
+        return false;
+    ok_pending_ = false;
+    st = x_.lastStatus();
+    if (st != MS_OK) {
+        /* nothing moves (from rest), or the move in progress goes on as planned */
+        (void)collect_done();
+        serial_.reply_error(st);
+        return true;
+    }
+    if (!p.afterDone)
+        (void)collect_done(); /* a move that ended just before this target: its DONE first */
+    out.print(F("OK "));
+    out.print(p.from);
+    out.print(' ');
+    out.print(ok_target_);
+    if (p.afterDone) {
+        /* the move in progress ends at its target first, with its DONE (still to come) */
+        out.print(F(" (after DONE "));
+        out.print(p.from);
+        out.print(')');
+    }
+    out.println();
+    return true;
+}
+
+void MotionConsole::handle_stop(const char *cursor, bool halt)
+{
+    char word[LINE_READER_MAX + 1];
+    bool moving;
+    motion_status_t st;
+    if (text_next_word(&cursor, word, sizeof word) != 0) {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("stop and ! take no arguments"));
+        return;
+    }
+    moving = x_.isRunning();
+    st = halt ? x_.forceStop() : x_.stop();
+    if (st != MS_OK) {
+        serial_.reply_error(st);
+        return;
+    }
+    if (!moving)
+        serial_.out().println(halt ? F("OK halt (not moving)") : F("OK stop (not moving)"));
+    else
+        serial_.out().println(halt ? F("OK halt") : F("OK stop"));
+}
+
+void MotionConsole::handle_set(const char *cursor)
+{
+    char key[LINE_READER_MAX + 1], value[LINE_READER_MAX + 1];
+    double v = 0.0, hi;
+    motion_status_t st;
+    Print &out = serial_.out();
+    if (text_next_word(&cursor, key, sizeof key) <= 0) {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("set what? set <parameter> <value>"));
+        return;
+    }
+    if (text_next_word(&cursor, value, sizeof value) <= 0) {
+        serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("set <parameter> <value>: the value is missing"));
+        return;
+    }
+    if (!text_at_end(cursor)) {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("set takes one parameter and one value"));
+        return;
+    }
+    if (text_word_is(key, "v0"))
+        hi = x_.minSpeedLimit();
+    else if (text_word_is(key, "vmax"))
+        hi = x_.maxSpeedLimit();
+    else if (text_word_is(key, "accel"))
+        hi = x_.accelerationLimit();
+    else {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("no such parameter (see ?)"));
+        return;
+    }
+    st = text_parse_real(value, -1e7, hi, &v);
+    if (st == MS_ERR_OUT_OF_RANGE && value[0] == '-') {
+        v = -1.0; /* the Stepper's check of the set names the problem with negative values */
+        st = MS_OK;
+    }
+    if (st == MS_ERR_OUT_OF_RANGE) {
+        /* "ERR number out of range: vmax at most 7000 steps/s on this sketch" */
+        Print &e = serial_.begin_error(st);
+        e.print(key);
+        e.print(F(" at most "));
+        print_real_exact(e, hi, 0);
+        e.print(text_word_is(key, "accel") ? F(" steps/s^2") : F(" steps/s"));
+        e.println(F(" on this sketch"));
+        return;
+    }
+    if (st == MS_OK)
+        st = text_word_is(key, "v0")     ? x_.setMinSpeed((float)v)
+             : text_word_is(key, "vmax") ? x_.setMaxSpeed((float)v)
+                                         : x_.setAcceleration((float)v);
+    if (st != MS_OK) {
+        serial_.reply_error(st);
+        return;
+    }
+    out.print(F("OK "));
+    print_param(out, key);
+    if (x_.isRunning())
+        out.print(F(" (from the next plan)"));
+    out.println();
+}
+
+void MotionConsole::print_param(Print &out, const char *key)
+{
+    out.print(key);
+    out.print('=');
+    print_real_exact(out, text_word_is(key, "v0")     ? x_.minSpeed()
+                          : text_word_is(key, "vmax") ? x_.maxSpeed()
+                                                      : x_.acceleration(),
+                     0);
+}
+
+void MotionConsole::print_status()
+{
+    Print &out = serial_.out();
+    out.print(F("pos="));
+    out.print(x_.currentPosition());
+    out.print(F(" target="));
+    out.print(x_.targetPosition());
+    out.print(F(" state="));
+    out.print(ramp_phase_name(x_.rampState()));
+    out.print(F(" algo="));
+    out.print(ramp_algo_name(x_.ramp()));
+    out.print(' ');
+    print_param(out, "v0");
+    out.print(' ');
+    print_param(out, "vmax");
+    out.print(' ');
+    print_param(out, "accel");
+    out.print(F(" tick_hz="));
+    out.print(Stepper::tickRate());
+    out.print(F(" max_sps="));
+    print_real_exact(out, x_.maxSpeedLimit(), 0);
+    out.print(F(" underruns="));
+    out.print(x_.underruns());
+    out.print(F(" late="));
+    out.print(x_.lateEdges());
+    out.println(STEPPER_TIMED_LOOP ? F(" mode=loop") : F(" mode=timer"));
+}

@@ -1,0 +1,75 @@
+/* MotionConsole.h - the stepper sketches' serial protocol on a Stepper (Stepper.h): what a sketch
+ * calls in loop() to be driven from the Serial Monitor, every command carried out through the
+ * Stepper's public calls (moveTo, stop, forceStop, the setters, the queries), as your own sketch
+ * would. The planner interrupt (BackgroundPlanner.h) plans and the step interrupt steps, so a slow
+ * reply never holds a step up.
+ *
+ *   Stepper x(Stepper::X);
+ *   MotionConsole console(x);
+ *   setup():  x.setMaxSpeed(...); ... x.begin(); console.begin(F("SketchName"));
+ *   loop():   console.poll();
+ *
+ * Serial at 9600 baud, lines ending in CR, LF or CRLF (MotionSerial); replies through a
+ * SerialOutQueue, so printing never blocks loop():
+ *
+ *   <integer>            absolute target (any int32): "OK <from> <to>", later "DONE <position>".
+ *                        While moving, the move continues from its current speed to the new target
+ *                        (no speed jump; a target behind, or closer than the stopping distance,
+ *                        makes it decelerate, reverse and approach); "from" is where the new plan
+ *                        starts (Stepper::planStart); the replaced move gets no DONE, the new one
+ *                        does. If every step of the move is already queued (it is about to end at
+ *                        rest), the move keeps its DONE and the new one starts from its target
+ *                        after it: "OK <old target> <to> (after DONE <old target>)", "DONE <old
+ *                        target>", later "DONE <to>".
+ *   stop                 decelerate at accel to rest: "OK stop", then "DONE <position>"
+ *   !                    halt now, no further step: "OK halt", then "DONE <position>"
+ *                        (either while idle: "OK stop (not moving)" / "OK halt (not moving)")
+ *   ?                    one line: pos= target= state=idle|accel|cruise|decel algo= v0= vmax= accel=
+ *                        tick_hz= max_sps= underruns= late= mode=timer|loop
+ *   set <key> <value>    v0, vmax or accel: "OK <key>=<value>"; while moving the reply adds
+ *                        " (from the next plan)" (the move in progress keeps its parameters)
+ *   READY <SketchName>   printed once by begin()
+ * Anything else gets "ERR <reason>" and changes nothing. Every accepted move (an OK to a target)
+ * ends in exactly one DONE unless a later target replaces it; the DONE of a move that ended just
+ * before a new target is printed before that target's OK. docs/serial.md has the whole protocol.
+ */
+#ifndef MOTION_STEPPER_MOTION_CONSOLE_H
+#define MOTION_STEPPER_MOTION_CONSOLE_H
+
+#include <Arduino.h>
+
+#include "Stepper.h" /* first: MotionBoard's headers through it */
+
+#include <MotionSerial.h>
+#include <SerialOutQueue.h>
+
+class MotionConsole {
+public:
+    explicit MotionConsole(Stepper &x);
+
+    /* After the Stepper's begin(): Serial at 9600 baud, the LED mirror (STEPPER_LED_MIRROR), the
+     * lab ramps' lead (StepperPins.h); prints "READY <name>". */
+    void begin(const __FlashStringHelper *sketch_name);
+
+    /* Call on every pass of loop(): reads and answers command lines, reports each move's end. */
+    void poll();
+
+private:
+    void handle(const char *line);
+    void handle_target(const char *word);
+    void handle_stop(const char *cursor, bool halt);
+    void handle_set(const char *cursor);
+    void print_status();
+    void print_param(Print &out, const char *key);
+    bool collect_done(); /* false: the output queue has no room for a DONE line now */
+    bool finish_ok();    /* the OK of a target once it is planned; false: not yet */
+
+    Stepper &x_;
+    bool ok_pending_;     /* a target's OK waits for its plan */
+    bool status_pending_; /* the `?` line waits for room in the output queue */
+    int32_t ok_target_;
+    SerialOutQueue queue_; /* before serial_, which is built on it */
+    MotionSerial serial_;
+};
+
+#endif
