@@ -4,9 +4,14 @@
  * every step at round(F t_n) of t_n = (sqrt(v0^2 + 2 a n) - v0)/a (then the cruise line and the
  * mirrored deceleration), within one tick of F = 16 MHz, from the first step to the last.
  *
- * How: the planner (lib/src/step_planner.h, step_exact.h) runs here in loop() and keeps a queue of
- * step commands STEP_ENGINE_LEAD_MS ahead; Timer1's compare interrupt only takes the next command and
- * makes the step (MultiStepEngine.h, axis 0). Defaults: v0 = 0, vmax = 20,000 steps/s, accel = 50,000
+ * How: the sketch is a user of the MotionStepper library (docs/library.md): a Stepper on X, and
+ * MotionConsole turning each serial line into one of its calls (a target -> x.moveTo(), stop ->
+ * x.stop(), ! -> x.forceStop(), set -> x.setMaxSpeed() ...). Its planner (lib/src/step_planner.h,
+ * step_exact.h) runs here in loop() (BackgroundPlanner::planInLoop(): loop() is the console's alone
+ * and never blocks, so no planner interrupt comes between the step interrupts) and keeps a queue of
+ * step commands STEP_ENGINE_LEAD_MS ahead; Timer1's compare interrupt only takes the next command
+ * and makes the step (MultiStepEngine.h, axis 0). A stop or a new target cuts the queue a few
+ * milliseconds ahead (Stepper.h). Defaults: v0 = 0, vmax = 20,000 steps/s, accel = 50,000
  * steps/s^2. Serial Monitor at 9600 baud, "Both NL & CR":
  *   20000         move to absolute position 20000: "OK 0 20000", then "DONE 20000"
  *   5000          sent while moving: the move continues from its speed to 5000 (decelerating,
@@ -19,18 +24,23 @@
  * Pins and compile-time options: MotionBoard's StepperPins.h. The same commands come out of
  * `motionsim ramp --algo exact --tick-hz 16000000 --queue`.
  */
-#include <StepperConsole.h>
+#include <MotionStepper.h>
+#include <MotionConsole.h>
 
-static TrapezoidRamp ramp(RAMP_ALGO_EXACT, 0.0, 20000.0, 50000.0, STEPPER_MAX_SPS_EXACT, STEPPER_TICK_HZ_EXACT);
-static StepperConsole console(ramp);
+Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38; RAMP_ALGO_EXACT
+static MotionConsole console(x); // the serial commands, each one a call of x
 
 
 void setup()
 {
+    BackgroundPlanner::planInLoop(); // console.poll() plans; first: a Stepper alone so steps up to max_sps
+    x.setMaxSpeed(20000);            // steps/s
+    x.setAcceleration(50000);        // steps/s^2 (v0: the library's default, 0)
+    x.begin();
     console.begin(F("ExactRampStepper"));
 }
 
 void loop()
 {
-    console.poll();
+    console.poll(); // serial commands, and the planner keeping the step queue ahead
 }

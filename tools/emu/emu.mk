@@ -91,7 +91,7 @@ EMU_CUTRACE_ELF := $(BUILD)/emu/cutrace/ExactRampStepper/ExactRampStepper.ino.el
 $(EMU_CUTRACE_ELF): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@mkdir -p $(BUILD)/emu/cutrace
 	@if [ -f firmware/ExactRampStepper/ExactRampStepper.ino ]; then FIRMWARE_OUT=$(BUILD)/emu/cutrace \
-	  FIRMWARE_DEFINES="-DSTEP_CONSOLE_CUT_MARGIN_US=0 -DSTEP_CONSOLE_CUT_AHEAD_US=1500" bash tools/build_firmware.sh \
+	  FIRMWARE_DEFINES="-DSTEP_CONSOLE_CUT_MARGIN_US=0 -DSTEP_CONSOLE_CUT_AHEAD_US=1500 -DMOTION_STEPPER_CUT_MARGIN_US=0 -DMOTION_STEPPER_LOOP_CUT_US=1500 -DMOTION_STEPPER_LOOP_CUT_SLOW_US=2500" bash tools/build_firmware.sh \
 	  ExactRampStepper >$(BUILD)/emu/cutrace.log 2>&1 || { cat $(BUILD)/emu/cutrace.log; exit 1; }; fi
 
 # test/emu/SmoothStart: the smooth ramp at a high acceleration and jerk, for its own check

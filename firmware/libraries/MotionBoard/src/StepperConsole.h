@@ -1,6 +1,8 @@
-/* StepperConsole.h - the one-axis stepper sketches' serial protocol (SimplisticRampStepper,
- * LeibRampStepper, SCurveStepper, ExactRampStepper: the RAMPS 1.4 X axis, axis 0 of the step engine,
- * MultiStepEngine.h; the console itself is StepConsole.h, shared with MultiAxisConsole). 9600 baud,
+/* StepperConsole.h - the one-axis stepper sketches' serial protocol on the step engine directly
+ * (SCurveStepper: the RAMPS 1.4 X axis, axis 0 of the step engine, MultiStepEngine.h; the console
+ * itself is StepConsole.h, shared with MultiAxisConsole). SimplisticRampStepper, LeibRampStepper and
+ * ExactRampStepper speak the same protocol through the MotionStepper library's MotionConsole, on a
+ * Stepper; SCurveStepper follows once the library has the sigmoid table. 9600 baud,
  * lines ending in CR, LF or CRLF, through MotionSerial; replies through a SerialOutQueue, so
  * printing never holds up the planner:
  *

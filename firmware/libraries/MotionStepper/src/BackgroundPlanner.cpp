@@ -15,6 +15,7 @@ bool BackgroundPlanner::begun_;
 uint16_t BackgroundPlanner::lead_ms_ = MOTION_STEPPER_LEAD_MS;
 bool BackgroundPlanner::share_;
 uint32_t BackgroundPlanner::tick_hz_ = MULTI_TIMED_LOOP ? 1000000UL : MULTI_TICK_HZ;
+bool BackgroundPlanner::in_loop_ = MULTI_TIMED_LOOP;
 
 static volatile uint8_t s_in_tick;  /* the re-entrancy guard */
 static volatile uint8_t s_locks;    /* PlannerLocks alive */
@@ -72,8 +73,8 @@ PlannerLock::~PlannerLock()
 
 void BackgroundPlanner::kick()
 {
-    if (!begun_)
-        return;
+    if (!begun_ || in_loop_)
+        return; /* from loop(): the console's next poll() plans it */
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         /* the match two counts (8 us) from now, unless it comes sooner anyway; under a PlannerLock
@@ -91,10 +92,10 @@ void BackgroundPlanner::begin()
         return;
     MultiStepEngine::begin_axes(tick_hz_); /* the axes of the Steppers made (their constructors) */
     apply_lead();
-#if MULTI_TIMED_LOOP
-    begun_ = true; /* no Timer3: poll() runs the tick from loop() */
-    return;
-#endif
+    if (in_loop_) {
+        begun_ = true; /* no Timer3: poll() runs the tick from loop() */
+        return;
+    }
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         /* the core set Timer3 up for analogWrite(): take it over. CTC on OCR3A, 16 MHz / 64 / 250 = 1 kHz */
@@ -121,17 +122,23 @@ bool BackgroundPlanner::setTickHz(uint32_t hz)
     return true;
 }
 
-#if MULTI_TIMED_LOOP
+bool BackgroundPlanner::planInLoop()
+{
+    if (begun_)
+        return false;
+    in_loop_ = true;
+    return true;
+}
+
 void BackgroundPlanner::poll()
 {
-    MultiStepEngine::poll();
-    if (!begun_ || s_in_tick || s_locks)
+    MultiStepEngine::poll(); /* timed-loop mode: X's steps that are due; otherwise nothing */
+    if (!in_loop_ || !begun_ || s_in_tick || s_locks)
         return;
     s_in_tick = 1;
     tick();
     s_in_tick = 0;
 }
-#endif
 
 bool BackgroundPlanner::setLeadMs(uint16_t ms)
 {

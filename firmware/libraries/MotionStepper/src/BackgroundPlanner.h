@@ -109,15 +109,18 @@ public:
     static uint32_t tickHz() { return tick_hz_; }
     static bool setTickHz(uint32_t hz);
 
-#if MULTI_TIMED_LOOP
-    /* Timed-loop mode (STEPPER_TIMED_LOOP = 1, the lab's original structure): no interrupt steps or
-     * plans; call this on every pass of loop(): it makes X's steps that are due (micros()) and runs
-     * the planner's tick between them. */
+    /* Planning from loop() instead of Timer3's interrupt, for a sketch whose loop() never blocks and
+     * calls poll() on every pass (the stepper sketches' console, MotionConsole.h): call it before
+     * the first begin(); false after. Timer3 then stays free and no planner interrupt enters
+     * between the step interrupts (those of ExactRampStepper at 100,000 steps/s); a Stepper alone
+     * may then step up to STEPPER_MAX_SPS_EXACT (Stepper.h's setMaxSpeed). A loop() that blocks
+     * (delay()) starves the queue in this mode: the default, the interrupt, is the one for that. */
+    static bool planInLoop();
+    static bool inLoop() { return in_loop_; }
+    /* With planInLoop() (and in timed-loop mode, STEPPER_TIMED_LOOP = 1, where loop() also makes X's
+     * steps that are due by micros()): the planner's tick, on every pass of loop(). Otherwise it
+     * does nothing: the interrupt plans, loop() is free. */
     static void poll();
-#else
-    /* With the interrupts (every other build) it does nothing: loop() is free. */
-    static inline void poll() {}
-#endif
 
     /* Steppers begun (their axes claimed): 0 to 3. */
     static uint8_t steppers() { return count_; }
@@ -151,6 +154,7 @@ private:
     static uint16_t lead_ms_;
     static bool share_;
     static uint32_t tick_hz_;
+    static bool in_loop_;
 };
 
 /* Holds the planner interrupt off while it lives (loop()'s changes to a planner): the planner

@@ -21,12 +21,10 @@ void MotionConsole::begin(const __FlashStringHelper *sketch_name)
 {
     Serial.begin(9600);
     serial_.set_rx_interrupt(false); /* poll() drains the input on every pass (SerialRx.h) */
-    /* the lab's ramps plan every step, in floats: their sketches keep the lead they always had
-     * (StepperPins.h; the Leib ramp's update costs nearly a step's time near its top rate) */
-    if (x_.ramp() == RAMP_ALGO_LEIB)
-        (void)BackgroundPlanner::setLeadMs(STEP_ENGINE_LEAD_MS_LEIB);
-    else if (x_.ramp() == RAMP_ALGO_SIMPLISTIC)
-        (void)BackgroundPlanner::setLeadMs(STEP_ENGINE_LEAD_MS);
+    /* the lead the stepper sketches always had (StepperPins.h: the Leib ramp's float update costs
+     * nearly a step's time near its top rate; the exact ramp's stop and new targets cut the queue,
+     * so its lead costs them no latency) */
+    (void)BackgroundPlanner::setLeadMs(x_.ramp() == RAMP_ALGO_LEIB ? STEP_ENGINE_LEAD_MS_LEIB : STEP_ENGINE_LEAD_MS);
     MultiStepEngine::set_led_mirror(STEPPER_LED_MIRROR && x_.axis() == Stepper::X);
     serial_.out().print(F("READY "));
     serial_.out().println(sketch_name);
@@ -44,10 +42,17 @@ bool MotionConsole::collect_done()
     return true;
 }
 
+/* planned from loop() (BackgroundPlanner::planInLoop, the timed-loop build): the planner's tick; with
+ * the planner interrupt, nothing. Also called between the slow parts of a number's formatting. */
+static void plan()
+{
+    BackgroundPlanner::poll();
+}
+
 void MotionConsole::poll()
 {
     const char *line;
-    BackgroundPlanner::poll(); /* the timed-loop build steps and plans here; otherwise nothing */
+    plan();
     if (!collect_done() || (ok_pending_ && !finish_ok())) {
         serial_.drain_input(); /* no line is read meanwhile, but input must not pile up in the core */
         queue_.pump();
@@ -61,8 +66,13 @@ void MotionConsole::poll()
         }
     } else {
         line = serial_.poll();
-        if (line != NULL)
+        if (line != NULL) {
             handle(line);
+            if (ok_pending_) {
+                plan(); /* from loop(): the target is planned here, and its OK follows at once */
+                (void)finish_ok();
+            }
+        }
     }
     queue_.pump();
 }
@@ -202,7 +212,7 @@ void MotionConsole::handle_set(const char *cursor)
         Print &e = serial_.begin_error(st);
         e.print(key);
         e.print(F(" at most "));
-        print_real_exact(e, hi, 0);
+        print_real_exact(e, hi, plan);
         e.print(text_word_is(key, "accel") ? F(" steps/s^2") : F(" steps/s"));
         e.println(F(" on this sketch"));
         return;
@@ -229,7 +239,7 @@ void MotionConsole::print_param(Print &out, const char *key)
     print_real_exact(out, text_word_is(key, "v0")     ? x_.minSpeed()
                           : text_word_is(key, "vmax") ? x_.maxSpeed()
                                                       : x_.acceleration(),
-                     0);
+                     plan);
 }
 
 void MotionConsole::print_status()
@@ -252,7 +262,7 @@ void MotionConsole::print_status()
     out.print(F(" tick_hz="));
     out.print(Stepper::tickRate());
     out.print(F(" max_sps="));
-    print_real_exact(out, x_.maxSpeedLimit(), 0);
+    print_real_exact(out, x_.maxSpeedLimit(), plan);
     out.print(F(" underruns="));
     out.print(x_.underruns());
     out.print(F(" late="));

@@ -29,6 +29,8 @@ uint8_t planner_busy(void *ctx)
 enum { P_VMAX, P_ACCEL, P_V0 };
 } // namespace
 
+uint8_t Stepper::made_;
+
 Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0), plan_from_(0),
@@ -37,6 +39,7 @@ Stepper::Stepper(Axis axis, int)
       stop_active_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
       ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0)
 {
+    made_++;
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
     params_.vmax_sps = 10000.0;
@@ -97,10 +100,15 @@ motion_status_t Stepper::init_planner(int32_t pos)
  * a stop is cut tens of milliseconds ahead anyway (MOTION_STEPPER_SMOOTH_CUT_US). */
 void Stepper::set_cmd_length()
 {
-    if (planner_.algo != RAMP_ALGO_SMOOTH)
-        planner_.max_cmd_ticks = MULTI_TIMED_LOOP ? 1UL /* one step per command: it fits between two deadlines */
-                                 : BackgroundPlanner::tickHz() / 1000UL *
-                                       (BackgroundPlanner::steppers() >= 3 ? MOTION_STEPPER_CMD_MS_3 : MOTION_STEPPER_CMD_MS);
+    if (MULTI_TIMED_LOOP)
+        planner_.max_cmd_ticks = 1UL; /* one step per command: it fits between two deadlines of loop() */
+    else if (BackgroundPlanner::inLoop())
+        planner_.max_cmd_ticks = BackgroundPlanner::tickHz() / 250UL; /* lib's 4 ms: a cut lands 5-6 ms ahead
+                                                                        anyway, and at 100,000 steps/s the
+                                                                        planner has a quarter of the CPU */
+    else if (planner_.algo != RAMP_ALGO_SMOOTH)
+        planner_.max_cmd_ticks = BackgroundPlanner::tickHz() / 1000UL *
+                                 (BackgroundPlanner::steppers() >= 3 ? MOTION_STEPPER_CMD_MS_3 : MOTION_STEPPER_CMD_MS);
     if (planner_.algo == RAMP_ALGO_EXACT)
         planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
 }
@@ -157,6 +165,10 @@ float Stepper::vmax_limit() const
         return (float)STEPPER_MAX_SPS_SIMPLISTIC;
     if (algo_ == RAMP_ALGO_SMOOTH)
         return (float)STEPPER_MAX_SPS_SMOOTH;
+    /* a Stepper alone, planned from loop(): the ExactRampStepper sketch's limit, measured by make bench
+     * on it (no planner interrupt comes between its step interrupts) */
+    if (made_ == 1 && BackgroundPlanner::inLoop() && (float)STEPPER_MAX_SPS_EXACT > (float)MULTI_MAX_SPS)
+        return (float)STEPPER_MAX_SPS_EXACT;
     return (float)MULTI_MAX_SPS;
 }
 
@@ -484,6 +496,7 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     uint32_t nb;
     int32_t dp;
     if (stop_n_ == 0 || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
+        fabs(MultiStepEngine::speed(axis_)) > MOTION_STEPPER_CUT_MAX_SPS ||
         stop_up_ != e.up || stop_exact_.dir != e.dir ||
         stop_exact_.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_exact_.k, &e.k, sizeof e.k) != 0)
         return false;
@@ -531,10 +544,20 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
     (void)target;
     return false; /* loop() makes the steps: no interrupt to cut ahead of */
 #else
-    StepCutTiming timing = {16, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
-                            MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
-                            MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US};
+    static const StepCutTiming TIMING = {16, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
+                                         MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
+                                         MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US};
+    static const StepCutTiming LOOP_TIMING = {16, MOTION_STEPPER_LOOP_CUT_US, MOTION_STEPPER_LOOP_CUT_SLOW_US,
+                                              MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_LOOP_CUT_NEW_US,
+                                              MOTION_STEPPER_CUT_CMDS, MOTION_STEPPER_CUT_THEN_MIN_US,
+                                              MOTION_STEPPER_SMOOTH_CUT_US};
+    float v = fabs(MultiStepEngine::speed(axis_));
+    StepCutTiming timing = BackgroundPlanner::inLoop() ? LOOP_TIMING : TIMING;
+    if (v > MOTION_STEPPER_CUT_MAX_SPS)
+        return false;
     timing.ticks_per_us = (uint8_t)(BackgroundPlanner::tickHz() / 1000000UL); /* the timer's (setTickRate) */
+    if (BackgroundPlanner::inLoop() && timing.margin_us != 0)
+        timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
     return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_);
 #endif
 }

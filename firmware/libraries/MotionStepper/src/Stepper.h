@@ -9,7 +9,8 @@
  * can refuse returns a motion_status_t (lib's motion_status.h): MS_OK, or the reason, and then it has
  * changed nothing; statusText() gives the same sentence as the sketches' serial "ERR" lines.
  * Limits (those of the MultiAxisStepper sketch): setMaxSpeed up to MULTI_MAX_SPS (MultiAxisPins.h; the
- * lab's ramps of setRamp: STEPPER_MAX_SPS_LEIB / _SIMPLISTIC),
+ * lab's ramps of setRamp: STEPPER_MAX_SPS_LEIB / _SIMPLISTIC; a sketch with one Stepper that plans
+ * from loop(), BackgroundPlanner::planInLoop(), as ExactRampStepper: STEPPER_MAX_SPS_EXACT),
  * setAcceleration up to STEPPER_MAX_ACCEL_EXACT, setMinSpeed up to STEPPER_MAX_V0_EXACT
  * (StepperRamps.h); above them MS_ERR_OUT_OF_RANGE, never a silent clamp; parameter sets the exact
  * planner refuses (vmax not above v0, accel below 8 steps/s^2, ...) get its own status. New
@@ -89,6 +90,31 @@ class StepperGroup;
  * (StopOnSwitch's check, docs/library.md; about 2 ms at worst by construction). */
 #ifndef MOTION_STEPPER_CUT_CRUISE_US
 #define MOTION_STEPPER_CUT_CRUISE_US 600UL
+#endif
+
+/* No cut above this speed (steps/s): the stop or the new target acts after the queued lead (the
+ * sketches' console's rule since `make fuzz` seed 11: at 89,000 steps/s a target behind cut the
+ * queue and the axis stalled 12.6 ms, the step interrupt leaving the planner a quarter of the
+ * processor). Only a Stepper alone planned from loop() steps that fast (setMaxSpeed). */
+#ifndef MOTION_STEPPER_CUT_MAX_SPS
+#define MOTION_STEPPER_CUT_MAX_SPS 60000.0f
+#endif
+/* Planned from loop() (BackgroundPlanner::planInLoop(), the stepper sketches' console), a cut lands
+ * farther ahead and its first commands cover more: loop() may be busy for a few milliseconds
+ * elsewhere (a reply formatted) before it plans again, and a Stepper alone steps up to
+ * STEPPER_MAX_SPS_EXACT, where the step interrupt takes half the processor; the margin grows by
+ * 15 us per 1,000 steps/s (with 200 us alone, at 60,000 steps/s and accel 1e6 the interrupt reached
+ * the cut first: an underrun). These are the values ExactRampStepper's console used before it
+ * became a user of this library (a stop from the cruise 5 ms ahead, one while the speed changes or a
+ * new target 6 ms, 3 ms of first commands: with 1 ms `make fuzz` seed 7 found a step 1 ms late). */
+#ifndef MOTION_STEPPER_LOOP_CUT_US
+#define MOTION_STEPPER_LOOP_CUT_US 5000U
+#endif
+#ifndef MOTION_STEPPER_LOOP_CUT_SLOW_US
+#define MOTION_STEPPER_LOOP_CUT_SLOW_US 6000U
+#endif
+#ifndef MOTION_STEPPER_LOOP_CUT_NEW_US
+#define MOTION_STEPPER_LOOP_CUT_NEW_US 3000U
 #endif
 
 /* The longest time one step command covers with one or two Steppers begun, ms (a cruise is cut into
@@ -319,6 +345,7 @@ private:
     static void hook_y(bool forward);
     static void hook_z(bool forward);
 
+    static uint8_t made_; /* Steppers constructed: a Stepper alone may step faster (vmax_limit) */
     uint8_t axis_;
     bool begun_;
     bool inverted_;
