@@ -46,9 +46,11 @@ def test_section_counts_the_engine_and_the_consoles(tmp_path):
     write(board / "MultiStepEngineIsr.inc", "; c\n ret\n nop ; n\n")   # 3 lines, 2 code lines
     write(board / "StepConsole.cpp", "int a;\n\nint b;\n")             # 3 lines, 2 code lines
     write(board / "Other.cpp", "int z;\n")                              # neither
+    # the MotionStepper library's console counts with the consoles
+    write(tmp_path / "firmware" / "libraries" / "MotionStepper" / "src" / "MotionConsole.cpp", "int c;\n// d\n")
     write(tmp_path / "firmware" / "LeibRampStepper" / "LeibRampStepper.ino", '#include "StepConsole.h"\n')
     out = "\n".join(code_size.section(str(tmp_path), ["LeibRampStepper"]))
     assert "| step engine (MultiStepEngine*, StepCut.*) | 2 | 5 | 3 |" in out
-    assert "| consoles (StepConsole.*, StepperConsole.h, MultiAxisConsole.*, MotionConsole.*) | 1 | 3 | 2 |" in out
-    assert "| engine + consoles | 3 | 8 | 5 |" in out
+    assert "| consoles (StepConsole.*, StepperConsole.h, MultiAxisConsole.*, MotionConsole.*) | 2 | 5 | 3 |" in out
+    assert "| engine + consoles | 4 | 10 | 6 |" in out
     assert "| LeibRampStepper | 1 |" in out  # StepConsole.h does not exist: only the sketch

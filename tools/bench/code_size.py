@@ -82,7 +82,9 @@ def include_closure(start, files):
 def section(root, sketches):
     """docs/bench.md's lines: the engine and consoles' size, and each stepper sketch's closure"""
     board = os.path.join(root, "firmware", "libraries", "MotionBoard", "src")
-    engine, consoles = group_files(board, ENGINE), group_files(board, CONSOLES)
+    stepper = os.path.join(root, "firmware", "libraries", "MotionStepper", "src")  # MotionConsole
+    engine = group_files(board, ENGINE)
+    consoles = sorted(set(group_files(board, CONSOLES)) | set(group_files(stepper, CONSOLES)))
     el, ec = line_counts(engine)
     cl, cc = line_counts(consoles)
     files = project_files(root)
