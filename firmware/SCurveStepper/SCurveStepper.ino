@@ -12,18 +12,29 @@
  *   ?             position, state, table parameters, acceleration time and steps
  *   set vmax 3000 v0 (= fmin), vmax (= fmax), flex, len, hold; the table is recomputed (about
  *                 0.05 s for 250 entries, up to 1000). `set accel` is refused: it follows from the others.
- * Pins, timer and compile-time options: MotionBoard's StepperPins.h. The same table and stepping
- * run in `motionsim ramp --algo sigmoid --timer-hz 2000000 --len 250 --fmin 200 --fmax 4000
- * --flex 5 --hold 4`.
+ * The sketch is a user of the MotionStepper library (docs/library.md): a Stepper on X with the
+ * sigmoid ramp (x.setRamp(RAMP_ALGO_SIGMOID), its shape x.setSigmoid(flex, len, hold)), and
+ * MotionConsole turning each serial line into one of its calls (set len -> x.setSigmoid(), a target
+ * -> x.moveTo() ...). The table is refilled at rest, two entries per pass of loop(); a target sent
+ * meanwhile waits for it. Pins, timer and compile-time options: MotionBoard's StepperPins.h. The
+ * same table and stepping run in `motionsim ramp --algo sigmoid --timer-hz 2000000 --len 250 --fmin
+ * 200 --fmax 4000 --flex 5 --hold 4`.
  */
-#include <StepperConsole.h>
+#include <MotionStepper.h>
+#include <MotionConsole.h>
 
-static SCurveRamp ramp(250, 4, 200.0f, 4000.0f, 5.0f, STEPPER_MAX_SPS_SCURVE, STEPPER_TICK_HZ_LAB);
-static StepperConsole console(ramp);
+Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38
+static MotionConsole console(x); // the serial commands, each one a call of x
 
 void setup()
 {
-    ramp.begin();
+    BackgroundPlanner::planInLoop();           // console.poll() plans (loop() never blocks)
+    Stepper::setTickRate(STEPPER_TICK_HZ_LAB); // the 2 MHz timer: the table's periods count its ticks
+    x.setMaxSpeed(4000);                       // fmax, steps/s
+    x.setMinSpeed(200);                        // fmin, steps/s
+    x.setSigmoid(5.0, 250, 4);                 // flex, len (table entries), hold (steps per entry)
+    x.setRamp(RAMP_ALGO_SIGMOID);              // fills the table (about 0.1 s)
+    x.begin();
     console.begin(F("SCurveStepper"));
 }
 

@@ -206,7 +206,7 @@ def checks_for(env):
         if fam == "multiaxis":
             checks.append((f"{s}: a halt of one axis holds no other axis's edge beyond the bound",
                            lambda s=s: check_multiaxis_halt_latency(env, s)))
-        if fam == "stepper" and "SCurveRamp" in open(env.ino(s)).read():
+        if fam == "stepper" and any(w in open(env.ino(s)).read() for w in ("SCurveRamp", "RAMP_ALGO_SIGMOID")):
             checks.append((f"{s}: one line per reply around the table's refills: no line lost or damaged",
                            lambda s=s: check_scurve_one_line_per_reply(env, s)))
     return checks

@@ -15,6 +15,7 @@ bool BackgroundPlanner::begun_;
 uint16_t BackgroundPlanner::lead_ms_ = MOTION_STEPPER_LEAD_MS;
 bool BackgroundPlanner::share_;
 uint32_t BackgroundPlanner::tick_hz_ = MULTI_TIMED_LOOP ? 1000000UL : MULTI_TICK_HZ;
+uint8_t BackgroundPlanner::tpu_ = (uint8_t)((MULTI_TIMED_LOOP ? 1000000UL : MULTI_TICK_HZ) / 1000000UL);
 bool BackgroundPlanner::in_loop_ = MULTI_TIMED_LOOP;
 
 static volatile uint8_t s_in_tick;  /* the re-entrancy guard */
@@ -119,6 +120,7 @@ bool BackgroundPlanner::setTickHz(uint32_t hz)
     if (begun_)
         return false;
     tick_hz_ = hz;
+    tpu_ = (uint8_t)(hz / 1000000UL);
     return true;
 }
 
@@ -250,6 +252,7 @@ void BackgroundPlanner::tick()
     for (uint8_t i = 0; i < 3; i++) {
         if (!axes_[i])
             continue;
+        axes_[i]->refill_tick(); /* the sigmoid's table, a slice at a time */
         axes_[i]->run_request();
         if (axes_[i]->group_)
             axes_[i]->group_->run_request();

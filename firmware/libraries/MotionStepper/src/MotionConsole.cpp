@@ -7,13 +7,13 @@
 #include <PrintReal.h>
 #include <StepperPins.h> /* STEPPER_LED_MIRROR, STEP_ENGINE_LEAD_MS(_LEIB), STEPPER_TIMED_LOOP */
 
-/* Room a DONE line needs in the output queue ("DONE -2147483648" and CR LF: 18 bytes); a `?` line
- * about 140 bytes. */
+/* Room a DONE line needs in the output queue ("DONE -2147483648" and CR LF: 18 bytes; a DONE that
+ * would not fit waits, and no line is read before it); a `?` line about 140 bytes. */
 #define MOTION_CONSOLE_DONE_ROOM 24U
 #define MOTION_CONSOLE_STATUS_ROOM 160U
 
 MotionConsole::MotionConsole(Stepper &x)
-    : x_(x), ok_pending_(false), status_pending_(false), ok_target_(0), queue_(Serial), serial_(Serial, queue_, 240)
+    : x_(x), status_pending_(false), ok_pending_(false), ok_target_(0), queue_(Serial), serial_(Serial, queue_, 240)
 {
 }
 
@@ -30,23 +30,23 @@ void MotionConsole::begin(const __FlashStringHelper *sketch_name)
     serial_.out().println(sketch_name);
 }
 
-bool MotionConsole::collect_done()
-{
-    long at;
-    if (queue_.room() < MOTION_CONSOLE_DONE_ROOM)
-        return false; /* no line is read before a DONE that may be waiting */
-    if (x_.takeDone(at)) {
-        serial_.out().print(F("DONE "));
-        serial_.out().println(at);
-    }
-    return true;
-}
-
 /* planned from loop() (BackgroundPlanner::planInLoop, the timed-loop build): the planner's tick; with
  * the planner interrupt, nothing. Also called between the slow parts of a number's formatting. */
 static void plan()
 {
     BackgroundPlanner::poll();
+}
+
+bool MotionConsole::collect_done()
+{
+    long at;
+    if (queue_.room() < MOTION_CONSOLE_DONE_ROOM)
+        return false; /* no line is read before a DONE that may be waiting */
+    if (!ok_pending_ && x_.takeDone(at)) { /* with an OK waiting, finish_ok orders its DONE */
+        serial_.out().print(F("DONE "));
+        serial_.out().println(at);
+    }
+    return true;
 }
 
 void MotionConsole::poll()
@@ -115,8 +115,9 @@ void MotionConsole::handle_target(const char *word)
         serial_.reply_error(st);
         return;
     }
-    /* the planner interrupt plans it within microseconds (longer while it plans another move):
-     * its OK tells where the plan starts, so it waits for that (poll() reads no line meanwhile) */
+    /* the planner plans it within microseconds (longer while it plans another move, or while the
+     * sigmoid's table is refilled): its OK tells where the plan starts, so it waits for that (poll()
+     * reads no line meanwhile) */
     ok_pending_ = true;
     ok_target_ = to;
     (void)finish_ok();
@@ -162,6 +163,7 @@ void MotionConsole::handle_stop(const char *cursor, bool halt)
         serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("stop and ! take no arguments"));
         return;
     }
+    (void)collect_done(); /* a move that has just ended reports first */
     moving = x_.isRunning();
     st = halt ? x_.forceStop() : x_.stop();
     if (st != MS_OK) {
@@ -192,19 +194,41 @@ void MotionConsole::handle_set(const char *cursor)
         serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("set takes one parameter and one value"));
         return;
     }
+    bool sigmoid = x_.ramp() == RAMP_ALGO_SIGMOID;
+    bool whole = sigmoid && (text_word_is(key, "len") || text_word_is(key, "hold"));
+    const __FlashStringHelper *unit = F(" steps/s");
     if (text_word_is(key, "v0"))
         hi = x_.minSpeedLimit();
     else if (text_word_is(key, "vmax"))
         hi = x_.maxSpeedLimit();
-    else if (text_word_is(key, "accel"))
+    else if (text_word_is(key, "accel") && sigmoid) {
+        serial_.reply_error(MS_ERR_DERIVED_PARAM); /* the table's shape gives it */
+        return;
+    } else if (text_word_is(key, "accel")) {
         hi = x_.accelerationLimit();
-    else {
+        unit = F(" steps/s^2");
+    } else if (sigmoid && text_word_is(key, "flex")) {
+        hi = STEPPER_MAX_FLEX;
+        unit = F("");
+    } else if (text_word_is(key, "len") && sigmoid) {
+        hi = SCURVE_MAX_LEN;
+        unit = F(" entries");
+    } else if (text_word_is(key, "hold") && sigmoid) {
+        hi = 65535.0;
+        unit = F(" steps per entry");
+    } else {
         serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("no such parameter (see ?)"));
         return;
     }
-    st = text_parse_real(value, -1e7, hi, &v);
+    if (whole) {
+        int32_t n = 0;
+        st = text_parse_int32(value, 0, (int32_t)hi, &n);
+        v = (double)n;
+    } else {
+        st = text_parse_real(value, -1e7, hi, &v);
+    }
     if (st == MS_ERR_OUT_OF_RANGE && value[0] == '-') {
-        v = -1.0; /* the Stepper's check of the set names the problem with negative values */
+        v = whole ? 0.0 : -1.0; /* the Stepper's check of the set names the problem with negative values */
         st = MS_OK;
     }
     if (st == MS_ERR_OUT_OF_RANGE) {
@@ -213,14 +237,17 @@ void MotionConsole::handle_set(const char *cursor)
         e.print(key);
         e.print(F(" at most "));
         print_real_exact(e, hi, plan);
-        e.print(text_word_is(key, "accel") ? F(" steps/s^2") : F(" steps/s"));
+        e.print(unit);
         e.println(F(" on this sketch"));
         return;
     }
     if (st == MS_OK)
-        st = text_word_is(key, "v0")     ? x_.setMinSpeed((float)v)
-             : text_word_is(key, "vmax") ? x_.setMaxSpeed((float)v)
-                                         : x_.setAcceleration((float)v);
+        st = text_word_is(key, "v0")      ? x_.setMinSpeed((float)v)
+             : text_word_is(key, "vmax")  ? x_.setMaxSpeed((float)v)
+             : text_word_is(key, "accel") ? x_.setAcceleration((float)v)
+             : text_word_is(key, "flex")  ? x_.setSigmoid((float)v, x_.sigmoidLen(), x_.sigmoidHold())
+             : text_word_is(key, "len")   ? x_.setSigmoid(x_.sigmoidFlex(), (uint16_t)v, x_.sigmoidHold())
+                                          : x_.setSigmoid(x_.sigmoidFlex(), x_.sigmoidLen(), (uint16_t)v);
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;
@@ -236,15 +263,22 @@ void MotionConsole::print_param(Print &out, const char *key)
 {
     out.print(key);
     out.print('=');
-    print_real_exact(out, text_word_is(key, "v0")     ? x_.minSpeed()
-                          : text_word_is(key, "vmax") ? x_.maxSpeed()
-                                                      : x_.acceleration(),
-                     plan);
+    if (text_word_is(key, "len"))
+        out.print(x_.sigmoidLen());
+    else if (text_word_is(key, "hold"))
+        out.print(x_.sigmoidHold());
+    else
+        print_real_exact(out, text_word_is(key, "v0")     ? x_.minSpeed()
+                              : text_word_is(key, "vmax") ? x_.maxSpeed()
+                              : text_word_is(key, "flex") ? x_.sigmoidFlex()
+                                                          : x_.acceleration(),
+                         plan);
 }
 
 void MotionConsole::print_status()
 {
     Print &out = serial_.out();
+    Stepper::SigmoidFigures f;
     out.print(F("pos="));
     out.print(x_.currentPosition());
     out.print(F(" target="));
@@ -263,6 +297,21 @@ void MotionConsole::print_status()
     out.print(Stepper::tickRate());
     out.print(F(" max_sps="));
     print_real_exact(out, x_.maxSpeedLimit(), plan);
+    if (x_.sigmoidFigures(f)) {
+        /* the S-curve's shape, and what its table in force gives */
+        out.print(' ');
+        print_param(out, "flex");
+        out.print(' ');
+        print_param(out, "len");
+        out.print(' ');
+        print_param(out, "hold");
+        out.print(F(" accel_steps="));
+        out.print(f.accelSteps);
+        out.print(F(" accel_time_s="));
+        print_real_exact(out, f.accelTimeS, plan);
+        out.print(F(" cruise_sps="));
+        print_real_exact(out, f.cruiseSps, plan);
+    }
     out.print(F(" underruns="));
     out.print(x_.underruns());
     out.print(F(" late="));

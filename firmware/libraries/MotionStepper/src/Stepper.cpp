@@ -29,15 +29,26 @@ uint8_t planner_busy(void *ctx)
 enum { P_VMAX, P_ACCEL, P_V0 };
 } // namespace
 
+/* the sigmoid ramp's table and its parameters (heap: set_ramp_sigmoid) */
+struct Stepper::Sigmoid {
+    ramp_sigmoid_params_t now;  /* the table's */
+    ramp_sigmoid_params_t fill; /* the refill's */
+    uint16_t fill_i;
+    bool filling;
+    bool stale; /* parameters set while moving: refilled at the move's end */
+    float accel_time_s;
+    uint16_t table[SCURVE_MAX_LEN];
+};
+
 uint8_t Stepper::made_;
 
 Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0), plan_from_(0),
       plan_after_done_(false),
-      last_status_(MS_OK), cuts_missed_(0), stop_up_(0), stop_from_(0), stop_pos_(0), stop_target_(0), stop_n_(0),
-      stop_active_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
-      ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0)
+      last_status_(MS_OK), cuts_missed_(0), stop_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
+      ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0), sig_(0), sig_flex_(5.0f), sig_len_(250),
+      sig_hold_(4)
 {
     made_++;
     /* the MultiAxisStepper sketch's defaults */
@@ -59,6 +70,14 @@ motion_status_t Stepper::begin()
         return MS_OK;
     if (axis_ > Z)
         return MS_ERR_OUT_OF_RANGE;
+#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
+    if (!BackgroundPlanner::inLoop() && !stop_) {
+        stop_ = static_cast<StopAhead *>(malloc(sizeof(StopAhead)));
+        if (!stop_)
+            return MS_ERR_OUT_OF_RANGE; /* no room on the heap */
+        stop_->n = 0;
+    }
+#endif
     st = init_planner(0);
     if (st != MS_OK)
         return st;
@@ -85,13 +104,15 @@ motion_status_t (*Stepper::smooth_jerk_)(step_planner_t *, double);
 motion_status_t Stepper::init_planner(int32_t pos)
 {
     params_.tick_hz = BackgroundPlanner::tickHz();
-    motion_status_t st = algo_ == RAMP_ALGO_SMOOTH ? smooth_init_(&planner_, &params_, (double)jerk_, smooth_, pos)
+    motion_status_t st = algo_ == RAMP_ALGO_SIGMOID ? sigmoid_init_(&planner_, &sig_->now, sig_->table, SCURVE_MAX_LEN, pos)
+                         : algo_ == RAMP_ALGO_SMOOTH ? smooth_init_(&planner_, &params_, (double)jerk_, smooth_, pos)
                          : algo_ == RAMP_ALGO_EXACT ? step_planner_init_exact(&planner_, &params_, pos)
                                                     : lab_init_(&planner_, algo_, &params_, ramp_hooks_, pos);
     if (st != MS_OK)
         return st;
     set_cmd_length();
-    stop_n_ = 0; /* no stop planned ahead for this planner yet */
+    if (stop_)
+        stop_->n = 0; /* no stop planned ahead for this planner yet */
     return MS_OK;
 }
 
@@ -103,11 +124,11 @@ void Stepper::set_cmd_length()
     if (MULTI_TIMED_LOOP)
         planner_.max_cmd_ticks = 1UL; /* one step per command: it fits between two deadlines of loop() */
     else if (BackgroundPlanner::inLoop())
-        planner_.max_cmd_ticks = BackgroundPlanner::tickHz() / 250UL; /* lib's 4 ms: a cut lands 5-6 ms ahead
+        planner_.max_cmd_ticks = BackgroundPlanner::ticksPerUs() * 4000UL; /* lib's 4 ms: a cut lands 5-6 ms ahead
                                                                         anyway, and at 100,000 steps/s the
                                                                         planner has a quarter of the CPU */
     else if (planner_.algo != RAMP_ALGO_SMOOTH)
-        planner_.max_cmd_ticks = BackgroundPlanner::tickHz() / 1000UL *
+        planner_.max_cmd_ticks = BackgroundPlanner::ticksPerUs() * 1000UL *
                                  (BackgroundPlanner::steppers() >= 3 ? MOTION_STEPPER_CMD_MS_3 : MOTION_STEPPER_CMD_MS);
     if (planner_.algo == RAMP_ALGO_EXACT)
         planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
@@ -120,6 +141,10 @@ motion_status_t Stepper::probe(ramp_algo_t algo, const ramp_hooks_t *hooks, cons
 {
     if (algo == RAMP_ALGO_SMOOTH)
         return smooth_check_(&p, (double)jerk_); /* set with algo_ by set_ramp_smooth */
+    if (algo == RAMP_ALGO_SIGMOID) {
+        ramp_sigmoid_params_t s = sigmoid_params(p);
+        return sigmoid_check_(&s); /* set with algo_ by set_ramp_sigmoid */
+    }
     if (algo == RAMP_ALGO_EXACT) {
         step_planner_t pl;
         return step_planner_init_exact(&pl, &p, 0);
@@ -137,6 +162,8 @@ float Stepper::accelerationLimit() const
 
 float Stepper::minSpeedLimit() const
 {
+    if (algo_ != RAMP_ALGO_EXACT && algo_ != RAMP_ALGO_SMOOTH)
+        return vmax_limit(); /* the lab's ramps and the sigmoid start at v0 from their first step */
     return (float)STEPPER_MAX_V0_EXACT < vmax_limit() ? (float)STEPPER_MAX_V0_EXACT : vmax_limit();
 }
 
@@ -165,6 +192,8 @@ float Stepper::vmax_limit() const
         return (float)STEPPER_MAX_SPS_SIMPLISTIC;
     if (algo_ == RAMP_ALGO_SMOOTH)
         return (float)STEPPER_MAX_SPS_SMOOTH;
+    if (algo_ == RAMP_ALGO_SIGMOID)
+        return (float)STEPPER_MAX_SPS_SCURVE;
     /* a Stepper alone, planned from loop(): the ExactRampStepper sketch's limit, measured by make bench
      * on it (no planner interrupt comes between its step interrupts) */
     if (made_ == 1 && BackgroundPlanner::inLoop() && (float)STEPPER_MAX_SPS_EXACT > (float)MULTI_MAX_SPS)
@@ -175,7 +204,7 @@ float Stepper::vmax_limit() const
 motion_status_t Stepper::set_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks)
 {
     if (algo == RAMP_ALGO_SIGMOID)
-        return MS_ERR_RAMP_NOT_HERE;
+        return set_ramp_sigmoid();
     if (algo != RAMP_ALGO_EXACT && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_SIMPLISTIC)
         return MS_ERR_OUT_OF_RANGE;
     lab_init_ = step_planner_init_lab; /* the only place that names the lab's ramps: a sketch that */
@@ -272,7 +301,9 @@ motion_status_t Stepper::set_param(float value, float limit, uint8_t which)
         return st;
     PlannerLock lock;
     params_ = p;
-    if (begun_)
+    if (begun_ && algo_ == RAMP_ALGO_SIGMOID)
+        sigmoid_changed(); /* the table is refilled (at rest: now; while moving: at its end) */
+    else if (begun_)
         (void)step_planner_set_params(&planner_, &params_); /* from its next plan */
     return MS_OK;
 }
@@ -284,6 +315,8 @@ motion_status_t Stepper::setMaxSpeed(float steps_per_s)
 
 motion_status_t Stepper::setAcceleration(float steps_per_s2)
 {
+    if (algo_ == RAMP_ALGO_SIGMOID)
+        return MS_ERR_DERIVED_PARAM; /* the table's shape gives it */
     return set_param(steps_per_s2, accelerationLimit(), P_ACCEL);
 }
 
@@ -381,6 +414,8 @@ void Stepper::run_request()
     motion_status_t st;
     if (r == REQ_NONE)
         return;
+    if (r == REQ_MOVE && sig_ && sig_->filling && !MultiStepEngine::moving(axis_))
+        return; /* the sigmoid's table is being refilled: the move from rest waits for it */
     req_ = REQ_NONE;
     if (r == REQ_STOP) {
         c = MultiStepEngine::extend(axis_, ended);
@@ -462,24 +497,24 @@ void Stepper::prepare_stop()
 {
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
     const step_exact_t &e = planner_.exact;
-    if (group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
+    if (!stop_ || group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
         !(e.n > e.n1 && e.n < e.n2))
         return;
-    if (stop_n_ != 0 && stop_up_ == e.up && stop_exact_.dir == e.dir && stop_exact_.max_cmd_ticks == e.max_cmd_ticks &&
-        memcmp(&stop_exact_.k, &e.k, sizeof e.k) == 0)
+    if (stop_->n != 0 && stop_->up == e.up && stop_->exact.dir == e.dir && stop_->exact.max_cmd_ticks == e.max_cmd_ticks &&
+        memcmp(&stop_->exact.k, &e.k, sizeof e.k) == 0)
         return;
     step_planner_t &s_scratch = step_cut_scratch();
     s_scratch = planner_;
     step_planner_stop(&s_scratch);
-    stop_n_ = 0;
-    stop_n_ = step_cut_first_cmds(&s_scratch, stop_cmds_, BackgroundPlanner::tickHz() / 1000000UL, MOTION_STEPPER_CUT_NEW_US,
+    stop_->n = 0;
+    stop_->n = step_cut_first_cmds(&s_scratch, stop_->cmds, BackgroundPlanner::ticksPerUs(), MOTION_STEPPER_CUT_NEW_US,
                                   MOTION_STEPPER_CUT_CMDS);
-    stop_exact_ = s_scratch.exact;
-    stop_up_ = e.up;
-    stop_from_ = planner_.pos;
-    stop_pos_ = s_scratch.pos;
-    stop_target_ = s_scratch.target;
-    stop_active_ = s_scratch.active;
+    stop_->exact = s_scratch.exact;
+    stop_->up = e.up;
+    stop_->from = planner_.pos;
+    stop_->pos = s_scratch.pos;
+    stop_->target = s_scratch.target;
+    stop_->active = s_scratch.active;
 #endif
 }
 
@@ -495,13 +530,14 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     MultiStepEngine::Cut cut;
     uint32_t nb;
     int32_t dp;
-    if (stop_n_ == 0 || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
-        fabs(MultiStepEngine::speed(axis_)) > MOTION_STEPPER_CUT_MAX_SPS ||
-        stop_up_ != e.up || stop_exact_.dir != e.dir ||
-        stop_exact_.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_exact_.k, &e.k, sizeof e.k) != 0)
+    /* (no stop planned ahead from loop(): stop_ null; the interrupt's Steppers step at most
+     * MULTI_MAX_SPS, below MOTION_STEPPER_CUT_MAX_SPS) */
+    if (!stop_ || stop_->n == 0 || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
+        stop_->up != e.up || stop_->exact.dir != e.dir ||
+        stop_->exact.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_->exact.k, &e.k, sizeof e.k) != 0)
         return false;
     step_cut_trace(true);
-    const uint32_t tpu = BackgroundPlanner::tickHz() / 1000000UL;
+    const uint32_t tpu = BackgroundPlanner::ticksPerUs();
     if (MultiStepEngine::cut_find(axis_, tpu * MOTION_STEPPER_CUT_CRUISE_US, e.n - 1U, cut, false) ==
         0) {
         step_cut_trace(false);
@@ -513,19 +549,19 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     /* the position at the cut */
     dp = planner_.pos + (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps);
     if (nb - cut.last_count < e.n1 || nb > e.n2 || (then && (e.dir > 0 ? to > dp : to < dp)) ||
-        !MultiStepEngine::cut_apply(axis_, cut, tpu * MOTION_STEPPER_CUT_MARGIN_US, stop_cmds_,
-                                    stop_n_)) {
+        !MultiStepEngine::cut_apply(axis_, cut, tpu * MOTION_STEPPER_CUT_MARGIN_US, stop_->cmds,
+                                    stop_->n)) {
         step_cut_trace(false);
         return false; /* not in the cruise, a target ahead of the cut (a plan of its own), or too late */
     }
     /* the stop planned ahead, moved to where the cut lands */
     plan_from_ = dp;
-    dp -= stop_from_;
-    planner_.exact = stop_exact_;
+    dp -= stop_->from;
+    planner_.exact = stop_->exact;
     planner_.exact.pos += dp;
-    planner_.pos = stop_pos_ + dp;
-    planner_.target = then ? to : stop_target_ + dp;
-    planner_.active = stop_active_;
+    planner_.pos = stop_->pos + dp;
+    planner_.target = then ? to : stop_->target + dp;
+    planner_.active = stop_->active;
     planner_.has_then = then ? 1 : 0;
     planner_.then_target = to;
     step_cut_trace(false);
@@ -551,13 +587,17 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
                                               MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_LOOP_CUT_NEW_US,
                                               MOTION_STEPPER_CUT_CMDS, MOTION_STEPPER_CUT_THEN_MIN_US,
                                               MOTION_STEPPER_SMOOTH_CUT_US};
-    float v = fabs(MultiStepEngine::speed(axis_));
-    StepCutTiming timing = BackgroundPlanner::inLoop() ? LOOP_TIMING : TIMING;
-    if (v > MOTION_STEPPER_CUT_MAX_SPS)
-        return false;
-    timing.ticks_per_us = (uint8_t)(BackgroundPlanner::tickHz() / 1000000UL); /* the timer's (setTickRate) */
-    if (BackgroundPlanner::inLoop() && timing.margin_us != 0)
-        timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
+    StepCutTiming timing = TIMING;
+    if (BackgroundPlanner::inLoop()) {
+        /* a Stepper alone may step up to STEPPER_MAX_SPS_EXACT there (the interrupt's, MULTI_MAX_SPS) */
+        float v = fabs(MultiStepEngine::speed(axis_));
+        if (v > MOTION_STEPPER_CUT_MAX_SPS)
+            return false;
+        timing = LOOP_TIMING;
+        if (timing.margin_us != 0)
+            timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
+    }
+    timing.ticks_per_us = BackgroundPlanner::ticksPerUs(); /* the timer's (setTickRate) */
     return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_);
 #endif
 }
@@ -665,10 +705,12 @@ uint16_t Stepper::lateEdges() const
 ramp_phase_t Stepper::rampState() const
 {
     uint8_t phase;
-    if (!isRunning())
-        return RAMP_IDLE;
+    if (!MultiStepEngine::moving(axis_))
+        /* at rest; a move asked for and not yet stepping counts as accelerating (a member of a
+         * group's move at its target already: at rest) */
+        return isRunning() && !group_now() ? RAMP_ACCEL : RAMP_IDLE;
     phase = MultiStepEngine::phase(axis_);
-    return phase != 0 && !group_now() ? (ramp_phase_t)phase : RAMP_ACCEL;
+    return phase != 0 ? (ramp_phase_t)phase : RAMP_ACCEL;
 }
 
 bool Stepper::planStart(PlanStart &start) const
@@ -839,6 +881,19 @@ void Stepper::record_done(int32_t engine_position)
 void Stepper::engine_done(int32_t position)
 {
     step_planner_halt(&planner_, position);
+    if (sig_ && sig_->stale) {
+        /* the sigmoid's parameters changed during the move: its table is refilled now, and a target
+         * that waited for this end is planned once it is ready (run_request) */
+        sigmoid_refill_start();
+        if (has_next_) {
+            has_next_ = false;
+            req_target_ = next_target_;
+            req_ = REQ_MOVE;
+            done_pos_ = position;
+            done_ = true;
+            return;
+        }
+    }
     if (has_next_) {
         /* the target accepted while the last steps ran: the move that ended keeps its end (planStart's
          * afterDone), and the new one starts now, from rest */
@@ -852,4 +907,152 @@ void Stepper::engine_done(int32_t position)
         }
     }
     record_done(position);
+}
+
+/* ---- the sigmoid ramp (RAMP_ALGO_SIGMOID) ---- */
+void (*Stepper::sigmoid_slice_)(Stepper &);
+motion_status_t (*Stepper::sigmoid_check_)(const ramp_sigmoid_params_t *);
+motion_status_t (*Stepper::sigmoid_init_)(step_planner_t *, const ramp_sigmoid_params_t *, const uint16_t *, uint16_t,
+                                          int32_t);
+
+ramp_sigmoid_params_t Stepper::sigmoid_params(const ramp_params_t &p) const
+{
+    ramp_sigmoid_params_t s;
+    s.len = sig_len_;
+    s.hold = sig_hold_;
+    s.fmin_hz = (float)p.v0_sps;
+    s.fmax_hz = (float)p.vmax_sps;
+    s.flex = sig_flex_;
+    s.timer_hz = BackgroundPlanner::tickHz();
+    return s;
+}
+
+/* the table in force is now filled: what acceleration() and sigmoidFigures() tell of it */
+static float table_accel(const ramp_sigmoid_params_t &p, const uint16_t *table, float &time_s)
+{
+    time_s = (float)ramp_sigmoid_accel_time_s(&p, table);
+    return time_s > 0.0f ? ((float)p.timer_hz / table[p.len - 1U] - (float)p.timer_hz / table[0]) / time_s : 0.0f;
+}
+
+motion_status_t Stepper::set_ramp_sigmoid()
+{
+    ramp_params_t p = params_;
+    ramp_sigmoid_params_t s;
+    motion_status_t st;
+    if (isRunning())
+        return MS_ERR_BUSY;
+    p.tick_hz = BackgroundPlanner::tickHz();
+    s = sigmoid_params(p);
+    if (p.vmax_sps > (float)STEPPER_MAX_SPS_SCURVE)
+        return MS_ERR_OUT_OF_RANGE;
+    st = ramp_sigmoid_check(&s);
+    if (st != MS_OK)
+        return st;
+    if (!sig_) {
+        sig_ = static_cast<Sigmoid *>(malloc(sizeof(Sigmoid)));
+        if (!sig_)
+            return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its table */
+        sig_->filling = false;
+    }
+    sigmoid_slice_ = sigmoid_slice;
+    sigmoid_init_ = step_planner_init_sigmoid;
+    sigmoid_check_ = ramp_sigmoid_check;
+    PlannerLock lock;
+    if (isRunning())
+        return MS_ERR_BUSY;
+    st = ramp_sigmoid_fill(&s, sig_->table, SCURVE_MAX_LEN); /* at once: checked, so it fills */
+    if (st != MS_OK)
+        return st;
+    sig_->now = s;
+    sig_->filling = false;
+    sig_->stale = false;
+    params_ = p;
+    params_.accel_sps2 = table_accel(s, sig_->table, sig_->accel_time_s);
+    algo_ = RAMP_ALGO_SIGMOID;
+    ramp_hooks_ = 0;
+    MultiStepEngine::set_start_full(axis_, false);
+    if (begun_)
+        (void)init_planner(MultiStepEngine::position(axis_));
+    return MS_OK;
+}
+
+motion_status_t Stepper::setSigmoid(float flex, uint16_t len, uint16_t hold)
+{
+    ramp_params_t p = params_;
+    ramp_sigmoid_params_t s;
+    motion_status_t st;
+    float f0 = sig_flex_;
+    uint16_t l0 = sig_len_, h0 = sig_hold_;
+    if (isnan(flex) || isinf(flex))
+        return MS_ERR_NOT_FINITE;
+    if (flex > (float)STEPPER_MAX_FLEX || len > SCURVE_MAX_LEN)
+        return MS_ERR_OUT_OF_RANGE;
+    p.tick_hz = BackgroundPlanner::tickHz();
+    sig_flex_ = flex; /* for sigmoid_params; put back on a refusal */
+    sig_len_ = len;
+    sig_hold_ = hold;
+    s = sigmoid_params(p);
+    sig_flex_ = f0;
+    sig_len_ = l0;
+    sig_hold_ = h0;
+    st = ramp_sigmoid_check(&s);
+    if (st != MS_OK)
+        return st;
+    PlannerLock lock;
+    sig_flex_ = flex;
+    sig_len_ = len;
+    sig_hold_ = hold;
+    if (begun_ && algo_ == RAMP_ALGO_SIGMOID)
+        sigmoid_changed();
+    return MS_OK;
+}
+
+bool Stepper::sigmoidFigures(SigmoidFigures &f) const
+{
+    if (algo_ != RAMP_ALGO_SIGMOID || !sig_)
+        return false;
+    PlannerLock lock; /* the table in force, not half a refill */
+    const ramp_sigmoid_params_t &p = sig_->now;
+    f.accelSteps = ramp_sigmoid_accel_steps(&p);
+    f.accelTimeS = sig_->accel_time_s;
+    f.cruiseSps = (float)p.timer_hz / sig_->table[p.len - 1U];
+    return true;
+}
+
+/* under a PlannerLock or in the planner interrupt */
+void Stepper::sigmoid_changed()
+{
+    if (MultiStepEngine::moving(axis_))
+        sig_->stale = true; /* the move walks the table in force: refilled at its end */
+    else
+        sigmoid_refill_start();
+}
+
+void Stepper::sigmoid_refill_start()
+{
+    sig_->stale = false;
+    sig_->fill = sigmoid_params(params_);
+    sig_->fill_i = 0;
+    sig_->filling = true;
+}
+
+/* planner interrupt (BackgroundPlanner::tick): two entries of the refill (about 13,000 cycles), then,
+ * once all are in, the planner on the new table at rest */
+void Stepper::sigmoid_slice(Stepper &s)
+{
+    Sigmoid &g = *s.sig_;
+    for (uint8_t n = 0; n < 2U && g.fill_i < g.fill.len; n++, g.fill_i++)
+        g.table[g.fill_i] = (uint16_t)ramp_sigmoid_period_ticks(&g.fill, g.fill_i);
+    if (g.fill_i < g.fill.len)
+        return;
+    g.now = g.fill;
+    g.filling = false;
+    s.params_.accel_sps2 = table_accel(g.now, g.table, g.accel_time_s);
+    (void)s.init_planner(MultiStepEngine::position(s.axis_));
+}
+
+void Stepper::refill_tick()
+{
+    if (sig_ && sig_->filling && sigmoid_slice_)
+        sigmoid_slice_(*this);
 }

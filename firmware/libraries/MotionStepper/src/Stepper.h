@@ -32,6 +32,7 @@
 #include <stdint.h>
 
 #include <motion_status.h>
+#include <ramp_sigmoid.h>
 #include <step_planner.h>
 
 #include <MultiAxisPins.h>
@@ -169,8 +170,18 @@ public:
      * ramp_hooks_t, as LeibRampStepper passes them), NULL for lib's. The lab's ramps plan every step
      * (float arithmetic), so their vmax is limited to STEPPER_MAX_SPS_LEIB / _SIMPLISTIC
      * (StepperPins.h; setMaxSpeed and setRamp refuse more: MS_ERR_OUT_OF_RANGE); the parameters in
-     * force must suit the new ramp (its own status otherwise). RAMP_ALGO_SIGMOID: MS_ERR_RAMP_NOT_HERE
-     * (its table lives in the SCurveStepper sketch). A StepperGroup's moves are always exact. */
+     * force must suit the new ramp (its own status otherwise). A StepperGroup's moves are always exact.
+     *   RAMP_ALGO_SIGMOID     the S-curve article's sigmoid: a table of timer periods from minSpeed()
+     *                         (fmin) to maxSpeed() (fmax) along a logistic curve (setSigmoid: flex, len
+     *                         entries, each held for hold steps), walked backwards to stop (the
+     *                         SCurveStepper sketch). vmax up to STEPPER_MAX_SPS_SCURVE; the acceleration
+     *                         follows from the table (acceleration() tells it; setAcceleration:
+     *                         MS_ERR_DERIVED_PARAM). The table (2 bytes per entry, SCURVE_MAX_LEN
+     *                         entries) is allocated from the heap at the first setRamp(SIGMOID) and
+     *                         filled then (about 6,500 cycles per entry: 0.1 s for 250); a change of
+     *                         minSpeed, maxSpeed or the shape refills it at rest, a few entries per
+     *                         planner tick (while moving: at the move's end), and a moveTo() waits
+     *                         for the refill. No cut: a stop or a new target acts after the lead. */
     /*   RAMP_ALGO_SMOOTH      the filter-shaped, jerk-limited move (lib's smooth_move.h): the velocity
      *                         command through two moving averages tau1 = vmax/accel, tau2 = accel/jerk
      *                         (setJerk); |acceleration| <= accel, |jerk| <= jerk, velocity and
@@ -203,6 +214,22 @@ public:
      * low (MS_ERR_JERK_TOO_LOW). */
     motion_status_t setJerk(float steps_per_s3);
     float jerk() const { return jerk_; }
+    /* The sigmoid ramp's shape (RAMP_ALGO_SIGMOID; kept whatever the ramp in force, default flex 5,
+     * len 250, hold 4): flex > 0 up to STEPPER_MAX_FLEX, len 2 to SCURVE_MAX_LEN entries, hold >= 1
+     * steps per entry; with minSpeed()/maxSpeed() a table the article's check accepts (its status
+     * otherwise: nothing changes). */
+    motion_status_t setSigmoid(float flex, uint16_t len, uint16_t hold);
+    float sigmoidFlex() const { return sig_flex_; }
+    uint16_t sigmoidLen() const { return sig_len_; }
+    uint16_t sigmoidHold() const { return sig_hold_; }
+    /* The table in force (false: not the sigmoid ramp): the steps and seconds of its acceleration,
+     * and its end speed (fmax as the timer's whole periods give it). */
+    struct SigmoidFigures {
+        uint32_t accelSteps;
+        float accelTimeS;
+        float cruiseSps;
+    };
+    bool sigmoidFigures(SigmoidFigures &f) const;
     float maxSpeed() const { return params_.vmax_sps; }
     float acceleration() const { return params_.accel_sps2; }
     float minSpeed() const { return params_.v0_sps; }
@@ -327,6 +354,19 @@ private:
     motion_status_t probe(ramp_algo_t algo, const ramp_hooks_t *hooks, const ramp_params_t &p) const;
     motion_status_t set_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks);
     motion_status_t set_ramp_smooth();
+    /* the sigmoid ramp (heap: its table): set by set_ramp_sigmoid, so that a sketch that never asks
+     * for it links none of it */
+    struct Sigmoid;
+    motion_status_t set_ramp_sigmoid();
+    ramp_sigmoid_params_t sigmoid_params(const ramp_params_t &p) const;
+    void sigmoid_changed(); /* a parameter of the table changed: refill now (at rest) or at the end */
+    void sigmoid_refill_start();
+    static void sigmoid_slice(Stepper &s); /* planner interrupt: a few entries of the refill */
+    void refill_tick();                    /* planner interrupt: the slice, if a refill runs */
+    static void (*sigmoid_slice_)(Stepper &s);
+    static motion_status_t (*sigmoid_check_)(const ramp_sigmoid_params_t *p);
+    static motion_status_t (*sigmoid_init_)(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,
+                                            uint16_t table_len, int32_t pos);
     motion_status_t switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks);
     /* the smooth ramp's lib calls, set by set_ramp_smooth (a sketch without it links none of them) */
     static motion_status_t (*smooth_check_)(const ramp_params_t *params, double jerk_sps3);
@@ -365,11 +405,17 @@ private:
     /* the stop from the cruise, planned ahead (prepare_stop) from position stop_from_: the planner's
      * state after it and its first commands; valid for any profile whose constants, direction and
      * cruise speed are stop_exact_'s (k, dir) and stop_up_ */
-    step_exact_t stop_exact_;
-    step_cmd_t stop_cmds_[MOTION_STEPPER_CUT_CMDS];
-    uint64_t stop_up_;
-    int32_t stop_from_, stop_pos_, stop_target_;
-    uint8_t stop_n_, stop_active_;
+    struct StopAhead {
+        step_exact_t exact;
+        step_cmd_t cmds[MOTION_STEPPER_CUT_CMDS];
+        uint64_t up;
+        int32_t from, pos, target;
+        uint8_t n, active;
+    };
+    /* from the heap at begin() (about 250 bytes), with the planner interrupt only: planned from
+     * loop() (planInLoop) a stop is planned at a cut as any other, and the three Steppers of a
+     * sketch that plans so keep their SRAM for the stack */
+    StopAhead *stop_;
     DirectionHook hook_;
     uint8_t dir_pin_; /* 0xFF: the axis's own, written by the engine */
     uint8_t en_pin_;
@@ -380,6 +426,9 @@ private:
     ramp_params_t params_;
     float jerk_;
     step_smooth_t *smooth_; /* the smooth ramp's planner state (heap), or none yet */
+    Sigmoid *sig_;          /* the sigmoid ramp's table (heap), or none yet */
+    float sig_flex_;
+    uint16_t sig_len_, sig_hold_;
     step_planner_t planner_;
 };
 

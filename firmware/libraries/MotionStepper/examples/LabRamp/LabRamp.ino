@@ -30,7 +30,7 @@ void setup()
     say(F("setAcceleration(8000)"), x.setAcceleration(8000));
     say(F("setRamp(LEIB)"), x.setRamp(RAMP_ALGO_LEIB));
     say(F("setMaxSpeed(20000)"), x.setMaxSpeed(20000)); /* above the Leib ramp's limit: refused */
-    say(F("setRamp(SIGMOID)"), x.setRamp(RAMP_ALGO_SIGMOID)); /* its table is SCurveStepper's */
+    say(F("setRamp(SIGMOID)"), x.setRamp(RAMP_ALGO_SIGMOID)); /* refused: v0 100 is too slow for its 16-bit periods at 16 MHz */
     say(F("begin()"), x.begin());
     Serial.println(F("READY LabRamp"));
     say(F("moveTo(2000)"), x.moveTo(2000));
