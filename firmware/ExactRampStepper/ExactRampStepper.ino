@@ -7,8 +7,9 @@
  * How: the sketch is a user of the MotionStepper library (docs/library.md): a Stepper on X, and
  * MotionConsole turning each serial line into one of its calls (a target -> x.moveTo(), stop ->
  * x.stop(), ! -> x.forceStop(), set -> x.setMaxSpeed() ...). Its planner (lib/src/step_planner.h,
- * step_exact.h) runs here in loop() (BackgroundPlanner::planInLoop(): loop() is the console's alone
- * and never blocks, so no planner interrupt comes between the step interrupts) and keeps a queue of
+ * step_exact.h) runs here in loop() (the console makes it so, BackgroundPlanner::planInLoop(): loop()
+ * is the console's alone and never blocks, so no planner interrupt comes between the step
+ * interrupts, and a Stepper alone may step up to max_sps) and keeps a queue of
  * step commands STEP_ENGINE_LEAD_MS ahead; Timer1's compare interrupt only takes the next command
  * and makes the step (MultiStepEngine.h, axis 0). A stop or a new target cuts the queue a few
  * milliseconds ahead (Stepper.h). Defaults: v0 = 0, vmax = 20,000 steps/s, accel = 50,000
@@ -28,12 +29,11 @@
 #include <MotionConsole.h>
 
 Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38; RAMP_ALGO_EXACT
-static MotionConsole console(x); // the serial commands, each one a call of x
+static MotionConsole console(x); // the serial commands, each one a call of x; it plans in loop()
 
 
 void setup()
 {
-    BackgroundPlanner::planInLoop(); // console.poll() plans; first: a Stepper alone so steps up to max_sps
     x.setMaxSpeed(20000);            // steps/s
     x.setAcceleration(50000);        // steps/s^2 (v0: the library's default, 0)
     x.begin();

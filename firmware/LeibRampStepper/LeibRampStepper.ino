@@ -16,11 +16,11 @@
  *                                       FWDS, low for BWDS; the engine calls it whenever the
  *                                       direction is set (a move's first step, a reversal). Delete
  *                                       them and the motor runs one way only, as the handout says.
- * The two ramp functions run ahead of the motor, in the MotionStepper library's planner interrupt
- * (Timer3): the planner turns their intervals into step commands, and Timer1's compare interrupt
- * only plays those back (the STEP pulses), so the float arithmetic never delays a step and loop()
- * only reads the serial commands. The arithmetic itself is lib's ramp_leib.c, the code `motionsim
- * ramp --algo leib` runs: change it here and the board follows your version.
+ * The two ramp functions run ahead of the motor, in loop() (the MotionStepper library's planner,
+ * which the console runs on every pass): the planner turns their intervals into step commands, and
+ * Timer1's compare interrupt only plays those back (the STEP pulses), so the float arithmetic never
+ * delays a step. The arithmetic itself is lib's ramp_leib.c, the code `motionsim ramp --algo leib`
+ * runs: change it here and the board follows your version.
  *
  * The sketch is a user of the MotionStepper library's Stepper, as your own sketch would be
  * (docs/library.md): setup() gives it the handout's parameters, its ramp (your two functions) and
@@ -30,10 +30,10 @@
  * hands over through):
  *   1. LeibRampStepper.ino (this file)  setup(), loop(), the three functions of the handout
  *   2. MotionConsole.cpp    poll(): a target line -> x.moveTo(target), then its "OK" once planned
- *   3. Stepper.cpp          moveTo() leaves the request; run_request(), called by the planner
- *                           interrupt (Timer3, BackgroundPlanner.cpp: tick()), plans it with
- *                           step_planner_move(), and the tick hands the commands to X's queue
- *                           (MultiStepEngine::service(), MultiStepEngine.cpp)
+ *   3. Stepper.cpp          moveTo() leaves the request; run_request(), called by the planner's
+ *                           tick (BackgroundPlanner.cpp: tick(), run by console.poll()), plans it
+ *                           with step_planner_move(), and the tick hands the commands to X's
+ *                           queue (MultiStepEngine::service(), MultiStepEngine.cpp)
  *   4. step_planner.c       a move into step commands: for each interval it asks ramp.c's
  *                           ramp_next_ticks(), which calls your computeNewSpeed() (and your
  *                           preComputation() once for every move)
@@ -109,5 +109,5 @@ void setup()
 
 void loop()
 {
-    console.poll(); // serial commands; the planner interrupt keeps the step queue ahead
+    console.poll(); // serial commands, and the planner keeping the step queue ahead
 }

@@ -24,11 +24,10 @@
 #include <MotionConsole.h>
 
 Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38
-static MotionConsole console(x); // the serial commands, each one a call of x
+static MotionConsole console(x); // the serial commands, each one a call of x; it plans in loop()
 
 void setup()
 {
-    BackgroundPlanner::planInLoop();           // console.poll() plans (loop() never blocks)
     Stepper::setTickRate(STEPPER_TICK_HZ_LAB); // the 2 MHz timer: the table's periods count its ticks
     x.setMaxSpeed(4000);                       // fmax, steps/s
     x.setMinSpeed(200);                        // fmin, steps/s

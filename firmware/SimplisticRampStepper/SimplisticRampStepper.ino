@@ -17,9 +17,9 @@
  *   moveOneStep(), step 11              moveOneStep() below: its two lines set dirPin high for
  *                                       FWDS, low for BWDS; the engine calls it whenever the
  *                                       direction is set (a move's first step, a reversal)
- * The ramp functions run ahead of the motor, in the MotionStepper library's planner interrupt;
- * Timer1's compare interrupt only plays back the step commands the planner made of their
- * intervals. The arithmetic is lib's ramp_simplistic.c, the code `motionsim ramp --algo simplistic`
+ * The ramp functions run ahead of the motor, in loop() (the MotionStepper library's planner, which
+ * the console runs on every pass); Timer1's compare interrupt only plays back the step commands the
+ * planner made of their intervals. The arithmetic is lib's ramp_simplistic.c, the code `motionsim ramp --algo simplistic`
  * runs; `motionsim ramp --compare` shows how far it is from ideal. The sketch is a user of the
  * library's Stepper (docs/library.md), each serial command one of its calls. From setup()/loop() to
  * the STEP pin: this file, MotionConsole.cpp, Stepper.cpp, step_planner.c, MultiStepEngine.cpp,
@@ -85,5 +85,5 @@ void setup()
 
 void loop()
 {
-    console.poll(); // serial commands; the planner interrupt keeps the step queue ahead
+    console.poll(); // serial commands, and the planner keeping the step queue ahead
 }

@@ -15,7 +15,7 @@ import os
 import re
 
 ENGINE = ("MultiStepEngine*", "StepCut.*")
-CONSOLES = ("StepConsole.*", "StepperConsole.h", "MultiAxisConsole.*", "MotionConsole.*")
+CONSOLES = ("StepConsole.*", "MultiAxisConsole.*", "MotionConsole.*")
 SOURCE_EXT = (".c", ".cpp", ".S")
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.M)
 

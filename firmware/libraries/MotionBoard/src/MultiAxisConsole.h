@@ -1,5 +1,5 @@
-/* MultiAxisConsole.h - MultiAxisStepper's serial protocol (the console itself is StepConsole.h, shared
- * with the one-axis StepperConsole; this file adds the coordinated move). 9600 baud, lines ending
+/* MultiAxisConsole.h - MultiAxisStepper's serial protocol (the console itself is StepConsole.h; this
+ * file adds the coordinated move). 9600 baud, lines ending
  * in CR, LF or CRLF, through MotionSerial; replies through a SerialOutQueue, so printing never
  * holds up the planners. The axes are x, y and z; <a> below is one of them.
  *

@@ -1,12 +1,13 @@
-/* StepConsole.h - the stepper sketches' serial console, one for one to three axes, on the one step
+/* StepConsole.h - the step engine's own serial console, for one to three axes, on the one step
  * engine (MultiStepEngine.h: X, Y, Z on Timer1's compare channels A, B, C). Serial at 9600 baud,
  * lines ending in CR, LF or CRLF through MotionSerial; replies through a SerialOutQueue, so printing
- * never holds up the planners. A sketch makes one of the two consoles built on it:
- *   StepperConsole console(ramp);               one axis (X): StepperConsole.h has its protocol
- *                                               (a bare <target>, stop, !, ?, set <key> <value>)
+ * never holds up the planners. The MultiAxisStepper sketch makes the console built on it:
  *   MultiAxisConsole console(xRamp, yRamp, zRamp);  three axes: MultiAxisConsole.h (x|y|z <target>,
  *                                               move x<t> y<t> z<t>, stop [axis], ...)
  * and calls console.begin(F("SketchName")) in setup() and console.poll() on every pass of loop().
+ * (The one-axis sketches speak their protocol through the MotionStepper library's MotionConsole, on
+ * a Stepper, since 2026-12-05; StepperConsole, this class's one-axis form, is gone: its one-axis
+ * branches here wait to go with the three-axis console, once MultiAxisStepper is on the library.)
  * The replies of both protocols (OK/DONE/ERR, the `?` lines) are in docs/serial.md and
  * docs/multi-axis.md; this class is what both do: parse a line, plan (lib's step_planner.h; for a
  * coordinated move step_coord.h, through the StepConsoleCoord part only the three-axis console

@@ -1,12 +1,14 @@
-/* StepperRamps.h - what differs between the three stepper sketches: how a move is planned and which
- * parameters `set` changes. StepperConsole talks to either through StepperRamp, and the step
- * engine's planner (lib/src/step_planner.h) gets the parameters from it.
+/* StepperRamps.h - the ramp of each axis of the step engine's own console (StepConsole.h: the
+ * MultiAxisStepper sketch; the one-axis sketches are users of the MotionStepper library, whose
+ * Stepper keeps its own parameters): how a move is planned and which parameters `set` changes. The
+ * console talks to it through StepperRamp, and the step engine's planner (lib/src/step_planner.h)
+ * gets the parameters from it.
  *
- *   TrapezoidRamp (SimplisticRampStepper, LeibRampStepper, ExactRampStepper): v0, vmax, accel
- *                 -> lib/src/step_planner.h (exact: step_exact.h; the others through ramp.h)
- *   SCurveRamp    (SCurveStepper): the S-curve article's sigmoid table; v0/vmax are its fmin/fmax, plus flex,
- *                 len and hold; its acceleration follows from those, so `set accel` is refused
- *                 (MS_ERR_DERIVED_PARAM) and `?` reports the table's mean acceleration.
+ *   TrapezoidRamp v0, vmax, accel -> lib/src/step_planner.h (exact: step_exact.h; the lab's ramps
+ *                 through ramp.h)
+ * (The sigmoid table of SCurveStepper, SCurveRamp until 2026-12-05, is now the library's Stepper's:
+ * setRamp(RAMP_ALGO_SIGMOID).) The limits below (SCURVE_MAX_LEN, STEPPER_MAX_FLEX ...) are the
+ * sketches' and the library's.
  * Every `set` checks the new parameter set with the lib module before keeping it (the longest
  * interval, the 16-bit periods, ...), so a rejected value changes nothing. A value above this
  * sketch's limit is MS_ERR_OUT_OF_RANGE, and the console adds the limit (print_limit):
@@ -145,39 +147,5 @@ private:
 #define SCURVE_MAX_LEN 1000 /* table entries: 2 bytes of SRAM each */
 #endif
 
-class SCurveRamp : public StepperRamp {
-public:
-    SCurveRamp(uint16_t len, uint16_t hold, float fmin_hz, float fmax_hz, float flex, float max_sps,
-               uint32_t timer_hz);
-    /* Fills the table (about 6,500 cycles per entry) at once; call once in setup(). Later refills
-     * (a `set` at rest, or one kept for the end of a move) run in slices: busy(). */
-    motion_status_t begin();
-    motion_status_t setup(step_planner_t &pl, int32_t pos) override;
-    motion_status_t set(const char *key, const char *value) override;
-    bool apply(step_planner_t &pl, bool moving) override;
-    void at_rest(step_planner_t &pl, int32_t pos) override;
-    bool busy(step_planner_t &pl) override;
-    uint32_t tick_hz() const override { return params_.timer_hz; }
-    void print_params(Print &out) const override;
-    void print_param(Print &out, const char *key) const override;
-    void print_limit(Print &out, const char *key) const override;
-
-private:
-    motion_status_t fill(const ramp_sigmoid_params_t &p);
-    ramp_sigmoid_params_t params_;
-    ramp_sigmoid_params_t pending_; /* checked by set(), filled into the table at rest */
-    bool has_pending_;
-    /* the refill at rest, a few entries per busy() call (a whole table takes 0.1 s at len 250,
-     * 0.4 s at 1000: loop() must not stop that long) */
-    bool filling_;
-    uint16_t fill_i_;
-    int32_t fill_pos_;
-    ramp_sigmoid_params_t fill_p_;
-    uint16_t table_[SCURVE_MAX_LEN];
-    double accel_time_s_;
-    double f_first_, f_last_; /* the table's end speeds, steps/s */
-    float max_sps_;
-    void table_done();
-};
 
 #endif

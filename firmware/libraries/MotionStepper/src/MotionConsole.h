@@ -47,6 +47,8 @@
 
 class MotionConsole {
 public:
+    /* Also makes the planner run from loop() (BackgroundPlanner::planInLoop(): poll() plans), so make
+     * it a global, as the sketches do (before setup() and the Stepper's begin()). */
     explicit MotionConsole(Stepper &x);
 
     /* After the Stepper's begin(): Serial at 9600 baud, the LED mirror (X: STEPPER_LED_MIRROR),
