@@ -185,16 +185,6 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
 void BackgroundPlanner::feed()
 {
     uint8_t dry = 0;
-    if (in_loop_ && count_ == 1) {
-        /* one Stepper planned from loop() (a stepper sketch's console): as many commands as its queue
-         * needs, up to a move's start-up batch per call, with no choosing between axes (the lab's
-         * ramps plan every step, near their top rate with little time to spare: with the choosing
-         * LeibRampStepper was clean to 10,000 steps/s instead of 12,000) */
-        for (uint8_t i = 0; i < 3; i++)
-            if (axes_[i])
-                (void)MultiStepEngine::service(i, axes_[i]->source(), MULTI_START_SLOTS);
-        return;
-    }
     /* with share_: the tick's start, and half the lead in ticks: above it a long tick leaves loop()
      * its turn (MOTION_STEPPER_TICK_US); without (no smooth ramp taken), nothing: the ticks as before */
     uint32_t t0 = share_ ? micros() : 0;

@@ -79,8 +79,6 @@ void MotionConsole::poll()
             }
         }
     }
-    plan(); /* twice a pass, as the sketches' consoles fed their queues: the lab's ramps need it near
-               their top rate (LeibRampStepper at 12,000 steps/s ran dry once with one) */
     queue_.pump();
 }
 
