@@ -11,7 +11,7 @@
  *   20000         move to absolute position 20000: "OK 0 20000", then "DONE 20000"
  *   ?             position, state, table parameters, acceleration time and steps
  *   set vmax 3000 v0 (= fmin), vmax (= fmax), flex, len, hold; the table is recomputed (about
- *                 0.05 s for 250 entries, up to 1000). `set accel` is refused: it follows from the others.
+ *                 0.1 s for 250 entries, up to 1000). `set accel` is refused: it follows from the others.
  * The sketch is a user of the MotionStepper library (docs/library.md): a Stepper on X with the
  * sigmoid ramp (x.setRamp(RAMP_ALGO_SIGMOID), its shape x.setSigmoid(flex, len, hold)), and
  * MotionConsole turning each serial line into one of its calls (set len -> x.setSigmoid(), a target

@@ -8,9 +8,10 @@
 #include <StepperPins.h> /* STEPPER_LED_MIRROR, STEP_ENGINE_LEAD_MS(_LEIB), STEPPER_TIMED_LOOP */
 
 /* Room a DONE line needs in the output queue ("DONE -2147483648" and CR LF: 18 bytes; a DONE that
- * would not fit waits, and no line is read before it); a `?` line about 140 bytes. */
+ * would not fit waits, and no line is read before it); a `?` line about 140 bytes, the sigmoid's
+ * about 220 (the queue holds 256: the DONE after it waits for the queue to drain). */
 #define MOTION_CONSOLE_DONE_ROOM 24U
-#define MOTION_CONSOLE_STATUS_ROOM 160U
+#define MOTION_CONSOLE_STATUS_ROOM 230U
 
 MotionConsole::MotionConsole(Stepper &x)
     : x_(x), status_pending_(false), ok_pending_(false), ok_target_(0), queue_(Serial), serial_(Serial, queue_, 240)
@@ -143,8 +144,9 @@ bool MotionConsole::finish_ok()
         serial_.reply_error(st);
         return true;
     }
-    if (!p.afterDone)
-        (void)collect_done(); /* a move that ended just before this target: its DONE first */
+    if (p.doneBefore && !p.afterDone)
+        (void)collect_done(); /* a move that ended just before this target: its DONE first (an end
+                                 recorded since is this move's: a move of no step ends at once) */
     out.print(F("OK "));
     out.print(p.from);
     out.print(' ');
@@ -169,12 +171,14 @@ void MotionConsole::handle_stop(const char *cursor, bool halt)
         return;
     }
     (void)collect_done(); /* a move that has just ended reports first */
-    moving = x_.isRunning();
     st = halt ? x_.forceStop() : x_.stop();
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;
     }
+    /* after the call: a move asked for and not started yet (waiting for the sigmoid's refill) is
+     * dropped by it and gets no DONE: "(not moving)"; a move stepping keeps running until its end */
+    moving = x_.isRunning();
     if (!moving)
         serial_.out().println(halt ? F("OK halt (not moving)") : F("OK stop (not moving)"));
     else

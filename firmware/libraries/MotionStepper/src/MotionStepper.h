@@ -6,10 +6,12 @@
  *   StepperGroup xy(x, y);              straight-line moves of 2-3 of them: StepperGroup.h
  * and, for a sketch driven from the Serial Monitor as the stepper sketches are (#include
  * <MotionConsole.h> after this header): MotionConsole console(x), the sketches' protocol carried
- * out through x's calls (the lab sketches LeibRampStepper and SimplisticRampStepper use it).
+ * out through x's calls (the one-axis stepper sketches use it; it plans from loop(), below).
  *
  * Timer1 (compare A/B/C) makes the steps (MotionBoard's MultiStepEngine), Timer3 plans them in the
- * background (BackgroundPlanner.h); both are taken. docs/library.md explains it all, with a table
+ * background (BackgroundPlanner.h); both are taken (with BackgroundPlanner::planInLoop(), as a
+ * MotionConsole makes it, the planning runs from loop() and Timer3 stays free). docs/library.md
+ * explains it all, with a table
  * of AccelStepper's and FastAccelStepper's calls and ours.
  */
 #ifndef MOTION_STEPPER_H

@@ -44,8 +44,8 @@ uint8_t Stepper::made_;
 
 Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
-      done_(false), has_next_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0), plan_from_(0),
-      plan_after_done_(false),
+      done_(false), has_next_(false), keep_done_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0), plan_from_(0),
+      plan_after_done_(false), plan_done_before_(false),
       last_status_(MS_OK), cuts_missed_(0), stop_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
       ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0), sig_(0), sig_flex_(5.0f), sig_len_(250),
       sig_hold_(4)
@@ -125,7 +125,7 @@ void Stepper::set_cmd_length()
         planner_.max_cmd_ticks = 1UL; /* one step per command: it fits between two deadlines of loop() */
     else if (BackgroundPlanner::inLoop())
         planner_.max_cmd_ticks = BackgroundPlanner::ticksPerUs() * 4000UL; /* lib's 4 ms: a cut lands 5-6 ms ahead
-                                                                        anyway, and at 100,000 steps/s the
+                                                                        anyway, and at 90,000 steps/s the
                                                                         planner has a quarter of the CPU */
     else if (planner_.algo != RAMP_ALGO_SMOOTH)
         planner_.max_cmd_ticks = BackgroundPlanner::ticksPerUs() * 1000UL *
@@ -274,6 +274,10 @@ motion_status_t Stepper::switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks
         return MS_ERR_BUSY; /* a move was asked meanwhile (from an interrupt?) */
     algo_ = algo;
     ramp_hooks_ = hooks;
+    if (sig_) {
+        sig_->filling = false; /* the sigmoid's table is no longer the ramp's: no refill */
+        sig_->stale = false;
+    }
     MultiStepEngine::set_start_full(axis_, algo == RAMP_ALGO_SMOOTH); /* its first commands cost more than they last */
     if (begun_)
         (void)init_planner(MultiStepEngine::position(axis_)); /* probed: plans */
@@ -414,7 +418,7 @@ void Stepper::run_request()
     motion_status_t st;
     if (r == REQ_NONE)
         return;
-    if (r == REQ_MOVE && sig_ && sig_->filling && !MultiStepEngine::moving(axis_))
+    if (r == REQ_MOVE && algo_ == RAMP_ALGO_SIGMOID && sig_ && sig_->filling && !MultiStepEngine::moving(axis_))
         return; /* the sigmoid's table is being refilled: the move from rest waits for it */
     req_ = REQ_NONE;
     if (r == REQ_STOP) {
@@ -435,6 +439,7 @@ void Stepper::run_request()
         return;
     }
     plan_after_done_ = false;
+    plan_done_before_ = done_; /* an end not taken yet is an earlier move's */
     if (MultiStepEngine::moving(axis_) && (stop_in_cruise(true, req_target_) || plan_at_cut(REQ_MOVE, req_target_))) {
         /* the move continues into the new plan from the cut (plan_from_: set there) */
         has_next_ = false;
@@ -463,6 +468,7 @@ void Stepper::run_request()
         step_planner_halt(&planner_, MultiStepEngine::position(axis_));
         set_cmd_length(); /* a Stepper begun since the last move may have changed it */
     }
+    plan_done_before_ = done_; /* with the end of the move that ended just now */
     st = step_planner_move(&planner_, req_target_);
     last_status_ = st;
     plan_from_ = step_planner_position(&planner_); /* after the steps already handed to the queue */
@@ -474,7 +480,9 @@ void Stepper::run_request()
     }
     has_next_ = false;
     if (c == MultiStepEngine::AT_REST) {
-        done_ = false;
+        if (!keep_done_)
+            done_ = false; /* a new move clears an end not taken ... */
+        keep_done_ = false; /* ... but not the end of the move this target waited for */
         MultiStepEngine::open_move(axis_, false);
     }
 }
@@ -721,6 +729,7 @@ bool Stepper::planStart(PlanStart &start) const
     {
         start.from = to_user(plan_from_);
         start.afterDone = plan_after_done_;
+        start.doneBefore = plan_done_before_;
     }
     return true;
 }
@@ -872,6 +881,8 @@ AxisSource Stepper::source()
 
 void Stepper::record_done(int32_t engine_position)
 {
+    if (sig_ && sig_->stale)
+        sigmoid_refill_start(); /* parameters set during the move (a group's ends here) */
     done_pos_ = engine_position;
     done_ = true;
     if (auto_disable_)
@@ -889,6 +900,7 @@ void Stepper::engine_done(int32_t position)
             has_next_ = false;
             req_target_ = next_target_;
             req_ = REQ_MOVE;
+            keep_done_ = true;
             done_pos_ = position;
             done_ = true;
             return;
@@ -915,14 +927,14 @@ motion_status_t (*Stepper::sigmoid_check_)(const ramp_sigmoid_params_t *);
 motion_status_t (*Stepper::sigmoid_init_)(step_planner_t *, const ramp_sigmoid_params_t *, const uint16_t *, uint16_t,
                                           int32_t);
 
-ramp_sigmoid_params_t Stepper::sigmoid_params(const ramp_params_t &p) const
+ramp_sigmoid_params_t Stepper::sigmoid_params(const ramp_params_t &p, float flex, uint16_t len, uint16_t hold)
 {
     ramp_sigmoid_params_t s;
-    s.len = sig_len_;
-    s.hold = sig_hold_;
+    s.len = len;
+    s.hold = hold;
     s.fmin_hz = (float)p.v0_sps;
     s.fmax_hz = (float)p.vmax_sps;
-    s.flex = sig_flex_;
+    s.flex = flex;
     s.timer_hz = BackgroundPlanner::tickHz();
     return s;
 }
@@ -953,16 +965,27 @@ motion_status_t Stepper::set_ramp_sigmoid()
         if (!sig_)
             return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its table */
         sig_->filling = false;
+        sig_->stale = false;
+        sig_->fill_i = 0;
     }
     sigmoid_slice_ = sigmoid_slice;
     sigmoid_init_ = step_planner_init_sigmoid;
     sigmoid_check_ = ramp_sigmoid_check;
-    PlannerLock lock;
-    if (isRunning())
-        return MS_ERR_BUSY;
-    st = ramp_sigmoid_fill(&s, sig_->table, SCURVE_MAX_LEN); /* at once: checked, so it fills */
+    {
+        PlannerLock lock;
+        if (isRunning())
+            return MS_ERR_BUSY;
+        sig_->filling = false; /* a refill under way stops: the table is filled whole below */
+        sig_->stale = false;
+    }
+    /* without the lock (0.1 s for 250 entries: other axes' planning must go on); this axis is at rest
+     * and no refill runs, so nothing else writes the table meanwhile. Checked: it fills. */
+    st = ramp_sigmoid_fill(&s, sig_->table, SCURVE_MAX_LEN);
     if (st != MS_OK)
         return st;
+    PlannerLock lock;
+    if (isRunning())
+        return MS_ERR_BUSY; /* a move asked meanwhile (from an interrupt?): the ramp stays */
     sig_->now = s;
     sig_->filling = false;
     sig_->stale = false;
@@ -981,20 +1004,12 @@ motion_status_t Stepper::setSigmoid(float flex, uint16_t len, uint16_t hold)
     ramp_params_t p = params_;
     ramp_sigmoid_params_t s;
     motion_status_t st;
-    float f0 = sig_flex_;
-    uint16_t l0 = sig_len_, h0 = sig_hold_;
     if (isnan(flex) || isinf(flex))
         return MS_ERR_NOT_FINITE;
     if (flex > (float)STEPPER_MAX_FLEX || len > SCURVE_MAX_LEN)
         return MS_ERR_OUT_OF_RANGE;
     p.tick_hz = BackgroundPlanner::tickHz();
-    sig_flex_ = flex; /* for sigmoid_params; put back on a refusal */
-    sig_len_ = len;
-    sig_hold_ = hold;
-    s = sigmoid_params(p);
-    sig_flex_ = f0;
-    sig_len_ = l0;
-    sig_hold_ = h0;
+    s = sigmoid_params(p, flex, len, hold); /* the members change only once it is checked */
     st = ramp_sigmoid_check(&s);
     if (st != MS_OK)
         return st;
@@ -1053,6 +1068,6 @@ void Stepper::sigmoid_slice(Stepper &s)
 
 void Stepper::refill_tick()
 {
-    if (sig_ && sig_->filling && sigmoid_slice_)
+    if (algo_ == RAMP_ALGO_SIGMOID && sig_ && sig_->filling && sigmoid_slice_)
         sigmoid_slice_(*this);
 }

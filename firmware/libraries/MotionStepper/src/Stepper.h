@@ -280,10 +280,13 @@ public:
      * from: where the new plan starts (the step where the queue was cut, or where the steps queued
      * before the call end); afterDone: every step of the move in progress was queued already, so
      * that move ends at its target with its own end (takeDone) and the new one starts from there
-     * (from is that target). lastStatus() tells whether the plan was taken. */
+     * (from is that target). doneBefore: an end not taken yet (takeDone) was there when it was
+     * planned: it belongs to a move before this one (an end that comes later is this move's or the
+     * one it waits for). lastStatus() tells whether the plan was taken. */
     struct PlanStart {
         long from;
         bool afterDone;
+        bool doneBefore;
     };
     bool planStart(PlanStart &start) const;
 
@@ -358,7 +361,8 @@ private:
      * for it links none of it */
     struct Sigmoid;
     motion_status_t set_ramp_sigmoid();
-    ramp_sigmoid_params_t sigmoid_params(const ramp_params_t &p) const;
+    ramp_sigmoid_params_t sigmoid_params(const ramp_params_t &p) const { return sigmoid_params(p, sig_flex_, sig_len_, sig_hold_); }
+    static ramp_sigmoid_params_t sigmoid_params(const ramp_params_t &p, float flex, uint16_t len, uint16_t hold);
     void sigmoid_changed(); /* a parameter of the table changed: refill now (at rest) or at the end */
     void sigmoid_refill_start();
     static void sigmoid_slice(Stepper &s); /* planner interrupt: a few entries of the refill */
@@ -394,12 +398,14 @@ private:
     bool auto_disable_;
     volatile bool done_;
     volatile bool has_next_;
+    bool keep_done_; /* the next move from rest keeps an end not taken (a target that waited for it) */
     volatile uint8_t req_; /* REQ_*: what loop() asked the planner interrupt to do */
     int32_t done_pos_;    /* engine coordinates */
     int32_t next_target_; /* engine coordinates: the target accepted while the last steps ran */
     int32_t req_target_;  /* engine coordinates: REQ_MOVE's target */
     int32_t plan_from_;   /* engine coordinates: where the last move planned starts (planStart) */
     bool plan_after_done_;
+    bool plan_done_before_;
     motion_status_t last_status_;
     uint16_t cuts_missed_;
     /* the stop from the cruise, planned ahead (prepare_stop) from position stop_from_: the planner's
