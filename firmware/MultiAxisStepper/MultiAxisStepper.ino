@@ -1,14 +1,16 @@
 // motion-sketch: multiaxis
-/* MultiAxisStepper - the X, Y and Z drivers of a RAMPS 1.4, each with the exact constant-acceleration
- * ramp (every step planned within one tick of F = 16 MHz of its time; the three step interrupts
- * nest, so on the pins an edge waits for no other axis's step), moved one at a time, several at
- * once, or together on a straight line. Wiring and limits: MotionBoard's MultiAxisPins.h; the rates
- * measured by `make bench` are in docs/bench.md; docs/multi-axis.md explains it all.
+/* MultiAxisStepper - the X, Y and Z drivers of a RAMPS 1.4, each a Stepper of the MotionStepper
+ * library with the exact constant-acceleration ramp (every step planned within one tick of
+ * F = 16 MHz of its time; the three step interrupts nest, so on the pins an edge waits for no other
+ * axis's step), moved one at a time, several at once, or together on a straight line (a
+ * StepperGroup). Wiring and limits: MotionBoard's MultiAxisPins.h; the rates measured by `make bench`
+ * are in docs/bench.md; docs/multi-axis.md explains it all.
  *
- * How: the planners (lib/src/step_planner.h for an axis alone, step_coord.h for a coordinated move)
- * run here in loop() and keep each axis's queue of step commands ahead; Timer1's three compare
- * interrupts (A: X, B: Y, C: Z, one timeline) only take the next command and make the step
- * (MultiStepEngine.h). Defaults per axis: v0 = 0, vmax = 10,000 steps/s, accel = 10,000 steps/s^2 (three axes moving
+ * How: the console (MotionConsole.h) carries out every line through the Steppers' and the group's
+ * public calls (moveTo, stop, forceStop, the setters), as your own sketch would; the planner runs in
+ * loop() (console.poll()) and keeps each axis's queue of step commands ahead; Timer1's three compare
+ * interrupts (A: X, B: Y, C: Z, one timeline) only take the next command and make the step.
+ * Defaults per axis: v0 = 0, vmax = 10,000 steps/s, accel = 10,000 steps/s^2 (three axes moving
  * independently at once stay clean at these; docs/bench.md has the ceilings).
  * Serial Monitor at 9600 baud, "Both NL & CR":
  *   x 20000          move X alone to 20000: "OK x 0 20000", later "DONE x 20000" (y, z likewise)
@@ -21,19 +23,26 @@
  * (coordinated; motionsim's own defaults are faster) and `motionsim ramp --algo exact --tick-hz
  * 16000000 --queue` (an axis alone).
  */
-#include <MultiAxisConsole.h>
+#include <MotionStepper.h>
+#include <MotionConsole.h>
 
-static TrapezoidRamp xRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
-static TrapezoidRamp yRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
-static TrapezoidRamp zRamp(RAMP_ALGO_EXACT, 0.0, 10000.0, 10000.0, MULTI_MAX_SPS, MULTI_TICK_HZ);
-static MultiAxisConsole console(xRamp, yRamp, zRamp);
-
-/* Timer1's compare interrupts (A: X, B: Y, C: Z) make the steps the planners queued: their vectors
- * are MotionBoard's MultiStepEngineIsr.inc itself (MultiStepEngine.h), so this sketch defines no ISR()
- * for Timer1. */
+static Stepper x(Stepper::X);
+static Stepper y(Stepper::Y);
+static Stepper z(Stepper::Z);
+static StepperGroup xyz(x, y, z); /* `move`: straight lines */
+static MotionConsole console(x, y, z, xyz);
 
 void setup()
 {
+    x.setMaxSpeed(10000);     // steps/s, each axis
+    x.setAcceleration(10000); // steps/s^2
+    y.setMaxSpeed(10000);
+    y.setAcceleration(10000);
+    z.setMaxSpeed(10000);
+    z.setAcceleration(10000);
+    x.begin();
+    y.begin();
+    z.begin();
     console.begin(F("MultiAxisStepper"));
 }
 

@@ -11,11 +11,36 @@
  * would not fit waits, and no line is read before it); a `?` line about 140 bytes, the sigmoid's
  * about 220 (the queue holds 256: the DONE after it waits for the queue to drain). */
 #define MOTION_CONSOLE_DONE_ROOM 24U
+/* with three axes: "DONE move x -2147483648 y -2147483648 z -2147483648" and CR LF, 53 bytes; three
+ * "DONE x -2147483648" lines 60 */
+#define MOTION_CONSOLE_DONE_ROOM_3 64U
 #define MOTION_CONSOLE_STATUS_ROOM 230U
 
-MotionConsole::MotionConsole(Stepper &x)
-    : x_(x), status_pending_(false), ok_pending_(false), ok_target_(0), queue_(Serial), serial_(Serial, queue_, 240)
+static const char AXIS_NAME[3] = {'x', 'y', 'z'};
+
+/* "x" -> 0 ... ; -1 for anything else */
+static int8_t axis_of(const char *word)
 {
+    for (uint8_t i = 0; word[0] != '\0' && word[1] == '\0' && i < 3; i++)
+        if (word[0] == AXIS_NAME[i])
+            return (int8_t)i;
+    return -1;
+}
+
+MotionConsole::MotionConsole(Stepper &x, Stepper &y, Stepper &z, StepperGroup &xyz) : MotionConsole(x)
+{
+    ax_[1] = &y;
+    ax_[2] = &z;
+    n_ = 3;
+    group_ = &xyz;
+}
+
+MotionConsole::MotionConsole(Stepper &x)
+    : n_(1), group_(0), named_(0), status_pending_(0), ok_pending_(false), move_pending_(false), ok_axis_(0),
+      ok_target_(0), queue_(Serial), serial_(Serial, queue_, 240)
+{
+    ax_[0] = &x;
+    ax_[1] = ax_[2] = 0;
     /* loop() is the console's alone and never blocks: the planner runs there, on every poll(), as
      * the sketches' consoles always planned (a sketch's global, made before setup() and the
      * Stepper's begin()). In Timer3's interrupt the lab's ramps, which plan every step, reached
@@ -30,8 +55,8 @@ void MotionConsole::begin(const __FlashStringHelper *sketch_name)
     /* the lead the stepper sketches always had (StepperPins.h: the Leib ramp's float update costs
      * nearly a step's time near its top rate; the exact ramp's stop and new targets cut the queue,
      * so its lead costs them no latency) */
-    (void)BackgroundPlanner::setLeadMs(x_.ramp() == RAMP_ALGO_LEIB ? STEP_ENGINE_LEAD_MS_LEIB : STEP_ENGINE_LEAD_MS);
-    MultiStepEngine::set_led_mirror(STEPPER_LED_MIRROR && x_.axis() == Stepper::X);
+    (void)BackgroundPlanner::setLeadMs(ax_[0]->ramp() == RAMP_ALGO_LEIB ? STEP_ENGINE_LEAD_MS_LEIB : STEP_ENGINE_LEAD_MS);
+    MultiStepEngine::set_led_mirror(STEPPER_LED_MIRROR && n_ == 1 && ax_[0]->axis() == Stepper::X);
     serial_.out().print(F("READY "));
     serial_.out().println(sketch_name);
 }
@@ -43,14 +68,56 @@ static void plan()
     BackgroundPlanner::poll();
 }
 
+void MotionConsole::print_axis(Print &out, uint8_t a)
+{
+    if (n_ == 1)
+        return;
+    out.print(AXIS_NAME[a]);
+    out.print(' ');
+}
+
+/* " x <from> [<to>] y ..." for the axes of the `move` (to: none when 0) */
+void MotionConsole::print_axes(Print &out, const long *from, const long *to)
+{
+    for (uint8_t i = 0; i < n_; i++) {
+        if (!(named_ & (1U << i)))
+            continue;
+        out.print(' ');
+        print_axis(out, i);
+        out.print(from[i]);
+        if (to) {
+            out.print(' ');
+            out.print(to[i]);
+        }
+    }
+}
+
 bool MotionConsole::collect_done()
 {
     long at;
-    if (queue_.room() < MOTION_CONSOLE_DONE_ROOM)
+    Print &out = serial_.out();
+    if (queue_.room() < (n_ == 1 ? MOTION_CONSOLE_DONE_ROOM : MOTION_CONSOLE_DONE_ROOM_3))
         return false; /* no line is read before a DONE that may be waiting */
-    if (!ok_pending_ && x_.takeDone(at)) { /* with an OK waiting, finish_ok orders its DONE */
-        serial_.out().print(F("DONE "));
-        serial_.out().println(at);
+    for (uint8_t i = 0; i < n_; i++) {
+        /* with an OK waiting, finish_ok orders its DONE; an axis of the `move` reports with it */
+        if ((ok_pending_ && i == ok_axis_) || (named_ & (1U << i)) || !ax_[i]->takeDone(at))
+            continue;
+        out.print(F("DONE "));
+        print_axis(out, i);
+        out.println(at);
+    }
+    if (named_ && !move_pending_ && group_->takeDone()) {
+        long end[3];
+        for (uint8_t i = 0; i < n_; i++) {
+            if (!(named_ & (1U << i)))
+                continue;
+            end[i] = ax_[i]->currentPosition();
+            (void)ax_[i]->takeDone(at); /* the group's end is each moving member's end too */
+        }
+        out.print(F("DONE move"));
+        print_axes(out, end, 0);
+        out.println();
+        named_ = 0;
     }
     return true;
 }
@@ -59,24 +126,30 @@ void MotionConsole::poll()
 {
     const char *line;
     plan();
-    if (!collect_done() || (ok_pending_ && !finish_ok())) {
+    if (!collect_done() || (ok_pending_ && !finish_ok()) || (move_pending_ && !finish_move())) {
         serial_.drain_input(); /* no line is read meanwhile, but input must not pile up in the core */
         queue_.pump();
         return;
     }
     if (status_pending_) {
+        /* the `?` lines, one at a time as the output queue has room */
         serial_.drain_input();
-        if (queue_.room() >= MOTION_CONSOLE_STATUS_ROOM) {
-            print_status();
-            status_pending_ = false;
+        for (uint8_t i = 0; i < n_; i++) {
+            if (!(status_pending_ & (1U << i)))
+                continue;
+            if (queue_.room() >= MOTION_CONSOLE_STATUS_ROOM) {
+                print_status(i);
+                status_pending_ &= (uint8_t)~(1U << i);
+            }
+            break;
         }
     } else {
         line = serial_.poll();
         if (line != NULL) {
             handle(line);
-            if (ok_pending_) {
+            if (ok_pending_ || move_pending_) {
                 plan(); /* from loop(): the target is planned here, and its OK follows at once */
-                (void)finish_ok();
+                (void)(ok_pending_ ? finish_ok() : finish_move());
             }
         }
     }
@@ -87,28 +160,45 @@ void MotionConsole::handle(const char *line)
 {
     const char *cursor = line;
     char word[LINE_READER_MAX + 1];
+    int8_t a = 0;
     if (text_next_word(&cursor, word, sizeof word) == 0)
         return; /* a line of blanks: nothing to do */
     if (text_word_is(word, "?")) {
         if (!text_at_end(cursor))
             serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("'?' takes no arguments"));
         else
-            status_pending_ = true;
+            status_pending_ = (uint8_t)((1U << n_) - 1U);
     } else if (text_word_is(word, "set")) {
-        handle_set(cursor);
+        char w[LINE_READER_MAX + 1];
+        if (n_ > 1 && (text_next_word(&cursor, w, sizeof w) <= 0 || (a = axis_of(w)) < 0))
+            serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("set <x|y|z> <v0|vmax|accel> <value>"));
+        else
+            handle_set((uint8_t)a, cursor); /* one axis: no axis word */
     } else if (text_word_is(word, "stop") || text_word_is(word, "!")) {
         handle_stop(cursor, word[0] == '!');
-    } else if ((word[0] >= '0' && word[0] <= '9') || word[0] == '-' || word[0] == '+') {
+    } else if (group_ && text_word_is(word, "move")) {
+        handle_move(cursor);
+    } else if (n_ == 1 && ((word[0] >= '0' && word[0] <= '9') || word[0] == '-' || word[0] == '+')) {
         if (!text_at_end(cursor))
             serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("one target per line"));
         else
-            handle_target(word);
-    } else {
+            handle_target(0, word);
+    } else if (n_ > 1 && (a = axis_of(word)) >= 0) {
+        if (text_next_word(&cursor, word, sizeof word) <= 0)
+            serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("<axis> <target>: the target is missing"));
+        else if (!text_at_end(cursor))
+            serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("one target per line"));
+        else
+            handle_target((uint8_t)a, word);
+    } else if (n_ == 1) {
         serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <target>, stop, !, ?, set v0|vmax|accel <value>"));
+    } else {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND,
+                            F("try x|y|z <target>, move x<t> y<t> z<t>, stop [axis], ! [axis], ?, set <axis> <key> <value>"));
     }
 }
 
-void MotionConsole::handle_target(const char *word)
+void MotionConsole::handle_target(uint8_t a, const char *word)
 {
     int32_t to;
     motion_status_t st = text_parse_whole(word, INT32_MIN, INT32_MAX, &to);
@@ -116,7 +206,11 @@ void MotionConsole::handle_target(const char *word)
         serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
         return;
     }
-    st = x_.moveTo(to);
+    if (named_ & (1U << a)) {
+        serial_.reply_error(MS_ERR_BUSY, F("the axis is in a coordinated move (stop it first, or wait for its DONE)"));
+        return;
+    }
+    st = ax_[a]->moveTo(to);
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;
@@ -125,8 +219,90 @@ void MotionConsole::handle_target(const char *word)
      * sigmoid's table is refilled): its OK tells where the plan starts, so it waits for that (poll()
      * reads no line meanwhile) */
     ok_pending_ = true;
+    ok_axis_ = a;
     ok_target_ = to;
     (void)finish_ok();
+}
+
+void MotionConsole::handle_move(const char *cursor)
+{
+    char word[LINE_READER_MAX + 1];
+    uint8_t names = 0;
+    int n;
+    motion_status_t st;
+    while ((n = text_next_word(&cursor, word, sizeof word)) != 0) {
+        char name[2] = {word[0], '\0'};
+        int8_t a = n > 1 ? axis_of(name) : -1;
+        int32_t t;
+        if (a < 0) {
+            serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("move x<target> y<target> z<target>, e.g. move x1000 y-500"));
+            return;
+        }
+        if (names & (1U << a)) {
+            serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("an axis is named twice"));
+            return;
+        }
+        st = text_parse_whole(word + 1, INT32_MIN, INT32_MAX, &t);
+        if (st != MS_OK) {
+            serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));
+            return;
+        }
+        names |= (uint8_t)(1U << a);
+        move_to_[a] = t;
+    }
+    if (names == 0) {
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("move what? move x<target> y<target> z<target>"));
+        return;
+    }
+    (void)collect_done(); /* a move that has just ended reports first */
+    for (uint8_t i = 0; i < n_; i++) {
+        if ((names & (1U << i)) && (ax_[i]->isRunning() || (named_ & (1U << i)))) {
+            Print &e = serial_.begin_error(MS_ERR_BUSY);
+            e.print(AXIS_NAME[i]);
+            e.println(F(" is moving (stop it or wait for its DONE)"));
+            return;
+        }
+        move_from_[i] = ax_[i]->currentPosition();
+    }
+    st = group_->moveTo(move_to_, names);
+    if (st == MS_ERR_BUSY) {
+        serial_.reply_error(st, F("a coordinated move is under way (stop it or wait for its DONE)"));
+        return;
+    }
+    if (st != MS_OK) {
+        serial_.reply_error(st);
+        return;
+    }
+    /* planned by the planner within microseconds: a plan it refuses (an axis moving too few steps for
+     * the longest) gets its ERR then, and nothing has moved */
+    named_ = names;
+    move_pending_ = true;
+    (void)finish_move();
+}
+
+bool MotionConsole::finish_move()
+{
+    long at;
+    Print &out = serial_.out();
+    motion_status_t st;
+    if (!group_->planned())
+        return false;
+    move_pending_ = false;
+    st = group_->lastStatus();
+    if (st != MS_OK) {
+        (void)group_->takeDone(); /* the refused move ended at once, with no step */
+        for (uint8_t i = 0; i < n_; i++)
+            if (named_ & (1U << i))
+                (void)ax_[i]->takeDone(at);
+        named_ = 0;
+        serial_.reply_error(st);
+        return true;
+    }
+    out.print(F("OK move"));
+    print_axes(out, move_from_, move_to_);
+    out.println();
+    (void)collect_done(); /* every named axis at its target already: its DONE at once */
+    return true;
 }
 
 bool MotionConsole::finish_ok()
@@ -134,10 +310,11 @@ bool MotionConsole::finish_ok()
     Stepper::PlanStart p;
     Print &out = serial_.out();
     motion_status_t st;
-    if (!x_.planStart(p))
+    Stepper &x = *ax_[ok_axis_];
+    if (!x.planStart(p))
         return false;
     ok_pending_ = false;
-    st = x_.lastStatus();
+    st = x.lastStatus();
     if (st != MS_OK) {
         /* nothing moves (from rest), or the move in progress goes on as planned */
         (void)collect_done();
@@ -148,12 +325,14 @@ bool MotionConsole::finish_ok()
         (void)collect_done(); /* a move that ended just before this target: its DONE first (an end
                                  recorded since is this move's: a move of no step ends at once) */
     out.print(F("OK "));
+    print_axis(out, ok_axis_);
     out.print(p.from);
     out.print(' ');
     out.print(ok_target_);
     if (p.afterDone) {
         /* the move in progress ends at its target first, with its DONE (still to come) */
         out.print(F(" (after DONE "));
+        print_axis(out, ok_axis_);
         out.print(p.from);
         out.print(')');
     }
@@ -164,57 +343,81 @@ bool MotionConsole::finish_ok()
 void MotionConsole::handle_stop(const char *cursor, bool halt)
 {
     char word[LINE_READER_MAX + 1];
-    bool moving;
-    motion_status_t st;
-    if (text_next_word(&cursor, word, sizeof word) != 0) {
+    bool moving = false;
+    uint8_t mask = (uint8_t)((1U << n_) - 1U);
+    motion_status_t st = MS_OK;
+    int n = text_next_word(&cursor, word, sizeof word);
+    if (n != 0 && n_ == 1) {
         serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("stop and ! take no arguments"));
         return;
     }
+    if (n != 0) {
+        int8_t a = n > 0 ? axis_of(word) : -1;
+        if (a < 0 || !text_at_end(cursor)) {
+            serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("stop [x|y|z], ! [x|y|z]"));
+            return;
+        }
+        mask = (uint8_t)(1U << a);
+    }
     (void)collect_done(); /* a move that has just ended reports first */
-    st = halt ? x_.forceStop() : x_.stop();
+    if (mask & named_) {
+        /* an axis of the coordinated move stops the whole move */
+        st = halt ? group_->forceStop() : group_->stop();
+        mask &= (uint8_t)~named_;
+        moving = group_->isRunning();
+    }
+    for (uint8_t i = 0; st == MS_OK && i < n_; i++) {
+        if (!(mask & (1U << i)))
+            continue;
+        st = halt ? ax_[i]->forceStop() : ax_[i]->stop();
+        /* after the call: a move asked for and not started yet (waiting for the sigmoid's refill) is
+         * dropped by it and gets no DONE: "(not moving)"; a move stepping keeps running until its end */
+        moving = moving || ax_[i]->isRunning();
+    }
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;
     }
-    /* after the call: a move asked for and not started yet (waiting for the sigmoid's refill) is
-     * dropped by it and gets no DONE: "(not moving)"; a move stepping keeps running until its end */
-    moving = x_.isRunning();
     if (!moving)
         serial_.out().println(halt ? F("OK halt (not moving)") : F("OK stop (not moving)"));
     else
         serial_.out().println(halt ? F("OK halt") : F("OK stop"));
 }
 
-void MotionConsole::handle_set(const char *cursor)
+void MotionConsole::handle_set(uint8_t a, const char *cursor)
 {
+    Stepper &x = *ax_[a];
     char key[LINE_READER_MAX + 1], value[LINE_READER_MAX + 1];
     double v = 0.0, hi;
     motion_status_t st;
     Print &out = serial_.out();
     if (text_next_word(&cursor, key, sizeof key) <= 0) {
-        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("set what? set <parameter> <value>"));
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, n_ == 1 ? F("set what? set <parameter> <value>")
+                                                            : F("set <axis> what? set <x|y|z> <v0|vmax|accel> <value>"));
         return;
     }
     if (text_next_word(&cursor, value, sizeof value) <= 0) {
-        serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("set <parameter> <value>: the value is missing"));
+        serial_.reply_error(MS_ERR_NOT_A_NUMBER, n_ == 1 ? F("set <parameter> <value>: the value is missing")
+                                                         : F("set <axis> <parameter> <value>: the value is missing"));
         return;
     }
     if (!text_at_end(cursor)) {
-        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("set takes one parameter and one value"));
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, n_ == 1 ? F("set takes one parameter and one value")
+                                                            : F("set takes one axis, one parameter and one value"));
         return;
     }
-    bool sigmoid = x_.ramp() == RAMP_ALGO_SIGMOID;
+    bool sigmoid = x.ramp() == RAMP_ALGO_SIGMOID;
     bool whole = sigmoid && (text_word_is(key, "len") || text_word_is(key, "hold"));
     const __FlashStringHelper *unit = F(" steps/s");
     if (text_word_is(key, "v0"))
-        hi = x_.minSpeedLimit();
+        hi = x.minSpeedLimit();
     else if (text_word_is(key, "vmax"))
-        hi = x_.maxSpeedLimit();
+        hi = x.maxSpeedLimit();
     else if (text_word_is(key, "accel") && sigmoid) {
         serial_.reply_error(MS_ERR_DERIVED_PARAM); /* the table's shape gives it */
         return;
     } else if (text_word_is(key, "accel")) {
-        hi = x_.accelerationLimit();
+        hi = x.accelerationLimit();
         unit = F(" steps/s^2");
     } else if (sigmoid && text_word_is(key, "flex")) {
         hi = STEPPER_MAX_FLEX;
@@ -226,7 +429,7 @@ void MotionConsole::handle_set(const char *cursor)
         hi = 65535.0;
         unit = F(" steps per entry");
     } else {
-        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, F("no such parameter (see ?)"));
+        serial_.reply_error(MS_ERR_UNKNOWN_COMMAND, n_ == 1 ? F("no such parameter (see ?)") : F("no such parameter (v0, vmax, accel)"));
         return;
     }
     if (whole) {
@@ -251,69 +454,77 @@ void MotionConsole::handle_set(const char *cursor)
         return;
     }
     if (st == MS_OK)
-        st = text_word_is(key, "v0")      ? x_.setMinSpeed((float)v)
-             : text_word_is(key, "vmax")  ? x_.setMaxSpeed((float)v)
-             : text_word_is(key, "accel") ? x_.setAcceleration((float)v)
-             : text_word_is(key, "flex")  ? x_.setSigmoid((float)v, x_.sigmoidLen(), x_.sigmoidHold())
-             : text_word_is(key, "len")   ? x_.setSigmoid(x_.sigmoidFlex(), (uint16_t)v, x_.sigmoidHold())
-                                          : x_.setSigmoid(x_.sigmoidFlex(), x_.sigmoidLen(), (uint16_t)v);
+        st = text_word_is(key, "v0")      ? x.setMinSpeed((float)v)
+             : text_word_is(key, "vmax")  ? x.setMaxSpeed((float)v)
+             : text_word_is(key, "accel") ? x.setAcceleration((float)v)
+             : text_word_is(key, "flex")  ? x.setSigmoid((float)v, x.sigmoidLen(), x.sigmoidHold())
+             : text_word_is(key, "len")   ? x.setSigmoid(x.sigmoidFlex(), (uint16_t)v, x.sigmoidHold())
+                                          : x.setSigmoid(x.sigmoidFlex(), x.sigmoidLen(), (uint16_t)v);
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;
     }
     out.print(F("OK "));
-    print_param(out, key);
-    if (x_.isRunning())
+    print_axis(out, a);
+    print_param(out, a, key);
+    if (x.isRunning())
         out.print(F(" (from the next plan)"));
     out.println();
 }
 
-void MotionConsole::print_param(Print &out, const char *key)
+void MotionConsole::print_param(Print &out, uint8_t a, const char *key)
 {
+    const Stepper &x = *ax_[a];
     out.print(key);
     out.print('=');
     if (text_word_is(key, "len"))
-        out.print(x_.sigmoidLen());
+        out.print(x.sigmoidLen());
     else if (text_word_is(key, "hold"))
-        out.print(x_.sigmoidHold());
+        out.print(x.sigmoidHold());
     else
-        print_real_exact(out, text_word_is(key, "v0")     ? x_.minSpeed()
-                              : text_word_is(key, "vmax") ? x_.maxSpeed()
-                              : text_word_is(key, "flex") ? x_.sigmoidFlex()
-                                                          : x_.acceleration(),
+        print_real_exact(out, text_word_is(key, "v0")     ? x.minSpeed()
+                              : text_word_is(key, "vmax") ? x.maxSpeed()
+                              : text_word_is(key, "flex") ? x.sigmoidFlex()
+                                                          : x.acceleration(),
                          plan);
 }
 
-void MotionConsole::print_status()
+void MotionConsole::print_status(uint8_t a)
 {
     Print &out = serial_.out();
     Stepper::SigmoidFigures f;
+    Stepper &x = *ax_[a];
+    print_axis(out, a);
     out.print(F("pos="));
-    out.print(x_.currentPosition());
+    out.print(x.currentPosition());
     out.print(F(" target="));
-    out.print(x_.targetPosition());
+    out.print(x.targetPosition());
     out.print(F(" state="));
-    out.print(ramp_phase_name(x_.rampState()));
+    out.print(ramp_phase_name(x.rampState()));
+    if (n_ > 1) {
+        out.print(F(" mode="));
+        out.print((named_ & (1U << a)) ? F("move") : (x.isRunning() ? F("alone") : F("idle")));
+    }
     out.print(F(" algo="));
-    out.print(ramp_algo_name(x_.ramp()));
+    out.print(ramp_algo_name(x.ramp()));
     out.print(' ');
-    print_param(out, "v0");
+    print_param(out, a, "v0");
     out.print(' ');
-    print_param(out, "vmax");
+    print_param(out, a, "vmax");
     out.print(' ');
-    print_param(out, "accel");
+    print_param(out, a, "accel");
     out.print(F(" tick_hz="));
     out.print(Stepper::tickRate());
     out.print(F(" max_sps="));
-    print_real_exact(out, x_.maxSpeedLimit(), plan);
-    if (x_.sigmoidFigures(f)) {
+    print_real_exact(out, x.maxSpeedLimit(), plan);
+    if (x.sigmoidFigures(f)) {
         /* the S-curve's shape, and what its table in force gives */
         out.print(' ');
-        print_param(out, "flex");
+        print_param(out, a, "flex");
         out.print(' ');
-        print_param(out, "len");
+        print_param(out, a, "len");
         out.print(' ');
-        print_param(out, "hold");
+        print_param(out, a, "hold");
         out.print(F(" accel_steps="));
         out.print(f.accelSteps);
         out.print(F(" accel_time_s="));
@@ -322,8 +533,10 @@ void MotionConsole::print_status()
         print_real_exact(out, f.cruiseSps, plan);
     }
     out.print(F(" underruns="));
-    out.print(x_.underruns());
+    out.print(x.underruns());
     out.print(F(" late="));
-    out.print(x_.lateEdges());
-    out.println(STEPPER_TIMED_LOOP ? F(" mode=loop") : F(" mode=timer"));
+    out.print(x.lateEdges());
+    if (n_ == 1)
+        out.print(STEPPER_TIMED_LOOP ? F(" mode=loop") : F(" mode=timer"));
+    out.println();
 }

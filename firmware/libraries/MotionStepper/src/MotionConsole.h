@@ -30,10 +30,25 @@
  *                        accel follows from them): "OK <key>=<value>"; while moving the reply adds
  *                        " (from the next plan)" (the move in progress keeps its parameters)
  *   READY <SketchName>   printed once by begin()
- * (MultiAxisStepper's three-axis protocol is still MotionBoard's MultiAxisConsole.) Anything else
- * gets "ERR <reason>" and changes nothing. Every accepted move ends in exactly one DONE
+ * Anything else gets "ERR <reason>" and changes nothing. Every accepted move ends in exactly one DONE
  * unless a later target replaces it; the DONE of a move that ended just before a new line is printed
- * before that line's reply. docs/serial.md has the whole protocol.
+ * before that line's reply.
+ *
+ * With three axes (MultiAxisStepper: MotionConsole console(x, y, z, xyz), xyz a StepperGroup of the
+ * three) every line names its axis, x, y or z (<a> below), and the replies do too:
+ *
+ *   <a> <integer>        that axis alone: "OK <a> <from> <to>", later "DONE <a> <position>" (the rules
+ *                        above, "(after DONE <a> <old target>)"); the others may move meanwhile
+ *   move <a><t> ...      the named axes together on the straight line (StepperGroup: e.g. "move x1000
+ *                        y-500"): "OK move x <from> <to> y <from> <to>", later one "DONE move x <pos>
+ *                        y <pos>". "ERR busy" while a named axis moves; axes not named may move.
+ *                        Every named axis belongs to the move until that DONE (a target for it gets
+ *                        "ERR busy", `stop <it>` stops the whole move); all at their targets already:
+ *                        "OK move ..." and "DONE move ..." at once.
+ *   stop [<a>] | ! [<a>] every axis, or one (one of a move: the whole move)
+ *   ?                    one line per axis: "<a> pos= target= state= mode=idle|alone|move algo= ..."
+ *   set <a> <key> <val>  "OK <a> <key>=<value>"
+ * docs/serial.md has the whole protocol.
  */
 #ifndef MOTION_STEPPER_MOTION_CONSOLE_H
 #define MOTION_STEPPER_MOTION_CONSOLE_H
@@ -41,6 +56,7 @@
 #include <Arduino.h>
 
 #include "Stepper.h" /* first: MotionBoard's headers through it */
+#include "StepperGroup.h"
 
 #include <MotionSerial.h>
 #include <SerialOutQueue.h>
@@ -50,6 +66,8 @@ public:
     /* Also makes the planner run from loop() (BackgroundPlanner::planInLoop(): poll() plans), so make
      * it a global, as the sketches do (before setup() and the Stepper's begin()). */
     explicit MotionConsole(Stepper &x);
+    /* Three axes named x, y, z, and their StepperGroup for `move` (StepperGroup xyz(x, y, z)). */
+    MotionConsole(Stepper &x, Stepper &y, Stepper &z, StepperGroup &xyz);
 
     /* After the Stepper's begin(): Serial at 9600 baud, the LED mirror (X: STEPPER_LED_MIRROR),
      * the sketches' lead (StepperPins.h); prints "READY <name>". */
@@ -60,18 +78,28 @@ public:
 
 private:
     void handle(const char *line);
-    void handle_target(const char *word);
+    void handle_target(uint8_t a, const char *word);
+    void handle_move(const char *cursor);
     void handle_stop(const char *cursor, bool halt);
-    void handle_set(const char *cursor);
-    void print_status();
-    void print_param(Print &out, const char *key);
+    void handle_set(uint8_t a, const char *cursor);
+    void print_status(uint8_t a);
+    void print_param(Print &out, uint8_t a, const char *key);
+    void print_axis(Print &out, uint8_t a); /* "x " with three axes, nothing with one */
+    void print_axes(Print &out, const long *from, const long *to);
     bool collect_done(); /* false: the output queue has no room for a DONE line now */
     bool finish_ok();    /* the OK of a target once it is planned; false: not yet */
+    bool finish_move();  /* the OK of a `move` once it is planned; false: not yet */
 
-    Stepper &x_;
-    bool status_pending_; /* the `?` line waits for room in the output queue */
+    Stepper *ax_[3];
+    uint8_t n_;
+    StepperGroup *group_;
+    uint8_t named_;         /* the axes of the `move` whose DONE is still to come (bit i: axis i) */
+    uint8_t status_pending_; /* the `?` lines that wait for room in the output queue (bit i: axis i) */
     bool ok_pending_;     /* a target's OK waits for its plan */
+    bool move_pending_;   /* a `move`'s OK waits for its plan */
+    uint8_t ok_axis_;
     int32_t ok_target_;
+    long move_from_[3], move_to_[3];
     SerialOutQueue queue_;   /* before serial_, which is built on it */
     MotionSerial serial_;
 };

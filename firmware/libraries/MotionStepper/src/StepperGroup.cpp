@@ -61,7 +61,7 @@ AxisSource StepperGroup::source_of(uint8_t axis)
 motion_status_t StepperGroup::moveTo(long a, long b)
 {
     long t[2] = {a, b};
-    return move_all(t, 2);
+    return move_all(t, 3U);
 }
 
 motion_status_t StepperGroup::moveTo(long a, long b, long c)
@@ -69,14 +69,23 @@ motion_status_t StepperGroup::moveTo(long a, long b, long c)
     long t[3] = {a, b, c};
     if (n_ < 3)
         return MS_ERR_OUT_OF_RANGE;
-    return move_all(t, 3);
+    return move_all(t, 7U);
+}
+
+motion_status_t StepperGroup::moveTo(const long *targets, uint8_t members)
+{
+    if (members == 0 || members >= (1U << n_))
+        return MS_ERR_OUT_OF_RANGE;
+    return move_all(targets, members);
 }
 
 /* loop(): the checks and the request; the plan (milliseconds per axis) is made by the planner
  * interrupt (execute_plan) */
-motion_status_t StepperGroup::move_all(const long *targets, uint8_t given)
+motion_status_t StepperGroup::move_all(const long *targets, uint8_t members)
 {
     uint8_t mask = 0;
+    if (mask_ != 0)
+        return MS_ERR_BUSY; /* a move of the group under way (its members may be elsewhere) */
     for (uint8_t j = 0; j < n_; j++) {
         if (!member_[j]->begun_)
             return MS_ERR_NOT_BEGUN;
@@ -88,10 +97,12 @@ motion_status_t StepperGroup::move_all(const long *targets, uint8_t given)
     for (uint8_t j = 0; j < n_; j++) {
         Stepper &s = *member_[j];
         int32_t from;
+        if (!(members & (1U << j)))
+            continue; /* not in this move: it may move alone */
         if (s.isRunning())
             return MS_ERR_BUSY;
         from = MultiStepEngine::position(s.axis_);
-        req_to_[j] = j < given ? s.to_engine(targets[j]) : from;
+        req_to_[j] = s.to_engine(targets[j]);
         if (req_to_[j] != from)
             mask |= (uint8_t)(1U << j);
     }
@@ -161,6 +172,8 @@ void StepperGroup::execute_plan()
     for (uint8_t j = 0; j < n_; j++) {
         from[j] = MultiStepEngine::position(member_[j]->axis_);
         p[j] = member_[j]->params_;
+        if (!(mask & (1U << j)))
+            req_to_[j] = from[j]; /* not in the move (it may be moving alone): no step, no limit */
     }
     st = step_coord_plan(&coord_, n_, p, from, req_to_);
     last_status_ = st;

@@ -33,9 +33,14 @@ public:
     StepperGroup(Stepper &a, Stepper &b, Stepper &c);
 
     /* Absolute targets, in the order the members were given; a member left out (two targets for
-     * three members) stays where it is. */
+     * three members) is not part of the move (it may go on moving alone). */
     motion_status_t moveTo(long a, long b);
     motion_status_t moveTo(long a, long b, long c);
+    /* The members in `members` (bit j: the j-th member given to the constructor) to targets[j]; the
+     * others are not part of the move. MS_ERR_OUT_OF_RANGE for no member or one this group lacks. */
+    motion_status_t moveTo(const long *targets, uint8_t members);
+    /* false from moveTo until the planner interrupt has planned it (then lastStatus() tells). */
+    bool planned() const { return !plan_req_; }
     motion_status_t stop();      /* decelerate to rest on the line */
     motion_status_t forceStop(); /* halt every axis now */
     bool isRunning() const;
@@ -55,7 +60,7 @@ private:
         uint8_t repeats; /* the member whose commands it repeats (moves as far: pulsed by its interrupt), or 0xFF */
         uint8_t clones;  /* members that repeat this one's */
     };
-    motion_status_t move_all(const long *targets, uint8_t given);
+    motion_status_t move_all(const long *targets, uint8_t members);
     int8_t index_of(uint8_t axis) const;
     /* for Stepper and the planner interrupt (axis: the engine's axis number) */
     AxisSource source_of(uint8_t axis);
