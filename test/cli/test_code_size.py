@@ -44,13 +44,16 @@ def test_section_counts_the_engine_and_the_consoles(tmp_path):
     board = tmp_path / "firmware" / "libraries" / "MotionBoard" / "src"
     write(board / "MultiStepEngine.h", "/* doc */\nint x;\n")           # 2 lines, 1 code line
     write(board / "MultiStepEngineIsr.inc", "; c\n ret\n nop ; n\n")   # 3 lines, 2 code lines
-    write(board / "StepConsole.cpp", "int a;\n\nint b;\n")             # 3 lines, 2 code lines
+    write(board / "MotionConsole.cpp", "int a;\n\nint b;\n")           # 3 lines, 2 code lines
     write(board / "Other.cpp", "int z;\n")                              # neither
-    # the MotionStepper library's console counts with the consoles
-    write(tmp_path / "firmware" / "libraries" / "MotionStepper" / "src" / "MotionConsole.cpp", "int c;\n// d\n")
-    write(tmp_path / "firmware" / "LeibRampStepper" / "LeibRampStepper.ino", '#include "StepConsole.h"\n')
+    # the MotionStepper library's console counts with the consoles, its API beside them
+    stepper = tmp_path / "firmware" / "libraries" / "MotionStepper" / "src"
+    write(stepper / "MotionConsole.h", "int c;\n// d\n")
+    write(stepper / "Stepper.cpp", "int s;\n/* e\n */\nint t;\n")          # 4 lines, 2 code lines
+    write(tmp_path / "firmware" / "LeibRampStepper" / "LeibRampStepper.ino", '#include "Nothing.h"\n')
     out = "\n".join(code_size.section(str(tmp_path), ["LeibRampStepper"]))
     assert "| step engine (MultiStepEngine*, StepCut.*) | 2 | 5 | 3 |" in out
-    assert "| consoles (StepConsole.*, MultiAxisConsole.*, MotionConsole.*) | 2 | 5 | 3 |" in out
+    assert "| consoles (MotionConsole.*) | 2 | 5 | 3 |" in out
     assert "| engine + consoles | 4 | 10 | 6 |" in out
-    assert "| LeibRampStepper | 1 |" in out  # StepConsole.h does not exist: only the sketch
+    assert "| the MotionStepper API beside them (Stepper.*, StepperGroup.*, BackgroundPlanner.*) | 1 | 4 | 2 |" in out
+    assert "| LeibRampStepper | 1 |" in out  # Nothing.h does not exist: only the sketch

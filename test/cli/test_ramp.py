@@ -377,7 +377,7 @@ def _pins_limit(name):
 LEIB, SIMPLISTIC, SCURVE, EXACT = (_pins_limit(n) for n in ("STEPPER_MAX_SPS_LEIB", "STEPPER_MAX_SPS_SIMPLISTIC",
                                                             "STEPPER_MAX_SPS_SCURVE", "STEPPER_MAX_SPS_EXACT"))
 SKETCH_LIMITS = {
-    # sketch: [(line sent, the ERR line expected)], limits from StepperPins.h/StepperRamps.h (timer mode)
+    # sketch: [(line sent, the ERR line expected)], limits from StepperPins.h (timer mode)
     "LeibRampStepper": [
         (f"set vmax {LEIB + 1}", f"ERR number out of range: vmax at most {LEIB} steps/s on this sketch"),
         (f"set vmax {LEIB}.0001", f"ERR number out of range: vmax at most {LEIB} steps/s on this sketch"),

@@ -7,7 +7,7 @@ The expectations come from outside the firmware:
   - issue 13's definition of a coordinated move: position_i = floor(D_i s(t)) with one s(t) from 0
     to 1, s(t) the closed form of constant acceleration of the profile (v0/vmax/accel the minima of
     the axes' limits scaled by D_max/D_i), computed here in Python;
-  - the documented protocol (MultiAxisConsole.h): replies, one DONE per move, ERR for bad input
+  - the documented protocol (MotionConsole.h): replies, one DONE per move, ERR for bad input
     with nothing moving.
 Edges: the three axes' step interrupts nest (MultiStepEngineIsr.inc), so an edge never waits for
 another axis's step; it waits for the core's millis and serial interrupts, which do not nest, and

@@ -195,9 +195,9 @@ def checks_for(env):
         if replay_scripts(s):
             checks.append((f"{s}: fuzz replays ({len(replay_scripts(s))} scripts of test/data/fuzz-replays): no "
                            f"underrun", lambda s=s: check_fuzz_replays(env, s)))
-        # a trapezoid ramp: the engine's console's TrapezoidRamp, or a Stepper's lab or exact ramp
+        # a trapezoid ramp: a Stepper's lab or exact ramp
         if fam == "stepper" and any(w in open(env.ino(s)).read() for w in
-                                    ("TrapezoidRamp", "RAMP_ALGO_LEIB", "RAMP_ALGO_SIMPLISTIC", "RAMP_ALGO_EXACT")):
+                                    ("RAMP_ALGO_LEIB", "RAMP_ALGO_SIMPLISTIC", "RAMP_ALGO_EXACT")):
             checks.append((f"{s}: a long ramp just below max_sps (v0 near vmax, a small accel): the planner keeps "
                            f"up, no underrun", lambda s=s: check_long_ramp_at_limit(env, s)))
         if fam == "multiaxis":

@@ -4,8 +4,7 @@
  * planned only those), plans the stop or the new move from there, and its first commands take the
  * place of the dropped ones (MultiStepEngine::cut_apply) if the step interrupt has not come too
  * close meanwhile. The exact ramp and the smooth move (lib's smooth_move_rewind; the lab's ramps
- * cannot be rewound): the MotionStepper library's Stepper and the stepper sketches' console
- * (StepConsole.h, exact only) share it.
+ * cannot be rewound), for the MotionStepper library's Stepper (which every stepper sketch uses).
  * docs/stepper-engine.md "Cutting the queue" has the rule and the measured latencies.
  */
 #ifndef STEP_CUT_H
@@ -37,17 +36,17 @@
 #ifndef MOTION_STEPPER_CUT_CMDS
 #define MOTION_STEPPER_CUT_CMDS 4U
 #endif
-/* A target behind (a stop, then a move from rest) is cut only if its stop lasts this long (the
- * sketches' console: STEP_CONSOLE_CUT_THEN_MIN_US, the same; docs/stepper-engine.md says why). */
+/* A target behind (a stop, then a move from rest) is cut only if its stop lasts this long
+ * (docs/stepper-engine.md says why). */
 #ifndef MOTION_STEPPER_CUT_THEN_MIN_US
 #define MOTION_STEPPER_CUT_THEN_MIN_US 65000U
 #endif
 /* the most first commands any caller asks for */
 #define STEP_CUT_MAX_CMDS 4U
 
-/* The cut's timing, microseconds (the library: MOTION_STEPPER_CUT_*; the sketches' console steps up
- * to 60,000 steps/s and more, where the step interrupt leaves half the processor to the planner:
- * StepConsole.cpp's). */
+/* The cut's timing, microseconds (the Stepper's: MOTION_STEPPER_CUT_* with the planner interrupt,
+ * MOTION_STEPPER_LOOP_CUT_* planned from loop(), where a Stepper alone steps up to 90,000 steps/s and
+ * the step interrupt leaves half the processor to the planner). */
 struct StepCutTiming {
     uint8_t ticks_per_us; /* the step timer's */
     uint16_t ahead_us;     /* a stop from the cruise: the cut lands at least this far ahead */

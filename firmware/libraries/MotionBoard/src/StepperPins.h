@@ -67,14 +67,37 @@
 #define STEPPER_TRACE_DDR DDRG
 #define STEPPER_TRACE_BIT 1 /* D40 */
 
-/* Steps kept queued ahead of the step interrupt, in milliseconds (MultiStepEngine::set_lead_ms): a
- * stop or a new target takes effect after them. The Leib ramp's float update costs nearly a whole
- * step's time near its top rate, so its sketch banks more (StepperRamp::lead_ms). */
+/* Steps kept queued ahead of the step interrupt, in milliseconds (BackgroundPlanner::setLeadMs): a
+ * stop or a new target takes effect after them (the exact ramp's cut them: StepCut.h). The Leib
+ * ramp's float update costs nearly a whole step's time near its top rate, so its sketch banks more
+ * (MotionConsole::begin). */
 #ifndef STEP_ENGINE_LEAD_MS
 #define STEP_ENGINE_LEAD_MS 100U
 #endif
 #ifndef STEP_ENGINE_LEAD_MS_LEIB
 #define STEP_ENGINE_LEAD_MS_LEIB 200U
+#endif
+
+/* The largest acceleration a Stepper accepts on the lab's ramps (setAcceleration, `set accel`),
+ * steps/s^2. The exact ramp's is lower: far above it, near its top rate, its first commands span a
+ * step or two each and the planner falls behind the step interrupt (underruns: found by `make
+ * fuzz`; twice this value was already marginal; test/emu/checks_reliability.py checks the corners
+ * of the limits). */
+#define STEPPER_MAX_ACCEL 1e7
+#ifndef STEPPER_MAX_ACCEL_EXACT
+#define STEPPER_MAX_ACCEL_EXACT 1e6
+#endif
+/* The exact ramp's largest start speed v0: a move from rest begins at v0 at once, before the
+ * planner is far ahead; much above it the first commands come faster than it lays them out
+ * (underruns found by a fresh-clone review at v0 35,000, vmax 70,000; test/emu/
+ * checks_reliability.py checks the corners). No stepper starts that fast from rest anyway. */
+#ifndef STEPPER_MAX_V0_EXACT
+#define STEPPER_MAX_V0_EXACT 10000.0
+#endif
+/* The largest S-curve flexibility setSigmoid (`set flex`) accepts, and the longest table. */
+#define STEPPER_MAX_FLEX 1000.0
+#ifndef SCURVE_MAX_LEN
+#define SCURVE_MAX_LEN 1000 /* table entries: 2 bytes of SRAM each */
 #endif
 
 /* timing */

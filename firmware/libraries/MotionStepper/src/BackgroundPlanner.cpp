@@ -181,7 +181,7 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
 
 /* Commands to the stepping axis whose queue reaches least far ahead, MOTION_STEPPER_CMDS_PER_PICK at
  * a time (choosing costs about as much as laying one out); a move not yet started one at a time and
- * only when no stepping axis needs one (MultiAxisConsole::feed's rule). */
+ * only when no stepping axis needs one (a move started never starves one that runs). */
 void BackgroundPlanner::feed()
 {
     uint8_t dry = 0;

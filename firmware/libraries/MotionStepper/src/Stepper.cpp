@@ -155,7 +155,7 @@ motion_status_t Stepper::probe(ramp_algo_t algo, const ramp_hooks_t *hooks, cons
 
 float Stepper::accelerationLimit() const
 {
-    /* the lab's ramps plan each step alone: the sketches' limit (StepperRamps.h) */
+    /* the lab's ramps plan each step alone: the sketches' limit (StepperPins.h) */
     return algo_ == RAMP_ALGO_LEIB || algo_ == RAMP_ALGO_SIMPLISTIC ? (float)STEPPER_MAX_ACCEL
                                                                     : (float)STEPPER_MAX_ACCEL_EXACT;
 }

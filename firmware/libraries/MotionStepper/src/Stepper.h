@@ -12,7 +12,7 @@
  * lab's ramps of setRamp: STEPPER_MAX_SPS_LEIB / _SIMPLISTIC; a sketch with one Stepper that plans
  * from loop(), BackgroundPlanner::planInLoop(), as ExactRampStepper: STEPPER_MAX_SPS_EXACT),
  * setAcceleration up to STEPPER_MAX_ACCEL_EXACT, setMinSpeed up to STEPPER_MAX_V0_EXACT
- * (StepperRamps.h); above them MS_ERR_OUT_OF_RANGE, never a silent clamp; parameter sets the exact
+ * (StepperPins.h); above them MS_ERR_OUT_OF_RANGE, never a silent clamp; parameter sets the exact
  * planner refuses (vmax not above v0, accel below 8 steps/s^2, ...) get its own status. New
  * parameters take effect at the next moveTo/move/stop (the move in progress keeps its own).
  * Before begin() nothing moves: moveTo, move, stop, forceStop, setCurrentPosition return
@@ -37,7 +37,7 @@
 
 #include <MultiAxisPins.h>
 #include <MultiStepEngine.h>
-#include <StepperRamps.h> /* STEPPER_MAX_ACCEL_EXACT, STEPPER_MAX_V0_EXACT */
+#include <StepperPins.h> /* STEPPER_MAX_ACCEL_EXACT, STEPPER_MAX_V0_EXACT, SCURVE_MAX_LEN */
 
 #include "BackgroundPlanner.h"
 
