@@ -120,7 +120,7 @@ def test_a_lab_stepper_sketch_is_followed_to_the_step_pin_in_five_files():
              for f in os.listdir(d) for p in [os.path.join(d, f)]}
     assert all(f in where for f in listed), listed
     body = {f: open(where[f]).read() for f in listed}
-    assert "x_.moveTo(" in body["MotionConsole.cpp"]
+    assert "ax_[a]->moveTo(" in body["MotionConsole.cpp"]
     assert "step_planner_move" in body["Stepper.cpp"] and "void Stepper::run_request" in body["Stepper.cpp"]
     # the glue entry 3 names: the tick runs the request and feeds X's queue through the engine's service
     assert "BackgroundPlanner.cpp" in text and "MultiStepEngine::service" in text
