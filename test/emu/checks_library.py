@@ -1247,7 +1247,11 @@ def check_smooth_stall(env):
 # and of two at 25,000 (one underrun at one of the five moments)
 THREE_BUILDS = (("three-10k", 3, 10000, 50000, STOP_PHASES), ("three-25k", 3, 25000, 50000, ()),
                 ("three-25k-steep", 3, 25000, 200000, ()), ("two-25k", 2, 25000, 50000, ()),
-                ("two-20k", 2, 20000, 50000, STOP_PHASES))
+                ("two-20k", 2, 20000, 50000, STOP_PHASES), ("two-20k-late", 2, 20000, 50000, STOP_PHASES[:3]))
+# two-20k-late (tools/emu/emu.mk): every first cut too close for its plan; the stop planned ahead is tried
+# again at cuts 500, 1,000 and 2,000 us ahead (each try costs some 0.45 ms there), so the deceleration
+# begins within this many ms of the switch; without the retries it waited for the 40 ms lead
+THREE_LATE_CUT_MS = 5.0
 THREE_LATE = 700  # cycles: three step interrupts share the CPU (the edges' jitter); a velocity jump is more
 
 
@@ -1367,7 +1371,11 @@ def check_three_steppers(env):
                         f"(two Steppers: **<ms> ms** at 20,000)\" (measured {worst_lat})")
     else:
         for build, lat in worst_lat.items():
-            if lat > doc[build] + 0.05 or doc[build] > lat + 0.5:
+            if build == "two-20k-late":
+                if lat > THREE_LATE_CUT_MS:
+                    problems.append(f"{build}: stop latency {lat:.2f} ms with every first cut missed (bound "
+                                    f"{THREE_LATE_CUT_MS} ms: the retries farther ahead)")
+            elif lat > doc[build] + 0.05 or doc[build] > lat + 0.5:
                 problems.append(f"{build}: stop latency {lat:.2f} ms at worst; docs/library.md says {doc[build]} ms")
     return CheckResult(not problems, "; ".join(notes), problems)
 
@@ -1426,6 +1434,7 @@ def checks_for(env):
                    lambda: guarded(check_one_stepper, env)))
     checks.append(("MotionStepper library, test sketch ThreeSteppers: three Steppers at once at 10,000 and 25,000 "
                    "steps/s, two at 20,000 and 25,000: every step, no underrun, no pause within a move; a stop() of all at a switch "
-                   "(three at 10,000, two at 20,000): its latency, no underrun",
+                   "(three at 10,000, two at 20,000): its latency, no underrun; with every first cut too close for its plan: "
+                   f"deceleration within {THREE_LATE_CUT_MS} ms (the cut tried again farther ahead)",
                    lambda: guarded(check_three_steppers, env)))
     return checks

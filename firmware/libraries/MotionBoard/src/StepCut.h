@@ -41,6 +41,11 @@
 #ifndef MOTION_STEPPER_CUT_THEN_MIN_US
 #define MOTION_STEPPER_CUT_THEN_MIN_US 65000U
 #endif
+/* A cut whose plan is not ready in time is tried again farther ahead, up to this many cuts in all
+ * (while the queue reaches that far); then the stop or the target acts after the queued lead. */
+#ifndef STEP_CUT_TRIES
+#define STEP_CUT_TRIES 4U
+#endif
 /* the most first commands any caller asks for */
 #define STEP_CUT_MAX_CMDS 4U
 
@@ -67,11 +72,14 @@ struct StepCutTiming {
  * plan's first t.new_us of steps are laid out at the cut (the queue then holds that much while the
  * planner plans on). True: done (pl plans on from the new plan's first commands, already laid out; *from:
  * the position where the new plan starts). False: nothing changed (no exact move, parameters set
- * since it was planned, not that much queued, the planner refuses, or the plan took too long:
- * *missed then counts one) and the caller plans after the queued steps as without a cut. Call it
+ * since it was planned, not that much queued, the planner refuses, or the plan came too late) and
+ * the caller plans after the queued steps as without a cut, or, when *retry_us is not 0 (the plan
+ * came too late), may call again later (its next pass: the other axes fed meanwhile) with that
+ * *retry_us, a cut farther ahead (STEP_CUT_TRIES calls in all). *retry_us: in, 0 for a first try;
+ * *missed counts a retry that found nothing queued that far, or a rewind refused. Call it
  * where the axis's commands are laid out (nothing else may lay out commands for it meanwhile). */
 bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,
-                   int32_t *from, uint16_t *missed);
+                   int32_t *from, uint16_t *missed, uint32_t *retry_us);
 
 /* The first commands of the plan in pl, at least new_us of steps (a stop's first is one step), into
  * c[0..max_cmds-1]: the planner then has that long to plan the next. */

@@ -46,7 +46,7 @@ Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
       done_(false), has_next_(false), keep_done_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0), plan_from_(0),
       plan_after_done_(false), plan_done_before_(false),
-      last_status_(MS_OK), cuts_missed_(0), stop_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
+      last_status_(MS_OK), cuts_missed_(0), cut_retry_us_(0), cut_tries_(0), stop_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
       ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0), sig_(0), sig_flex_(5.0f), sig_len_(250),
       sig_hold_(4)
 {
@@ -363,6 +363,8 @@ motion_status_t Stepper::moveTo(long target)
             return MS_ERR_BUSY;
         req_target_ = to_engine(target);
         req_ = REQ_MOVE;
+        cut_retry_us_ = 0; /* a new request: its cut is tried afresh */
+        cut_tries_ = 0;
         if (auto_disable_)
             write_enable(true);
     }
@@ -388,6 +390,8 @@ motion_status_t Stepper::stop()
             req_ = REQ_NONE; /* a move not started yet: it never starts */
         else
             req_ = REQ_STOP;
+        cut_retry_us_ = 0;
+        cut_tries_ = 0;
     }
     BackgroundPlanner::kick();
     return MS_OK;
@@ -424,13 +428,15 @@ void Stepper::run_request()
     if (r == REQ_STOP) {
         c = MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
-            if (stop_in_cruise(false, 0) || plan_at_cut(REQ_STOP, 0)) {
+            if ((cut_retry_us_ == 0 && stop_in_cruise(false, 0)) || plan_at_cut(REQ_STOP, 0)) {
                 /* with two or three Steppers stopped at once the cuts come one after the other,
                  * each taking up to a millisecond or more: a few more of this one's commands first
                  * (else the first axis cut ran dry once: test/emu/ThreeSteppers, three at 10,000
                  * steps/s, and two at 20,000) */
                 if (BackgroundPlanner::steppers() >= 2)
                     (void)MultiStepEngine::service(axis_, source(), MOTION_STEPPER_CMDS_PER_PICK);
+            } else if (cut_again()) {
+                req_ = REQ_STOP; /* its cut is tried again at the next pass, farther ahead */
             } else {
                 step_planner_stop(&planner_);
             }
@@ -440,10 +446,15 @@ void Stepper::run_request()
     }
     plan_after_done_ = false;
     plan_done_before_ = done_; /* an end not taken yet is an earlier move's */
-    if (MultiStepEngine::moving(axis_) && (stop_in_cruise(true, req_target_) || plan_at_cut(REQ_MOVE, req_target_))) {
+    if (MultiStepEngine::moving(axis_) &&
+        ((cut_retry_us_ == 0 && stop_in_cruise(true, req_target_)) || plan_at_cut(REQ_MOVE, req_target_))) {
         /* the move continues into the new plan from the cut (plan_from_: set there) */
         has_next_ = false;
         last_status_ = MS_OK;
+        return;
+    }
+    if (MultiStepEngine::moving(axis_) && cut_again()) {
+        req_ = REQ_MOVE; /* its cut is tried again at the next pass, farther ahead (planStart: not yet) */
         return;
     }
     if (MultiStepEngine::moving(axis_) && !step_planner_busy(&planner_)) {
@@ -544,23 +555,30 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
         stop_->up != e.up || stop_->exact.dir != e.dir ||
         stop_->exact.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_->exact.k, &e.k, sizeof e.k) != 0)
         return false;
-    step_cut_trace(true);
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
-    if (MultiStepEngine::cut_find(axis_, tpu * MOTION_STEPPER_CUT_CRUISE_US, e.n - 1U, cut, false) ==
-        0) {
-        step_cut_trace(false);
-        return false;
-    }
-    /* the kept commands end in the cruise: its last one starts there, and nothing of the
-     * deceleration is kept */
-    nb = e.n - cut.steps;
-    /* the position at the cut */
-    dp = planner_.pos + (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps);
-    if (nb - cut.last_count < e.n1 || nb > e.n2 || (then && (e.dir > 0 ? to > dp : to < dp)) ||
-        !MultiStepEngine::cut_apply(axis_, cut, tpu * MOTION_STEPPER_CUT_MARGIN_US, stop_->cmds,
-                                    stop_->n)) {
-        step_cut_trace(false);
-        return false; /* not in the cruise, a target ahead of the cut (a plan of its own), or too late */
+    /* a cut the step interrupt came too close to is tried again twice as far ahead (STEP_CUT_TRIES
+     * cuts in all): each try costs only the search and the lay-out, 0.4 ms or so with two Steppers
+     * at 20,000 steps/s, as much as the first cut leaves it; until 2026-12-05 one miss sent the stop
+     * to a plan at a 4 ms cut, which took longer than that there, and it waited for the 40 ms lead) */
+    for (uint8_t k = 0;; k++) {
+        step_cut_trace(true);
+        if (k == STEP_CUT_TRIES ||
+            MultiStepEngine::cut_find(axis_, tpu * (MOTION_STEPPER_CUT_CRUISE_US << k), e.n - 1U, cut, false) == 0) {
+            step_cut_trace(false);
+            return false;
+        }
+        /* the kept commands end in the cruise: its last one starts there, and nothing of the
+         * deceleration is kept */
+        nb = e.n - cut.steps;
+        /* the position at the cut */
+        dp = planner_.pos + (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps);
+        if (nb - cut.last_count < e.n1 || nb > e.n2 || (then && (e.dir > 0 ? to > dp : to < dp))) {
+            step_cut_trace(false);
+            return false; /* not in the cruise, or a target ahead of the cut (a plan of its own) */
+        }
+        if (MultiStepEngine::cut_apply(axis_, cut, tpu * MOTION_STEPPER_CUT_MARGIN_US, stop_->cmds, stop_->n))
+            break;
+        step_cut_trace(false); /* too late */
     }
     /* the stop planned ahead, moved to where the cut lands */
     plan_from_ = dp;
@@ -599,15 +617,32 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
     if (BackgroundPlanner::inLoop()) {
         /* a Stepper alone may step up to STEPPER_MAX_SPS_EXACT there (the interrupt's, MULTI_MAX_SPS) */
         float v = fabs(MultiStepEngine::speed(axis_));
-        if (v > MOTION_STEPPER_CUT_MAX_SPS)
+        if (v > MOTION_STEPPER_CUT_MAX_SPS) {
+            cut_retry_us_ = 0;
             return false;
+        }
         timing = LOOP_TIMING;
         if (timing.margin_us != 0)
             timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
     }
     timing.ticks_per_us = BackgroundPlanner::ticksPerUs(); /* the timer's (setTickRate) */
-    return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_);
+    return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_, &cut_retry_us_);
 #endif
+}
+
+/* planner interrupt, after a cut that came too late (plan_at_cut: cut_retry_us_ set): true to try
+ * again at the next pass (the other axes' queues fed meanwhile: a retry in the same pass kept them
+ * waiting, and with two Steppers at 20,000 steps/s one ran dry), up to STEP_CUT_TRIES cuts in all;
+ * false: it is planned after the queued steps now (cutsMissed() counts it when a retry was asked). */
+bool Stepper::cut_again()
+{
+    if (cut_retry_us_ != 0 && ++cut_tries_ < STEP_CUT_TRIES)
+        return true;
+    if (cut_retry_us_ != 0)
+        cuts_missed_++;
+    cut_retry_us_ = 0;
+    cut_tries_ = 0;
+    return false;
 }
 
 /* ---- state ---- */

@@ -71,8 +71,9 @@ class StepperGroup;
  * ahead are dropped and the stop or the new move starts there, so it acts after about this time
  * instead of after the lead. The planner interrupt plans it meanwhile and the cut is made only if
  * that plan is ready MOTION_STEPPER_CUT_MARGIN_US before the step where it lands; a plan that
- * takes longer is discarded and made again after the steps already queued (cutsMissed() counts
- * it). No cut when parameters were set since the move was planned (their conversion costs
+ * takes longer is discarded and made again at a cut twice as far ahead (StepCut.h's STEP_CUT_TRIES
+ * cuts in all), and only when none comes off, after the steps already queued (cutsMissed() counts
+ * that). No cut when parameters were set since the move was planned (their conversion costs
  * milliseconds more). docs/library.md has the measured times. MOTION_STEPPER_CUT_US 0: no cut. */
 #include <StepCut.h>
 /* The smooth ramp's stop and new targets cut its queue too, this many microseconds ahead: its plans
@@ -303,8 +304,8 @@ public:
      * steps by micros(), BackgroundPlanner::poll()) the only rate is 1,000,000. */
     static motion_status_t setTickRate(uint32_t ticks_per_s);
     static uint32_t tickRate();
-    /* Stops and new targets that could not cut the queue in time (their plan took longer than
-     * MOTION_STEPPER_CUT_US, or the planner refused the cut): they acted after the lead instead. */
+    /* Stops and new targets that could not cut the queue in time (their plan was late at every cut
+     * tried, or the planner refused the cut): they acted after the lead instead. */
     uint16_t cutsMissed() const { return cuts_missed_; }
 
     /* ENABLE: on / off now; auto-disable: off after each move ends, on before each starts. */
@@ -345,6 +346,7 @@ private:
     StepperGroup *group_now() const;
     void run_request(); /* planner interrupt: carries out req_ */
     bool plan_at_cut(uint8_t req, int32_t target); /* planner interrupt: a stop or a move from a cut */
+    bool cut_again();                              /* planner interrupt: try that cut again later? */
     bool stop_in_cruise(bool then, int32_t to);    /* planner interrupt: the stop planned ahead, at a cut */
     void prepare_stop();                           /* planner interrupt: plans that stop ahead */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
@@ -408,6 +410,8 @@ private:
     bool plan_done_before_;
     motion_status_t last_status_;
     uint16_t cuts_missed_;
+    uint32_t cut_retry_us_; /* a cut that came too late: the distance of its next try (0: none) */
+    uint8_t cut_tries_;
     /* the stop from the cruise, planned ahead (prepare_stop) from position stop_from_: the planner's
      * state after it and its first commands; valid for any profile whose constants, direction and
      * cruise speed are stop_exact_'s (k, dir) and stop_up_ */
