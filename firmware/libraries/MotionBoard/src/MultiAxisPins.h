@@ -112,15 +112,15 @@
 #endif
 
 /* The step engine's queues (MultiStepEngine.h): commands each axis's ring holds, and the size of
- * one axis's state (38 bytes: its ring is apart, 18 bytes a slot), which MultiStepEngineX.S, Y.S and
- * Z.S reserve. Deep,
+ * one axis's state (38 bytes: its ring is apart, from the heap, 18 bytes a slot and 2 of
+ * bookkeeping), which MultiStepEngineX.S, Y.S and Z.S reserve. Deep,
  * because the end of a deceleration is one command per step (each a whole exact plan) on every axis
  * at once: the queues must hold them before that end comes; three rings of 64 take 3.5 KB of the
  * 8 KB of SRAM. */
 #ifndef MULTI_SLOTS
 #define MULTI_SLOTS 64
 #endif
-/* X's ring when it is the only axis (the one-axis sketches; StepEngine had 96): at most 255 */
+/* X's ring when it is the only axis and planned from loop() (the one-axis sketches): at most 255 */
 #ifndef MULTI_X_ALONE_SLOTS
 #define MULTI_X_ALONE_SLOTS 96
 #endif

@@ -5,6 +5,7 @@
 #include "MultiStepEngineInternal.h"
 
 #include <stddef.h>
+#include <stdlib.h>
 #include <util/atomic.h>
 
 using namespace mse;
@@ -123,20 +124,39 @@ void mse::stop_after(AxisState &s, const AxisSlot &t)
     }
 }
 
-void MultiStepEngine::attach(uint8_t axis, AxisState &s, AxisSlot *ring, uint16_t *durations, uint8_t slots)
+void MultiStepEngine::attach(uint8_t axis, AxisState &s)
 {
     static const uint8_t g_any[MULTI_AXES] = {_BV(MULTI_G_ANY_X), _BV(MULTI_G_ANY_Y), _BV(MULTI_G_ANY_Z)};
     static const uint8_t g_off[MULTI_AXES] = {_BV(MULTI_G_OWNOFF_X), _BV(MULTI_G_OWNOFF_Y), _BV(MULTI_G_OWNOFF_Z)};
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         hw_stop(axis);
-        s.slot = ring;
         s.g_any = g_any[axis];
         s.g_off = g_off[axis];
-        s_feed[axis].duration = durations;
-        s_feed[axis].nslots = slots;
         s_state[axis] = &s;
     }
+}
+
+/* Each registered axis's ring, from the heap, once: x_alone commands when X is the only axis,
+ * MULTI_SLOTS each otherwise. False: no room (nothing changed). */
+static bool alloc_rings(uint8_t x_alone)
+{
+    uint8_t n = (s_state[0] && !s_state[1] && !s_state[2]) ? x_alone : MULTI_SLOTS;
+    for (uint8_t a = 0; a < MULTI_AXES; a++) {
+        if (!s_state[a] || s_state[a]->slot)
+            continue;
+        AxisSlot *ring = static_cast<AxisSlot *>(malloc(n * sizeof(AxisSlot)));
+        uint16_t *dur = static_cast<uint16_t *>(malloc(n * sizeof(uint16_t)));
+        if (!ring || !dur) {
+            free(ring);
+            free(dur);
+            return false;
+        }
+        s_state[a]->slot = ring;
+        s_feed[a].duration = dur;
+        s_feed[a].nslots = n;
+    }
+    return true;
 }
 
 /* an axis's pins as outputs: STEP low, DIR high (forward), ENABLE low (on); interrupts are off */
@@ -163,8 +183,10 @@ static void axis_pins(uint8_t axis)
 #endif
 }
 
-void MultiStepEngine::begin_axes(uint32_t tick_hz)
+bool MultiStepEngine::begin_axes(uint32_t tick_hz, uint8_t x_alone)
 {
+    if (x_alone < 3U || !alloc_rings(x_alone))
+        return false;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         s_axes = 0;
@@ -202,6 +224,7 @@ void MultiStepEngine::begin_axes(uint32_t tick_hz)
         if (s_state[a])
             state(a).late_ticks = (uint8_t)(s_tick_hz / 500000UL); /* 2 us: 32 or 4 ticks */
     s_lead_ticks = s_tick_hz / 1000UL * MULTI_LEAD_MS;
+    return true;
 }
 
 uint32_t MultiStepEngine::tick_hz()

@@ -47,8 +47,9 @@
 #define MULTI_AXES_ALL 7U
 
 /* MULTI_SLOTS (MultiAxisPins.h): commands each axis's ring holds (one is the interrupt's current
- * one); 18 bytes of SRAM each, and 2 for loop()'s bookkeeping. MULTI_X_ALONE_SLOTS: X's ring when it
- * is the only axis (the one-axis sketches: the Leib planner's one command a step, 200 ms banked). */
+ * one); 18 bytes of SRAM each (from the heap, begin_axes), and 2 for loop()'s bookkeeping.
+ * MULTI_X_ALONE_SLOTS: X's ring when it is the only axis and planned from loop() (MotionStepper's
+ * BackgroundPlanner: the stepper sketches). */
 /* A move starts stepping once this many commands are laid out (or its planner has no more), when no
  * other axis is stepping; while another is, once its ring is full (MULTI_SLOTS - 1 commands) or its
  * lead is laid out: its planning shares the CPU with theirs, so it starts with all it can bank. */
@@ -115,10 +116,9 @@ struct AxisState {
     AxisSlot *slot;             /* its ring (the interrupt follows the slots' `other` links) */
     uint8_t g_any, g_off;       /* its GPIOR0 bits (MultiAxisPins.h) */
 };
-/* Each axis's state and interrupt are one object (MultiStepEngineX.S, Y.S, Z.S), its ring another
- * (MultiStepEngineRingX.cpp, ...): linked only when begin() names the axis (multi_use_*). */
+/* Each axis's state and interrupt are one object (MultiStepEngineX.S, Y.S, Z.S), linked only when
+ * its multi_use_* (MultiStepEngineAxisX.cpp, ...) is called: by a Stepper's constructor. */
 extern "C" void multi_use_x(void);
-extern "C" void multi_use_x_alone(void);
 extern "C" void multi_use_y(void);
 extern "C" void multi_use_z(void);
 
@@ -132,29 +132,15 @@ struct AxisSource {
 
 class MultiStepEngine {
 public:
-    /* Pins as outputs (STEP low, DIR high, ENABLE low = on), Timer1 in normal mode at tick_hz:
-     * 16000000 (prescaler 1, MULTI_TICK_HZ) or 2000000 (prescaler 8: the lab ramps'
-     * STEPPER_TICK_HZ_LAB); any other value means 16 MHz. Step commands are in these ticks.
-     * axes: the axes the sketch uses (MULTI_AXIS_X | ..., a constant): the others' states, rings and
-     * interrupts are not linked (an axis not begun must not be passed to any call); X alone gets
-     * MULTI_X_ALONE_SLOTS slots, every other axis MULTI_SLOTS. */
-    static inline __attribute__((always_inline)) void begin(uint32_t tick_hz = MULTI_TICK_HZ,
-                                                            uint8_t axes = MULTI_AXES_ALL)
-    {
-        if (axes == MULTI_AXIS_X)
-            multi_use_x_alone();
-        else if (axes & MULTI_AXIS_X)
-            multi_use_x();
-        if (axes & MULTI_AXIS_Y)
-            multi_use_y();
-        if (axes & MULTI_AXIS_Z)
-            multi_use_z();
-        begin_axes(tick_hz);
-    }
-    /* begin()'s work once the axes' rings are registered (attach) */
-    static void begin_axes(uint32_t tick_hz);
-    /* multi_use_*: an axis's state and ring, registered before begin_axes */
-    static void attach(uint8_t axis, AxisState &s, AxisSlot *ring, uint16_t *durations, uint8_t slots);
+    /* The axes registered (multi_use_*: a Stepper's constructor) begin: each gets its ring, from the
+     * heap (x_alone commands, at least 3, when X is the only one, MULTI_SLOTS each otherwise; false:
+     * no room on the heap, nothing begun), its pins as outputs (STEP low, DIR high, ENABLE low = on),
+     * and Timer1 runs in normal mode at tick_hz: 16000000 (prescaler 1, MULTI_TICK_HZ) or 2000000
+     * (prescaler 8: the lab ramps' STEPPER_TICK_HZ_LAB); any other value means 16 MHz. Step
+     * commands are in these ticks. An axis not registered must not be passed to any call. */
+    static bool begin_axes(uint32_t tick_hz, uint8_t x_alone = MULTI_SLOTS);
+    /* multi_use_*: an axis's state, registered before begin_axes */
+    static void attach(uint8_t axis, AxisState &s);
     /* The timeline's ticks per second, as begin() set it (timed-loop mode: 1000000). */
     static uint32_t tick_hz();
 

@@ -87,15 +87,20 @@ void BackgroundPlanner::kick()
     }
 }
 
-void BackgroundPlanner::begin()
+bool BackgroundPlanner::begin()
 {
     if (begun_)
-        return;
-    MultiStepEngine::begin_axes(tick_hz_); /* the axes of the Steppers made (their constructors) */
+        return true;
+    /* the axes of the Steppers made (their constructors); a Stepper alone on X planned from loop()
+     * (the stepper sketches) gets a deeper ring: the lab's ramps make about one command per step near
+     * their top rate, and LeibRampStepper's 12,000 steps/s needs 96 banked (with 64 its queue ran
+     * dry at the end of the acceleration); the others keep their SRAM (SmoothMove's stack) */
+    if (!MultiStepEngine::begin_axes(tick_hz_, in_loop_ ? MULTI_X_ALONE_SLOTS : MULTI_SLOTS))
+        return false;
     apply_lead();
     if (in_loop_) {
         begun_ = true; /* no Timer3: poll() runs the tick from loop() */
-        return;
+        return true;
     }
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
@@ -113,6 +118,7 @@ void BackgroundPlanner::begin()
 #endif
     }
     begun_ = true;
+    return true;
 }
 
 bool BackgroundPlanner::setTickHz(uint32_t hz)

@@ -97,8 +97,9 @@ class StepperGroup;
 
 class BackgroundPlanner {
 public:
-    /* The step engine (pins, Timer1) and Timer3's interrupt; once (later calls do nothing). */
-    static void begin();
+    /* The step engine (the rings, pins, Timer1) and Timer3's interrupt; once (later calls do nothing).
+     * False: no room on the heap for the rings (nothing begun). */
+    static bool begin();
     static bool running() { return begun_; }
     /* Steps kept queued ahead of each axis, ms (1..1000; from the next command laid out). The lead in
      * force is at least MOTION_STEPPER_LEAD_MS_2 / _3 with two / three Steppers begun. */

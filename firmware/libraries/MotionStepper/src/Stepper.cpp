@@ -81,7 +81,8 @@ motion_status_t Stepper::begin()
     st = init_planner(0);
     if (st != MS_OK)
         return st;
-    BackgroundPlanner::begin();
+    if (!BackgroundPlanner::begin())
+        return MS_ERR_OUT_OF_RANGE; /* no room on the heap for the step rings */
     if (!BackgroundPlanner::claim(axis_, this))
         return MS_ERR_AXIS_TAKEN;
     {

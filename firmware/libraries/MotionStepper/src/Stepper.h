@@ -154,7 +154,10 @@ public:
     }
 
     /* Takes the axis (MS_ERR_AXIS_TAKEN if another Stepper has it), sets up the engine and the planner
-     * (once for all), ENABLE as set (enabled unless auto-disable is on), position 0. */
+     * (once for all: the first begin() takes every Stepper's ring of step commands from the heap,
+     * 64 commands of 20 bytes each, 96 for a Stepper alone on X planned from loop(), as the stepper
+     * sketches' console plans; MS_ERR_OUT_OF_RANGE if
+     * there is no room), ENABLE as set (enabled unless auto-disable is on), position 0. */
     motion_status_t begin();
 
     /* Limits for the next plan; MS_ERR_OUT_OF_RANGE above this library's limits. */
