@@ -23,8 +23,8 @@
  * runs: change it here and the board follows your version.
  *
  * The sketch is a user of the MotionStepper library's Stepper, as your own sketch would be
- * (docs/library.md): setup() gives it the handout's parameters, its ramp (your two functions) and
- * your moveOneStep(); the console turns each serial command into one of its calls (a target ->
+ * (docs/library.md): it is made with its ramp (your two functions: only the lab's planner is
+ * linked), setup() gives it the handout's parameters and your moveOneStep(); the console turns each serial command into one of its calls (a target ->
  * x.moveTo(), stop -> x.stop(), ! -> x.forceStop(), set -> x.setMaxSpeed() ...). Following this
  * sketch from setup()/loop() to the STEP pin takes these 5 files (each names the few-line glue it
  * hands over through):
@@ -91,17 +91,17 @@ void moveOneStep(bool direction)
 }
 
 static const ramp_hooks_t labCode = {preComputation, computeNewSpeed, 0, 0};
-Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38
+// the RAMPS 1.4 X axis (STEP D54, DIR D55, ENABLE D38) on the Leib ramp with your two functions
+Stepper x(Stepper::X, RAMP_ALGO_LEIB, &labCode);
 static MotionConsole console(x); // the serial commands, each one a call of x
 
 
 void setup()
 {
     Stepper::setTickRate(STEPPER_TICK_HZ_LAB); // F = 2 MHz (Timer1 at 16 MHz / 8), the handout's F
-    x.setMaxSpeed(maxPermisSpeed);              // first: the library's default (10,000) is above
-    x.setMinSpeed(minSpeed);                    //   the Leib ramp's limit (max_sps in `?`)
+    x.setMaxSpeed(maxPermisSpeed);              // before begin(): the library's default (10,000) is
+    x.setMinSpeed(minSpeed);                    //   above the Leib ramp's limit (max_sps in `?`)
     x.setAcceleration(maxAccel);
-    x.setRamp(RAMP_ALGO_LEIB, &labCode);        // your preComputation() and computeNewSpeed()
     x.setDirectionHook(moveOneStep);            // DIR is yours: the engine calls moveOneStep()
     x.begin();
     console.begin(F("LeibRampStepper"));

@@ -67,17 +67,17 @@ void moveOneStep(bool direction)
 }
 
 static const ramp_hooks_t labCode = {0, 0, preComputation, computeNewSpeed};
-Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38
+// the RAMPS 1.4 X axis (STEP D54, DIR D55, ENABLE D38) on the simplistic ramp with your two functions
+Stepper x(Stepper::X, RAMP_ALGO_SIMPLISTIC, &labCode);
 static MotionConsole console(x); // the serial commands, each one a call of x
 
 
 void setup()
 {
     Stepper::setTickRate(STEPPER_TICK_HZ_LAB); // F = 2 MHz (Timer1 at 16 MHz / 8), the handout's F
-    x.setMaxSpeed(maxPermisSpeed);              // first: the library's default (10,000) is above
-    x.setMinSpeed(minSpeed);                    //   this ramp's limit (max_sps in `?`), and its
-    x.setAcceleration(maxAccel);                //   v0 must be above 0
-    x.setRamp(RAMP_ALGO_SIMPLISTIC, &labCode);  // your preComputation() and computeNewSpeed()
+    x.setMinSpeed(minSpeed);                    // before begin(): this ramp's v0 must be above 0,
+    x.setMaxSpeed(maxPermisSpeed);              //   and the library's default vmax (10,000) is above
+    x.setAcceleration(maxAccel);                //   its limit (max_sps in `?`)
     x.setDirectionHook(moveOneStep);            // DIR is yours: the engine calls moveOneStep()
     x.begin();
     console.begin(F("SimplisticRampStepper"));

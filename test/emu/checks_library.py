@@ -580,6 +580,8 @@ API_TOUR = (
     ("setAcceleration(40000)", "MS_OK"),
     ("begin()", "MS_OK"),
     ("begin() of a second X", "MS_ERR_AXIS_TAKEN"),
+    ("begin() of a Leib Stepper at vmax 10000", "MS_ERR_OUT_OF_RANGE"),
+    ("begin() of a Stepper made with the sigmoid", "MS_ERR_OUT_OF_RANGE"),
     ("setDirectionInverted(true)", "MS_OK"),
     ("moveTo(-2000)", "MS_OK"),
     ("setCurrentPosition(5) while moving", "MS_ERR_BUSY"),
@@ -1304,8 +1306,11 @@ ONE_RATES = (40000, 60000)  # steps/s: the reference move of make bench at two r
 # with interrupts off (the core's millis interrupt, about 90 cycles; the planner tick's vector, about
 # 35) and its own few dozen cycles, not for the 260 of the sketches' bound (where serial traffic and
 # other axes meet it). Measured on 2026-12-05: 101 at both rates; with the planner tick's former vector
-# (22 registers saved and its checks made with interrupts off) 208 and 169.
-ONE_BOUND = 140
+# (22 registers saved and its checks made with interrupts off) 208 and 169. 150, not 140 (until
+# 2026-12-05): in a build of that evening step 20 at 60,000 steps/s came 145 cycles after its compare
+# match, as the OK's last byte went out: the core's serial transmit interrupt (UDRE) holds interrupts
+# off a little longer than millis's, and the code's layout had made them meet.
+ONE_BOUND = 150
 
 
 def check_one_stepper(env):

@@ -7,7 +7,6 @@
 #include <MultiStepEngine.h>
 
 #include "Stepper.h"
-#include "StepperGroup.h"
 
 Stepper *BackgroundPlanner::axes_[3];
 uint8_t BackgroundPlanner::count_;
@@ -233,7 +232,7 @@ void BackgroundPlanner::feed()
         if (axes_[i])
             (void)MultiStepEngine::service(i, axes_[i]->source(), 0); /* starts and ends */
     for (uint8_t i = 0; i < 3; i++) {
-        StepperGroup *g = axes_[i] ? axes_[i]->group_ : 0;
+        GroupMove *g = axes_[i] ? axes_[i]->group_ : 0;
         if (g)
             g->poll_start();
     }
@@ -267,7 +266,7 @@ void BackgroundPlanner::tick()
     collect_done();
     for (uint8_t i = 0; i < 3; i++)
         if (axes_[i])
-            axes_[i]->prepare_stop(); /* once a move cruises: its stop planned ahead */
+            axes_[i]->plan_stop_ahead(); /* once a move cruises: its stop planned ahead */
 }
 
 /* A step interrupt is running (the engine's in_step_interrupt(): its own compare interrupt masked

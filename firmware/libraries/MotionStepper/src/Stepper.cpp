@@ -8,7 +8,6 @@
 #include <string.h>
 #include <util/atomic.h>
 
-#include "StepperGroup.h"
 
 static_assert(MOTION_STEPPER_CUT_CMDS <= MultiStepEngine::MULTI_CUT_MAX_CMDS,
               "the stop planned ahead is laid out by cut_apply: at most MULTI_CUT_MAX_CMDS commands");
@@ -41,6 +40,9 @@ struct Stepper::Sigmoid {
 };
 
 uint8_t Stepper::made_;
+motion_status_t (*Stepper::exact_init_)(step_planner_t *, const ramp_params_t *, int32_t);
+const Stepper::Cuts *Stepper::cuts_;
+const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Stepper::cuts_prepare};
 
 Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
@@ -48,7 +50,7 @@ Stepper::Stepper(Axis axis, int)
       plan_after_done_(false), plan_done_before_(false),
       last_status_(MS_OK), cuts_missed_(0), cut_retry_us_(0), cut_tries_(0), stop_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
       ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0), sig_(0), sig_flex_(5.0f), sig_len_(250),
-      sig_hold_(4)
+      sig_hold_(4), planner_(), begin_status_(MS_OK)
 {
     made_++;
     /* the MultiAxisStepper sketch's defaults */
@@ -68,8 +70,10 @@ motion_status_t Stepper::begin()
     motion_status_t st;
     if (begun_)
         return MS_OK;
-    if (axis_ > Z)
+    if (axis_ > Z || begin_status_ != MS_OK)
         return MS_ERR_OUT_OF_RANGE;
+    if (params_.vmax_sps > vmax_limit() || params_.accel_sps2 > accelerationLimit())
+        return MS_ERR_OUT_OF_RANGE; /* a lab ramp taken by the constructor, the library's default vmax */
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
     if (!BackgroundPlanner::inLoop() && !stop_) {
         stop_ = static_cast<StopAhead *>(malloc(sizeof(StopAhead)));
@@ -107,7 +111,7 @@ motion_status_t Stepper::init_planner(int32_t pos)
     params_.tick_hz = BackgroundPlanner::tickHz();
     motion_status_t st = algo_ == RAMP_ALGO_SIGMOID ? sigmoid_init_(&planner_, &sig_->now, sig_->table, SCURVE_MAX_LEN, pos)
                          : algo_ == RAMP_ALGO_SMOOTH ? smooth_init_(&planner_, &params_, (double)jerk_, smooth_, pos)
-                         : algo_ == RAMP_ALGO_EXACT ? step_planner_init_exact(&planner_, &params_, pos)
+                         : algo_ == RAMP_ALGO_EXACT ? exact_init_(&planner_, &params_, pos)
                                                     : lab_init_(&planner_, algo_, &params_, ramp_hooks_, pos);
     if (st != MS_OK)
         return st;
@@ -148,7 +152,7 @@ motion_status_t Stepper::probe(ramp_algo_t algo, const ramp_hooks_t *hooks, cons
     }
     if (algo == RAMP_ALGO_EXACT) {
         step_planner_t pl;
-        return step_planner_init_exact(&pl, &p, 0);
+        return exact_init_(&pl, &p, 0); /* set with algo_ by the constructor or setRamp */
     }
     ramp_t r;
     return lab_probe_(&r, algo, &p, hooks, 0, 1); /* set with algo_ by set_ramp */
@@ -227,6 +231,7 @@ motion_status_t Stepper::set_ramp_smooth()
         return MS_ERR_BUSY;
     smooth_check_ = step_planner_smooth_check;
     smooth_init_ = step_planner_init_smooth;
+    cuts_ = &CUTS; /* its stops and new targets cut the queue */
     smooth_jerk_ = step_planner_set_jerk;
     if (!smooth_) {
         /* checked first, so that a refusal allocates nothing */
@@ -429,7 +434,7 @@ void Stepper::run_request()
     if (r == REQ_STOP) {
         c = MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
-            if ((cut_retry_us_ == 0 && stop_in_cruise(false, 0)) || plan_at_cut(REQ_STOP, 0)) {
+            if ((cut_retry_us_ == 0 && cut_in_cruise(false, 0)) || cut_plan(REQ_STOP, 0)) {
                 /* with two or three Steppers stopped at once the cuts come one after the other,
                  * each taking up to a millisecond or more: a few more of this one's commands first
                  * (else the first axis cut ran dry once: test/emu/ThreeSteppers, three at 10,000
@@ -448,7 +453,7 @@ void Stepper::run_request()
     plan_after_done_ = false;
     plan_done_before_ = done_; /* an end not taken yet is an earlier move's */
     if (MultiStepEngine::moving(axis_) &&
-        ((cut_retry_us_ == 0 && stop_in_cruise(true, req_target_)) || plan_at_cut(REQ_MOVE, req_target_))) {
+        ((cut_retry_us_ == 0 && cut_in_cruise(true, req_target_)) || cut_plan(REQ_MOVE, req_target_))) {
         /* the move continues into the new plan from the cut (plan_from_: set there) */
         has_next_ = false;
         last_status_ = MS_OK;
@@ -654,9 +659,9 @@ bool Stepper::isRunning() const
 }
 
 /* The group the axis moves in, read whole (the planner interrupt clears it at the move's end). */
-StepperGroup *Stepper::group_now() const
+GroupMove *Stepper::group_now() const
 {
-    StepperGroup *g;
+    GroupMove *g;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
         g = group_;

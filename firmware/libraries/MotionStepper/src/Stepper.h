@@ -41,6 +41,25 @@
 
 #include "BackgroundPlanner.h"
 
+/* What the planner and a Stepper ask of the coordinated move the Stepper's axis is part of (a
+ * StepperGroup, StepperGroup.h), engine axis numbers and positions: virtual, so that a sketch without
+ * a StepperGroup links none of it (only the group's constructor references its table: the exact
+ * coordinated planner, lib's step_coord.c, about 8 KB of flash, stays out of the one-axis sketches). */
+class GroupMove {
+public:
+    virtual AxisSource source_of(uint8_t axis) = 0;     /* the axis's commands in the move */
+    virtual int32_t position_of(uint8_t axis) = 0;
+    virtual int32_t target_of(uint8_t axis) = 0;
+    virtual uint8_t interrupt_of(uint8_t axis, bool &flip) = 0; /* the axis whose interrupt steps it */
+    virtual void poll_start() = 0;                      /* planner: start the axes together */
+    virtual void run_request() = 0;                     /* planner: loop()'s move or stop */
+    virtual void axis_done(uint8_t axis, int32_t position) = 0; /* planner: an axis's part ended */
+    virtual motion_status_t stop() = 0;
+    virtual motion_status_t forceStop() = 0;
+
+protected:
+    ~GroupMove() {}
+};
 class StepperGroup;
 
 /* The smooth ramp's highest vmax (setMaxSpeed, setRamp(RAMP_ALGO_SMOOTH): MS_ERR_OUT_OF_RANGE above):
@@ -140,17 +159,34 @@ public:
     /* hook(true) before steps that count up, hook(false) before steps that count down */
     typedef void (*DirectionHook)(bool forward);
 
-    /* The axis's step interrupt and queue are linked into the sketch only when a Stepper is made
-     * for it (the constructor names it; MultiStepEngine::begin's axes): a sketch with a Stepper X
-     * alone carries one ring, not three. */
+    /* The axis's step interrupt is linked into the sketch only when a Stepper is made for it (the
+     * constructor names it): a sketch with a Stepper X alone carries one interrupt, not three. Its
+     * moves follow the exact ramp (RAMP_ALGO_EXACT) until setRamp() says otherwise. */
     explicit inline __attribute__((always_inline)) Stepper(Axis axis) : Stepper(axis, 0)
     {
-        if (axis == X)
-            multi_use_x();
-        else if (axis == Y)
-            multi_use_y();
-        else
-            multi_use_z();
+        use_axis(axis);
+        exact_init_ = step_planner_init_exact;
+        cuts_ = &CUTS;
+    }
+    /* A Stepper whose moves follow one of the lab's ramps from the start: RAMP_ALGO_LEIB or
+     * RAMP_ALGO_SIMPLISTIC, with hooks as for setRamp() (the lab's preComputation() and
+     * computeNewSpeed(), or NULL for lib's): as Stepper(axis) and setRamp(algo, hooks) before
+     * begin(), except that the exact planner (some 25 KB of flash) is linked only if the sketch asks
+     * for it with setRamp(RAMP_ALGO_EXACT) (LeibRampStepper, SimplisticRampStepper). Any other algo:
+     * begin() refuses (MS_ERR_OUT_OF_RANGE), and so does it when the parameters in force do not
+     * suit the ramp then (vmax above its limit: set it first). */
+    inline __attribute__((always_inline)) Stepper(Axis axis, ramp_algo_t lab_algo, const ramp_hooks_t *hooks)
+        : Stepper(axis, 0)
+    {
+        use_axis(axis);
+        if (lab_algo == RAMP_ALGO_LEIB || lab_algo == RAMP_ALGO_SIMPLISTIC) {
+            lab_init_ = step_planner_init_lab;
+            lab_probe_ = ramp_plan_hooked;
+            algo_ = lab_algo;
+            ramp_hooks_ = hooks;
+        } else {
+            begin_status_ = MS_ERR_OUT_OF_RANGE;
+        }
     }
 
     /* Takes the axis (MS_ERR_AXIS_TAKEN if another Stepper has it), sets up the engine and the planner
@@ -207,6 +243,10 @@ public:
      *                         after moveTo() from rest (the ring is filled first; docs/smooth-move.md). */
     inline __attribute__((always_inline)) motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0)
     {
+        if (algo == RAMP_ALGO_EXACT) {
+            exact_init_ = step_planner_init_exact; /* only here and in Stepper(axis): see the constructors */
+            cuts_ = &CUTS;
+        }
         return algo == RAMP_ALGO_SMOOTH ? set_ramp_smooth() : set_ramp(algo, hooks);
     }
     ramp_algo_t ramp() const { return algo_; }
@@ -342,11 +382,42 @@ public:
 
 private:
     Stepper(Axis axis, int); /* the fields */
+    inline __attribute__((always_inline)) static void use_axis(Axis axis)
+    {
+        if (axis == X)
+            multi_use_x();
+        else if (axis == Y)
+            multi_use_y();
+        else
+            multi_use_z();
+    }
+    /* the exact planner's entry, set by Stepper(axis) and setRamp(RAMP_ALGO_EXACT) (null in a sketch
+     * that never names the exact ramp: it links none of it) */
+    static motion_status_t (*exact_init_)(step_planner_t *pl, const ramp_params_t *params, int32_t pos);
+    /* the cuts of the queue (stop_in_cruise, plan_at_cut, prepare_stop: StepCut.h), for the exact and
+     * the smooth ramp only: set with them, so that a sketch on a lab ramp alone links none of it */
+    struct Cuts {
+        bool (*at_cut)(Stepper &s, uint8_t req, int32_t target);
+        bool (*in_cruise)(Stepper &s, bool then, int32_t to);
+        void (*prepare)(Stepper &s);
+    };
+    static const Cuts CUTS;
+    static const Cuts *cuts_;
+    static bool cuts_at(Stepper &s, uint8_t req, int32_t target) { return s.plan_at_cut(req, target); }
+    static bool cuts_cruise(Stepper &s, bool then, int32_t to) { return s.stop_in_cruise(then, to); }
+    static void cuts_prepare(Stepper &s) { s.prepare_stop(); }
+    bool cut_in_cruise(bool then, int32_t to) { return cuts_ && cuts_->in_cruise(*this, then, to); }
+    bool cut_plan(uint8_t req, int32_t target) { return cuts_ && cuts_->at_cut(*this, req, target); }
+    void plan_stop_ahead()
+    {
+        if (cuts_)
+            cuts_->prepare(*this);
+    }
     friend class BackgroundPlanner;
     friend class StepperGroup;
     enum { REQ_NONE, REQ_MOVE, REQ_STOP };
     AxisSource source();
-    StepperGroup *group_now() const;
+    GroupMove *group_now() const;
     void run_request(); /* planner interrupt: carries out req_ */
     bool plan_at_cut(uint8_t req, int32_t target); /* planner interrupt: a stop or a move from a cut */
     bool cut_again();                              /* planner interrupt: try that cut again later? */
@@ -435,7 +506,7 @@ private:
     void install_hook();
     ramp_algo_t algo_;
     const ramp_hooks_t *ramp_hooks_;
-    StepperGroup *volatile group_; /* the coordinated move this axis is part of, or none */
+    GroupMove *volatile group_; /* the coordinated move this axis is part of, or none */
     ramp_params_t params_;
     float jerk_;
     step_smooth_t *smooth_; /* the smooth ramp's planner state (heap), or none yet */
@@ -443,6 +514,7 @@ private:
     float sig_flex_;
     uint16_t sig_len_, sig_hold_;
     step_planner_t planner_;
+    motion_status_t begin_status_; /* a constructor's refusal, returned by begin() */
 };
 
 #endif

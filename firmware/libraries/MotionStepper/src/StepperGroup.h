@@ -25,9 +25,9 @@
 
 #include <MultiStepEngine.h>
 
-class Stepper;
+#include "Stepper.h"
 
-class StepperGroup {
+class StepperGroup : public GroupMove {
 public:
     StepperGroup(Stepper &a, Stepper &b);
     StepperGroup(Stepper &a, Stepper &b, Stepper &c);
@@ -41,8 +41,8 @@ public:
     motion_status_t moveTo(const long *targets, uint8_t members);
     /* false from moveTo until the planner interrupt has planned it (then lastStatus() tells). */
     bool planned() const { return !plan_req_; }
-    motion_status_t stop();      /* decelerate to rest on the line */
-    motion_status_t forceStop(); /* halt every axis now */
+    motion_status_t stop() override;      /* decelerate to rest on the line */
+    motion_status_t forceStop() override; /* halt every axis now */
     bool isRunning() const;
     /* true once when a move of the group has ended (every axis at rest); positions: each member's
      * currentPosition(). */
@@ -63,16 +63,16 @@ private:
     motion_status_t move_all(const long *targets, uint8_t members);
     int8_t index_of(uint8_t axis) const;
     /* for Stepper and the planner interrupt (axis: the engine's axis number) */
-    AxisSource source_of(uint8_t axis);
-    int32_t position_of(uint8_t axis);
-    int32_t target_of(uint8_t axis);
-    uint8_t interrupt_of(uint8_t axis, bool &flip);
-    void poll_start();
-    void run_request();
+    AxisSource source_of(uint8_t axis) override;
+    int32_t position_of(uint8_t axis) override;
+    int32_t target_of(uint8_t axis) override;
+    uint8_t interrupt_of(uint8_t axis, bool &flip) override;
+    void poll_start() override;
+    void run_request() override;
     void execute_plan();
     void do_stop();
     void release();
-    void axis_done(uint8_t axis, int32_t position);
+    void axis_done(uint8_t axis, int32_t position) override;
     int32_t follower_position(uint8_t j, int32_t master_pos);
     static uint8_t coord_next(void *ctx, step_cmd_t *c);
     static uint8_t coord_busy(void *ctx);
