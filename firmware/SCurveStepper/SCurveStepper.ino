@@ -23,14 +23,15 @@
 #include <MotionStepper.h>
 #include <MotionConsole.h>
 
-Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38
+// the RAMPS 1.4 X axis (STEP D54, DIR D55, ENABLE D38) on the sigmoid ramp (only its planner linked)
+Stepper x(Stepper::X, RAMP_ALGO_SIGMOID, 0);
 static MotionConsole console(x); // the serial commands, each one a call of x; it plans in loop()
 
 void setup()
 {
     Stepper::setTickRate(STEPPER_TICK_HZ_LAB); // the 2 MHz timer: the table's periods count its ticks
+    x.setMinSpeed(200);                        // fmin, steps/s (first: the sigmoid needs fmin > 0)
     x.setMaxSpeed(4000);                       // fmax, steps/s
-    x.setMinSpeed(200);                        // fmin, steps/s
     x.setSigmoid(5.0, 250, 4);                 // flex, len (table entries), hold (steps per entry)
     x.setRamp(RAMP_ALGO_SIGMOID);              // fills the table (about 0.1 s)
     x.begin();

@@ -74,6 +74,8 @@ motion_status_t Stepper::begin()
         return MS_ERR_OUT_OF_RANGE;
     if (params_.vmax_sps > vmax_limit() || params_.accel_sps2 > accelerationLimit())
         return MS_ERR_OUT_OF_RANGE; /* a lab ramp taken by the constructor, the library's default vmax */
+    if (algo_ == RAMP_ALGO_SIGMOID && !sig_)
+        return MS_ERR_TABLE_MISSING; /* made with the sigmoid: setRamp(RAMP_ALGO_SIGMOID) fills its table */
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
     if (!BackgroundPlanner::inLoop() && !stop_) {
         stop_ = static_cast<StopAhead *>(malloc(sizeof(StopAhead)));

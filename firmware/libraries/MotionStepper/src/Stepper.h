@@ -168,22 +168,31 @@ public:
         exact_init_ = step_planner_init_exact;
         cuts_ = &CUTS;
     }
-    /* A Stepper whose moves follow one of the lab's ramps from the start: RAMP_ALGO_LEIB or
-     * RAMP_ALGO_SIMPLISTIC, with hooks as for setRamp() (the lab's preComputation() and
-     * computeNewSpeed(), or NULL for lib's): as Stepper(axis) and setRamp(algo, hooks) before
-     * begin(), except that the exact planner (some 25 KB of flash) is linked only if the sketch asks
-     * for it with setRamp(RAMP_ALGO_EXACT) (LeibRampStepper, SimplisticRampStepper). Any other algo:
-     * begin() refuses (MS_ERR_OUT_OF_RANGE), and so does it when the parameters in force do not
-     * suit the ramp then (vmax above its limit: set it first). */
-    inline __attribute__((always_inline)) Stepper(Axis axis, ramp_algo_t lab_algo, const ramp_hooks_t *hooks)
+    /* A Stepper whose moves follow another ramp from the start, so that the sketch links the exact
+     * planner and the queue's cuts (some 33 KB of flash) only if it names the exact ramp
+     * (setRamp(RAMP_ALGO_EXACT)): RAMP_ALGO_LEIB or RAMP_ALGO_SIMPLISTIC with hooks as for setRamp()
+     * (the lab's preComputation() and computeNewSpeed(), or NULL for lib's), as Stepper(axis) and
+     * setRamp(algo, hooks) before begin() (LeibRampStepper, SimplisticRampStepper);
+     * RAMP_ALGO_SIGMOID (hooks NULL): the setters check for the sigmoid from the start, and
+     * setRamp(RAMP_ALGO_SIGMOID) must fill its table before begin() (SCurveStepper); RAMP_ALGO_EXACT:
+     * as Stepper(axis). begin() refuses (MS_ERR_OUT_OF_RANGE) any other algo and parameters in force
+     * that the ramp does not take then (vmax above its limit: set it first), and the sigmoid without
+     * its table (MS_ERR_TABLE_MISSING). */
+    inline __attribute__((always_inline)) Stepper(Axis axis, ramp_algo_t algo, const ramp_hooks_t *hooks)
         : Stepper(axis, 0)
     {
         use_axis(axis);
-        if (lab_algo == RAMP_ALGO_LEIB || lab_algo == RAMP_ALGO_SIMPLISTIC) {
+        if (algo == RAMP_ALGO_LEIB || algo == RAMP_ALGO_SIMPLISTIC) {
             lab_init_ = step_planner_init_lab;
             lab_probe_ = ramp_plan_hooked;
-            algo_ = lab_algo;
+            algo_ = algo;
             ramp_hooks_ = hooks;
+        } else if (algo == RAMP_ALGO_SIGMOID) {
+            sigmoid_check_ = ramp_sigmoid_check; /* the table comes with setRamp(RAMP_ALGO_SIGMOID) */
+            algo_ = algo;
+        } else if (algo == RAMP_ALGO_EXACT) {
+            exact_init_ = step_planner_init_exact;
+            cuts_ = &CUTS;
         } else {
             begin_status_ = MS_ERR_OUT_OF_RANGE;
         }

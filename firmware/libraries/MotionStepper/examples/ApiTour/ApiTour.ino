@@ -8,10 +8,12 @@
 
 Stepper x(Stepper::X);
 Stepper x2(Stepper::X); /* a second Stepper for the same axis: its begin() is refused */
-/* made with a ramp: the lab's Leib ramp at the library's default vmax (above that ramp's limit), and
- * the sigmoid, which this constructor does not take: both begin()s are refused */
+/* made with a ramp: the lab's Leib ramp at the library's default vmax (above that ramp's limit), the
+ * sigmoid without its table (no setRamp), and the smooth ramp, which this constructor does not take:
+ * their begin()s are refused */
 Stepper x3(Stepper::X, RAMP_ALGO_LEIB, 0);
 Stepper x4(Stepper::X, RAMP_ALGO_SIGMOID, 0);
+Stepper x5(Stepper::X, RAMP_ALGO_SMOOTH, 0);
 static const uint8_t HOOK_PIN = 32;
 
 static void say(const __FlashStringHelper *call, motion_status_t st)
@@ -68,6 +70,7 @@ void setup()
     say(F("begin() of a second X"), x2.begin());
     say(F("begin() of a Leib Stepper at vmax 10000"), x3.begin());
     say(F("begin() of a Stepper made with the sigmoid"), x4.begin());
+    say(F("begin() of a Stepper made with the smooth ramp"), x5.begin());
 
     /* inverted, auto-disable: counting down is DIR high, ENABLE only while moving */
     say(F("setDirectionInverted(true)"), x.setDirectionInverted(true));
