@@ -51,6 +51,7 @@ static const char usage[] =
 
 static avr_t *avr;
 static uint64_t heap_start = 0x200;
+static uint16_t brkval_addr; /* avr-libc's __brkval (the heap's end once malloc() has run), or 0 */
 static volatile sig_atomic_t stop_signal; /* --pty: SIGINT, SIGTERM or SIGHUP ends the run */
 
 static void on_stop(int sig)
@@ -385,6 +386,9 @@ int main(int argc, char **argv)
             heap_start = fw.symbol[i]->addr & 0xffff; /* data addresses carry 0x800000 in the ELF */
     if (heap_start == 0x200)
         heap_start = 0x200 + fw.datasize + fw.bsssize;
+    for (uint32_t i = 0; i < fw.symbolcount; i++)
+        if (!strcmp(fw.symbol[i]->symbol, "__brkval"))
+            brkval_addr = fw.symbol[i]->addr & 0xffff;
     strcpy(fw.mmcu, "atmega2560");
     fw.frequency = EMU_F_CPU;
 
@@ -539,10 +543,19 @@ int main(int argc, char **argv)
             uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
             if (sp < min_sp) {
                 min_sp = sp;
-                /* reported once: the lowest SP reached is in the end line (stack_min_free) */
-                if (sp < heap_start && sp != 0 && !stack_reported) {
-                    emu_fail(avr->cycle, "stack", "stack pointer 0x%04x below the end of static data 0x%04" PRIx64
-                             " (stack overflow)", sp, heap_start);
+                /* reported once: the lowest SP reached is in the end line (stack_min_free). The
+                 * bound is the end of static data, or of the heap once malloc() has taken some (the
+                 * MotionStepper library's step rings live there: a stack running into them corrupts
+                 * the step commands) */
+                uint64_t bound = heap_start;
+                if (brkval_addr) {
+                    uint16_t b = (uint16_t)(avr->data[brkval_addr] | (avr->data[brkval_addr + 1] << 8));
+                    if (b > bound)
+                        bound = b;
+                }
+                if (sp < bound && sp != 0 && !stack_reported) {
+                    emu_fail(avr->cycle, "stack", "stack pointer 0x%04x below the end of static data and heap 0x%04" PRIx64
+                             " (stack overflow)", sp, bound);
                     stack_reported = 1;
                 }
             }
@@ -592,12 +605,7 @@ ended:
     double wall = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
     emu_motor_summary(avr->cycle);
     /* free stack: the lowest SP seen above the end of static data and heap */
-    uint16_t brkval = 0;
-    for (uint32_t i = 0; i < fw.symbolcount; i++)
-        if (!strcmp(fw.symbol[i]->symbol, "__brkval")) {
-            uint16_t addr = fw.symbol[i]->addr & 0xffff;
-            brkval = (uint16_t)(avr->data[addr] | (avr->data[addr + 1] << 8));
-        }
+    uint16_t brkval = brkval_addr ? (uint16_t)(avr->data[brkval_addr] | (avr->data[brkval_addr + 1] << 8)) : 0;
     uint64_t heap_end = brkval > heap_start ? brkval : heap_start;
     long stack_free = (long)min_sp - (long)heap_end;
     if (emu_fail_count() && !strcmp(reason, "done"))

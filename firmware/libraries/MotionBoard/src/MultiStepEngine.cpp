@@ -138,7 +138,8 @@ void MultiStepEngine::attach(uint8_t axis, AxisState &s)
 }
 
 /* Each registered axis's ring, from the heap, once: x_alone commands when X is the only axis,
- * MULTI_SLOTS each otherwise. False: no room (nothing changed). */
+ * MULTI_SLOTS each otherwise. False: no room for one of them (those allocated are kept, and a later
+ * call allocates only the others). */
 static bool alloc_rings(uint8_t x_alone)
 {
     uint8_t n = (s_state[0] && !s_state[1] && !s_state[2]) ? x_alone : MULTI_SLOTS;

@@ -1,5 +1,5 @@
 /* MultiStepEngineX.S - X's step interrupt (Timer1 compare A) and its state: linked only when the
- * sketch begins X (MultiStepEngine::begin's axes, through multi_use_x; MultiStepEngineIsr.inc). */
+ * sketch begins X (a Stepper on X: multi_use_x, MultiStepEngineAxisX.cpp; MultiStepEngineIsr.inc). */
 #include "MultiStepEngineIsr.inc"
 
 AXIS_STATE multi_axis_x

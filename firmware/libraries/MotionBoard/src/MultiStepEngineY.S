@@ -1,5 +1,5 @@
 /* MultiStepEngineY.S - Y's step interrupt (Timer1 compare B) and its state: linked only when the
- * sketch begins Y (MultiStepEngine::begin's axes, through multi_use_y; MultiStepEngineIsr.inc).
+ * sketch begins Y (a Stepper on Y: multi_use_y, MultiStepEngineAxisY.cpp; MultiStepEngineIsr.inc).
  * No interrupt in timed-loop mode (only X steps there). */
 #include "MultiStepEngineIsr.inc"
 

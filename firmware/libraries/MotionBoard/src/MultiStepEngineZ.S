@@ -1,5 +1,5 @@
 /* MultiStepEngineZ.S - Z's step interrupt (Timer1 compare C) and its state: linked only when the
- * sketch begins Z (MultiStepEngine::begin's axes, through multi_use_z; MultiStepEngineIsr.inc).
+ * sketch begins Z (a Stepper on Z: multi_use_z, MultiStepEngineAxisZ.cpp; MultiStepEngineIsr.inc).
  * No interrupt in timed-loop mode (only X steps there). */
 #include "MultiStepEngineIsr.inc"
 

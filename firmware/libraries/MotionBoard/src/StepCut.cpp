@@ -83,6 +83,8 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
     uint32_t ahead_us;
     int32_t at;
     uint32_t reach;
+    uint32_t asked = *retry_us; /* a try asked for again (its plan was late before), or 0 */
+    *retry_us = 0;               /* set again below only when this try comes too late */
     if (pl->params_new)
         return false; /* new parameters: converting them costs milliseconds more (after the lead then) */
     if (pl->algo == RAMP_ALGO_EXACT) {
@@ -101,10 +103,9 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
         return false;
     }
     /* the distance of a try asked for again (its plan was late before): farther than the first */
-    bool again = *retry_us > ahead_us;
+    bool again = asked > ahead_us;
     if (again)
-        ahead_us = *retry_us;
-    *retry_us = 0;
+        ahead_us = asked; /* farther than the first */
     uint32_t t0 = micros();
     step_cut_trace(true);
     if (MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * ahead_us, reach, cut) == 0) {
@@ -143,7 +144,12 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
         }
     }
     n = step_cut_first_cmds(pl, first, t.ticks_per_us, t.new_us, t.max_cmds < STEP_CUT_MAX_CMDS ? t.max_cmds : STEP_CUT_MAX_CMDS);
-    if (n == 0 || !MultiStepEngine::cut_apply(axis, cut, (uint32_t)t.ticks_per_us * t.margin_us, first, n)) {
+    if (n == 0) {
+        put_back(pl, saved); /* no command to lay out: planned after the queued steps instead */
+        step_cut_trace(false);
+        return false;
+    }
+    if (!MultiStepEngine::cut_apply(axis, cut, (uint32_t)t.ticks_per_us * t.margin_us, first, n)) {
         /* too late: the interrupt came too close to the cut. The caller may try again (at its next
          * pass, the other axes fed meanwhile) at a cut twice as far ahead, and at least twice as far
          * as this try took plus the margin (two Steppers at 20,000 steps/s: such a plan took 4.5-5.5

@@ -11,9 +11,10 @@
  * would not fit waits, and no line is read before it); a `?` line about 140 bytes, the sigmoid's
  * about 220 (the queue holds 256: the DONE after it waits for the queue to drain). */
 #define MOTION_CONSOLE_DONE_ROOM 24U
-/* with three axes: "DONE move x -2147483648 y -2147483648 z -2147483648" and CR LF, 53 bytes; three
- * "DONE x -2147483648" lines 60 */
-#define MOTION_CONSOLE_DONE_ROOM_3 64U
+/* with three axes, what one pass may print: three "DONE x -2147483648" lines (20 bytes each with
+ * CR LF), or two and a one-axis "DONE move x -2147483648" (25), or "DONE move x -2147483648
+ * y -2147483648 z -2147483648" (53) */
+#define MOTION_CONSOLE_DONE_ROOM_3 68U
 #define MOTION_CONSOLE_STATUS_ROOM 230U
 
 static const char AXIS_NAME[3] = {'x', 'y', 'z'};

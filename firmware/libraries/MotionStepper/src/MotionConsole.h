@@ -35,13 +35,14 @@
  * before that line's reply.
  *
  * With three axes (MultiAxisStepper: MotionConsole console(x, y, z, xyz), xyz a StepperGroup of the
- * three) every line names its axis, x, y or z (<a> below), and the replies do too:
+ * three in that order: StepperGroup xyz(x, y, z)) every line names its axis, x, y or z (<a> below), and the replies do too:
  *
  *   <a> <integer>        that axis alone: "OK <a> <from> <to>", later "DONE <a> <position>" (the rules
  *                        above, "(after DONE <a> <old target>)"); the others may move meanwhile
  *   move <a><t> ...      the named axes together on the straight line (StepperGroup: e.g. "move x1000
  *                        y-500"): "OK move x <from> <to> y <from> <to>", later one "DONE move x <pos>
- *                        y <pos>". "ERR busy" while a named axis moves; axes not named may move.
+ *                        y <pos>". "ERR busy" while a named axis moves or another `move` runs
+ *                        (one coordinated move at a time); axes not named may move alone.
  *                        Every named axis belongs to the move until that DONE (a target for it gets
  *                        "ERR busy", `stop <it>` stops the whole move); all at their targets already:
  *                        "OK move ..." and "DONE move ..." at once.

@@ -462,7 +462,8 @@ private:
     static motion_status_t (*smooth_init_)(step_planner_t *pl, const ramp_params_t *params, double jerk_sps3,
                                            step_smooth_t *store, int32_t pos);
     static motion_status_t (*smooth_jerk_)(step_planner_t *pl, double jerk_sps3);
-    /* the lab ramps' lib calls, set by set_ramp (a sketch that never calls setRamp links none of them) */
+    /* the lab ramps' lib calls, set by set_ramp or the constructor with a lab ramp (a sketch that names
+     * no lab ramp links none of them) */
     static motion_status_t (*lab_init_)(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
                                         const ramp_hooks_t *hooks, int32_t pos);
     static motion_status_t (*lab_probe_)(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params,
