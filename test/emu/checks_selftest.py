@@ -195,9 +195,11 @@ def check_failure_detection():
     problems = []
     seen = []
     # wild: a store to 0x8000, beyond the data space (simavr's crash state); void: a call into
-    # erased flash; recurse: recursion without end (SP below __heap_start, reported once)
+    # erased flash; recurse: recursion without end (SP below __heap_start, reported once); heapdig: 5,000
+    # bytes of heap, then a bounded recursion into it, far above __heap_start (the MotionStepper library's
+    # step rings are on the heap: a stack reaching them must fail the run too)
     for cmd, kind in (("reset", "reset"), ("wdt", "reset"), ("halt", "halt"), ("wild", "crash"), ("void", "crash"),
-                      ("recurse", "stack")):
+                      ("recurse", "stack"), ("heapdig", "stack")):
         log = emulog.run(SELFTEST, f"wait ^READY\nsend {cmd}\nwait ^OK\nrun 100\n")
         kinds = [k for _, k, _ in log.fails]
         seen.append(f"{cmd}->{','.join(kinds) or 'nothing'}")

@@ -13,7 +13,8 @@
  * dir (PF2 = D56, interrupts off, one change every 1000 cycles: output low, input, pull-up on, output
  * high, output low: the harness must log its direction changes as well as its level changes),
  * reset (jumps to 0), wdt (watchdog reset), halt (cli; sleep), wild (writes beyond the SRAM), void
- * (calls into erased flash), recurse (recursion without end), dig1 (OC3C off, PE5 high by PORT, as
+ * (calls into erased flash), recurse (recursion without end), heapdig (5,000 bytes of heap, then a
+ * bounded recursion into it), dig1 (OC3C off, PE5 high by PORT, as
  * analogWrite(pin, 255)), rev <0..255> (analogWrite(pin, 0) then (pin, v), as on a motor reversal),
  * wrap <k> [<n>] (Timer5 normal mode, clk/1: with interrupts off, waits for TCNT5 >= 65000, writes
  * OCR5A = k, which matches at tick k of the next period, toggles PF3 (D57), waits n nops, then runs
@@ -95,6 +96,16 @@ static uint16_t deep(uint16_t n)
     volatile uint8_t frame[16];
     frame[n & 15] = (uint8_t)n;
     return (uint16_t)(deep(n + 1) + frame[n & 15]);
+}
+
+/* a bounded recursion, about 40 bytes of stack a level */
+static uint16_t dig(uint16_t n)
+{
+    volatile uint8_t frame[32];
+    frame[n & 31] = (uint8_t)n;
+    if (n == 0)
+        return 0;
+    return (uint16_t)(dig(n - 1) + frame[n & 31]);
 }
 
 ISR(TIMER1_COMPA_vect)
@@ -291,6 +302,20 @@ int main(void)
                 ;
             snprintf(buf, sizeof buf, "depth %u", deep(1));
             println(buf);
+        } else if (!strcmp(line, "heapdig")) {
+            /* 5,000 bytes of heap, then about 4 KB of stack: the stack runs into the heap (its
+             * end, __brkval) and stays far above __heap_start */
+            volatile uint8_t *heap = (volatile uint8_t *)malloc(5000);
+            if (!heap) {
+                println("ERR no heap");
+            } else {
+                heap[0] = 1;
+                println("OK digging into the heap");
+                while (!(UCSR0A & _BV(TXC0)))
+                    ;
+                snprintf(buf, sizeof buf, "dug %u", dig(100));
+                println(buf);
+            }
         } else if (!strncmp(line, "wrap ", 5)) {
             char *end;
             uint16_t k = (uint16_t)strtoul(line + 5, &end, 10);
