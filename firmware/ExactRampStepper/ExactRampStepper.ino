@@ -25,8 +25,7 @@
  * Pins and compile-time options: MotionBoard's StepperPins.h. The same commands come out of
  * `motionsim ramp --algo exact --tick-hz 16000000 --queue`.
  */
-#include <MotionStepper.h>
-#include <MotionConsole.h>
+#include <MotionConsole.h> // the serial console, and through it the MotionStepper library's Stepper
 
 Stepper x(Stepper::X);           // the RAMPS 1.4 X axis: STEP D54, DIR D55, ENABLE D38; RAMP_ALGO_EXACT
 static MotionConsole console(x); // the serial commands, each one a call of x; it plans in loop()

@@ -46,8 +46,7 @@
  * D55, ENABLE D38 (the RAMPS 1.4 X axis). With STEPPER_TIMED_LOOP = 1 (the lab's original structure)
  * loop() makes the steps itself: console.poll() calls BackgroundPlanner::poll().
  */
-#include <MotionStepper.h>
-#include <MotionConsole.h>
+#include <MotionConsole.h> // the serial console, and through it the MotionStepper library's Stepper
 #include <ramp_leib.h>
 
 // ---- the handout's constants: the defaults of `set v0|vmax|accel` ----

@@ -6,7 +6,7 @@
  * StepperGroup). Wiring and limits: MotionBoard's MultiAxisPins.h; the rates measured by `make bench`
  * are in docs/bench.md; docs/multi-axis.md explains it all.
  *
- * How: the console (MotionConsole.h) carries out every line through the Steppers' and the group's
+ * How: the console (MotionConsole.h; its `move` part: MotionConsoleMove.cpp) carries out every line through the Steppers' and the group's
  * public calls (moveTo, stop, forceStop, the setters), as your own sketch would; the planner runs in
  * loop() (console.poll()) and keeps each axis's queue of step commands ahead; Timer1's three compare
  * interrupts (A: X, B: Y, C: Z, one timeline) only take the next command and make the step.

@@ -20,8 +20,7 @@
  * same table and stepping run in `motionsim ramp --algo sigmoid --timer-hz 2000000 --len 250 --fmin
  * 200 --fmax 4000 --flex 5 --hold 4`.
  */
-#include <MotionStepper.h>
-#include <MotionConsole.h>
+#include <MotionConsole.h> // the serial console, and through it the MotionStepper library's Stepper
 
 // the RAMPS 1.4 X axis (STEP D54, DIR D55, ENABLE D38) on the sigmoid ramp (only its planner linked)
 Stepper x(Stepper::X, RAMP_ALGO_SIGMOID, 0);

@@ -26,8 +26,7 @@
  * MultiStepEngineIsr.inc (what each does: the list in LeibRampStepper.ino). Pins, timer and
  * compile-time options: StepperPins.h.
  */
-#include <MotionStepper.h>
-#include <MotionConsole.h>
+#include <MotionConsole.h> // the serial console, and through it the MotionStepper library's Stepper
 #include <ramp_simplistic.h>
 
 // ---- the handout's constants: the defaults of `set v0|vmax|accel` ----

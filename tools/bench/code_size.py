@@ -15,7 +15,7 @@ import os
 import re
 
 ENGINE = ("MultiStepEngine*", "StepCut.*")
-CONSOLES = ("MotionConsole.*",)
+CONSOLES = ("MotionConsole*",)
 # the MotionStepper library's API over the engine (not counted in issue 23's engine + consoles, shown
 # beside them: the engine's C paths it calls are the engine's)
 API = ("Stepper.*", "StepperGroup.*", "BackgroundPlanner.*")

@@ -23,6 +23,8 @@ static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, rate) == 4 &&
                   offsetof(AxisSlot, flags) == 10 && offsetof(AxisSlot, ready) == 11 && offsetof(AxisSlot, other) == 12,
               "MultiStepEngineIsr.inc reads these offsets");
 
+volatile uint8_t multi_running_ocie;
+
 namespace mse {
 AxisFeed s_feed[MULTI_AXES];
 AxisState *s_state[MULTI_AXES];
@@ -461,7 +463,7 @@ void MultiStepEngine::halt(uint8_t axis)
         s.running = 0;
         s.finishing = 0;
         s.wraps = 0;
-        change_mode(s, 0, _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW));
+        change_mode(s, 0, _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW) | _BV(AXIS_MODE_DEFER));
         if (f.open)
             s.done = 1;
         f.held = 0;

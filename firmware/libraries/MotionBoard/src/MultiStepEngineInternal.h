@@ -8,6 +8,10 @@
 
 #include "MultiStepEngine.h"
 
+/* bit axis + 1 (OCIE1A/B/C's place in TIMSK1): the axis is running (sync_g0); read by the step
+ * interrupts' C path entry (MultiStepEngineIsr.inc: another running axis's own match masked) */
+extern "C" volatile uint8_t multi_running_ocie;
+
 namespace mse {
 /* loop()'s side of one axis's queue */
 struct AxisFeed {
@@ -137,13 +141,15 @@ inline void sync_g0(AxisState &s)
     bits = (uint8_t)(((s.mode || !s.running) ? any : 0) |
                      (((s.mode & _BV(AXIS_MODE_OWN_OFF)) || !s.running) ? off : 0));
     GPIOR0 = (uint8_t)((GPIOR0 & (uint8_t)~(any | off)) | bits);
+    /* the running axes' compare interrupt bits (any is bit `axis`, OCIE1A/B/C bit axis + 1) */
+    multi_running_ocie = (uint8_t)((multi_running_ocie & (uint8_t)~(any << 1)) | (s.running ? (any << 1) : 0));
 }
 
-/* Sets and clears mode bits (interrupts off), keeping OWN_OFF = WAITING or MASKED. */
+/* Sets and clears mode bits (interrupts off), keeping OWN_OFF = WAITING, MASKED or DEFER. */
 inline void change_mode(AxisState &s, uint8_t set, uint8_t clear)
 {
     uint8_t m = (uint8_t)((s.mode | set) & (uint8_t)~clear) & (uint8_t)~_BV(AXIS_MODE_OWN_OFF);
-    if (m & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_MASKED)))
+    if (m & (_BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_MASKED) | _BV(AXIS_MODE_DEFER)))
         m |= _BV(AXIS_MODE_OWN_OFF);
     s.mode = m;
     sync_g0(s);

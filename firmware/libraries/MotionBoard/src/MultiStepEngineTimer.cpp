@@ -9,7 +9,7 @@
 #include <util/atomic.h>
 
 namespace mse {
-inline void write_ocr(uint8_t axis, uint16_t v)
+__attribute__((always_inline)) inline void write_ocr(uint8_t axis, uint16_t v)
 {
     if (axis == 0)
         OCR1A = v;
@@ -19,17 +19,17 @@ inline void write_ocr(uint8_t axis, uint16_t v)
         OCR1C = v;
 }
 
-inline uint16_t read_ocr(uint8_t axis)
+__attribute__((always_inline)) inline uint16_t read_ocr(uint8_t axis)
 {
     return axis == 0 ? OCR1A : axis == 1 ? OCR1B : OCR1C;
 }
 
-inline uint8_t ocf_bit(uint8_t axis)
+__attribute__((always_inline)) inline uint8_t ocf_bit(uint8_t axis)
 {
     return axis == 0 ? _BV(OCF1A) : axis == 1 ? _BV(OCF1B) : _BV(OCF1C);
 }
 
-inline uint8_t ocie_bit(uint8_t axis)
+__attribute__((always_inline)) inline uint8_t ocie_bit(uint8_t axis)
 {
     return axis == 0 ? _BV(OCIE1A) : axis == 1 ? _BV(OCIE1B) : _BV(OCIE1C);
 }
@@ -134,9 +134,11 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s, 
     change_mode(s, set, clear);
     if (in_isr) {
         /* the window: a pending edge of another axis is taken after the instruction that follows
-         * sei, so that instruction must not be the caller's cli */
+         * sei on the chip, after the second one in libsimavr (its interrupt_state counts from -2),
+         * so neither may be the caller's cli: two nops (with one the emulator never took an edge
+         * here, and one waited 276 cycles for the rest of this path: the halt check) */
         sei();
-        __asm__ __volatile__("nop" ::: "memory");
+        __asm__ __volatile__("nop\n\tnop" ::: "memory");
     }
 }
 
@@ -151,6 +153,13 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
 {
     AxisState &s = state(axis);
     AxisSlot *cur = s.cur, *next;
+    if (s.mode & _BV(AXIS_MODE_DEFER)) {
+        /* the C path of the step made at an earlier match, put off (MultiStepEngineIsr.inc): now */
+        ATOMIC_BLOCK(ATOMIC_FORCEON)
+        {
+            change_mode(s, 0, _BV(AXIS_MODE_DEFER));
+        }
+    }
     if (!s.running) {
         /* a match after a halt (none should come): nothing to step */
         cli();
@@ -221,10 +230,13 @@ void start_axis(uint8_t axis, uint32_t base)
     }
     s.acc = base;
     s.wraps = 0;
+    /* running before the arming, so that arm_step's change_mode syncs it too: the stretch with
+     * interrupts off from the arming to here is what other axes' edges wait for (242 cycles with a
+     * second sync_g0 and the register helpers not inlined: a Z edge 274 cycles after its match, the
+     * halt check); the axis's interrupt stays off until TIMSK1 below */
+    s.running = 1;
     sreg = SREG;
     arm_step(axis, s, false); /* interrupts off from its arming on; clears the axis's stale match flag */
-    s.running = 1;
-    sync_g0(s);
     TIMSK1 |= ocie_bit(axis);
     SREG = sreg;
     s_feed[axis].held = 0;
@@ -346,8 +358,8 @@ bool MultiStepEngine::in_step_interrupt()
         const AxisState *s = s_state[a];
         if (!s || !s->running)
             continue;
-        if (!(on & ocie_bit(a)))
-            return true; /* its asm path: its own match masked until the end */
+        if (!(on & ocie_bit(a)) || (s->mode & _BV(AXIS_MODE_DEFER)))
+            return true; /* its asm path (its own match masked until the end), or its C path put off */
         if (!(flags & ocf_bit(a)) && (uint16_t)(now - read_ocr(a)) < MULTI_ISR_WINDOW)
             return true; /* its C path, before the arming */
     }

@@ -57,10 +57,11 @@
 #include <Arduino.h>
 
 #include "Stepper.h" /* first: MotionBoard's headers through it */
-#include "StepperGroup.h"
 
 #include <MotionSerial.h>
 #include <SerialOutQueue.h>
+
+class StepperGroup; /* StepperGroup.h: only MotionConsoleMove.cpp, the `move` part, uses it */
 
 class MotionConsole {
 public:
@@ -90,6 +91,10 @@ private:
     bool collect_done(); /* false: the output queue has no room for a DONE line now */
     bool finish_ok();    /* the OK of a target once it is planned; false: not yet */
     bool finish_move();  /* the OK of a `move` once it is planned; false: not yet */
+    void move_done();    /* the DONE of a `move` once its group reports the end */
+    motion_status_t stop_move(bool halt, bool &moving); /* stop or ! of a `move`'s axis */
+    static int8_t axis_of(const char *word); /* "x" -> 0 ...; -1 for anything else */
+    static const char AXIS_NAME[3];
 
     Stepper *ax_[3];
     uint8_t n_;

@@ -5,8 +5,9 @@
  *   Stepper x(Stepper::X);              one RAMPS axis (X, Y, Z): Stepper.h
  *   StepperGroup xy(x, y);              straight-line moves of 2-3 of them: StepperGroup.h
  * and, for a sketch driven from the Serial Monitor as the stepper sketches are (#include
- * <MotionConsole.h> after this header): MotionConsole console(x), the sketches' protocol carried
- * out through x's calls (the one-axis stepper sketches use it; it plans from loop(), below).
+ * <MotionConsole.h>, which brings Stepper.h; with a StepperGroup, after this header):
+ * MotionConsole console(x), the sketches' protocol carried out through x's calls (the one-axis
+ * stepper sketches include MotionConsole.h alone; it plans from loop(), below).
  *
  * Timer1 (compare A/B/C) makes the steps (MotionBoard's MultiStepEngine), Timer3 plans them in the
  * background (BackgroundPlanner.h); both are taken (with BackgroundPlanner::planInLoop(), as a
