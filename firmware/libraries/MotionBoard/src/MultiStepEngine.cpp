@@ -24,6 +24,7 @@ static_assert(offsetof(AxisState, acc) == 0 && offsetof(AxisState, rate) == 4 &&
               "MultiStepEngineIsr.inc reads these offsets");
 
 volatile uint8_t multi_running_ocie;
+volatile uint8_t multi_in_cold;
 
 namespace mse {
 AxisFeed s_feed[MULTI_AXES];
@@ -463,7 +464,8 @@ void MultiStepEngine::halt(uint8_t axis)
         s.running = 0;
         s.finishing = 0;
         s.wraps = 0;
-        change_mode(s, 0, _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW) | _BV(AXIS_MODE_DEFER));
+        change_mode(s, 0, _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW) | _BV(AXIS_MODE_DEFER) |
+                           (3U << AXIS_MODE_DEFERS));
         if (f.open)
             s.done = 1;
         f.held = 0;

@@ -11,6 +11,8 @@
 /* bit axis + 1 (OCIE1A/B/C's place in TIMSK1): the axis is running (sync_g0); read by the step
  * interrupts' C path entry (MultiStepEngineIsr.inc: another running axis's own match masked) */
 extern "C" volatile uint8_t multi_running_ocie;
+/* bit axis: the axis's C path is running (MultiStepEngineIsr.inc) */
+extern "C" volatile uint8_t multi_in_cold;
 
 namespace mse {
 /* loop()'s side of one axis's queue */

@@ -9,9 +9,6 @@
 #include <util/atomic.h>
 
 
-static_assert(MOTION_STEPPER_CUT_CMDS <= MultiStepEngine::MULTI_CUT_MAX_CMDS,
-              "the stop planned ahead is laid out by cut_apply: at most MULTI_CUT_MAX_CMDS commands");
-
 namespace {
 const uint8_t ENABLE_PIN[3] = {38, 56, 62}; /* MultiAxisPins.h: PD7, PF2, PK0 */
 const uint8_t MULTI_DIR_PIN[3] = {55, 61, 48}; /* MultiAxisPins.h: PF1, PF7, PL1 */
@@ -41,8 +38,7 @@ struct Stepper::Sigmoid {
 
 uint8_t Stepper::made_;
 motion_status_t (*Stepper::exact_init_)(step_planner_t *, const ramp_params_t *, int32_t);
-const Stepper::Cuts *Stepper::cuts_;
-const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Stepper::cuts_prepare};
+const Stepper::Cuts *Stepper::cuts_; /* CUTS: StepperCut.cpp */
 
 Stepper::Stepper(Axis axis, int)
     : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
@@ -76,14 +72,8 @@ motion_status_t Stepper::begin()
         return MS_ERR_OUT_OF_RANGE; /* a lab ramp taken by the constructor, the library's default vmax */
     if (algo_ == RAMP_ALGO_SIGMOID && !sig_)
         return MS_ERR_TABLE_MISSING; /* made with the sigmoid: setRamp(RAMP_ALGO_SIGMOID) fills its table */
-#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
-    if (!BackgroundPlanner::inLoop() && !stop_) {
-        stop_ = static_cast<StopAhead *>(malloc(sizeof(StopAhead)));
-        if (!stop_)
-            return MS_ERR_OUT_OF_RANGE; /* no room on the heap */
-        stop_->n = 0;
-    }
-#endif
+    if (!BackgroundPlanner::inLoop() && !stop_ && !stop_ahead_begin())
+        return MS_ERR_OUT_OF_RANGE; /* no room on the heap (StepperCut.cpp) */
     st = init_planner(0);
     if (st != MS_OK)
         return st;
@@ -119,7 +109,7 @@ motion_status_t Stepper::init_planner(int32_t pos)
         return st;
     set_cmd_length();
     if (stop_)
-        stop_->n = 0; /* no stop planned ahead for this planner yet */
+        stop_ahead_reset(); /* no stop planned ahead for this planner yet */
     return MS_OK;
 }
 
@@ -224,43 +214,6 @@ motion_status_t (*Stepper::lab_init_)(step_planner_t *, ramp_algo_t, const ramp_
                                       int32_t);
 motion_status_t (*Stepper::lab_probe_)(ramp_t *, ramp_algo_t, const ramp_params_t *, const ramp_hooks_t *, int32_t,
                                        int32_t);
-
-/* setRamp(RAMP_ALGO_SMOOTH): the only place that names lib's smooth planner, so that a sketch that
- * never asks for it links none of smooth_move */
-motion_status_t Stepper::set_ramp_smooth()
-{
-    if (isRunning())
-        return MS_ERR_BUSY;
-    smooth_check_ = step_planner_smooth_check;
-    smooth_init_ = step_planner_init_smooth;
-    cuts_ = &CUTS; /* its stops and new targets cut the queue */
-    smooth_jerk_ = step_planner_set_jerk;
-    if (!smooth_) {
-        /* checked first, so that a refusal allocates nothing */
-        if (params_.vmax_sps > (float)STEPPER_MAX_SPS_SMOOTH)
-            return MS_ERR_OUT_OF_RANGE;
-        motion_status_t st = smooth_check_(&params_, (double)jerk_);
-        if (st != MS_OK)
-            return st;
-        /* its planner, and (once for all Steppers) the copy a cut of its queue keeps (StepCut.h) */
-        static step_smooth_t *backup;
-        if (!backup) {
-            backup = static_cast<step_smooth_t *>(malloc(sizeof(step_smooth_t)));
-            if (!backup)
-                return MS_ERR_OUT_OF_RANGE; /* no room on the heap */
-            step_cut_smooth_backup(backup);
-        }
-        smooth_ = static_cast<step_smooth_t *>(malloc(sizeof(step_smooth_t)));
-        if (!smooth_)
-            return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its planner */
-    }
-    motion_status_t st = switch_ramp(RAMP_ALGO_SMOOTH, 0);
-    if (st == MS_OK && BackgroundPlanner::leadMs() < MOTION_STEPPER_SMOOTH_LEAD_MS)
-        (void)BackgroundPlanner::setLeadMs(MOTION_STEPPER_SMOOTH_LEAD_MS); /* its planner needs the bank */
-    if (st == MS_OK)
-        BackgroundPlanner::shareLongTicks(); /* its ticks can last long: loop() gets turns */
-    return st;
-}
 
 motion_status_t Stepper::switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks)
 {
@@ -504,153 +457,6 @@ void Stepper::run_request()
         keep_done_ = false; /* ... but not the end of the move this target waited for */
         MultiStepEngine::open_move(axis_, false);
     }
-}
-
-/* planner interrupt: a stop (REQ_STOP) or a new target (REQ_MOVE) while moving, planned from where the
- * engine can cut its queue, MOTION_STEPPER_CUT_US from now: the planner goes back to where
- * the kept commands end (step_planner_rewind: bit for bit as if it had planned only those), plans the
- * stop or the move from there and hands out its first commands, which the engine lays out in place
- * of the dropped ones, if the step interrupt has not come too close to them meanwhile. True when so;
- * false when nothing changed (not stepping, nothing queued that far, parameters set since the
- * profile was planned, the planner refuses the cut, or the planning took too long): then it is
- * planned after the steps already queued, as without a cut. */
-/* planner interrupt, after it has laid out commands: while a Stepper cruises (its planner in the
- * cruise of an exact profile, parameters unchanged), the stop from there is planned ahead, unless
- * it is already for these constants, direction and speed. A stop from the cruise is one profile
- * wherever it starts: the planner's state after it and its commands differ only by the position
- * (checked on the host: 496 random profiles, a stop at two cruise boundaries each, natural and
- * rewound, every command the same). */
-void Stepper::prepare_stop()
-{
-#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
-    const step_exact_t &e = planner_.exact;
-    if (!stop_ || group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
-        !(e.n > e.n1 && e.n < e.n2))
-        return;
-    if (stop_->n != 0 && stop_->up == e.up && stop_->exact.dir == e.dir && stop_->exact.max_cmd_ticks == e.max_cmd_ticks &&
-        memcmp(&stop_->exact.k, &e.k, sizeof e.k) == 0)
-        return;
-    step_planner_t &s_scratch = step_cut_scratch();
-    s_scratch = planner_;
-    step_planner_stop(&s_scratch);
-    stop_->n = 0;
-    stop_->n = step_cut_first_cmds(&s_scratch, stop_->cmds, BackgroundPlanner::ticksPerUs(), MOTION_STEPPER_CUT_NEW_US,
-                                  MOTION_STEPPER_CUT_CMDS);
-    stop_->exact = s_scratch.exact;
-    stop_->up = e.up;
-    stop_->from = planner_.pos;
-    stop_->pos = s_scratch.pos;
-    stop_->target = s_scratch.target;
-    stop_->active = s_scratch.active;
-#endif
-}
-
-/* planner interrupt: a stop in the cruise with the stop planned ahead for it: a cut
- * MOTION_STEPPER_CUT_CRUISE_US ahead, in the cruise, and that stop laid out there. then: a new
- * target `to` that lies behind the cut (a reversal: lib's step_planner_move then plans that same
- * stop, and the move to `to` from rest after it); one that does not is left to plan_at_cut. False:
- * nothing changed. */
-bool Stepper::stop_in_cruise(bool then, int32_t to)
-{
-#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
-    const step_exact_t &e = planner_.exact;
-    MultiStepEngine::Cut cut;
-    uint32_t nb;
-    int32_t dp;
-    /* (no stop planned ahead from loop(): stop_ null; the interrupt's Steppers step at most
-     * MULTI_MAX_SPS, below MOTION_STEPPER_CUT_MAX_SPS) */
-    if (!stop_ || stop_->n == 0 || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
-        stop_->up != e.up || stop_->exact.dir != e.dir ||
-        stop_->exact.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_->exact.k, &e.k, sizeof e.k) != 0)
-        return false;
-    const uint32_t tpu = BackgroundPlanner::ticksPerUs();
-    /* a cut the step interrupt came too close to is tried again twice as far ahead (STEP_CUT_TRIES
-     * cuts in all): each try costs only the search and the lay-out, 0.4 ms or so with two Steppers
-     * at 20,000 steps/s, as much as the first cut leaves it; until 2026-12-05 one miss sent the stop
-     * to a plan at a 4 ms cut, which took longer than that there, and it waited for the 40 ms lead) */
-    for (uint8_t k = 0;; k++) {
-        step_cut_trace(true);
-        if (k == STEP_CUT_TRIES ||
-            MultiStepEngine::cut_find(axis_, tpu * (MOTION_STEPPER_CUT_CRUISE_US << k), e.n - 1U, cut, false) == 0) {
-            step_cut_trace(false);
-            return false;
-        }
-        /* the kept commands end in the cruise: its last one starts there, and nothing of the
-         * deceleration is kept */
-        nb = e.n - cut.steps;
-        /* the position at the cut */
-        dp = planner_.pos + (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps);
-        if (nb - cut.last_count < e.n1 || nb > e.n2 || (then && (e.dir > 0 ? to > dp : to < dp))) {
-            step_cut_trace(false);
-            return false; /* not in the cruise, or a target ahead of the cut (a plan of its own) */
-        }
-        if (MultiStepEngine::cut_apply(axis_, cut, tpu * MOTION_STEPPER_CUT_MARGIN_US, stop_->cmds, stop_->n))
-            break;
-        step_cut_trace(false); /* too late */
-    }
-    /* the stop planned ahead, moved to where the cut lands */
-    plan_from_ = dp;
-    dp -= stop_->from;
-    planner_.exact = stop_->exact;
-    planner_.exact.pos += dp;
-    planner_.pos = stop_->pos + dp;
-    planner_.target = then ? to : stop_->target + dp;
-    planner_.active = stop_->active;
-    planner_.has_then = then ? 1 : 0;
-    planner_.then_target = to;
-    step_cut_trace(false);
-    return true;
-#else
-    (void)then;
-    (void)to;
-    return false;
-#endif
-}
-
-bool Stepper::plan_at_cut(uint8_t req, int32_t target)
-{
-#if MULTI_TIMED_LOOP
-    (void)req;
-    (void)target;
-    return false; /* loop() makes the steps: no interrupt to cut ahead of */
-#else
-    static const StepCutTiming TIMING = {16, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
-                                         MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
-                                         MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US};
-    static const StepCutTiming LOOP_TIMING = {16, MOTION_STEPPER_LOOP_CUT_US, MOTION_STEPPER_LOOP_CUT_SLOW_US,
-                                              MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_LOOP_CUT_NEW_US,
-                                              MOTION_STEPPER_CUT_CMDS, MOTION_STEPPER_CUT_THEN_MIN_US,
-                                              MOTION_STEPPER_SMOOTH_CUT_US};
-    StepCutTiming timing = TIMING;
-    if (BackgroundPlanner::inLoop()) {
-        /* a Stepper alone may step up to STEPPER_MAX_SPS_EXACT there (the interrupt's, MULTI_MAX_SPS) */
-        float v = fabs(MultiStepEngine::speed(axis_));
-        if (v > MOTION_STEPPER_CUT_MAX_SPS) {
-            cut_retry_us_ = 0;
-            return false;
-        }
-        timing = LOOP_TIMING;
-        if (timing.margin_us != 0)
-            timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
-    }
-    timing.ticks_per_us = BackgroundPlanner::ticksPerUs(); /* the timer's (setTickRate) */
-    return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_, &cut_retry_us_);
-#endif
-}
-
-/* planner interrupt, after a cut that came too late (plan_at_cut: cut_retry_us_ set): true to try
- * again at the next pass (the other axes' queues fed meanwhile: a retry in the same pass kept them
- * waiting, and with two Steppers at 20,000 steps/s one ran dry), up to STEP_CUT_TRIES cuts in all;
- * false: it is planned after the queued steps now (cutsMissed() counts it when a retry was asked). */
-bool Stepper::cut_again()
-{
-    if (cut_retry_us_ != 0 && ++cut_tries_ < STEP_CUT_TRIES)
-        return true;
-    if (cut_retry_us_ != 0)
-        cuts_missed_++;
-    cut_retry_us_ = 0;
-    cut_tries_ = 0;
-    return false;
 }
 
 /* ---- state ---- */

@@ -93,8 +93,8 @@ class StepperGroup;
  * takes longer is discarded and made again at a cut twice as far ahead (StepCut.h's STEP_CUT_TRIES
  * cuts in all), and only when none comes off, after the steps already queued (cutsMissed() counts
  * that). No cut when parameters were set since the move was planned (their conversion costs
- * milliseconds more). docs/library.md has the measured times. MOTION_STEPPER_CUT_US 0: no cut. */
-#include <StepCut.h>
+ * milliseconds more). docs/library.md has the measured times. MOTION_STEPPER_CUT_US 0: no cut.
+ * StepperCut.cpp carries the cuts out (it and StepperSmooth.cpp include StepCut.h). */
 /* The smooth ramp's stop and new targets cut its queue too, this many microseconds ahead: its plans
  * cost tens of milliseconds (the law's cursor taken back to the cut and step k's time solved, the
  * stop or the new target with its jerk rule, the first commands). 0: no cut (they act after the
@@ -496,19 +496,11 @@ private:
     uint16_t cuts_missed_;
     uint32_t cut_retry_us_; /* a cut that came too late: the distance of its next try (0: none) */
     uint8_t cut_tries_;
-    /* the stop from the cruise, planned ahead (prepare_stop) from position stop_from_: the planner's
-     * state after it and its first commands; valid for any profile whose constants, direction and
-     * cruise speed are stop_exact_'s (k, dir) and stop_up_ */
-    struct StopAhead {
-        step_exact_t exact;
-        step_cmd_t cmds[MOTION_STEPPER_CUT_CMDS];
-        uint64_t up;
-        int32_t from, pos, target;
-        uint8_t n, active;
-    };
-    /* from the heap at begin() (about 250 bytes), with the planner interrupt only: planned from
-     * loop() (planInLoop) a stop is planned at a cut as any other, and the three Steppers of a
-     * sketch that plans so keep their SRAM for the stack */
+    /* the stop from the cruise, planned ahead (prepare_stop: StepperCut.cpp), from the heap at begin()
+     * with the planner interrupt only (stop_ahead_begin) */
+    struct StopAhead;
+    bool stop_ahead_begin();
+    void stop_ahead_reset();
     StopAhead *stop_;
     DirectionHook hook_;
     uint8_t dir_pin_; /* 0xFF: the axis's own, written by the engine */

@@ -1,0 +1,193 @@
+/* StepperCut.cpp - a Stepper's stops and new targets at a cut of its queue (MotionBoard's StepCut.h):
+ * the stop planned ahead from the cruise, its lay-out at a cut, a plan at a cut, the retries of a
+ * cut that came too late (see Stepper.h). Linked with the exact and the smooth ramp (Stepper's
+ * CUTS); the lab ramps' sketches do without it. */
+#include "Stepper.h"
+
+#include <StepCut.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static_assert(MOTION_STEPPER_CUT_CMDS <= MultiStepEngine::MULTI_CUT_MAX_CMDS,
+              "the stop planned ahead is laid out by cut_apply: at most MULTI_CUT_MAX_CMDS commands");
+
+/* the stop from the cruise, planned ahead (prepare_stop) from position `from`: the planner's state
+ * after it and its first commands; valid for any profile whose constants, direction and cruise
+ * speed are exact's (k, dir) and up */
+struct Stepper::StopAhead {
+    step_exact_t exact;
+    step_cmd_t cmds[MOTION_STEPPER_CUT_CMDS];
+    uint64_t up;
+    int32_t from, pos, target;
+    uint8_t n, active;
+};
+
+const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Stepper::cuts_prepare};
+
+/* begin(), with the planner interrupt: the stop planned ahead's room on the heap (about 250 bytes;
+ * planned from loop(), planInLoop, a stop is planned at a cut as any other, and the three Steppers of
+ * a sketch that plans so keep their SRAM for the stack). False: no room. */
+bool Stepper::stop_ahead_begin()
+{
+#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
+    stop_ = static_cast<StopAhead *>(malloc(sizeof(StopAhead)));
+    if (!stop_)
+        return false;
+    stop_->n = 0;
+#endif
+    return true;
+}
+
+void Stepper::stop_ahead_reset()
+{
+    stop_->n = 0;
+}
+
+/* planner interrupt: a stop (REQ_STOP) or a new target (REQ_MOVE) while moving, planned from where the
+ * engine can cut its queue, MOTION_STEPPER_CUT_US from now: the planner goes back to where
+ * the kept commands end (step_planner_rewind: bit for bit as if it had planned only those), plans the
+ * stop or the move from there and hands out its first commands, which the engine lays out in place
+ * of the dropped ones, if the step interrupt has not come too close to them meanwhile. True when so;
+ * false when nothing changed (not stepping, nothing queued that far, parameters set since the
+ * profile was planned, the planner refuses the cut, or the planning took too long): then it is
+ * planned after the steps already queued, as without a cut. */
+/* planner interrupt, after it has laid out commands: while a Stepper cruises (its planner in the
+ * cruise of an exact profile, parameters unchanged), the stop from there is planned ahead, unless
+ * it is already for these constants, direction and speed. A stop from the cruise is one profile
+ * wherever it starts: the planner's state after it and its commands differ only by the position
+ * (checked on the host: 496 random profiles, a stop at two cruise boundaries each, natural and
+ * rewound, every command the same). */
+void Stepper::prepare_stop()
+{
+#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
+    const step_exact_t &e = planner_.exact;
+    if (!stop_ || group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
+        !(e.n > e.n1 && e.n < e.n2))
+        return;
+    if (stop_->n != 0 && stop_->up == e.up && stop_->exact.dir == e.dir && stop_->exact.max_cmd_ticks == e.max_cmd_ticks &&
+        memcmp(&stop_->exact.k, &e.k, sizeof e.k) == 0)
+        return;
+    step_planner_t &s_scratch = step_cut_scratch();
+    s_scratch = planner_;
+    step_planner_stop(&s_scratch);
+    stop_->n = 0;
+    stop_->n = step_cut_first_cmds(&s_scratch, stop_->cmds, BackgroundPlanner::ticksPerUs(), MOTION_STEPPER_CUT_NEW_US,
+                                  MOTION_STEPPER_CUT_CMDS);
+    stop_->exact = s_scratch.exact;
+    stop_->up = e.up;
+    stop_->from = planner_.pos;
+    stop_->pos = s_scratch.pos;
+    stop_->target = s_scratch.target;
+    stop_->active = s_scratch.active;
+#endif
+}
+
+/* planner interrupt: a stop in the cruise with the stop planned ahead for it: a cut
+ * MOTION_STEPPER_CUT_CRUISE_US ahead, in the cruise, and that stop laid out there. then: a new
+ * target `to` that lies behind the cut (a reversal: lib's step_planner_move then plans that same
+ * stop, and the move to `to` from rest after it); one that does not is left to plan_at_cut. False:
+ * nothing changed. */
+bool Stepper::stop_in_cruise(bool then, int32_t to)
+{
+#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
+    const step_exact_t &e = planner_.exact;
+    MultiStepEngine::Cut cut;
+    uint32_t nb;
+    int32_t dp;
+    /* (no stop planned ahead from loop(): stop_ null; the interrupt's Steppers step at most
+     * MULTI_MAX_SPS, below MOTION_STEPPER_CUT_MAX_SPS) */
+    if (!stop_ || stop_->n == 0 || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
+        stop_->up != e.up || stop_->exact.dir != e.dir ||
+        stop_->exact.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_->exact.k, &e.k, sizeof e.k) != 0)
+        return false;
+    const uint32_t tpu = BackgroundPlanner::ticksPerUs();
+    /* a cut the step interrupt came too close to is tried again twice as far ahead (STEP_CUT_TRIES
+     * cuts in all): each try costs only the search and the lay-out, 0.4 ms or so with two Steppers
+     * at 20,000 steps/s, as much as the first cut leaves it; until 2026-12-05 one miss sent the stop
+     * to a plan at a 4 ms cut, which took longer than that there, and it waited for the 40 ms lead) */
+    for (uint8_t k = 0;; k++) {
+        step_cut_trace(true);
+        if (k == STEP_CUT_TRIES ||
+            MultiStepEngine::cut_find(axis_, tpu * (MOTION_STEPPER_CUT_CRUISE_US << k), e.n - 1U, cut, false) == 0) {
+            step_cut_trace(false);
+            return false;
+        }
+        /* the kept commands end in the cruise: its last one starts there, and nothing of the
+         * deceleration is kept */
+        nb = e.n - cut.steps;
+        /* the position at the cut */
+        dp = planner_.pos + (e.dir < 0 ? (int32_t)cut.steps : -(int32_t)cut.steps);
+        if (nb - cut.last_count < e.n1 || nb > e.n2 || (then && (e.dir > 0 ? to > dp : to < dp))) {
+            step_cut_trace(false);
+            return false; /* not in the cruise, or a target ahead of the cut (a plan of its own) */
+        }
+        if (MultiStepEngine::cut_apply(axis_, cut, tpu * MOTION_STEPPER_CUT_MARGIN_US, stop_->cmds, stop_->n))
+            break;
+        step_cut_trace(false); /* too late */
+    }
+    /* the stop planned ahead, moved to where the cut lands */
+    plan_from_ = dp;
+    dp -= stop_->from;
+    planner_.exact = stop_->exact;
+    planner_.exact.pos += dp;
+    planner_.pos = stop_->pos + dp;
+    planner_.target = then ? to : stop_->target + dp;
+    planner_.active = stop_->active;
+    planner_.has_then = then ? 1 : 0;
+    planner_.then_target = to;
+    step_cut_trace(false);
+    return true;
+#else
+    (void)then;
+    (void)to;
+    return false;
+#endif
+}
+
+bool Stepper::plan_at_cut(uint8_t req, int32_t target)
+{
+#if MULTI_TIMED_LOOP
+    (void)req;
+    (void)target;
+    return false; /* loop() makes the steps: no interrupt to cut ahead of */
+#else
+    static const StepCutTiming TIMING = {16, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
+                                         MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
+                                         MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US};
+    static const StepCutTiming LOOP_TIMING = {16, MOTION_STEPPER_LOOP_CUT_US, MOTION_STEPPER_LOOP_CUT_SLOW_US,
+                                              MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_LOOP_CUT_NEW_US,
+                                              MOTION_STEPPER_CUT_CMDS, MOTION_STEPPER_CUT_THEN_MIN_US,
+                                              MOTION_STEPPER_SMOOTH_CUT_US};
+    StepCutTiming timing = TIMING;
+    if (BackgroundPlanner::inLoop()) {
+        /* a Stepper alone may step up to STEPPER_MAX_SPS_EXACT there (the interrupt's, MULTI_MAX_SPS) */
+        float v = fabs(MultiStepEngine::speed(axis_));
+        if (v > MOTION_STEPPER_CUT_MAX_SPS) {
+            cut_retry_us_ = 0;
+            return false;
+        }
+        timing = LOOP_TIMING;
+        if (timing.margin_us != 0)
+            timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
+    }
+    timing.ticks_per_us = BackgroundPlanner::ticksPerUs(); /* the timer's (setTickRate) */
+    return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_, &cut_retry_us_);
+#endif
+}
+
+/* planner interrupt, after a cut that came too late (plan_at_cut: cut_retry_us_ set): true to try
+ * again at the next pass (the other axes' queues fed meanwhile: a retry in the same pass kept them
+ * waiting, and with two Steppers at 20,000 steps/s one ran dry), up to STEP_CUT_TRIES cuts in all;
+ * false: it is planned after the queued steps now (cutsMissed() counts it when a retry was asked). */
+bool Stepper::cut_again()
+{
+    if (cut_retry_us_ != 0 && ++cut_tries_ < STEP_CUT_TRIES)
+        return true;
+    if (cut_retry_us_ != 0)
+        cuts_missed_++;
+    cut_retry_us_ = 0;
+    cut_tries_ = 0;
+    return false;
+}
