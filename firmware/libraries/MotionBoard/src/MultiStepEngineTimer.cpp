@@ -134,7 +134,7 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s, 
     change_mode(s, set, clear);
     if (in_isr) {
         /* the window: a pending edge of another axis is taken after the instruction that follows
-         * sei on the chip, after the second one in libsimavr (its interrupt_state counts from -2),
+         * sei on the chip, after the second one in libsimavr (docs/emulator.md),
          * so neither may be the caller's cli: two nops (with one the emulator never took an edge
          * here, and one waited 276 cycles for the rest of this path: the halt check) */
         sei();
