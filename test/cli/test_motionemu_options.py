@@ -42,6 +42,14 @@ BAD = [
     (["x.elf", "--duration", "0x10"], "motionemu: --duration wants milliseconds, not '0x10'"),
     (["x.elf", "--duration", "inf"], "motionemu: --duration wants milliseconds, not 'inf'"),
     (["x.elf", "--duration", " 5"], "motionemu: --duration wants milliseconds, not ' 5'"),
+    # --trace-pc: FROM-TO in milliseconds, TO after FROM, at most 50 ms apart
+    (["x.elf", "--trace-pc", "1"], "motionemu: --trace-pc wants FROM-TO in milliseconds, TO after FROM and at most "
+                                   "50 ms later (e.g. 2586.5-2586.7), not '1'"),
+    (["x.elf", "--trace-pc", "2-1"], "motionemu: --trace-pc wants FROM-TO in milliseconds, TO after FROM and at "
+                                     "most 50 ms later (e.g. 2586.5-2586.7), not '2-1'"),
+    (["x.elf", "--trace-pc=1-60"], "motionemu: --trace-pc wants FROM-TO in milliseconds, TO after FROM and at "
+                                   "most 50 ms later (e.g. 2586.5-2586.7), not '1-60'"),
+    (["x.elf", "--trace-pc", "1-2", "--trace-pc", "1-3"], "motionemu: --trace-pc given twice"),
     (["x.elf", "y.elf"], "motionemu: one firmware file only ('x.elf' and 'y.elf')"),
     (["x.elf", "--", "y.elf"], "motionemu: one firmware file only ('x.elf' and 'y.elf')"),
     ([], "motionemu: no firmware file given"),
@@ -83,3 +91,26 @@ def test_script_numbers_are_text_parse_numbers(emu):
         assert r.stderr.splitlines() == [f"--exec:1: {what}, not '{word}'"], r.stderr
     r = emu(elf, "-e", "run 1e1")
     assert r.returncode == 0, r.stderr
+
+
+def test_trace_pc_logs_each_instruction_in_the_span(emu):
+    """--trace-pc 1-1.01: the self-test program's instructions from cycle 16,000 to 16,160, one line
+    each, the cycle rising by 1 to 4 (an AVR instruction takes 1-4 cycles; 5 with an interrupt's
+    entry), each address even and inside the program's flash"""
+    root_make = subprocess.run(["make", "-s", "build/emu/emu_selftest.elf"], cwd=ROOT, capture_output=True, text=True)
+    assert root_make.returncode == 0, root_make.stderr
+    r = emu(os.path.join(ROOT, "build", "emu", "emu_selftest.elf"), "-d", "2", "--trace-pc", "1-1.01")
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    flash = int(next(l for l in lines if l.startswith("boot ")).split("flash=")[1].split()[0])
+    pcs = [l.split() for l in lines if l.startswith("pc ")]
+    assert 32 <= len(pcs) <= 160, len(pcs)
+    cycles = [int(p[1]) for p in pcs]
+    assert 16000 <= cycles[0] <= 16004 and 16156 <= cycles[-1] <= 16160, (cycles[0], cycles[-1])
+    assert all(1 <= b - a <= 5 for a, b in zip(cycles, cycles[1:]))
+    for p in pcs:
+        addr = int(p[2], 16)
+        assert addr % 2 == 0 and addr < flash and p[3] in ("I=0", "I=1"), p
+    # nothing outside the span
+    assert not any(l.startswith("pc ") for l in emu(os.path.join(ROOT, "build", "emu", "emu_selftest.elf"),
+                                                     "-d", "2").stdout.splitlines())

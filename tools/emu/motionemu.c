@@ -1,7 +1,7 @@
 /* motionemu.c - run a sketch's ELF on an emulated ATmega2560 at 16 MHz and log what it does.
  *
  *   motionemu FIRMWARE.elf [--input SCRIPT] [--pin NAME=PIN ...] [--motor SPEC | --ls7366r CS=PIN]
- *             [--matches] [--duration MS] [--max-ms MS] [-o LOG] [--echo] [--pty]
+ *             [--matches] [--trace-pc FROM-TO] [--duration MS] [--max-ms MS] [-o LOG] [--echo] [--pty]
  *
  * The log (stdout or -o) has one event per line, "<tag> <cycle> <fields>"; cycles are CPU cycles
  * since power-on (16 per microsecond). Tags: boot, uart, tx/txraw/txrepeat (host -> firmware),
@@ -42,6 +42,8 @@ static const char usage[] =
     "                         SPEC = PWM=D3,DIR=D12,CS=D53[,BRAKE=D9][,DIRPOS=1|0][,BRAKEON=1|0]\n"
     "      --ls7366r CS=PIN   an LS7366R alone, its encoder moved by the script's 'encoder' command\n"
     "      --matches          log Timer1's compare matches: 'match <cycle> OC1A|OC1B|OC1C'\n"
+    "      --trace-pc FROM-TO every instruction run between these emulated times (ms, at most 50 apart):\n"
+    "                         'pc <cycle> <address> I=<0|1>' (byte address, as avr-objdump -d prints it)\n"
     "  -d, --duration MS      run at least until this emulated time (default: until the script ends)\n"
     "      --max-ms MS        give up (fail 'limit') at this emulated time (default 600000; none with --pty)\n"
     "      --echo             print the serial conversation on stdout as it happens (needs -o)\n"
@@ -132,6 +134,24 @@ static int parse_ms(const char *s, double *out)
     return text_parse_real(s, 0, 1e9, out) == MS_OK ? 0 : -1;
 }
 
+/* --trace-pc "FROM-TO" (ms) -> the first and last cycle; -1 when not that, TO not after FROM or the
+ * span above 50 ms (about 600,000 log lines) */
+static int parse_span_ms(const char *s, uint64_t *from, uint64_t *to)
+{
+    char a[64];
+    const char *dash = strchr(s, '-');
+    double f, t;
+    if (!dash || dash == s || (size_t)(dash - s) >= sizeof a)
+        return -1;
+    memcpy(a, s, (size_t)(dash - s));
+    a[dash - s] = '\0';
+    if (parse_ms(a, &f) || parse_ms(dash + 1, &t) || t <= f || t - f > 50.0)
+        return -1;
+    *from = (uint64_t)(f * (EMU_F_CPU / 1000));
+    *to = (uint64_t)(t * (EMU_F_CPU / 1000));
+    return 0;
+}
+
 /* "KEY=VAL,KEY=VAL" -> value of key, or NULL */
 static const char *spec_get(const char *spec, const char *key, char *buf, size_t cap)
 {
@@ -197,20 +217,21 @@ int main(int argc, char **argv)
     const char *execs[256];
     int nexecs = 0;
     int matches = 0, echo = 0, pty = 0, max_given = 0;
+    uint64_t trace_from = 1, trace_to = 0; /* --trace-pc, in cycles (none: from > to) */
 
     /* getopt_long(3), in order ("-": the firmware file comes back as 1 where it stands; ":": a missing
      * value as ':'); "--" ends the options. Whole names only: a unique prefix ("--dur") is refused,
      * as in motionsim. Options that are not repeatable are refused when given twice. Every short
      * option takes a value or ends the parse (-h), so each call starts at the beginning of an
      * argument. */
-    enum { OPT_MOTOR = 256, OPT_LS7366R, OPT_MATCHES, OPT_ECHO, OPT_PTY, OPT_MAX_MS };
+    enum { OPT_MOTOR = 256, OPT_LS7366R, OPT_MATCHES, OPT_ECHO, OPT_PTY, OPT_TRACE_PC, OPT_MAX_MS };
     static const struct option longopts[] = {
         {"input", required_argument, NULL, 'i'},     {"exec", required_argument, NULL, 'e'},
         {"output", required_argument, NULL, 'o'},    {"pin", required_argument, NULL, 'p'},
         {"motor", required_argument, NULL, OPT_MOTOR}, {"ls7366r", required_argument, NULL, OPT_LS7366R},
         {"duration", required_argument, NULL, 'd'},  {"max-ms", required_argument, NULL, OPT_MAX_MS},
         {"matches", no_argument, NULL, OPT_MATCHES}, {"echo", no_argument, NULL, OPT_ECHO},
-        {"pty", no_argument, NULL, OPT_PTY},
+        {"pty", no_argument, NULL, OPT_PTY},         {"trace-pc", required_argument, NULL, OPT_TRACE_PC},
         {"help", no_argument, NULL, 'h'},            {NULL, 0, NULL, 0}};
     unsigned char given[OPT_MAX_MS + 1] = {0};
     opterr = 0;
@@ -296,6 +317,13 @@ int main(int argc, char **argv)
             break;
         case OPT_PTY:
             pty = 1;
+            break;
+        case OPT_TRACE_PC:
+            if (parse_span_ms(optarg, &trace_from, &trace_to)) {
+                fprintf(stderr, "motionemu: --trace-pc wants FROM-TO in milliseconds, TO after FROM and at most "
+                                "50 ms later (e.g. 2586.5-2586.7), not '%s'\n", optarg);
+                return 2;
+            }
             break;
         case 'd':
             if (parse_ms(optarg, &duration_ms)) {
@@ -520,6 +548,8 @@ int main(int argc, char **argv)
 
     for (;;) {
         int st = avr_run(avr);
+        if (avr->cycle >= trace_from && avr->cycle <= trace_to)
+            emu_log(avr->cycle, "pc", "0x%05x I=%d", avr->pc, avr->sreg[S_I]);
         if (st == cpu_Crashed) {
             emu_fail(avr->cycle, "crash", "simavr stopped the CPU (invalid memory access or opcode) at PC=0x%05x",
                      avr->pc);
