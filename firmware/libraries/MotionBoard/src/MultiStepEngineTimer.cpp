@@ -9,7 +9,7 @@
 #include <util/atomic.h>
 
 namespace mse {
-__attribute__((always_inline)) inline void write_ocr(uint8_t axis, uint16_t v)
+inline void write_ocr(uint8_t axis, uint16_t v)
 {
     if (axis == 0)
         OCR1A = v;
@@ -19,17 +19,17 @@ __attribute__((always_inline)) inline void write_ocr(uint8_t axis, uint16_t v)
         OCR1C = v;
 }
 
-__attribute__((always_inline)) inline uint16_t read_ocr(uint8_t axis)
+inline uint16_t read_ocr(uint8_t axis)
 {
     return axis == 0 ? OCR1A : axis == 1 ? OCR1B : OCR1C;
 }
 
-__attribute__((always_inline)) inline uint8_t ocf_bit(uint8_t axis)
+inline uint8_t ocf_bit(uint8_t axis)
 {
     return axis == 0 ? _BV(OCF1A) : axis == 1 ? _BV(OCF1B) : _BV(OCF1C);
 }
 
-__attribute__((always_inline)) inline uint8_t ocie_bit(uint8_t axis)
+inline uint8_t ocie_bit(uint8_t axis)
 {
     return axis == 0 ? _BV(OCIE1A) : axis == 1 ? _BV(OCIE1B) : _BV(OCIE1C);
 }
@@ -232,8 +232,8 @@ void start_axis(uint8_t axis, uint32_t base)
     s.wraps = 0;
     /* running before the arming, so that arm_step's change_mode syncs it too: the stretch with
      * interrupts off from the arming to here is what other axes' edges wait for (242 cycles with a
-     * second sync_g0 and the register helpers not inlined: a Z edge 274 cycles after its match, the
-     * halt check); the axis's interrupt stays off until TIMSK1 below */
+     * second sync_g0: a Z edge 274 cycles after its match, the halt check; about 180 now, as long as
+     * a C path's own arming); the axis's interrupt stays off until TIMSK1 below */
     s.running = 1;
     sreg = SREG;
     arm_step(axis, s, false); /* interrupts off from its arming on; clears the axis's stale match flag */
