@@ -6,8 +6,8 @@
  * The log (stdout or -o) has one event per line, "<tag> <cycle> <fields>"; cycles are CPU cycles
  * since power-on (16 per microsecond). Tags: boot, uart, tx/txraw/txrepeat (host -> firmware),
  * rx (a line from the firmware), pin (an edge of a watched pin), match (a compare match of Timer1,
- * with --matches), motor (duty/count samples), adc, input (a pin driven by the script), mark, warn,
- * fail, end. Failures (reset, crash, halt, stack overflow, a wait that timed out, an SPI mode the
+ * with --matches), pc (an instruction run, with --trace-pc), motor (duty/count samples), adc, input
+ * (a pin driven by the script), mark, warn, fail, end. Failures (reset, crash, halt, stack overflow, a wait that timed out, an SPI mode the
  * device cannot talk) are "fail" lines and make the exit status 1.
  * --echo prints the serial conversation on stdout as it happens ("[  0.512 s] > 50",
  * "[  0.530 s] < OK 0 50"; the log then goes to -o). --pty runs the firmware in real time with UART0

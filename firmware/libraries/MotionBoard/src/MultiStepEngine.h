@@ -20,8 +20,10 @@
  * computes the one after; its own compare interrupt stays masked meanwhile (in_step_interrupt()).
  * The interrupts nest: each raises its STEP and enables interrupts in its first instructions, and
  * arms its next edge with them off right after, so an edge never waits for another axis's step, only
- * for the short stretches another axis's interrupt runs with interrupts off (a few dozen cycles) and
- * for the core's millis and serial interrupts, which do not nest; `make bench` measures it.
+ * for the short stretches another axis's interrupt runs with interrupts off (a few dozen cycles, up
+ * to about 180 in a C path's arming) and for the core's millis and serial interrupts, which do not
+ * nest (a C path that would nest above another axis's masked step is put off: MultiStepEngineIsr.inc);
+ * `make bench` measures it.
  * loop() calls service() for each axis: it keeps between two commands and MULTI_LEAD_MS of steps
  * queued ahead, so a stop takes effect within that time. The axes that step come first (the one
  * whose queue reaches least far ahead); a move not started yet gets commands only when none of them
@@ -86,7 +88,7 @@ struct AxisSlot {
 };
 
 /* AxisState.mode: zero on the common path (the axis's own STEP pin, a normal command). */
-#define AXIS_MODE_OWN_OFF 0 /* WAITING or MASKED: the entry does not raise the axis's own STEP */
+#define AXIS_MODE_OWN_OFF 0 /* WAITING, MASKED or DEFER: the entry does not raise the axis's own STEP */
 #define AXIS_MODE_SLOW 1    /* the current command is slow: the C path steps it */
 #define AXIS_MODE_MASKED 2  /* followers: STEP through mask_f/mask_l (a coordinated move) */
 #define AXIS_MODE_WAITING 3 /* matches to let pass (a slow interval's wraps) before the step: no STEP */
@@ -160,7 +162,8 @@ public:
      * with interrupts on: it reads Timer1 in one snapshot with them off). True while an axis's asm path runs (its own compare interrupt masked:
      * TIMSK1's OCIE1x clear while the axis runs) or its C path runs before it arms the next edge (the
      * match has come: OCR1x at or less than 4000 ticks before TCNT1, and its flag is clear). An axis
-     * counting out wraps looks busy for 4000 ticks after each. Timed-loop mode: false. */
+     * counting out wraps looks busy for 4000 ticks after each; one whose C path is put off (DEFER,
+     * MultiStepEngineIsr.inc: up to 3 x 12 us) looks busy too. Timed-loop mode: false. */
 #if MULTI_TIMED_LOOP
     static inline bool in_step_interrupt() { return false; }
 #else

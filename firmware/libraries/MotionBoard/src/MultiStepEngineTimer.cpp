@@ -231,7 +231,7 @@ void start_axis(uint8_t axis, uint32_t base)
     s.acc = base;
     s.wraps = 0;
     /* running before the arming, so that arm_step's change_mode syncs it too: the stretch with
-     * interrupts off from the arming to here is what other axes' edges wait for (242 cycles with a
+     * interrupts off from the arming to `SREG = sreg` below is what other axes' edges wait for (242 cycles with a
      * second sync_g0: a Z edge 274 cycles after its match, the halt check; about 180 now, as long as
      * a C path's own arming); the axis's interrupt stays off until TIMSK1 below */
     s.running = 1;

@@ -84,9 +84,9 @@ class StepperGroup;
 #define STEPPER_DEFAULT_JERK 100000.0
 #endif
 
-/* A stop() or a new target while moving cuts the queue (MotionBoard's StepCut.h, shared with the
- * sketches' console): the commands whose first step lies more than MOTION_STEPPER_CUT_US (a stop
- * from the cruise) or MOTION_STEPPER_CUT_SLOW_US (a stop while the speed changes, a new target)
+/* A stop() or a new target while moving cuts the queue (MotionBoard's StepCut.h): the commands
+ * whose first step lies more than MOTION_STEPPER_CUT_US (a stop from the cruise) or
+ * MOTION_STEPPER_CUT_SLOW_US (a stop while the speed changes, a new target)
  * ahead are dropped and the stop or the new move starts there, so it acts after about this time
  * instead of after the lead. The planner interrupt plans it meanwhile and the cut is made only if
  * that plan is ready MOTION_STEPPER_CUT_MARGIN_US before the step where it lands; a plan that
@@ -403,7 +403,7 @@ private:
     /* the exact planner's entry, set by Stepper(axis) and setRamp(RAMP_ALGO_EXACT) (null in a sketch
      * that never names the exact ramp: it links none of it) */
     static motion_status_t (*exact_init_)(step_planner_t *pl, const ramp_params_t *params, int32_t pos);
-    /* the cuts of the queue (stop_in_cruise, plan_at_cut, prepare_stop: StepCut.h), for the exact and
+    /* the cuts of the queue (stop_in_cruise, plan_at_cut, prepare_stop: StepperCut.cpp), for the exact and
      * the smooth ramp only: set with them, so that a sketch on a lab ramp alone links none of it */
     struct Cuts {
         bool (*at_cut)(Stepper &s, uint8_t req, int32_t target);

@@ -1,7 +1,7 @@
 /* StepperCut.cpp - a Stepper's stops and new targets at a cut of its queue (MotionBoard's StepCut.h):
  * the stop planned ahead from the cruise, its lay-out at a cut, a plan at a cut, the retries of a
- * cut that came too late (see Stepper.h). Linked with the exact and the smooth ramp (Stepper's
- * CUTS); the lab ramps' sketches do without it. */
+ * cut that came too late (see Stepper.h). The cuts are linked with the exact and the smooth ramp
+ * (Stepper's CUTS); every Stepper links the stop planned ahead's room (stop_ahead_begin, _reset). */
 #include "Stepper.h"
 
 #include <StepCut.h>
@@ -45,14 +45,6 @@ void Stepper::stop_ahead_reset()
     stop_->n = 0;
 }
 
-/* planner interrupt: a stop (REQ_STOP) or a new target (REQ_MOVE) while moving, planned from where the
- * engine can cut its queue, MOTION_STEPPER_CUT_US from now: the planner goes back to where
- * the kept commands end (step_planner_rewind: bit for bit as if it had planned only those), plans the
- * stop or the move from there and hands out its first commands, which the engine lays out in place
- * of the dropped ones, if the step interrupt has not come too close to them meanwhile. True when so;
- * false when nothing changed (not stepping, nothing queued that far, parameters set since the
- * profile was planned, the planner refuses the cut, or the planning took too long): then it is
- * planned after the steps already queued, as without a cut. */
 /* planner interrupt, after it has laid out commands: while a Stepper cruises (its planner in the
  * cruise of an exact profile, parameters unchanged), the stop from there is planned ahead, unless
  * it is already for these constants, direction and speed. A stop from the cruise is one profile
@@ -146,6 +138,14 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
 #endif
 }
 
+/* planner interrupt: a stop (REQ_STOP) or a new target (REQ_MOVE) while moving, planned from where the
+ * engine can cut its queue, MOTION_STEPPER_CUT_US from now: the planner goes back to where
+ * the kept commands end (step_planner_rewind: bit for bit as if it had planned only those), plans the
+ * stop or the move from there and hands out its first commands, which the engine lays out in place
+ * of the dropped ones, if the step interrupt has not come too close to them meanwhile. True when so;
+ * false when nothing changed (not stepping, nothing queued that far, parameters set since the
+ * profile was planned, the planner refuses the cut, or the planning took too long): then it is
+ * planned after the steps already queued, as without a cut. */
 bool Stepper::plan_at_cut(uint8_t req, int32_t target)
 {
 #if MULTI_TIMED_LOOP
