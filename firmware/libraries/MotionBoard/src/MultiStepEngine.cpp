@@ -464,8 +464,7 @@ void MultiStepEngine::halt(uint8_t axis)
         s.running = 0;
         s.finishing = 0;
         s.wraps = 0;
-        change_mode(s, 0, _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW) | _BV(AXIS_MODE_DEFER) |
-                           (3U << AXIS_MODE_DEFERS));
+        change_mode(s, 0, _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_SLOW) | AXIS_MODE_DEFER_ALL);
         if (f.open)
             s.done = 1;
         f.held = 0;

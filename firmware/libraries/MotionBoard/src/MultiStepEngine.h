@@ -94,6 +94,7 @@ struct AxisSlot {
 #define AXIS_MODE_WAITING 3 /* matches to let pass (a slow interval's wraps) before the step: no STEP */
 #define AXIS_MODE_DEFER 4   /* the C path of the step just made put off (MultiStepEngineIsr.inc): no STEP */
 #define AXIS_MODE_DEFERS 5  /* bits 5-6: how many times in a row it was put off (MultiStepEngineIsr.inc) */
+#define AXIS_MODE_DEFER_ALL (_BV(AXIS_MODE_DEFER) | (3U << AXIS_MODE_DEFERS)) /* the put-off and its count */
 
 /* What one axis's interrupt and loop() share (loop() reads it with interrupts off). The command
  * being stepped lives here (rate, add, left, flags), so the interrupt's common path reaches every

@@ -157,7 +157,7 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
         /* the C path of the step made at an earlier match, put off (MultiStepEngineIsr.inc): now */
         ATOMIC_BLOCK(ATOMIC_FORCEON)
         {
-            change_mode(s, 0, _BV(AXIS_MODE_DEFER) | (3U << AXIS_MODE_DEFERS));
+            change_mode(s, 0, AXIS_MODE_DEFER_ALL);
         }
     }
     if (!s.running) {
