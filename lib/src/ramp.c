@@ -1,4 +1,4 @@
-/* ramp.c - the move planner: dispatches each step to the chosen ramp algorithm (see ramp.h). */
+/* ramp.c - the move planner: hands each step to the chosen ramp algorithm through its table (see ramp.h). */
 #include "ramp.h"
 
 const char *ramp_algo_name(ramp_algo_t algo)
@@ -29,14 +29,32 @@ static ramp_phase_t phase_label(const ramp_t *r, uint32_t n)
     return RAMP_CRUISE;
 }
 
-/* the simplistic pre-computation: the sketch's (hooks) or lib's */
-static motion_status_t simplistic_plan(const ramp_hooks_t *h, const ramp_params_t *params, ramp_simplistic_t *s,
-                                       uint32_t steps_total)
-{
-    if (h != 0 && h->simplistic_plan != 0)
-        return h->simplistic_plan(s, params, steps_total);
-    return ramp_simplistic_plan(s, params, steps_total);
-}
+/* Each algorithm's part of the planner, reached only through r->ops (set by the plan), so that a
+ * firmware links only the algorithms it plans: the lab's step planner (ramp_plan_lab) simplistic and
+ * Leib, a sigmoid planner (ramp_plan_sigmoid) the sigmoid, ramp_plan (motionsim, the tests) all. */
+struct ramp_algo_ops {
+    /* fills n->u, accel_steps and peak_level for n->steps_total steps (n->hooks set) */
+    motion_status_t (*plan)(ramp_t *n, const ramp_params_t *params);
+    /* hands out step n: r->whole_ticks (and level) updated; returns the step's phase */
+    ramp_phase_t (*next)(ramp_t *r, uint32_t n);
+    /* the interval of step n, just handed out, as the algorithm computes it (ticks) */
+    double (*interval)(const ramp_t *r, uint32_t n);
+    /* the level a continuation under params (probe: a plan of one step under them) starts at
+     * (NULL: the level reached) */
+    uint32_t (*level_under)(const ramp_t *m, const ramp_params_t *params, const ramp_t *probe);
+    /* the algorithm's part of ramp_plan_continue: n from m at *l0 (NULL: it cannot continue) */
+    motion_status_t (*resume)(ramp_t *n, const ramp_t *m, const ramp_params_t *params, int32_t from, int32_t to,
+                              uint32_t *l0);
+    /* ramp_skip_cruise's target step, or 0 */
+    uint32_t (*cruise_target)(const ramp_t *r);
+    /* the state at step `target` after a cruise skip (NULL: nothing per step to set) */
+    void (*skip_to)(ramp_t *r, uint32_t target);
+    /* ramp_take_same (NULL: 0) */
+    uint32_t (*take_same)(ramp_t *r, uint32_t max_steps);
+};
+
+static const struct ramp_algo_ops SIMPLISTIC_RAMP RAMP_TABLE_MEM, LEIB_RAMP RAMP_TABLE_MEM;
+static const struct ramp_algo_ops EXACT_RAMP RAMP_TABLE_MEM, SIGMOID_RAMP RAMP_TABLE_MEM;
 
 static void plan_geometry(ramp_t *r, ramp_algo_t algo, int32_t from, int32_t to)
 {
@@ -52,6 +70,32 @@ static void plan_geometry(ramp_t *r, ramp_algo_t algo, int32_t from, int32_t to)
     r->hooks = 0;
 }
 
+static motion_status_t plan_with(ramp_t *r, ramp_algo_t algo, const struct ramp_algo_ops *ops,
+                                 const ramp_params_t *params, const ramp_hooks_t *hooks, int32_t from, int32_t to)
+{
+    ramp_t n;
+    motion_status_t st;
+    if (r == 0 || params == 0)
+        return MS_ERR_NULL;
+    if (ops == 0)
+        return MS_ERR_UNKNOWN_COMMAND;
+    plan_geometry(&n, algo, from, to);
+    n.hooks = hooks;
+    n.ops = ops;
+    st = RAMP_TABLE_FN(ops, plan)(&n, params);
+    if (st != MS_OK)
+        return st;
+    set_label_bound(&n);
+    *r = n;
+    return MS_OK;
+}
+
+/* the lab's ramps only: a firmware that plans them (the step planner's stepwise half) links no other */
+static const struct ramp_algo_ops *lab_ops(ramp_algo_t algo)
+{
+    return algo == RAMP_ALGO_SIMPLISTIC ? &SIMPLISTIC_RAMP : algo == RAMP_ALGO_LEIB ? &LEIB_RAMP : 0;
+}
+
 motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, int32_t from, int32_t to)
 {
     return ramp_plan_hooked(r, algo, params, 0, from, to);
@@ -60,37 +104,25 @@ motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *para
 motion_status_t ramp_plan_hooked(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, const ramp_hooks_t *hooks,
                                  int32_t from, int32_t to)
 {
-    ramp_t n;
-    motion_status_t st;
-    if (r == 0 || params == 0)
-        return MS_ERR_NULL;
-    plan_geometry(&n, algo, from, to);
-    switch (algo) {
-    case RAMP_ALGO_SIMPLISTIC:
-        st = simplistic_plan(hooks, params, &n.u.simplistic, n.steps_total);
-        n.accel_steps = n.u.simplistic.accel_steps;
-        n.peak_level = n.accel_steps + 1U;
-        break;
-    case RAMP_ALGO_LEIB:
-        st = hooks != 0 && hooks->leib_plan != 0 ? hooks->leib_plan(&n.u.leib, params, n.steps_total)
-                                                 : ramp_leib_plan(&n.u.leib, params, n.steps_total);
-        n.accel_steps = n.u.leib.accel_steps;
-        n.peak_level = n.accel_steps;
-        break;
-    case RAMP_ALGO_EXACT:
-        st = ramp_exact_plan(&n.u.exact, params, n.steps_total);
-        n.accel_steps = 0; /* phases come from the exact positions (ramp_exact_phase) */
-        n.peak_level = 0;
-        break;
-    default:
-        return MS_ERR_UNKNOWN_COMMAND;
-    }
-    if (st != MS_OK)
-        return st;
-    n.hooks = hooks;
-    set_label_bound(&n);
-    *r = n;
-    return MS_OK;
+    return plan_with(r, algo, algo == RAMP_ALGO_EXACT ? &EXACT_RAMP : lab_ops(algo), params, hooks, from, to);
+}
+
+motion_status_t ramp_plan_lab(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, const ramp_hooks_t *hooks,
+                              int32_t from, int32_t to)
+{
+    return plan_with(r, algo, lab_ops(algo), params, hooks, from, to);
+}
+
+motion_status_t ramp_plan_leib(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, const ramp_hooks_t *hooks,
+                               int32_t from, int32_t to)
+{
+    return plan_with(r, algo, algo == RAMP_ALGO_LEIB ? &LEIB_RAMP : 0, params, hooks, from, to);
+}
+
+motion_status_t ramp_plan_simplistic(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params,
+                                     const ramp_hooks_t *hooks, int32_t from, int32_t to)
+{
+    return plan_with(r, algo, algo == RAMP_ALGO_SIMPLISTIC ? &SIMPLISTIC_RAMP : 0, params, hooks, from, to);
 }
 
 motion_status_t ramp_plan_sigmoid(ramp_t *r, const ramp_sigmoid_params_t *p, const uint16_t *table,
@@ -101,6 +133,7 @@ motion_status_t ramp_plan_sigmoid(ramp_t *r, const ramp_sigmoid_params_t *p, con
     if (r == 0 || p == 0)
         return MS_ERR_NULL;
     plan_geometry(&n, RAMP_ALGO_SIGMOID, from, to);
+    n.ops = &SIGMOID_RAMP;
     st = ramp_sigmoid_plan(&n.u.sigmoid, p, table, table_len);
     if (st != MS_OK)
         return st;
@@ -166,23 +199,10 @@ static uint32_t level_from(float lf)
 static uint32_t continued_level(const ramp_t *m, const ramp_params_t *params)
 {
     ramp_t probe;
-    if (params == 0 || m->algo == RAMP_ALGO_SIGMOID || ramp_plan_hooked(&probe, m->algo, params, m->hooks, 0, 1) != MS_OK)
+    if (params == 0 || RAMP_TABLE_FN(m->ops, level_under) == 0 ||
+        plan_with(&probe, m->algo, m->ops, params, m->hooks, 0, 1) != MS_OK)
         return m->level;
-    if (m->algo == RAMP_ALGO_LEIB) {
-        float v, v0 = (float)params->v0_sps;
-        if (probe.u.leib.r == m->u.leib.r && probe.u.leib.p1 == m->u.leib.p1)
-            return m->level;
-        v = (float)params->tick_hz / m->u.leib.p;
-        return level_from((v * v - v0 * v0) / (2.0f * (float)params->accel_sps2));
-    }
-    if (m->algo == RAMP_ALGO_SIMPLISTIC) {
-        ramp_simplistic_t sp;
-        if (simplistic_plan(m->hooks, params, &sp, UINT32_MAX) != MS_OK ||
-            (sp.dp == m->u.simplistic.dp && sp.p_max == m->u.simplistic.p_max))
-            return m->level;
-        return level_from((sp.p_max - m->u.simplistic.p) / sp.dp);
-    }
-    return m->level;
+    return RAMP_TABLE_FN(m->ops, level_under)(m, params, &probe);
 }
 
 uint32_t ramp_stop_steps_under(const ramp_t *m, const ramp_params_t *params)
@@ -201,6 +221,7 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params
     ramp_t n;
     int32_t from;
     uint32_t l0;
+    motion_status_t st;
     if (r == 0 || m == 0)
         return MS_ERR_NULL;
     from = ramp_position(m);
@@ -208,51 +229,18 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params
         /* nothing handed out yet: a fresh plan from rest */
         if (m->algo == RAMP_ALGO_SIGMOID)
             return MS_ERR_BUSY;
-        return ramp_plan_hooked(r, m->algo, params, m->hooks, from, to);
+        return plan_with(r, m->algo, m->ops, params, m->hooks, from, to);
     }
     if (ramp_distance(from, to) < ramp_stop_steps_under(m, m->algo == RAMP_ALGO_SIGMOID ? 0 : params) ||
         (to != from && ramp_direction(from, to) != m->dir))
         return MS_ERR_BUSY;
     l0 = continued_level(m, m->algo == RAMP_ALGO_SIGMOID ? 0 : params);
-    if (m->algo == RAMP_ALGO_SIGMOID) {
-        n = *m;
-        plan_geometry(&n, RAMP_ALGO_SIGMOID, from, to);
-        if (l0 > m->accel_steps)
-            l0 = m->accel_steps;
-        if (l0 < 1U)
-            l0 = 1U;
-        (void)ramp_sigmoid_set_k(&n.u.sigmoid, l0);
-        n.accel_steps = m->accel_steps;
-        n.peak_level = m->accel_steps;
-        n.whole_ticks = m->whole_ticks;
-    } else {
-        motion_status_t st;
-        if (params == 0)
-            return MS_ERR_NULL;
-        st = ramp_plan_hooked(&n, m->algo, params, m->hooks, from, to);
-        if (st != MS_OK)
-            return st;
-        /* the peak of the parameters, not limited by this move's length (the level rule does) */
-        if (m->algo == RAMP_ALGO_LEIB) {
-            float v;
-            uint32_t s;
-            ramp_accel_steps((float)params->v0_sps, (float)params->vmax_sps, (float)params->accel_sps2, UINT32_MAX,
-                             &v, &s);
-            n.peak_level = s;
-            n.u.leib.p = m->u.leib.p;
-        } else if (m->algo == RAMP_ALGO_SIMPLISTIC) {
-            /* S and dp of the parameters, not of this move's length */
-            st = simplistic_plan(m->hooks, params, &n.u.simplistic, UINT32_MAX);
-            if (st != MS_OK)
-                return st;
-            n.accel_steps = n.u.simplistic.accel_steps;
-            n.peak_level = n.u.simplistic.accel_steps + 1U;
-            n.u.simplistic.p = m->u.simplistic.p;
-        } else {
-            return MS_ERR_UNKNOWN_COMMAND;
-        }
-        n.whole_ticks = m->whole_ticks;
-    }
+    if (RAMP_TABLE_FN(m->ops, resume) == 0)
+        return MS_ERR_UNKNOWN_COMMAND;
+    st = RAMP_TABLE_FN(m->ops, resume)(&n, m, params, from, to, &l0);
+    if (st != MS_OK)
+        return st;
+    n.whole_ticks = m->whole_ticks;
     n.start_level = l0;
     n.level = l0;
     n.dir = m->dir;
@@ -279,9 +267,95 @@ static uint32_t ticks_from_double(double t)
     return (uint32_t)(t + 0.5);
 }
 
-/* simplistic and Leib: the next step's interval (kept in u.leib.p / u.simplistic.p), its whole
- * ticks (r->whole_ticks) and the level change */
-static ramp_phase_t next_trapezoid(ramp_t *r, uint32_t n)
+/* a stepwise ramp's phase of step n: the label from rest, else the level change of a continuation */
+static ramp_phase_t stepwise_phase(const ramp_t *r, uint32_t n, ramp_phase_t change)
+{
+    return r->start_level == 0 ? phase_label(r, n) : change;
+}
+
+uint8_t ramp_next_ticks(ramp_t *r, uint32_t *whole_ticks, ramp_phase_t *phase)
+{
+    uint32_t n;
+    if (r->steps_done >= r->steps_total)
+        return 0;
+    n = ++r->steps_done;
+    *phase = RAMP_TABLE_FN(r->ops, next)(r, n);
+    *whole_ticks = r->whole_ticks;
+    return 1;
+}
+
+uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps)
+{
+    return RAMP_TABLE_FN(r->ops, take_same) != 0 ? RAMP_TABLE_FN(r->ops, take_same)(r, max_steps) : 0U;
+}
+
+uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
+{
+    if (!ramp_next_ticks(r, &s->whole_ticks, &s->phase))
+        return 0;
+    s->interval_ticks = RAMP_TABLE_FN(r->ops, interval)(r, r->steps_done);
+    s->step = r->steps_done;
+    s->position = ramp_position_after(r->from, r->dir, r->steps_done);
+    return 1;
+}
+
+uint32_t ramp_cruise_skippable(const ramp_t *r)
+{
+    uint32_t target = RAMP_TABLE_FN(r->ops, cruise_target)(r);
+    return target > r->steps_done ? target - r->steps_done : 0;
+}
+
+uint32_t ramp_skip_cruise_at_most(ramp_t *r, uint32_t max_steps)
+{
+    uint32_t n = ramp_cruise_skippable(r), target;
+    if (n > max_steps)
+        n = max_steps;
+    if (n == 0)
+        return 0;
+    target = r->steps_done + n;
+    if (RAMP_TABLE_FN(r->ops, skip_to) != 0)
+        RAMP_TABLE_FN(r->ops, skip_to)(r, target);
+    /* simplistic/Leib: the level stays K and the interval p; exact: stateless per step */
+    r->steps_done = target;
+    return n;
+}
+
+uint32_t ramp_skip_cruise(ramp_t *r)
+{
+    return ramp_skip_cruise_at_most(r, UINT32_MAX);
+}
+
+/* ---- simplistic and Leib (the lab's ramps; a sketch's hooks replace lib's functions) ---- */
+
+static motion_status_t simplistic_plan_state(const ramp_hooks_t *h, const ramp_params_t *params,
+                                             ramp_simplistic_t *s, uint32_t steps_total)
+{
+    if (h != 0 && h->simplistic_plan != 0)
+        return h->simplistic_plan(s, params, steps_total);
+    return ramp_simplistic_plan(s, params, steps_total);
+}
+
+static motion_status_t simplistic_plan(ramp_t *n, const ramp_params_t *params)
+{
+    motion_status_t st = simplistic_plan_state(n->hooks, params, &n->u.simplistic, n->steps_total);
+    n->accel_steps = n->u.simplistic.accel_steps;
+    n->peak_level = n->accel_steps + 1U;
+    return st;
+}
+
+static motion_status_t leib_plan(ramp_t *n, const ramp_params_t *params)
+{
+    const ramp_hooks_t *h = n->hooks;
+    motion_status_t st = h != 0 && h->leib_plan != 0 ? h->leib_plan(&n->u.leib, params, n->steps_total)
+                                                      : ramp_leib_plan(&n->u.leib, params, n->steps_total);
+    n->accel_steps = n->u.leib.accel_steps;
+    n->peak_level = n->accel_steps;
+    return st;
+}
+
+/* the interval of the next step (kept in u.leib.p / u.simplistic.p), its whole ticks
+ * (r->whole_ticks) and the level change; update: the algorithm's (or the hook's) step 6 */
+static ramp_phase_t next_stepwise(ramp_t *r, uint32_t n, float p1, float (*update)(ramp_t *r, ramp_phase_t change))
 {
     ramp_phase_t change;
     float p;
@@ -289,26 +363,159 @@ static ramp_phase_t next_trapezoid(ramp_t *r, uint32_t n)
      * and a cruise step keeps both the interval and its whole ticks (no float work at all) */
     if (n == 1 && r->start_level == 0) {
         r->level = ramp_level(r->steps_total, r->peak_level, 1);
-        p = r->algo == RAMP_ALGO_LEIB ? r->u.leib.p : r->u.simplistic.p;
+        p = p1;
         change = RAMP_ACCEL;
     } else {
         change = level_change(r, n);
         if (change == RAMP_CRUISE)
-            return change;
-        const ramp_hooks_t *h = r->hooks;
-        if (r->algo == RAMP_ALGO_LEIB)
-            p = h != 0 && h->leib_update != 0 ? h->leib_update(&r->u.leib, change)
-                                              : ramp_leib_update(&r->u.leib, change);
-        else
-            p = h != 0 && h->simplistic_update != 0 ? h->simplistic_update(&r->u.simplistic, change)
-                                                    : ramp_simplistic_update(&r->u.simplistic, change);
+            return stepwise_phase(r, n, change);
+        p = update(r, change);
     }
     r->whole_ticks = ramp_ticks_from_float(p);
-    return change;
+    return stepwise_phase(r, n, change);
 }
 
+static float leib_update(ramp_t *r, ramp_phase_t change)
+{
+    const ramp_hooks_t *h = r->hooks;
+    return h != 0 && h->leib_update != 0 ? h->leib_update(&r->u.leib, change) : ramp_leib_update(&r->u.leib, change);
+}
+
+static float simplistic_update(ramp_t *r, ramp_phase_t change)
+{
+    const ramp_hooks_t *h = r->hooks;
+    return h != 0 && h->simplistic_update != 0 ? h->simplistic_update(&r->u.simplistic, change)
+                                               : ramp_simplistic_update(&r->u.simplistic, change);
+}
+
+static ramp_phase_t leib_next(ramp_t *r, uint32_t n)
+{
+    return next_stepwise(r, n, r->u.leib.p, leib_update);
+}
+
+static ramp_phase_t simplistic_next(ramp_t *r, uint32_t n)
+{
+    return next_stepwise(r, n, r->u.simplistic.p, simplistic_update);
+}
+
+static double leib_interval(const ramp_t *r, uint32_t n)
+{
+    (void)n;
+    return r->u.leib.p;
+}
+
+static double simplistic_interval(const ramp_t *r, uint32_t n)
+{
+    (void)n;
+    return r->u.simplistic.p;
+}
+
+static uint32_t leib_level_under(const ramp_t *m, const ramp_params_t *params, const ramp_t *probe)
+{
+    float v, v0 = (float)params->v0_sps;
+    if (probe->u.leib.r == m->u.leib.r && probe->u.leib.p1 == m->u.leib.p1)
+        return m->level;
+    v = (float)params->tick_hz / m->u.leib.p;
+    return level_from((v * v - v0 * v0) / (2.0f * (float)params->accel_sps2));
+}
+
+static uint32_t simplistic_level_under(const ramp_t *m, const ramp_params_t *params, const ramp_t *probe)
+{
+    ramp_simplistic_t sp;
+    (void)probe; /* S and dp are those of an unlimited move, not of one step */
+    if (simplistic_plan_state(m->hooks, params, &sp, UINT32_MAX) != MS_OK ||
+        (sp.dp == m->u.simplistic.dp && sp.p_max == m->u.simplistic.p_max))
+        return m->level;
+    return level_from((sp.p_max - m->u.simplistic.p) / sp.dp);
+}
+
+static motion_status_t leib_resume(ramp_t *n, const ramp_t *m, const ramp_params_t *params, int32_t from, int32_t to,
+                                   uint32_t *l0)
+{
+    float v;
+    uint32_t s;
+    motion_status_t st = plan_with(n, m->algo, m->ops, params, m->hooks, from, to);
+    (void)l0;
+    if (st != MS_OK)
+        return st;
+    /* the peak of the parameters, not limited by this move's length (the level rule does) */
+    ramp_accel_steps((float)params->v0_sps, (float)params->vmax_sps, (float)params->accel_sps2, UINT32_MAX, &v, &s);
+    n->peak_level = s;
+    n->u.leib.p = m->u.leib.p;
+    return MS_OK;
+}
+
+static motion_status_t simplistic_resume(ramp_t *n, const ramp_t *m, const ramp_params_t *params, int32_t from,
+                                         int32_t to, uint32_t *l0)
+{
+    motion_status_t st = plan_with(n, m->algo, m->ops, params, m->hooks, from, to);
+    (void)l0;
+    if (st != MS_OK)
+        return st;
+    /* S and dp of the parameters, not of this move's length */
+    st = simplistic_plan_state(m->hooks, params, &n->u.simplistic, UINT32_MAX);
+    if (st != MS_OK)
+        return st;
+    n->accel_steps = n->u.simplistic.accel_steps;
+    n->peak_level = n->u.simplistic.accel_steps + 1U;
+    n->u.simplistic.p = m->u.simplistic.p;
+    return MS_OK;
+}
+
+/* flat region: the steps whose level is K, i.e. K <= n <= D + 1 - K (all steps if K = 0) */
+static uint32_t stepwise_cruise_target(const ramp_t *r)
+{
+    uint32_t d = r->steps_total, done = r->steps_done, k = r->peak_level;
+    if (done == 0 || r->level != k || (r->start_level == 0 && (k > d / 2U || done < k)))
+        return 0;
+    return d - k; /* the next step, D + 1 - K, is the last flat one */
+}
+
+static const struct ramp_algo_ops SIMPLISTIC_RAMP RAMP_TABLE_MEM = {
+    simplistic_plan, simplistic_next, simplistic_interval, simplistic_level_under, simplistic_resume,
+    stepwise_cruise_target, 0, 0
+};
+static const struct ramp_algo_ops LEIB_RAMP RAMP_TABLE_MEM = {
+    leib_plan, leib_next, leib_interval, leib_level_under, leib_resume, stepwise_cruise_target, 0, 0
+};
+
+/* ---- exact (ramp_exact.h: exact times; no continuation here, step_exact.h plans those) ---- */
+
+static motion_status_t exact_plan(ramp_t *n, const ramp_params_t *params)
+{
+    n->accel_steps = 0; /* phases come from the exact positions (ramp_exact_phase) */
+    n->peak_level = 0;
+    return ramp_exact_plan(&n->u.exact, params, n->steps_total);
+}
+
+static double exact_interval(const ramp_t *r, uint32_t n)
+{
+    return ramp_exact_interval_s(&r->u.exact, n) * r->u.exact.tick_hz;
+}
+
+static ramp_phase_t exact_next(ramp_t *r, uint32_t n)
+{
+    r->whole_ticks = ticks_from_double(exact_interval(r, n));
+    return ramp_exact_phase(&r->u.exact, n);
+}
+
+static uint32_t exact_cruise_target(const ramp_t *r)
+{
+    double last_cruise = (double)r->steps_total - r->u.exact.x_accel + 0.5; /* largest n with n - 1/2 <= D - x_a */
+    uint32_t done = r->steps_done;
+    if (done == 0 || ramp_exact_phase(&r->u.exact, done) != RAMP_CRUISE || last_cruise < 1.0)
+        return 0;
+    return (uint32_t)last_cruise - 1U;
+}
+
+static const struct ramp_algo_ops EXACT_RAMP RAMP_TABLE_MEM = {
+    exact_plan, exact_next, exact_interval, 0, 0, exact_cruise_target, 0, 0
+};
+
+/* ---- the sigmoid (ramp_sigmoid.h: an S-curve article table) ---- */
+
 /* the sigmoid's next step: its period (also in r->whole_ticks) and level change */
-static ramp_phase_t next_sigmoid(ramp_t *r, uint32_t n)
+static ramp_phase_t sigmoid_next(ramp_t *r, uint32_t n)
 {
     uint32_t from_end = r->steps_total - n + 1U;
     uint32_t k = r->start_level + n < from_end ? r->start_level + n : from_end;
@@ -319,47 +526,64 @@ static ramp_phase_t next_sigmoid(ramp_t *r, uint32_t n)
     move = k > kold ? 1 : (k < kold ? -1 : 0);
     r->whole_ticks = ramp_sigmoid_move_k(&r->u.sigmoid, move);
     r->level = r->u.sigmoid.k; /* for ramp_stop_steps and ramp_plan_continue */
-    return move > 0 ? RAMP_ACCEL : (move < 0 ? RAMP_DECEL : RAMP_CRUISE);
+    return stepwise_phase(r, n, move > 0 ? RAMP_ACCEL : (move < 0 ? RAMP_DECEL : RAMP_CRUISE));
 }
 
-uint8_t ramp_next_ticks(ramp_t *r, uint32_t *whole_ticks, ramp_phase_t *phase)
+static double sigmoid_interval(const ramp_t *r, uint32_t n)
 {
-    uint32_t n;
-    ramp_phase_t change;
-    if (r->steps_done >= r->steps_total)
-        return 0;
-    n = ++r->steps_done;
-    switch (r->algo) {
-    case RAMP_ALGO_SIMPLISTIC:
-    case RAMP_ALGO_LEIB:
-        change = next_trapezoid(r, n);
-        break;
-    case RAMP_ALGO_SIGMOID:
-        change = next_sigmoid(r, n);
-        break;
-    case RAMP_ALGO_EXACT:
-        *whole_ticks = ticks_from_double(ramp_exact_interval_s(&r->u.exact, n) * r->u.exact.tick_hz);
-        *phase = ramp_exact_phase(&r->u.exact, n);
-        return 1;
-    default:
-        *whole_ticks = 0;
-        *phase = RAMP_IDLE;
-        return 1;
-    }
-    *whole_ticks = r->whole_ticks;
-    *phase = r->start_level == 0 ? phase_label(r, n) : change;
-    return 1;
+    (void)n;
+    return (double)r->whole_ticks;
 }
 
-uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps)
+static motion_status_t sigmoid_resume(ramp_t *n, const ramp_t *m, const ramp_params_t *params, int32_t from,
+                                      int32_t to, uint32_t *l0)
+{
+    (void)params;
+    *n = *m;
+    plan_geometry(n, RAMP_ALGO_SIGMOID, from, to);
+    if (*l0 > m->accel_steps)
+        *l0 = m->accel_steps;
+    if (*l0 < 1U)
+        *l0 = 1U;
+    (void)ramp_sigmoid_set_k(&n->u.sigmoid, *l0);
+    n->accel_steps = m->accel_steps;
+    n->peak_level = m->accel_steps;
+    return MS_OK;
+}
+
+static uint32_t sigmoid_cruise_target(const ramp_t *r)
+{
+    /* cruise: the steps after the len*hold accelerating ones and before as many decelerating */
+    uint32_t d = r->steps_total, done = r->steps_done, a = r->accel_steps;
+    if (r->start_level != 0) {
+        /* continued (sigmoid_next): k stays at the table's top A while D + 1 - n >= A; once it is
+         * there, the steps up to D - A are cruise (the next, D + 1 - A, the last at the top) */
+        if (done == 0 || r->u.sigmoid.k != a || done + a >= d)
+            return 0;
+        return d - a;
+    }
+    if (done == 0 || done < a || done + 1U >= d - a || a > d / 2U) /* the division last: rarely reached */
+        return 0;
+    return d - a - 1U; /* the next step, D - A, is the last cruise step */
+}
+
+static void sigmoid_skip_to(ramp_t *r, uint32_t target)
+{
+    if (r->start_level == 0) { /* continued: k stays at the top */
+        uint32_t from_end = r->steps_total + 1U - target;
+        (void)ramp_sigmoid_set_k(&r->u.sigmoid, target < from_end ? target : from_end);
+    }
+}
+
+static uint32_t sigmoid_take_same(ramp_t *r, uint32_t max_steps)
 {
     ramp_sigmoid_t *g = &r->u.sigmoid;
     uint32_t n = r->steps_done, d = r->steps_total, j, lim;
     uint8_t rising;
-    if (r->algo != RAMP_ALGO_SIGMOID || n == 0 || n >= d)
+    if (n == 0 || n >= d)
         return 0;
     if (r->start_level != 0) {
-        /* continued (next_sigmoid): k = min(L0 + n, D + 1 - n), held at the table's top A */
+        /* continued (sigmoid_next): k = min(L0 + n, D + 1 - n), held at the table's top A */
         uint32_t l0 = r->start_level, a = r->accel_steps;
         if (g->k == l0 + n && g->k < a) {
             /* rising: while k stays below the top and below D + 1 - n (L0 + n + j <= D + 1 - n - j) */
@@ -396,100 +620,6 @@ uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps)
     return j;
 }
 
-uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
-{
-    if (r->algo == RAMP_ALGO_EXACT) {
-        uint32_t n;
-        if (r->steps_done >= r->steps_total)
-            return 0;
-        n = ++r->steps_done;
-        s->interval_ticks = ramp_exact_interval_s(&r->u.exact, n) * r->u.exact.tick_hz;
-        s->whole_ticks = ticks_from_double(s->interval_ticks);
-        s->phase = ramp_exact_phase(&r->u.exact, n);
-    } else {
-        if (!ramp_next_ticks(r, &s->whole_ticks, &s->phase))
-            return 0;
-        switch (r->algo) {
-        case RAMP_ALGO_LEIB: s->interval_ticks = r->u.leib.p; break;
-        case RAMP_ALGO_SIMPLISTIC: s->interval_ticks = r->u.simplistic.p; break;
-        default: s->interval_ticks = (double)s->whole_ticks; break;
-        }
-    }
-    s->step = r->steps_done;
-    s->position = ramp_position_after(r->from, r->dir, r->steps_done);
-    return 1;
-}
-
-/* The step ramp_skip_cruise jumps to (it hands out the step after it next), or 0 when the move is
- * not in a cruise that can be skipped. */
-static uint32_t cruise_skip_target(const ramp_t *r)
-{
-    uint32_t d = r->steps_total, done = r->steps_done, target;
-    switch (r->algo) {
-    case RAMP_ALGO_SIMPLISTIC:
-    case RAMP_ALGO_LEIB: {
-        uint32_t k = r->peak_level;
-        /* flat region: the steps whose level is K, i.e. K <= n <= D + 1 - K (all steps if K = 0) */
-        if (done == 0 || r->level != k || (r->start_level == 0 && (k > d / 2U || done < k)))
-            return 0;
-        target = d - k; /* the next step, D + 1 - K, is the last flat one */
-        break;
-    }
-    case RAMP_ALGO_EXACT: {
-        double last_cruise = (double)d - r->u.exact.x_accel + 0.5; /* largest n with n - 1/2 <= D - x_a */
-        uint32_t nc;
-        if (done == 0 || ramp_exact_phase(&r->u.exact, done) != RAMP_CRUISE || last_cruise < 1.0)
-            return 0;
-        nc = (uint32_t)last_cruise;
-        target = nc - 1U;
-        break;
-    }
-    case RAMP_ALGO_SIGMOID: {
-        /* cruise: the steps after the len*hold accelerating ones and before as many decelerating */
-        uint32_t a = r->accel_steps;
-        if (r->start_level != 0) {
-            /* continued (next_sigmoid): k stays at the table's top A while D + 1 - n >= A; once it is
-             * there, the steps up to D - A are cruise (the next, D + 1 - A, the last at the top) */
-            if (done == 0 || r->u.sigmoid.k != a || done + a >= d)
-                return 0;
-            target = d - a;
-            break;
-        }
-        if (done == 0 || done < a || done + 1U >= d - a || a > d / 2U) /* the division last: rarely reached */
-            return 0;
-        target = d - a - 1U; /* the next step, D - A, is the last cruise step */
-        break;
-    }
-    default:
-        return 0;
-    }
-    return target > done ? target : 0;
-}
-
-uint32_t ramp_cruise_skippable(const ramp_t *r)
-{
-    uint32_t target = cruise_skip_target(r);
-    return target != 0 ? target - r->steps_done : 0;
-}
-
-uint32_t ramp_skip_cruise_at_most(ramp_t *r, uint32_t max_steps)
-{
-    uint32_t n = ramp_cruise_skippable(r), target;
-    if (n > max_steps)
-        n = max_steps;
-    if (n == 0)
-        return 0;
-    target = r->steps_done + n;
-    if (r->algo == RAMP_ALGO_SIGMOID && r->start_level == 0) { /* continued: k stays at the top */
-        uint32_t from_end = r->steps_total + 1U - target;
-        (void)ramp_sigmoid_set_k(&r->u.sigmoid, target < from_end ? target : from_end);
-    }
-    /* simplistic/Leib: the level stays K and the interval p; exact: stateless per step */
-    r->steps_done = target;
-    return n;
-}
-
-uint32_t ramp_skip_cruise(ramp_t *r)
-{
-    return ramp_skip_cruise_at_most(r, UINT32_MAX);
-}
+static const struct ramp_algo_ops SIGMOID_RAMP RAMP_TABLE_MEM = {
+    0, sigmoid_next, sigmoid_interval, 0, sigmoid_resume, sigmoid_cruise_target, sigmoid_skip_to, sigmoid_take_same
+};

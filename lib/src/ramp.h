@@ -52,6 +52,8 @@ typedef struct {
  * called instead of them (a NULL member, or no hooks: lib's own; ramp_plan_hooked). The planner calls the
  * pre-computation once per plan (also to check parameters) and the update once per accelerating
  * or decelerating step, in loop(), never in the step interrupt. */
+struct ramp_algo_ops; /* ramp.c */
+
 typedef struct ramp_hooks {
     motion_status_t (*leib_plan)(ramp_leib_t *l, const ramp_params_t *params, uint32_t steps_total);
     float (*leib_update)(ramp_leib_t *l, ramp_phase_t phase);
@@ -73,6 +75,7 @@ typedef struct {
     uint32_t start_level;  /* level before step 1: 0 from rest, else that of the move continued */
     uint32_t label_accel;  /* min(accel_steps, D/2): ramp_phase_label's bound, divided once per plan */
     const ramp_hooks_t *hooks; /* ramp_plan_hooked's, or NULL */
+    const struct ramp_algo_ops *ops; /* the algorithm's part of ramp.c, chosen by the plan (ramp.c) */
     union {
         ramp_simplistic_t simplistic;
         ramp_leib_t leib;
@@ -89,6 +92,20 @@ motion_status_t ramp_plan(ramp_t *r, ramp_algo_t algo, const ramp_params_t *para
  * from this one (ramp_plan_continue) keeps them. */
 motion_status_t ramp_plan_hooked(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, const ramp_hooks_t *hooks,
                                  int32_t from, int32_t to);
+
+/* ramp_plan_hooked for the lab's two ramps only (simplistic, Leib; any other algorithm:
+ * MS_ERR_UNKNOWN_COMMAND): a firmware that plans through this one, and never through ramp_plan or
+ * ramp_plan_hooked, links neither the exact ramp nor the sigmoid (each algorithm's code is reached
+ * only from the plans that choose it). */
+motion_status_t ramp_plan_lab(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, const ramp_hooks_t *hooks,
+                              int32_t from, int32_t to);
+
+/* ramp_plan_lab for one of them only (algo must be that one, else MS_ERR_UNKNOWN_COMMAND): a firmware
+ * that plans only through ramp_plan_leib links no other algorithm's code (LeibRampStepper). */
+motion_status_t ramp_plan_leib(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params, const ramp_hooks_t *hooks,
+                               int32_t from, int32_t to);
+motion_status_t ramp_plan_simplistic(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params,
+                                     const ramp_hooks_t *hooks, int32_t from, int32_t to);
 
 /* Plans a move through a sigmoid table filled by ramp_sigmoid_fill (table_len entries, at
  * least p->len). The table must stay unchanged until the move ends. */

@@ -68,6 +68,19 @@ void ramp_accel_steps(float v0_sps, float vmax_sps, float accel_sps2, uint32_t s
  * cycles on the AVR (a float add and conversion would take about 235). */
 uint32_t ramp_ticks_from_float(float interval_ticks);
 
+/* A table of functions that lives in flash on the AVR (no SRAM; each call reads its pointer with
+ * pgm_read_word, a few cycles) and in ordinary memory on the host: ramp.c's algorithm tables and
+ * step_planner.c's halves. Declare `static const struct T name RAMP_TABLE_MEM = {...}`; call
+ * RAMP_TABLE_FN(table_ptr, member)(args). */
+#ifdef __AVR__
+#include <avr/pgmspace.h>
+#define RAMP_TABLE_MEM PROGMEM
+#define RAMP_TABLE_FN(t, f) ((__typeof__((t)->f))pgm_read_word(&(t)->f))
+#else
+#define RAMP_TABLE_MEM
+#define RAMP_TABLE_FN(t, f) ((t)->f)
+#endif
+
 #ifdef __cplusplus
 }
 #endif

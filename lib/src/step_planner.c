@@ -14,9 +14,10 @@ static void clear_state(step_planner_t *pl, int32_t pos)
     pl->target = pos;
 }
 
-/* The two halves of the planner: the exact ramp's (step_exact.h) and the stepwise ramps' (ramp.h:
- * simplistic, Leib, sigmoid). A planner reaches its half only through ops, so a firmware that
- * initialises only one kind (step_planner_init_exact, _lab, _sigmoid) links only that half. */
+/* The halves of the planner: the exact ramp's (step_exact.h), the stepwise ramps' (ramp.h: the lab's
+ * simplistic and Leib, and the sigmoid, each with its own table) and the smooth move's. A planner
+ * reaches its half only through ops (in flash on the AVR: RAMP_TABLE_MEM), so a firmware that
+ * initialises only one kind (step_planner_init_exact, _lab, _sigmoid, _smooth) links only that half. */
 struct step_planner_ops {
     motion_status_t (*set_params)(step_planner_t *pl, const ramp_params_t *params);
     uint8_t (*left)(const step_planner_t *pl);                /* active: something left to hand out */
@@ -29,9 +30,12 @@ struct step_planner_ops {
     motion_status_t (*rewind)(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count);
     uint32_t (*rewindable)(const step_planner_t *pl);
 };
-static const struct step_planner_ops EXACT_OPS;
-static const struct step_planner_ops RAMP_OPS;
-static const struct step_planner_ops SMOOTH_OPS;
+static const struct step_planner_ops EXACT_OPS RAMP_TABLE_MEM;
+static const struct step_planner_ops LAB_OPS RAMP_TABLE_MEM;
+static const struct step_planner_ops LEIB_OPS RAMP_TABLE_MEM;
+static const struct step_planner_ops SIMPLISTIC_OPS RAMP_TABLE_MEM;
+static const struct step_planner_ops SIGMOID_OPS RAMP_TABLE_MEM;
+static const struct step_planner_ops SMOOTH_OPS RAMP_TABLE_MEM;
 
 static motion_status_t init_kind(step_planner_t *pl, const struct step_planner_ops *ops, ramp_algo_t algo,
                                  const ramp_params_t *params, const ramp_hooks_t *hooks, int32_t pos)
@@ -54,7 +58,7 @@ static motion_status_t init_kind(step_planner_t *pl, const struct step_planner_o
     if (algo == RAMP_ALGO_EXACT)
         n.exact.max_cmd_ticks = n.max_cmd_ticks;
     clear_state(&n, pos);
-    n.ops->reset(&n);
+    RAMP_TABLE_FN(n.ops, reset)(&n);
     *pl = n;
     return MS_OK;
 }
@@ -69,7 +73,23 @@ motion_status_t step_planner_init_lab(step_planner_t *pl, ramp_algo_t algo, cons
 {
     if (algo != RAMP_ALGO_SIMPLISTIC && algo != RAMP_ALGO_LEIB)
         return pl == 0 || params == 0 ? MS_ERR_NULL : MS_ERR_UNKNOWN_COMMAND;
-    return init_kind(pl, &RAMP_OPS, algo, params, hooks, pos);
+    return init_kind(pl, &LAB_OPS, algo, params, hooks, pos);
+}
+
+motion_status_t step_planner_init_leib(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                       const ramp_hooks_t *hooks, int32_t pos)
+{
+    if (algo != RAMP_ALGO_LEIB)
+        return pl == 0 || params == 0 ? MS_ERR_NULL : MS_ERR_UNKNOWN_COMMAND;
+    return init_kind(pl, &LEIB_OPS, algo, params, hooks, pos);
+}
+
+motion_status_t step_planner_init_simplistic(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                             const ramp_hooks_t *hooks, int32_t pos)
+{
+    if (algo != RAMP_ALGO_SIMPLISTIC)
+        return pl == 0 || params == 0 ? MS_ERR_NULL : MS_ERR_UNKNOWN_COMMAND;
+    return init_kind(pl, &SIMPLISTIC_OPS, algo, params, hooks, pos);
 }
 
 motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
@@ -96,7 +116,7 @@ motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid
     st = ramp_plan_sigmoid(&probe, p, table, table_len, pos, pos);
     if (st != MS_OK)
         return st;
-    pl->ops = &RAMP_OPS;
+    pl->ops = &SIGMOID_OPS;
     pl->algo = RAMP_ALGO_SIGMOID;
     pl->hooks = 0;
     pl->sig = *p;
@@ -121,10 +141,29 @@ static motion_status_t exact_set_params(step_planner_t *pl, const ramp_params_t 
     return MS_OK;
 }
 
-static motion_status_t ramp_set_params(step_planner_t *pl, const ramp_params_t *params)
+static motion_status_t lab_set_params(step_planner_t *pl, const ramp_params_t *params)
 {
     ramp_t probe;
-    return ramp_plan_hooked(&probe, pl->algo, params, pl->hooks, 0, 1);
+    return ramp_plan_lab(&probe, pl->algo, params, pl->hooks, 0, 1);
+}
+
+static motion_status_t leib_set_params(step_planner_t *pl, const ramp_params_t *params)
+{
+    ramp_t probe;
+    return ramp_plan_leib(&probe, pl->algo, params, pl->hooks, 0, 1);
+}
+
+static motion_status_t simplistic_set_params(step_planner_t *pl, const ramp_params_t *params)
+{
+    ramp_t probe;
+    return ramp_plan_simplistic(&probe, pl->algo, params, pl->hooks, 0, 1);
+}
+
+static motion_status_t sigmoid_set_params(step_planner_t *pl, const ramp_params_t *params)
+{
+    (void)pl;
+    (void)params;
+    return MS_ERR_UNKNOWN_COMMAND; /* its parameters are its table's (step_planner_init_sigmoid) */
 }
 
 motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t *params)
@@ -132,7 +171,7 @@ motion_status_t step_planner_set_params(step_planner_t *pl, const ramp_params_t 
     motion_status_t st;
     if (pl == 0 || params == 0)
         return MS_ERR_NULL;
-    st = pl->ops->set_params(pl, params);
+    st = RAMP_TABLE_FN(pl->ops, set_params)(pl, params);
     if (st != MS_OK)
         return st;
     pl->params = *params;
@@ -146,7 +185,7 @@ uint8_t step_planner_busy(const step_planner_t *pl)
     if (!pl->active)
         return 0;
     /* active, but nothing left to hand out: done (so the engine can mark the end at once) */
-    return pl->ops->left(pl);
+    return RAMP_TABLE_FN(pl->ops, left)(pl);
 }
 
 static uint8_t exact_left(const step_planner_t *pl)
@@ -172,7 +211,7 @@ int32_t step_planner_target(const step_planner_t *pl)
 void step_planner_halt(step_planner_t *pl, int32_t pos)
 {
     clear_state(pl, pos);
-    pl->ops->reset(pl);
+    RAMP_TABLE_FN(pl->ops, reset)(pl);
 }
 
 static void exact_reset(step_planner_t *pl)
@@ -222,16 +261,29 @@ static motion_status_t exact_from_rest(step_planner_t *pl, int32_t to)
     return MS_OK;
 }
 
-static motion_status_t ramp_from_rest(step_planner_t *pl, int32_t to)
+static motion_status_t lab_from_rest(step_planner_t *pl, int32_t to)
 {
-    if (pl->algo == RAMP_ALGO_SIGMOID)
-        return ramp_plan_sigmoid(&pl->ramp, &pl->sig, pl->table, pl->table_len, pl->pos, to);
-    return ramp_plan_hooked(&pl->ramp, pl->algo, &pl->params, pl->hooks, pl->pos, to);
+    return ramp_plan_lab(&pl->ramp, pl->algo, &pl->params, pl->hooks, pl->pos, to);
+}
+
+static motion_status_t leib_from_rest(step_planner_t *pl, int32_t to)
+{
+    return ramp_plan_leib(&pl->ramp, pl->algo, &pl->params, pl->hooks, pl->pos, to);
+}
+
+static motion_status_t simplistic_from_rest(step_planner_t *pl, int32_t to)
+{
+    return ramp_plan_simplistic(&pl->ramp, pl->algo, &pl->params, pl->hooks, pl->pos, to);
+}
+
+static motion_status_t sigmoid_from_rest(step_planner_t *pl, int32_t to)
+{
+    return ramp_plan_sigmoid(&pl->ramp, &pl->sig, pl->table, pl->table_len, pl->pos, to);
 }
 
 static motion_status_t plan_from_rest(step_planner_t *pl, int32_t to)
 {
-    motion_status_t st = pl->ops->from_rest(pl, to);
+    motion_status_t st = RAMP_TABLE_FN(pl->ops, from_rest)(pl, to);
     if (st != MS_OK)
         return st;
     pl->active = 1;
@@ -322,7 +374,7 @@ static motion_status_t ramp_move(step_planner_t *pl, int32_t to)
 
 motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
 {
-    return pl->ops->move(pl, to);
+    return RAMP_TABLE_FN(pl->ops, move)(pl, to);
 }
 
 static void exact_stop(step_planner_t *pl)
@@ -349,7 +401,7 @@ static void ramp_stop(step_planner_t *pl)
 void step_planner_stop(step_planner_t *pl)
 {
     pl->has_then = 0;
-    pl->ops->stop(pl);
+    RAMP_TABLE_FN(pl->ops, stop)(pl);
 }
 
 /* whether the ramp may have reached a cruise to skip: a cheap test first (simplistic and Leib
@@ -473,10 +525,24 @@ static uint32_t exact_rewindable(const step_planner_t *pl)
     return pl->exact.n >= 2U ? pl->exact.n - 1U : 0U;
 }
 
-static const struct step_planner_ops EXACT_OPS = {exact_set_params, exact_left, exact_from_rest, exact_move,
-                                                  exact_stop, exact_next, exact_reset, exact_rewind, exact_rewindable};
-static const struct step_planner_ops RAMP_OPS = {ramp_set_params, ramp_left, ramp_from_rest, ramp_move,
-                                                 ramp_stop, next_from_ramp, ramp_reset, 0, 0};
+static const struct step_planner_ops EXACT_OPS RAMP_TABLE_MEM = {
+    exact_set_params, exact_left, exact_from_rest, exact_move, exact_stop, exact_next, exact_reset, exact_rewind,
+    exact_rewindable
+};
+/* the stepwise ramps: the lab's two (ramp_plan_lab), each of them alone, and the sigmoid, apart so that
+ * each links only its own */
+static const struct step_planner_ops LAB_OPS RAMP_TABLE_MEM = {
+    lab_set_params, ramp_left, lab_from_rest, ramp_move, ramp_stop, next_from_ramp, ramp_reset, 0, 0
+};
+static const struct step_planner_ops LEIB_OPS RAMP_TABLE_MEM = {
+    leib_set_params, ramp_left, leib_from_rest, ramp_move, ramp_stop, next_from_ramp, ramp_reset, 0, 0
+};
+static const struct step_planner_ops SIMPLISTIC_OPS RAMP_TABLE_MEM = {
+    simplistic_set_params, ramp_left, simplistic_from_rest, ramp_move, ramp_stop, next_from_ramp, ramp_reset, 0, 0
+};
+static const struct step_planner_ops SIGMOID_OPS RAMP_TABLE_MEM = {
+    sigmoid_set_params, ramp_left, sigmoid_from_rest, ramp_move, ramp_stop, next_from_ramp, ramp_reset, 0, 0
+};
 
 uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c)
 {
@@ -490,11 +556,11 @@ uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c)
             if (!pl->has_then)
                 return 0;
             pl->has_then = 0;
-            pl->ops->reset(pl);
+            RAMP_TABLE_FN(pl->ops, reset)(pl);
             if (plan_from_rest(pl, pl->then_target) != MS_OK)
                 return 0;
         }
-        if (pl->ops->next(pl, c))
+        if (RAMP_TABLE_FN(pl->ops, next)(pl, c))
             return 1;
         pl->active = 0;
     }
@@ -657,20 +723,21 @@ static uint32_t smooth_rewindable(const step_planner_t *pl)
     return pl->active ? smooth_move_rewindable(&pl->smooth->move) : 0U;
 }
 
-static const struct step_planner_ops SMOOTH_OPS = {smooth_set_params, smooth_left, smooth_from_rest, smooth_move_op,
-                                                   smooth_stop, smooth_next, smooth_reset, smooth_rewind,
-                                                   smooth_rewindable};
+static const struct step_planner_ops SMOOTH_OPS RAMP_TABLE_MEM = {
+    smooth_set_params, smooth_left, smooth_from_rest, smooth_move_op, smooth_stop, smooth_next, smooth_reset,
+    smooth_rewind, smooth_rewindable
+};
 
 motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count)
 {
     if (pl == 0)
         return MS_ERR_NULL;
-    if (!pl->ops->rewind)
+    if (!RAMP_TABLE_FN(pl->ops, rewind))
         return MS_ERR_NOT_SUPPORTED; /* the stepwise ramps cannot (yet) go back to a boundary */
-    return pl->ops->rewind(pl, steps, time16, last_count);
+    return RAMP_TABLE_FN(pl->ops, rewind)(pl, steps, time16, last_count);
 }
 
 uint32_t step_planner_rewindable(const step_planner_t *pl)
 {
-    return pl->ops->rewindable ? pl->ops->rewindable(pl) : 0U;
+    return RAMP_TABLE_FN(pl->ops, rewindable) ? RAMP_TABLE_FN(pl->ops, rewindable)(pl) : 0U;
 }

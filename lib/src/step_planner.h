@@ -90,12 +90,19 @@ motion_status_t step_planner_init_trapezoid(step_planner_t *pl, ramp_algo_t algo
 motion_status_t step_planner_init_hooked(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
                                          const ramp_hooks_t *hooks, int32_t pos);
 
-/* The same for one kind only: a firmware that plans only the exact ramp (or only the stepwise
- * ones) links only that half of the planner (the two above link both). _lab: simplistic or Leib
- * (MS_ERR_UNKNOWN_COMMAND for any other algorithm). */
+/* The same for one kind only: a firmware that plans only the exact ramp (or only the lab's) links
+ * only that half of the planner (the two above link both). _lab: simplistic or Leib
+ * (MS_ERR_UNKNOWN_COMMAND for any other algorithm), planned by ramp_plan_lab: neither the exact ramp
+ * nor the sigmoid is linked through it. */
 motion_status_t step_planner_init_exact(step_planner_t *pl, const ramp_params_t *params, int32_t pos);
 motion_status_t step_planner_init_lab(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
                                       const ramp_hooks_t *hooks, int32_t pos);
+/* _lab for one of the two only (algo must be it, else MS_ERR_UNKNOWN_COMMAND), planned by
+ * ramp_plan_leib / ramp_plan_simplistic: the other's code is not linked through them. */
+motion_status_t step_planner_init_leib(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                       const ramp_hooks_t *hooks, int32_t pos);
+motion_status_t step_planner_init_simplistic(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                             const ramp_hooks_t *hooks, int32_t pos);
 
 /* A sigmoid planner over a filled table (it must stay unchanged while a move runs). */
 motion_status_t step_planner_init_sigmoid(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,

@@ -1038,6 +1038,40 @@ def check_stepper_timed_loop(env):
     return check_stepper(env, "LeibRampStepper", elf=elf, bound_ticks=STEPPER_LOOP_BOUND_US, mode="loop")
 
 
+# The ramp tables a stepper sketch may link, by the algorithm its `?` names (lib/src/ramp.c's
+# algorithm tables, lib/src/step_planner.c's halves): each algorithm's code is reached only through
+# its table, so a table's symbol in the ELF says that algorithm's code is in the flash.
+RAMP_TABLES = {"SIMPLISTIC_RAMP", "LEIB_RAMP", "EXACT_RAMP", "SIGMOID_RAMP", "EXACT_OPS", "LAB_OPS", "LEIB_OPS",
+               "SIMPLISTIC_OPS", "SIGMOID_OPS", "SMOOTH_OPS", "Stepper::setSigmoid"}
+RAMP_TABLES_OF = {"leib": {"LEIB_RAMP", "LEIB_OPS"},
+                  "simplistic": {"SIMPLISTIC_RAMP", "SIMPLISTIC_OPS"},
+                  "sigmoid": {"SIGMOID_RAMP", "SIGMOID_OPS", "Stepper::setSigmoid"},
+                  "exact": {"EXACT_OPS"}}
+
+
+def linked_symbols(elf):
+    """the names of an ELF's symbols (avr-nm -C), a `.lto_priv.N` or `.part.N` suffix dropped"""
+    out = subprocess.run(["avr-nm", "-C", elf], capture_output=True, text=True, check=True).stdout
+    names = set()
+    for line in out.splitlines():
+        parts = line.split(None, 2)
+        if len(parts) == 3:
+            names.add(re.sub(r"(\.(lto_priv|part|constprop|isra)\.\d+)+$", "", parts[2].split("(")[0]))
+    return names
+
+
+def check_stepper_links_its_ramp(env, sketch):
+    """a stepper sketch links its own ramp's code and no other's (the flash the others would take)"""
+    algo = stepper_algo(env, sketch)
+    if algo not in RAMP_TABLES_OF:
+        return CheckResult(False, f"algo={algo}", [f"{sketch}: no expectation for algo={algo}"])
+    have = linked_symbols(env.elf(sketch)) & RAMP_TABLES
+    want = RAMP_TABLES_OF[algo]
+    problems = [f"{sketch} (algo={algo}) links {t}" for t in sorted(have - want)]
+    problems += [f"{sketch} (algo={algo}) does not link {t}: its own ramp's table" for t in sorted(want - have)]
+    return CheckResult(not problems, f"algo={algo}: linked {', '.join(sorted(have))}", problems)
+
+
 def check_stepper_bad_input(env, sketch):
     algo = stepper_algo(env, sketch)
     fast = STEPPER_FAST[ramp_shape(algo)]
@@ -1346,6 +1380,8 @@ def checks_for(env):
                        lambda st=st: check_stepper(env, st)))
         checks.append((f"{st}: bad input, also while moving, gets ERR, state unchanged",
                        lambda st=st: check_stepper_bad_input(env, st)))
+        checks.append((f"{st}: links its own ramp's code (lib's ramp and planner tables) and no other ramp's",
+                       lambda st=st: check_stepper_links_its_ramp(env, st)))
         checks.append((f"{st}: stop, ! and a new target while moving: one DONE per move, where the pulses end",
                        lambda st=st: check_stepper_motion(env, st)))
         checks.append((f"{st}: the step engine at speed: the reference move, every edge on its plan",

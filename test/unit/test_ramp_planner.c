@@ -159,6 +159,43 @@ static void unknown_algorithm_and_null_are_rejected(void **state)
     assert_int_equal(ramp_params_check(NULL), MS_ERR_NULL);
 }
 
+/* ramp_plan_lab (the lab's ramps only, so that a firmware planning through it links no other):
+ * the same steps as ramp_plan for simplistic and Leib; every other algorithm refused, r untouched */
+static void the_lab_planner_plans_only_the_lab_ramps(void **state)
+{
+    static const ramp_algo_t lab[] = {RAMP_ALGO_SIMPLISTIC, RAMP_ALGO_LEIB};
+    static const ramp_algo_t others[] = {RAMP_ALGO_EXACT, RAMP_ALGO_SIGMOID, RAMP_ALGO_SMOOTH, (ramp_algo_t)17};
+    ramp_t a, b, before;
+    ramp_step_t sa, sb;
+    unsigned i, n;
+    (void)state;
+    for (i = 0; i < sizeof lab / sizeof lab[0]; i++) {
+        assert_int_equal(ramp_plan(&a, lab[i], &LAB, -3, 40), MS_OK);
+        assert_int_equal(ramp_plan_lab(&b, lab[i], &LAB, NULL, -3, 40), MS_OK);
+        for (n = 0; ramp_next(&a, &sa); n++) {
+            assert_true(ramp_next(&b, &sb));
+            assert_int_equal(sa.whole_ticks, sb.whole_ticks);
+            assert_true(sa.interval_ticks == sb.interval_ticks);
+            assert_int_equal(sa.phase, sb.phase);
+            assert_int_equal(sa.position, sb.position);
+        }
+        assert_int_equal(n, 43);
+        assert_false(ramp_next(&b, &sb));
+    }
+    memset(&b, 0x42, sizeof b);
+    before = b;
+    for (i = 0; i < sizeof others / sizeof others[0]; i++)
+        assert_int_equal(ramp_plan_lab(&b, others[i], &LAB, NULL, 0, 10), MS_ERR_UNKNOWN_COMMAND);
+    assert_int_equal(ramp_plan_lab(&b, RAMP_ALGO_LEIB, NULL, NULL, 0, 10), MS_ERR_NULL);
+    /* each lab ramp alone: the other refused */
+    assert_int_equal(ramp_plan_leib(&b, RAMP_ALGO_SIMPLISTIC, &LAB, NULL, 0, 10), MS_ERR_UNKNOWN_COMMAND);
+    assert_int_equal(ramp_plan_simplistic(&b, RAMP_ALGO_LEIB, &LAB, NULL, 0, 10), MS_ERR_UNKNOWN_COMMAND);
+    assert_memory_equal(&b, &before, sizeof b);
+    assert_int_equal(ramp_plan_leib(&a, RAMP_ALGO_LEIB, &LAB, NULL, 0, 10), MS_OK);
+    assert_int_equal(ramp_plan_simplistic(&a, RAMP_ALGO_SIMPLISTIC, &LAB, NULL, 0, 10), MS_OK);
+    assert_memory_equal(&b, &before, sizeof b);
+}
+
 static void names(void **state)
 {
     (void)state;
@@ -288,6 +325,7 @@ int main(void)
         cmocka_unit_test(whole_ticks_match_double_rounding),
         cmocka_unit_test(every_algorithm_counts_steps_exactly),
         cmocka_unit_test(unknown_algorithm_and_null_are_rejected),
+        cmocka_unit_test(the_lab_planner_plans_only_the_lab_ramps),
         cmocka_unit_test(names),
         cmocka_unit_test(skipping_the_cruise_is_invisible),
         cmocka_unit_test(skipping_part_of_the_cruise_is_invisible),

@@ -1006,10 +1006,12 @@ static void bad_parameters_refused(void **state)
  * each refuses the other's algorithms */
 static void one_kind_inits_plan_the_same(void **state)
 {
-    const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_LEIB, RAMP_ALGO_SIMPLISTIC};
+    /* the last two: the lab's ramps through step_planner_init_leib / _simplistic */
+    const ramp_algo_t algos[] = {RAMP_ALGO_EXACT, RAMP_ALGO_LEIB, RAMP_ALGO_SIMPLISTIC, RAMP_ALGO_LEIB,
+                                 RAMP_ALGO_SIMPLISTIC};
     ramp_params_t p = {100.0f, 4000.0f, 8000.0f, 2000000U};
     (void)state;
-    for (unsigned k = 0; k < 3; k++) {
+    for (unsigned k = 0; k < 5; k++) {
         step_planner_t a, b;
         step_cmd_t ca, cb;
         uint32_t n = 0;
@@ -1018,8 +1020,12 @@ static void one_kind_inits_plan_the_same(void **state)
         assert_int_equal(step_planner_init_hooked(&a, algos[k], &p, 0, -7), MS_OK);
         if (algos[k] == RAMP_ALGO_EXACT)
             assert_int_equal(step_planner_init_exact(&b, &p, -7), MS_OK);
-        else
+        else if (k < 3)
             assert_int_equal(step_planner_init_lab(&b, algos[k], &p, 0, -7), MS_OK);
+        else if (algos[k] == RAMP_ALGO_LEIB)
+            assert_int_equal(step_planner_init_leib(&b, algos[k], &p, 0, -7), MS_OK);
+        else
+            assert_int_equal(step_planner_init_simplistic(&b, algos[k], &p, 0, -7), MS_OK);
         for (phase = 0; phase < 3; phase++) {
             if (phase == 0) {
                 assert_int_equal(step_planner_move(&a, 5000), MS_OK);
@@ -1049,6 +1055,10 @@ static void one_kind_inits_plan_the_same(void **state)
         p.tick_hz = 16000000U;
         assert_int_equal(step_planner_init_lab(&c, RAMP_ALGO_EXACT, &p, 0, 0), MS_ERR_UNKNOWN_COMMAND);
         assert_int_equal(step_planner_init_lab(&c, RAMP_ALGO_SIGMOID, &p, 0, 0), MS_ERR_UNKNOWN_COMMAND);
+        assert_int_equal(step_planner_init_leib(&c, RAMP_ALGO_SIMPLISTIC, &p, 0, 0), MS_ERR_UNKNOWN_COMMAND);
+        assert_int_equal(step_planner_init_leib(&c, RAMP_ALGO_EXACT, &p, 0, 0), MS_ERR_UNKNOWN_COMMAND);
+        assert_int_equal(step_planner_init_simplistic(&c, RAMP_ALGO_LEIB, &p, 0, 0), MS_ERR_UNKNOWN_COMMAND);
+        assert_int_equal(step_planner_init_simplistic(&c, RAMP_ALGO_SIGMOID, &p, 0, 0), MS_ERR_UNKNOWN_COMMAND);
         assert_int_equal(step_planner_init_exact(0, &p, 0), MS_ERR_NULL);
     }
 }

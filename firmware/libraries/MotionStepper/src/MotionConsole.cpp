@@ -360,9 +360,9 @@ void MotionConsole::handle_set(uint8_t a, const char *cursor)
         st = text_word_is(key, "v0")      ? x.setMinSpeed((float)v)
              : text_word_is(key, "vmax")  ? x.setMaxSpeed((float)v)
              : text_word_is(key, "accel") ? x.setAcceleration((float)v)
-             : text_word_is(key, "flex")  ? x.setSigmoid((float)v, x.sigmoidLen(), x.sigmoidHold())
-             : text_word_is(key, "len")   ? x.setSigmoid(x.sigmoidFlex(), (uint16_t)v, x.sigmoidHold())
-                                          : x.setSigmoid(x.sigmoidFlex(), x.sigmoidLen(), (uint16_t)v);
+             : text_word_is(key, "flex")  ? x.set_sigmoid_in_use((float)v, x.sigmoidLen(), x.sigmoidHold())
+             : text_word_is(key, "len")   ? x.set_sigmoid_in_use(x.sigmoidFlex(), (uint16_t)v, x.sigmoidHold())
+                                          : x.set_sigmoid_in_use(x.sigmoidFlex(), x.sigmoidLen(), (uint16_t)v);
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;

@@ -46,7 +46,7 @@ Stepper::Stepper(Axis axis, int)
       plan_after_done_(false), plan_done_before_(false),
       last_status_(MS_OK), cuts_missed_(0), cut_retry_us_(0), cut_tries_(0), stop_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
       ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0), sig_(0), sig_flex_(5.0f), sig_len_(250),
-      sig_hold_(4), planner_(), begin_status_(MS_OK)
+      sig_hold_(4), planner_(), begin_status_(MS_OK), lab_init_(0), lab_probe_(0)
 {
     made_++;
     /* the MultiAxisStepper sketch's defaults */
@@ -205,15 +205,9 @@ motion_status_t Stepper::set_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks)
     if (algo != RAMP_ALGO_EXACT && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_SIMPLISTIC)
         return MS_ERR_OUT_OF_RANGE;
     lab_init_ = step_planner_init_lab; /* the only place that names the lab's ramps: a sketch that */
-    lab_probe_ = ramp_plan_hooked;     /* never calls setRamp() links only the exact planner */
+    lab_probe_ = ramp_plan_lab;        /* never calls setRamp() links only the exact planner */
     return switch_ramp(algo, hooks);
 }
-
-/* set by set_ramp (null in a sketch that never calls it: then every ramp is exact) */
-motion_status_t (*Stepper::lab_init_)(step_planner_t *, ramp_algo_t, const ramp_params_t *, const ramp_hooks_t *,
-                                      int32_t);
-motion_status_t (*Stepper::lab_probe_)(ramp_t *, ramp_algo_t, const ramp_params_t *, const ramp_hooks_t *, int32_t,
-                                       int32_t);
 
 motion_status_t Stepper::switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks)
 {
@@ -773,6 +767,12 @@ void Stepper::engine_done(int32_t position)
 /* ---- the sigmoid ramp (RAMP_ALGO_SIGMOID) ---- */
 void (*Stepper::sigmoid_slice_)(Stepper &);
 motion_status_t (*Stepper::sigmoid_check_)(const ramp_sigmoid_params_t *);
+motion_status_t (*Stepper::sigmoid_shape_)(Stepper &, float, uint16_t, uint16_t);
+
+motion_status_t Stepper::sigmoid_shape(Stepper &s, float flex, uint16_t len, uint16_t hold)
+{
+    return s.setSigmoid(flex, len, hold);
+}
 motion_status_t (*Stepper::sigmoid_init_)(step_planner_t *, const ramp_sigmoid_params_t *, const uint16_t *, uint16_t,
                                           int32_t);
 
@@ -820,6 +820,7 @@ motion_status_t Stepper::set_ramp_sigmoid()
     sigmoid_slice_ = sigmoid_slice;
     sigmoid_init_ = step_planner_init_sigmoid;
     sigmoid_check_ = ramp_sigmoid_check;
+    sigmoid_shape_ = sigmoid_shape;
     {
         PlannerLock lock;
         if (isRunning())

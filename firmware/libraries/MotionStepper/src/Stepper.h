@@ -183,12 +183,13 @@ public:
     {
         use_axis(axis);
         if (algo == RAMP_ALGO_LEIB || algo == RAMP_ALGO_SIMPLISTIC) {
-            lab_init_ = step_planner_init_lab;
-            lab_probe_ = ramp_plan_hooked;
+            lab_init_ = algo == RAMP_ALGO_LEIB ? step_planner_init_leib : step_planner_init_simplistic;
+            lab_probe_ = algo == RAMP_ALGO_LEIB ? ramp_plan_leib : ramp_plan_simplistic;
             algo_ = algo;
             ramp_hooks_ = hooks;
         } else if (algo == RAMP_ALGO_SIGMOID) {
             sigmoid_check_ = ramp_sigmoid_check; /* the table comes with setRamp(RAMP_ALGO_SIGMOID) */
+            sigmoid_shape_ = sigmoid_shape;
             algo_ = algo;
         } else if (algo == RAMP_ALGO_EXACT) {
             exact_init_ = step_planner_init_exact;
@@ -423,6 +424,7 @@ private:
             cuts_->prepare(*this);
     }
     friend class BackgroundPlanner;
+    friend class MotionConsole;
     friend class StepperGroup;
     enum { REQ_NONE, REQ_MOVE, REQ_STOP };
     AxisSource source();
@@ -454,6 +456,16 @@ private:
     void refill_tick();                    /* planner interrupt: the slice, if a refill runs */
     static void (*sigmoid_slice_)(Stepper &s);
     static motion_status_t (*sigmoid_check_)(const ramp_sigmoid_params_t *p);
+    /* setSigmoid as MotionConsole's `set flex|len|hold` calls it, for whatever Stepper it was given:
+     * through a pointer set with the sigmoid (the constructor, set_ramp_sigmoid), so that a sketch
+     * that never uses it links none of its code (MS_ERR_NOT_SUPPORTED then; the console asks only
+     * a Stepper on the sigmoid) */
+    static motion_status_t sigmoid_shape(Stepper &s, float flex, uint16_t len, uint16_t hold);
+    static motion_status_t (*sigmoid_shape_)(Stepper &s, float flex, uint16_t len, uint16_t hold);
+    motion_status_t set_sigmoid_in_use(float flex, uint16_t len, uint16_t hold)
+    {
+        return sigmoid_shape_ ? sigmoid_shape_(*this, flex, len, hold) : MS_ERR_NOT_SUPPORTED;
+    }
     static motion_status_t (*sigmoid_init_)(step_planner_t *pl, const ramp_sigmoid_params_t *p, const uint16_t *table,
                                             uint16_t table_len, int32_t pos);
     motion_status_t switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks);
@@ -462,12 +474,6 @@ private:
     static motion_status_t (*smooth_init_)(step_planner_t *pl, const ramp_params_t *params, double jerk_sps3,
                                            step_smooth_t *store, int32_t pos);
     static motion_status_t (*smooth_jerk_)(step_planner_t *pl, double jerk_sps3);
-    /* the lab ramps' lib calls, set by set_ramp or the constructor with a lab ramp (a sketch that names
-     * no lab ramp links none of them) */
-    static motion_status_t (*lab_init_)(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
-                                        const ramp_hooks_t *hooks, int32_t pos);
-    static motion_status_t (*lab_probe_)(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params,
-                                         const ramp_hooks_t *hooks, int32_t from, int32_t to);
     motion_status_t init_planner(int32_t pos);
     void set_cmd_length();
     static void call_hook(uint8_t axis, bool forward);
@@ -517,6 +523,13 @@ private:
     uint16_t sig_len_, sig_hold_;
     step_planner_t planner_;
     motion_status_t begin_status_; /* a constructor's refusal, returned by begin() */
+    /* the lab ramps' lib calls, this Stepper's: set by set_ramp (both ramps) or by the constructor
+     * with a lab ramp (that one only: LeibRampStepper links no simplistic code); a sketch that names
+     * no lab ramp links none of them */
+    motion_status_t (*lab_init_)(step_planner_t *pl, ramp_algo_t algo, const ramp_params_t *params,
+                                 const ramp_hooks_t *hooks, int32_t pos);
+    motion_status_t (*lab_probe_)(ramp_t *r, ramp_algo_t algo, const ramp_params_t *params,
+                                  const ramp_hooks_t *hooks, int32_t from, int32_t to);
 };
 
 #endif
