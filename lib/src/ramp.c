@@ -30,8 +30,9 @@ static ramp_phase_t phase_label(const ramp_t *r, uint32_t n)
 }
 
 /* Each algorithm's part of the planner, reached only through r->ops (set by the plan), so that a
- * firmware links only the algorithms it plans: the lab's step planner (ramp_plan_lab) simplistic and
- * Leib, a sigmoid planner (ramp_plan_sigmoid) the sigmoid, ramp_plan (motionsim, the tests) all. */
+ * firmware links only the algorithms it plans: ramp_plan_lab the lab's simplistic and Leib,
+ * ramp_plan_leib / _simplistic one of them, ramp_plan_sigmoid the sigmoid, ramp_plan and
+ * ramp_plan_hooked (motionsim, the tests) simplistic, Leib and exact. */
 struct ramp_algo_ops {
     /* fills n->u, accel_steps and peak_level for n->steps_total steps (n->hooks set) */
     motion_status_t (*plan)(ramp_t *n, const ramp_params_t *params);
@@ -235,8 +236,11 @@ motion_status_t ramp_plan_continue(ramp_t *r, const ramp_t *m, const ramp_params
         (to != from && ramp_direction(from, to) != m->dir))
         return MS_ERR_BUSY;
     l0 = continued_level(m, m->algo == RAMP_ALGO_SIGMOID ? 0 : params);
-    if (RAMP_TABLE_FN(m->ops, resume) == 0)
-        return MS_ERR_UNKNOWN_COMMAND;
+    if (RAMP_TABLE_FN(m->ops, resume) == 0) {
+        /* the exact ramp: planned under params first, so that a NULL or refused set gets its status */
+        st = plan_with(&n, m->algo, m->ops, params, m->hooks, from, to);
+        return st != MS_OK ? st : MS_ERR_UNKNOWN_COMMAND;
+    }
     st = RAMP_TABLE_FN(m->ops, resume)(&n, m, params, from, to, &l0);
     if (st != MS_OK)
         return st;
@@ -286,7 +290,9 @@ uint8_t ramp_next_ticks(ramp_t *r, uint32_t *whole_ticks, ramp_phase_t *phase)
 
 uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps)
 {
-    return RAMP_TABLE_FN(r->ops, take_same) != 0 ? RAMP_TABLE_FN(r->ops, take_same)(r, max_steps) : 0U;
+    if (r->ops == 0 || RAMP_TABLE_FN(r->ops, take_same) == 0)
+        return 0U; /* never planned, or not the sigmoid */
+    return RAMP_TABLE_FN(r->ops, take_same)(r, max_steps);
 }
 
 uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
@@ -301,7 +307,7 @@ uint8_t ramp_next(ramp_t *r, ramp_step_t *s)
 
 uint32_t ramp_cruise_skippable(const ramp_t *r)
 {
-    uint32_t target = RAMP_TABLE_FN(r->ops, cruise_target)(r);
+    uint32_t target = r->ops != 0 ? RAMP_TABLE_FN(r->ops, cruise_target)(r) : 0U; /* 0: never planned */
     return target > r->steps_done ? target - r->steps_done : 0;
 }
 

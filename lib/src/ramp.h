@@ -30,6 +30,8 @@
 extern "C" {
 #endif
 
+struct ramp_algo_ops; /* ramp.c: an algorithm's part of the planner */
+
 /* RAMP_ALGO_SMOOTH: the filter-shaped, jerk-limited move of smooth_move.h; planned only by the step
  * planner (step_planner_init_smooth), not by ramp_plan (which refuses it like any other value). */
 typedef enum { RAMP_ALGO_SIMPLISTIC = 0, RAMP_ALGO_LEIB, RAMP_ALGO_EXACT, RAMP_ALGO_SIGMOID, RAMP_ALGO_SMOOTH } ramp_algo_t;
@@ -52,8 +54,6 @@ typedef struct {
  * called instead of them (a NULL member, or no hooks: lib's own; ramp_plan_hooked). The planner calls the
  * pre-computation once per plan (also to check parameters) and the update once per accelerating
  * or decelerating step, in loop(), never in the step interrupt. */
-struct ramp_algo_ops; /* ramp.c */
-
 typedef struct ramp_hooks {
     motion_status_t (*leib_plan)(ramp_leib_t *l, const ramp_params_t *params, uint32_t steps_total);
     float (*leib_update)(ramp_leib_t *l, ramp_phase_t phase);
@@ -74,7 +74,7 @@ typedef struct {
     uint32_t whole_ticks;  /* whole_ticks of the last step (reused while cruising) */
     uint32_t start_level;  /* level before step 1: 0 from rest, else that of the move continued */
     uint32_t label_accel;  /* min(accel_steps, D/2): ramp_phase_label's bound, divided once per plan */
-    const ramp_hooks_t *hooks; /* ramp_plan_hooked's, or NULL */
+    const ramp_hooks_t *hooks; /* the plan's (ramp_plan_hooked, _lab, _leib, _simplistic), or NULL */
     const struct ramp_algo_ops *ops; /* the algorithm's part of ramp.c, chosen by the plan (ramp.c) */
     union {
         ramp_simplistic_t simplistic;

@@ -196,6 +196,29 @@ static void the_lab_planner_plans_only_the_lab_ramps(void **state)
     assert_memory_equal(&b, &before, sizeof b);
 }
 
+/* The exact ramp is not continued (step_exact.h plans its continuations): NULL parameters get MS_ERR_NULL,
+ * a set the exact ramp refuses its own status (as ramp_plan gives it), a valid one MS_ERR_UNKNOWN_COMMAND;
+ * a ramp never planned (zeroed) has nothing to skip or take */
+static void the_exact_ramp_is_not_continued(void **state)
+{
+    static const ramp_params_t EXACT = {10.0, 1000.0, 5000.0, 16000000U};
+    static const ramp_params_t BAD = {10.0, 1000.0, 0.0, 16000000U};
+    ramp_t m, n, bad;
+    ramp_step_t st;
+    (void)state;
+    assert_int_equal(ramp_plan(&m, RAMP_ALGO_EXACT, &EXACT, 0, 1000), MS_OK);
+    assert_true(ramp_next(&m, &st) && ramp_next(&m, &st));
+    assert_int_equal(ramp_plan_continue(&n, &m, NULL, 2000), MS_ERR_NULL);
+    assert_int_not_equal(ramp_plan(&bad, RAMP_ALGO_EXACT, &BAD, 0, 1000), MS_OK);
+    assert_int_equal(ramp_plan_continue(&n, &m, &BAD, 2000), ramp_plan(&bad, RAMP_ALGO_EXACT, &BAD, 0, 1000));
+    assert_int_equal(ramp_plan_continue(&n, &m, &EXACT, 2000), MS_ERR_UNKNOWN_COMMAND);
+    memset(&n, 0, sizeof n);
+    assert_int_equal(ramp_take_same(&n, 10), 0);
+    assert_int_equal(ramp_cruise_skippable(&n), 0);
+    assert_int_equal(ramp_skip_cruise(&n), 0);
+    assert_false(ramp_next(&n, &st));
+}
+
 static void names(void **state)
 {
     (void)state;
@@ -326,6 +349,7 @@ int main(void)
         cmocka_unit_test(every_algorithm_counts_steps_exactly),
         cmocka_unit_test(unknown_algorithm_and_null_are_rejected),
         cmocka_unit_test(the_lab_planner_plans_only_the_lab_ramps),
+        cmocka_unit_test(the_exact_ramp_is_not_continued),
         cmocka_unit_test(names),
         cmocka_unit_test(skipping_the_cruise_is_invisible),
         cmocka_unit_test(skipping_part_of_the_cruise_is_invisible),

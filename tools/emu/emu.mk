@@ -120,10 +120,14 @@ $(EMU_ONESTEPPER_ELF): $(EMU_FW_SRCS) test/emu/OneStepper/OneStepper.ino tools/b
 # test/emu/ThreeSteppers: two and three Steppers moving at once (checks_library.py, check_three_steppers):
 # three at 10,000 and at 25,000 steps/s (50,000 steps/s^2, and 200,000 for the legs alone), two at 25,000 and 20,000;
 # two-20k-late: two at 20,000 with cuts too close for their plans (a 1 ms margin, the stop's first cut 250 us
-# ahead, the planned cut 400 us): the stop must come off at a cut tried farther ahead (StepCut.h's retries)
+# ahead, the planned cut 400 us): the stop must come off at a cut tried farther ahead (StepCut.h's retries);
+# two-20k-race: two at 20,000 whose cut search waits 2.5 ms between choosing the slot after the current one
+# and timing it (MULTI_TEST_CUT_FIND_WAIT_US): the step interrupt takes that slot meanwhile, and the search
+# must start again from the slot after it (MultiStepEngine::cut_find), not give the cut up
 EMU_THREE_BUILDS := three-10k:-DTS_N=3 three-25k:-DTS_N=3+-DTS_V=25000 three-25k-steep:-DTS_N=3+-DTS_V=25000+-DTS_A=200000 \
   two-25k:-DTS_N=2+-DTS_V=25000 two-20k:-DTS_N=2+-DTS_V=20000 \
-  two-20k-late:-DTS_N=2+-DTS_V=20000+-DMOTION_STEPPER_CUT_CRUISE_US=250+-DMOTION_STEPPER_CUT_US=400+-DMOTION_STEPPER_CUT_SLOW_US=400+-DMOTION_STEPPER_CUT_MARGIN_US=1000
+  two-20k-late:-DTS_N=2+-DTS_V=20000+-DMOTION_STEPPER_CUT_CRUISE_US=250+-DMOTION_STEPPER_CUT_US=400+-DMOTION_STEPPER_CUT_SLOW_US=400+-DMOTION_STEPPER_CUT_MARGIN_US=1000 \
+  two-20k-race:-DTS_N=2+-DTS_V=20000+-DMULTI_TEST_CUT_FIND_WAIT_US=2500
 EMU_THREE_ELFS := $(foreach b,$(EMU_THREE_BUILDS),$(BUILD)/emu/$(word 1,$(subst :, ,$(b)))/ThreeSteppers/ThreeSteppers.ino.elf)
 define emu_three_rule
 $(BUILD)/emu/$(1)/ThreeSteppers/ThreeSteppers.ino.elf: $(EMU_FW_SRCS) test/emu/ThreeSteppers/ThreeSteppers.ino tools/build_firmware.sh

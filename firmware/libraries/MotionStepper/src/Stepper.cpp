@@ -204,8 +204,8 @@ motion_status_t Stepper::set_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks)
         return set_ramp_sigmoid();
     if (algo != RAMP_ALGO_EXACT && algo != RAMP_ALGO_LEIB && algo != RAMP_ALGO_SIMPLISTIC)
         return MS_ERR_OUT_OF_RANGE;
-    lab_init_ = step_planner_init_lab; /* the only place that names the lab's ramps: a sketch that */
-    lab_probe_ = ramp_plan_lab;        /* never calls setRamp() links only the exact planner */
+    lab_init_ = step_planner_init_lab; /* both lab ramps (one function for every algorithm): a sketch */
+    lab_probe_ = ramp_plan_lab;        /* that never calls setRamp() links only the ramp it was made with */
     return switch_ramp(algo, hooks);
 }
 
