@@ -288,6 +288,11 @@ uint8_t ramp_next_ticks(ramp_t *r, uint32_t *whole_ticks, ramp_phase_t *phase)
     return 1;
 }
 
+ramp_step_fn_t ramp_step_fn(const ramp_t *r)
+{
+    return RAMP_TABLE_FN(r->ops, next);
+}
+
 uint32_t ramp_take_same(ramp_t *r, uint32_t max_steps)
 {
     if (r->ops == 0 || RAMP_TABLE_FN(r->ops, take_same) == 0)
@@ -361,7 +366,8 @@ static motion_status_t leib_plan(ramp_t *n, const ramp_params_t *params)
 
 /* the interval of the next step (kept in u.leib.p / u.simplistic.p), its whole ticks
  * (r->whole_ticks) and the level change; update: the algorithm's (or the hook's) step 6 */
-static ramp_phase_t next_stepwise(ramp_t *r, uint32_t n, float p1, float (*update)(ramp_t *r, ramp_phase_t change))
+static inline __attribute__((always_inline)) ramp_phase_t next_stepwise(ramp_t *r, uint32_t n, float p1,
+                                                                     float (*update)(ramp_t *r, ramp_phase_t change))
 {
     ramp_phase_t change;
     float p;

@@ -464,10 +464,11 @@ static uint8_t next_from_ramp(step_planner_t *pl, step_cmd_t *c)
         count += more;
         dur += more * w1;
     }
-    /* the per-step loop: the algorithm's arithmetic (ramp_next_ticks) and a few integer tests */
+    /* the per-step loop: the algorithm's arithmetic (its step, fetched once) and a few integer tests */
+    ramp_step_fn_t step = ramp_step_fn(r);
     while (count < 65535U && dur < pl->max_cmd_ticks && !may_skip(r)) {
         int32_t d;
-        if (!ramp_next_ticks(r, &w, &ph))
+        if (!ramp_next_ticks_with(r, step, &w, &ph))
             break;
         w = nonzero(w);
         d = (int32_t)(w - last);
