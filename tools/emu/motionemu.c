@@ -54,7 +54,25 @@ static const char usage[] =
 static avr_t *avr;
 static uint64_t heap_start = 0x200;
 static uint16_t brkval_addr; /* avr-libc's __brkval (the heap's end once malloc() has run), or 0 */
+static uint16_t board_top_addr; /* MotionBoard's board_heap_top (the heap's end without malloc), or 0 */
 static volatile sig_atomic_t stop_signal; /* --pty: SIGINT, SIGTERM or SIGHUP ends the run */
+
+/* The end of static data and heap: __heap_start, or the heap's top once something has been taken
+ * from it (malloc's __brkval, or MotionBoard's board_heap_top in a sketch without malloc: the step
+ * rings live there, and a stack running into them corrupts the step commands). */
+static uint64_t heap_end_now(const avr_t *avr)
+{
+    uint64_t end = heap_start;
+    const uint16_t addr[2] = {brkval_addr, board_top_addr};
+    for (int i = 0; i < 2; i++) {
+        if (!addr[i])
+            continue;
+        uint16_t top = (uint16_t)(avr->data[addr[i]] | (avr->data[addr[i] + 1] << 8));
+        if (top > end)
+            end = top;
+    }
+    return end;
+}
 
 static void on_stop(int sig)
 {
@@ -417,6 +435,8 @@ int main(int argc, char **argv)
     for (uint32_t i = 0; i < fw.symbolcount; i++)
         if (!strcmp(fw.symbol[i]->symbol, "__brkval"))
             brkval_addr = fw.symbol[i]->addr & 0xffff;
+        else if (!strcmp(fw.symbol[i]->symbol, "board_heap_top"))
+            board_top_addr = fw.symbol[i]->addr & 0xffff;
     strcpy(fw.mmcu, "atmega2560");
     fw.frequency = EMU_F_CPU;
 
@@ -573,16 +593,9 @@ int main(int argc, char **argv)
             uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
             if (sp < min_sp) {
                 min_sp = sp;
-                /* reported once: the lowest SP reached is in the end line (stack_min_free). The
-                 * bound is the end of static data, or of the heap once malloc() has taken some (the
-                 * MotionStepper library's step rings live there: a stack running into them corrupts
-                 * the step commands) */
-                uint64_t bound = heap_start;
-                if (brkval_addr) {
-                    uint16_t b = (uint16_t)(avr->data[brkval_addr] | (avr->data[brkval_addr + 1] << 8));
-                    if (b > bound)
-                        bound = b;
-                }
+                /* reported once: the lowest SP reached is in the end line (stack_min_free); the
+                 * bound is the end of static data and heap (heap_end_now) */
+                uint64_t bound = heap_end_now(avr);
                 if (sp < bound && sp != 0 && !stack_reported) {
                     emu_fail(avr->cycle, "stack", "stack pointer 0x%04x below the end of static data and heap 0x%04" PRIx64
                              " (stack overflow)", sp, bound);
@@ -635,8 +648,7 @@ ended:
     double wall = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
     emu_motor_summary(avr->cycle);
     /* free stack: the lowest SP seen above the end of static data and heap */
-    uint16_t brkval = brkval_addr ? (uint16_t)(avr->data[brkval_addr] | (avr->data[brkval_addr + 1] << 8)) : 0;
-    uint64_t heap_end = brkval > heap_start ? brkval : heap_start;
+    uint64_t heap_end = heap_end_now(avr);
     long stack_free = (long)min_sp - (long)heap_end;
     if (emu_fail_count() && !strcmp(reason, "done"))
         reason = "failed";

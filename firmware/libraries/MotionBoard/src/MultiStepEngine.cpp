@@ -4,6 +4,8 @@
  * MultiStepEngineIsr.inc. */
 #include "MultiStepEngineInternal.h"
 
+#include "BoardHeap.h"
+
 #include <stddef.h>
 #include <stdlib.h>
 #include <util/atomic.h>
@@ -143,24 +145,20 @@ void MultiStepEngine::attach(uint8_t axis, AxisState &s)
     }
 }
 
-/* Each registered axis's ring, from the heap, once: x_alone commands when X is the only axis,
- * MULTI_SLOTS each otherwise. False: no room for one of them (those allocated are kept, and a later
- * call allocates only the others). */
+/* Each registered axis's ring and its durations, from the heap (BoardHeap.h), once: x_alone
+ * commands when X is the only axis, MULTI_SLOTS each otherwise. False: no room for one of them
+ * (those taken are kept, and a later call takes only the others). */
 static bool alloc_rings(uint8_t x_alone)
 {
     uint8_t n = (s_state[0] && !s_state[1] && !s_state[2]) ? x_alone : MULTI_SLOTS;
     for (uint8_t a = 0; a < MULTI_AXES; a++) {
         if (!s_state[a] || s_state[a]->slot)
             continue;
-        AxisSlot *ring = static_cast<AxisSlot *>(malloc(n * sizeof(AxisSlot)));
-        uint16_t *dur = static_cast<uint16_t *>(malloc(n * sizeof(uint16_t)));
-        if (!ring || !dur) {
-            free(ring);
-            free(dur);
+        AxisSlot *ring = static_cast<AxisSlot *>(board_take(n * (sizeof(AxisSlot) + sizeof(uint16_t))));
+        if (!ring)
             return false;
-        }
         s_state[a]->slot = ring;
-        s_feed[a].duration = dur;
+        s_feed[a].duration = reinterpret_cast<uint16_t *>(ring + n);
         s_feed[a].nslots = n;
     }
     return true;
@@ -690,8 +688,8 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
     retire_consumed(s, f);
     curi = cur_index(s);
     i = next_slot(f, curi);
-    if (i == f.head || !s.slot[i].ready)
-        return 0;
+    if (i == f.head)
+        return 0; /* nothing queued after the current slot (one the interrupt took meanwhile: below) */
     /* The steps of every slot after the current one first: the cut is chosen after this loop, so
      * that the time from its choice to cut_apply's check of it stays short (the loops over a ring
      * of 40 commands took 0.6 ms with two Steppers at 20,000 steps/s stepping meanwhile, and a cut
@@ -709,18 +707,20 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
                 return 0; /* it has taken every slot */
             steps -= slot_count(s.slot[first]);
         }
-        if (i == f.head || !s.slot[i].ready)
+        if (i == f.head)
             return 0;
 #ifdef MULTI_TEST_CUT_FIND_WAIT_US
         if (again == 0) /* a test build's wait (tools/emu/emu.mk, two-20k-race): the interrupt takes slot i */
             _delay_us(MULTI_TEST_CUT_FIND_WAIT_US);
 #endif
         /* the time to slot i's first step; UINT32_MAX: not running, or the interrupt took slot i
-         * since (it switches slots every millisecond or so in a cruise): then once more from the slot
-         * after it (until 2026-12-06 such a search gave up, and a stop planned ahead with it: with two
-         * Steppers at 20,000 steps/s and every first cut too close, a layout of the Stepper's fields
-         * made it come at every stop's second try, and every stop waited for the 40 ms lead) */
-        ahead = ticks_until(axis, i);
+         * since (it switches slots every millisecond or so in a cruise; a slot it took is no longer
+         * ready, and cur_index may have been read just before it switched): then once more from the
+         * slot after it (until 2026-12-06 such a search gave up, and a stop planned ahead with it:
+         * with two Steppers at 20,000 steps/s and every first cut too close, a layout of the Stepper's
+         * fields, then one of the heap, made it come at every stop's second try, and every stop waited
+         * for the 40 ms lead) */
+        ahead = s.slot[i].ready ? ticks_until(axis, i) : UINT32_MAX;
         if (ahead != UINT32_MAX)
             break;
         if (again != 0 || !s.running)

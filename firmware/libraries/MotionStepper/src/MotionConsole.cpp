@@ -30,7 +30,7 @@ int8_t MotionConsole::axis_of(const char *word)
 
 
 MotionConsole::MotionConsole(Stepper &x)
-    : n_(1), group_(0), named_(0), status_pending_(0), ok_pending_(false), move_pending_(false), ok_axis_(0),
+    : n_(1), group_(0), move_(0), named_(0), status_pending_(0), ok_pending_(false), move_pending_(false), ok_axis_(0),
       ok_target_(0), queue_(Serial), serial_(Serial, queue_, 240)
 {
     ax_[0] = &x;
@@ -101,7 +101,7 @@ bool MotionConsole::collect_done()
         out.println(at);
     }
     if (named_ && !move_pending_)
-        move_done();
+        (this->*move_->done)();
     return true;
 }
 
@@ -109,7 +109,7 @@ void MotionConsole::poll()
 {
     const char *line;
     plan();
-    if (!collect_done() || (ok_pending_ && !finish_ok()) || (move_pending_ && !finish_move())) {
+    if (!collect_done() || (ok_pending_ && !finish_ok()) || (move_pending_ && !(this->*move_->finish)())) {
         serial_.drain_input(); /* no line is read meanwhile, but input must not pile up in the core */
         queue_.pump();
         return;
@@ -132,7 +132,7 @@ void MotionConsole::poll()
             handle(line);
             if (ok_pending_ || move_pending_) {
                 plan(); /* from loop(): the target is planned here, and its OK follows at once */
-                (void)(ok_pending_ ? finish_ok() : finish_move());
+                (void)(ok_pending_ ? finish_ok() : (this->*move_->finish)());
             }
         }
     }
@@ -159,8 +159,8 @@ void MotionConsole::handle(const char *line)
             handle_set((uint8_t)a, cursor); /* one axis: no axis word */
     } else if (text_word_is(word, "stop") || text_word_is(word, "!")) {
         handle_stop(cursor, word[0] == '!');
-    } else if (group_ && text_word_is(word, "move")) {
-        handle_move(cursor);
+    } else if (move_ && text_word_is(word, "move")) {
+        (this->*move_->handle)(cursor);
     } else if (n_ == 1 && ((word[0] >= '0' && word[0] <= '9') || word[0] == '-' || word[0] == '+')) {
         if (!text_at_end(cursor))
             serial_.reply_error(MS_ERR_NOT_A_NUMBER, F("one target per line"));
@@ -266,7 +266,7 @@ void MotionConsole::handle_stop(const char *cursor, bool halt)
     (void)collect_done(); /* a move that has just ended reports first */
     if (mask & named_) {
         /* an axis of the coordinated move stops the whole move */
-        st = stop_move(halt, moving);
+        st = (this->*move_->stop)(halt, moving);
         mask &= (uint8_t)~named_;
     }
     for (uint8_t i = 0; st == MS_OK && i < n_; i++) {

@@ -96,9 +96,20 @@ private:
     static int8_t axis_of(const char *word); /* "x" -> 0 ...; -1 for anything else */
     static const char AXIS_NAME[3];
 
+    /* the `move` part (MotionConsoleMove.cpp), reached only through this table, which only the
+     * three-axis constructor names: a one-axis sketch links none of it, nor StepperGroup's moves */
+    struct MoveParts {
+        void (MotionConsole::*handle)(const char *cursor);
+        bool (MotionConsole::*finish)();
+        void (MotionConsole::*done)();
+        motion_status_t (MotionConsole::*stop)(bool halt, bool &moving);
+    };
+    static const MoveParts MOVE_PARTS;
+
     Stepper *ax_[3];
     uint8_t n_;
     StepperGroup *group_;
+    const MoveParts *move_; /* &MOVE_PARTS with three axes, else none */
     uint8_t named_;         /* the axes of the `move` whose DONE is still to come (bit i: axis i) */
     uint8_t status_pending_; /* the `?` lines that wait for room in the output queue (bit i: axis i) */
     bool ok_pending_;     /* a target's OK waits for its plan */

@@ -14,7 +14,11 @@ MotionConsole::MotionConsole(Stepper &x, Stepper &y, Stepper &z, StepperGroup &x
     ax_[2] = &z;
     n_ = 3;
     group_ = &xyz;
+    move_ = &MOVE_PARTS;
 }
+
+const MotionConsole::MoveParts MotionConsole::MOVE_PARTS = {&MotionConsole::handle_move, &MotionConsole::finish_move,
+                                                            &MotionConsole::move_done, &MotionConsole::stop_move};
 
 void MotionConsole::handle_move(const char *cursor)
 {

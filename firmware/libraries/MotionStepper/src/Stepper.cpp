@@ -8,6 +8,8 @@
 #include <string.h>
 #include <util/atomic.h>
 
+#include <BoardHeap.h>
+
 
 namespace {
 const uint8_t ENABLE_PIN[3] = {38, 56, 62}; /* MultiAxisPins.h: PD7, PF2, PK0 */
@@ -810,7 +812,7 @@ motion_status_t Stepper::set_ramp_sigmoid()
     if (st != MS_OK)
         return st;
     if (!sig_) {
-        sig_ = static_cast<Sigmoid *>(malloc(sizeof(Sigmoid)));
+        sig_ = static_cast<Sigmoid *>(board_take(sizeof(Sigmoid)));
         if (!sig_)
             return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its table */
         sig_->filling = false;

@@ -4,6 +4,7 @@
  * (Stepper's CUTS); every Stepper links the stop planned ahead's room (stop_ahead_begin, _reset). */
 #include "Stepper.h"
 
+#include <BoardHeap.h>
 #include <StepCut.h>
 
 #include <math.h>
@@ -32,7 +33,7 @@ const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Ste
 bool Stepper::stop_ahead_begin()
 {
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
-    stop_ = static_cast<StopAhead *>(malloc(sizeof(StopAhead)));
+    stop_ = static_cast<StopAhead *>(board_take(sizeof(StopAhead)));
     if (!stop_)
         return false;
     stop_->n = 0;

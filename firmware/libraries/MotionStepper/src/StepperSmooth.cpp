@@ -3,6 +3,7 @@
  * links none of smooth_move (see Stepper.h). */
 #include "Stepper.h"
 
+#include <BoardHeap.h>
 #include <StepCut.h>
 
 #include <stdlib.h>
@@ -27,12 +28,12 @@ motion_status_t Stepper::set_ramp_smooth()
         /* its planner, and (once for all Steppers) the copy a cut of its queue keeps (StepCut.h) */
         static step_smooth_t *backup;
         if (!backup) {
-            backup = static_cast<step_smooth_t *>(malloc(sizeof(step_smooth_t)));
+            backup = static_cast<step_smooth_t *>(board_take(sizeof(step_smooth_t)));
             if (!backup)
                 return MS_ERR_OUT_OF_RANGE; /* no room on the heap */
             step_cut_smooth_backup(backup);
         }
-        smooth_ = static_cast<step_smooth_t *>(malloc(sizeof(step_smooth_t)));
+        smooth_ = static_cast<step_smooth_t *>(board_take(sizeof(step_smooth_t)));
         if (!smooth_)
             return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its planner */
     }
