@@ -1321,6 +1321,54 @@ ONE_RATES = (40000, 60000)  # steps/s: the reference move of make bench at two r
 ONE_BOUND = 150
 
 
+# ---- HeapShare: malloc beside a Stepper ---------------------------------------------------------------
+
+def check_heap_share(env):
+    """test/emu/HeapShare: malloc and free (a maker's, or String's) beside a Stepper whose begin() takes its
+    ring and its stop planned ahead with board_take (BoardHeap.h): no block overlaps another (d may take
+    the freed a's bytes), malloc's top (__brkval) is past them all and board_heap_top unused (malloc
+    linked), every block still holds its own byte after a move of 20,000 steps at 20,000 steps/s, which
+    ends at 20000 with every step and no underrun"""
+    elf = os.path.join(env.source_dir, "build", "emu", "heapshare", "HeapShare", "HeapShare.ino.elf")
+    if not os.path.isfile(elf):
+        return CheckResult(False, "no HeapShare build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
+    log = emulog.run(elf, "timeout 5000\nwait ^FILL\n", pins=sketches.multiaxis_pins(env), timeout=300)
+    problems = []
+    common(log, problems)
+    blocks = {}
+    for l in log.rx:
+        m = re.match(r"^BLOCK (\w+) (\d+) (\d+)$", l.text)
+        if m:
+            blocks[m.group(1)] = (int(m.group(2)), int(m.group(2)) + int(m.group(3)))
+    top = line_of(log, r"^TOP ")
+    done = line_of(log, r"^DONE ")
+    fill = line_of(log, r"^FILL ")
+    if set(blocks) != {"a", "rings", "b", "t", "c", "d"} or not top or not done or not fill:
+        return CheckResult(False, "no conversation", [f"replies {[l.text for l in log.rx]}"])
+    live = [(n, b) for n, b in blocks.items() if n != "a"]
+    for i, (n1, (s1, e1)) in enumerate(live):
+        if s1 == 0 or e1 <= s1:
+            problems.append(f"block {n1}: {s1}..{e1}: not taken")
+        for n2, (s2, e2) in live[:i]:
+            if s1 < e2 and s2 < e1:
+                problems.append(f"blocks {n2} {s2}..{e2} and {n1} {s1}..{e1} overlap")
+    if not (blocks["rings"][1] - blocks["rings"][0] >= 64 * 20):
+        problems.append(f"the rings block {blocks['rings']}: less than one ring of 64 commands of 20 bytes")
+    m = re.match(r"^TOP brkval=(\d+) board=(\d+)$", top.text)
+    end = max(e for _, (_, e) in live)
+    if not m or int(m.group(2)) != 0 or int(m.group(1)) < end:
+        problems.append(f"'{top.text}': expected malloc's top at or past {end} (the last block's end), board 0")
+    if done.text != "DONE 20000 underruns=0":
+        problems.append(f"'{done.text}': expected DONE 20000 underruns=0")
+    steps = len(log.rising("XSTEP"))
+    if steps != 20000:
+        problems.append(f"{steps} X steps: expected 20000")
+    if fill.text != "FILL ok":
+        problems.append(f"'{fill.text}': a block lost its bytes")
+    return CheckResult(not problems, f"blocks {', '.join(f'{n} {s}..{e}' for n, (s, e) in blocks.items())}; "
+                       f"{top.text}; {done.text}; {fill.text}", problems)
+
+
 def check_one_stepper(env):
     """test/emu/OneStepper built with the limit lifted: the reference move (20,000 steps, accel v^2/10,000)
     at ONE_RATES through the library: every edge on the constant-acceleration law within ONE_BOUND, DIR,
@@ -1449,6 +1497,9 @@ def checks_for(env):
                    "the planner tick holds no step edge back: every edge on the constant-acceleration law within "
                    f"{ONE_BOUND} cycles",
                    lambda: guarded(check_one_stepper, env)))
+    checks.append(("MotionStepper library, test sketch HeapShare: malloc and free beside a Stepper's heap (board_take): "
+                   "no block overlaps another, every block keeps its bytes through a move of 20,000 steps",
+                   lambda: guarded(check_heap_share, env)))
     checks.append(("MotionStepper library, test sketch ThreeSteppers: three Steppers at once at 10,000 and 25,000 "
                    "steps/s, two at 20,000 and 25,000: every step, no underrun, no pause within a move; a stop() of all at a switch "
                    "(three at 10,000, two at 20,000): its latency, no underrun; with every first cut too close for its plan: "

@@ -117,6 +117,14 @@ $(EMU_ONESTEPPER_ELF): $(EMU_FW_SRCS) test/emu/OneStepper/OneStepper.ino tools/b
 	@FIRMWARE_OUT=$(BUILD)/emu/onestepper FIRMWARE_DEFINES="-DMULTI_MAX_SPS=200000" bash tools/build_firmware.sh \
 	  test/emu/OneStepper >$(BUILD)/emu/onestepper.log 2>&1 || { cat $(BUILD)/emu/onestepper.log; exit 1; }
 
+# test/emu/HeapShare: a sketch that uses malloc beside a Stepper (the heap shared with board_take:
+# checks_library.py, check_heap_share)
+EMU_HEAPSHARE_ELF := $(BUILD)/emu/heapshare/HeapShare/HeapShare.ino.elf
+$(EMU_HEAPSHARE_ELF): $(EMU_FW_SRCS) test/emu/HeapShare/HeapShare.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/heapshare
+	@FIRMWARE_OUT=$(BUILD)/emu/heapshare bash tools/build_firmware.sh \
+	  test/emu/HeapShare >$(BUILD)/emu/heapshare.log 2>&1 || { cat $(BUILD)/emu/heapshare.log; exit 1; }
+
 # test/emu/ThreeSteppers: two and three Steppers moving at once (checks_library.py, check_three_steppers):
 # three at 10,000 and at 25,000 steps/s (50,000 steps/s^2, and 200,000 for the legs alone), two at 25,000 and 20,000;
 # two-20k-late: two at 20,000 with cuts too close for their plans (a 1 ms margin, the stop's first cut 250 us
@@ -153,7 +161,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 
