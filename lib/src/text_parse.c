@@ -212,65 +212,66 @@ static const char *real_shape(const char *word, int *nonzero)
     return *p == '\0' ? p : NULL;
 }
 
-/* Multiplies *mag by 10 and adds d, unless the result would pass 2^31 (|INT32_MIN|): 0 then. */
-static int whole_push(uint32_t *mag, char d)
+/* The whole part of |word| for a validated decimal word, exactly, in *whole (with *over set instead
+ * when it reaches 2^32), and *frac set when a nonzero fraction follows it. The word's mantissa digits
+ * (the point left out) are read in order: those before the point, moved by the exponent, are the
+ * whole part's, the rest the fraction's; whole digits past the mantissa are zeros. */
+static void decimal_floor(const char *word, uint32_t *whole, int *over, int *frac)
 {
-    if (*mag > 214748364UL || (*mag == 214748364UL && d > '8'))
-        return 0;
-    *mag = *mag * 10U + (uint32_t)(d - '0');
-    return 1;
+    const char *p = word, *q;
+    long before = 0, e = 0, k = 0;
+    int e_negative = 0;
+    uint32_t v = 0;
+    *over = 0;
+    *frac = 0;
+    if (*p == '+' || *p == '-')
+        p++;
+    for (q = p; is_digit(*q); q++)
+        before++;
+    while (is_digit(*q) || *q == '.')
+        q++;
+    if (*q == 'e' || *q == 'E') {
+        q++;
+        if (*q == '+' || *q == '-')
+            e_negative = (*q++ == '-');
+        for (; is_digit(*q); q++)
+            if (e < 100000L) /* saturated: far beyond a uint32's 10 digits either way */
+                e = e * 10 + (*q - '0');
+    }
+    before += e_negative ? -e : e;
+    for (; is_digit(*p) || *p == '.'; p++) {
+        uint32_t d = (uint32_t)(*p - '0');
+        if (*p == '.')
+            continue;
+        if (k++ >= before)
+            *frac |= d != 0;
+        else if (*over || v > (4294967295UL - d) / 10U)
+            *over = 1;
+        else
+            v = v * 10U + d;
+    }
+    for (; k < before && v != 0 && !*over; k++) {
+        if (v > 4294967295UL / 10U)
+            *over = 1;
+        v *= 10U;
+    }
+    *whole = v;
 }
 
-/* The whole number a validated decimal word stands for, exactly, in integers: see text_parse.h.
- * The word is N x 10^place, N the digits from its first to its last nonzero one (the point left
- * out) and place the power of ten of that last digit: whole when place >= 0. */
+/* The whole number a validated decimal word stands for, exactly, in integers: see text_parse.h. */
 motion_status_t text_parse_whole(const char *word, int32_t lo, int32_t hi, int32_t *out)
 {
-    const char *p = word;
-    int negative = 0, nonzero, point_seen = 0, exp_negative = 0, too_big = 0;
-    /* mantissa digits are numbered 0, 1, ... (the point left out); `before` stand before the point;
-     * `last` is the last nonzero one; `zeros` are zeros after a nonzero digit not yet in mag */
-    int index = 0, before = 0, last = -1, zeros = 0, exp_value = 0, place;
-    uint32_t mag = 0;
-    int32_t value = 0;
+    int nonzero, over, frac;
+    uint32_t mag;
+    int32_t value;
     if (real_shape(word, &nonzero) == NULL)
         return MS_ERR_NOT_A_NUMBER;
-    if (*p == '+' || *p == '-')
-        negative = (*p++ == '-');
-    for (; is_digit(*p) || *p == '.'; p++) {
-        if (*p == '.') {
-            point_seen = 1;
-            continue;
-        }
-        if (*p == '0') {
-            zeros += last >= 0; /* leading zeros are nothing */
-        } else {
-            for (; zeros > 0; zeros--)
-                too_big |= !whole_push(&mag, '0');
-            too_big |= !whole_push(&mag, *p);
-            last = index;
-        }
-        index++;
-        before += !point_seen;
-    }
-    if (*p == 'e' || *p == 'E') {
-        p++;
-        if (*p == '+' || *p == '-')
-            exp_negative = (*p++ == '-');
-        for (; is_digit(*p); p++)
-            if (exp_value < 1000) /* saturated: far beyond an int32's 10 digits */
-                exp_value = exp_value * 10 + (*p - '0');
-    }
-    if (last >= 0) { /* else the word is 0: "0", "-0.000", "0e999" */
-        place = before - 1 - last + (exp_negative ? -exp_value : exp_value);
-        if (place < 0)
-            return TEXT_PARSE_NOT_WHOLE; /* N x 10^-k, N not a multiple of 10: a fraction */
-        for (; place > 0 && !too_big; place--)
-            too_big = !whole_push(&mag, '0');
-        if (too_big || mag > (negative ? 2147483648UL : 2147483647UL))
-            return MS_ERR_OUT_OF_RANGE;
-        value = negative ? (mag == 2147483648UL ? INT32_MIN : -(int32_t)mag) : (int32_t)mag;
-    }
+    decimal_floor(word, &mag, &over, &frac);
+    if (frac)
+        return TEXT_PARSE_NOT_WHOLE; /* a fraction, whatever the size */
+    if (over || mag > (word[0] == '-' ? 2147483648UL : 2147483647UL))
+        return MS_ERR_OUT_OF_RANGE;
+    value = word[0] == '-' ? (mag == 2147483648UL ? INT32_MIN : -(int32_t)mag) : (int32_t)mag;
     if (value < lo || value > hi)
         return MS_ERR_OUT_OF_RANGE;
     *out = value;
@@ -299,65 +300,18 @@ motion_status_t text_scan_real(const char *word, double *out)
     return MS_OK;
 }
 
-/* Sign of |word| - mag for a validated decimal word and a whole number mag > 0, exactly (the
- * word's digits are compared, not its rounded value). */
+/* Sign of |word| - mag for a validated decimal word and a whole number mag, exactly (the word's
+ * digits are compared, not its rounded value). */
 static int compare_magnitude(const char *word, uint32_t mag)
 {
-    char mdigits[10];
-    int mlen = 0, point = 0, seen_point = 0, i = 0, started = 0;
-    long exp_value = 0;
-    int exp_negative = 0;
-    const char *p = word, *first;
-    uint32_t m;
-    for (m = mag; m > 0; m /= 10U)
-        mdigits[mlen++] = (char)('0' + m % 10U);
-    /* mdigits is reversed: mdigits[mlen-1] is the first digit; mag = 0.d1..dL x 10^mlen */
-    if (*p == '+' || *p == '-')
-        p++;
-    first = p;
-    /* point: the decimal exponent P of the word written as 0.d1d2... x 10^P (d1 != 0) */
-    for (; is_digit(*p) || *p == '.'; p++) {
-        if (*p == '.') {
-            seen_point = 1;
-            continue;
-        }
-        if (!started && *p == '0') {
-            if (seen_point)
-                point--;
-            continue;
-        }
-        started = 1;
-        if (!seen_point)
-            point++;
-    }
-    if (*p == 'e' || *p == 'E') {
-        p++;
-        if (*p == '+' || *p == '-')
-            exp_negative = (*p++ == '-');
-        for (; is_digit(*p); p++)
-            if (exp_value < 100000L)
-                exp_value = exp_value * 10 + (*p - '0');
-    }
-    point += exp_negative ? -(int)exp_value : (int)exp_value;
-    if (!started)
-        return -1; /* the word is 0 */
-    if (point != mlen)
-        return point > mlen ? 1 : -1;
-    /* same exponent: digit by digit, the shorter padded with zeros */
-    for (p = first; is_digit(*p) || *p == '.'; p++) {
-        int wd, md;
-        if (*p == '.' || (i == 0 && *p == '0'))
-            continue; /* the point and leading zeros */
-        wd = *p - '0';
-        md = i < mlen ? mdigits[mlen - 1 - i] - '0' : 0;
-        if (wd != md)
-            return wd > md ? 1 : -1;
-        i++;
-    }
-    for (; i < mlen; i++) /* the word's digits ran out: mag is larger unless the rest is zeros */
-        if (mdigits[mlen - 1 - i] != '0')
-            return -1;
-    return 0;
+    uint32_t whole;
+    int over, frac;
+    decimal_floor(word, &whole, &over, &frac);
+    if (over || whole > mag)
+        return 1;
+    if (whole < mag)
+        return -1;
+    return frac;
 }
 
 /* 1 when limit is a whole number below 2^31 in magnitude, with its magnitude in *mag. */
