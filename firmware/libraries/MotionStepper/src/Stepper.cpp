@@ -43,13 +43,20 @@ motion_status_t (*Stepper::exact_init_)(step_planner_t *, const ramp_params_t *,
 const Stepper::Cuts *Stepper::cuts_; /* CUTS: StepperCut.cpp */
 
 Stepper::Stepper(Axis axis, int)
-    : axis_((uint8_t)axis), begun_(false), inverted_(false), enable_high_(false), enabled_(true), auto_disable_(false),
-      done_(false), has_next_(false), keep_done_(false), req_(REQ_NONE), done_pos_(0), next_target_(0), req_target_(0), plan_from_(0),
-      plan_after_done_(false), plan_done_before_(false),
-      last_status_(MS_OK), cuts_missed_(0), cut_retry_us_(0), cut_tries_(0), stop_(0), hook_(0), dir_pin_(0xFF), en_pin_(ENABLE_PIN[axis > Z ? 0 : axis]), algo_(RAMP_ALGO_EXACT),
-      ramp_hooks_(0), group_(0), jerk_((float)STEPPER_DEFAULT_JERK), smooth_(0), sig_(0), sig_flex_(5.0f), sig_len_(250),
-      sig_hold_(4), planner_(), begin_status_(MS_OK), lab_init_(0), lab_probe_(0)
 {
+    /* every field 0 (false, none, MS_OK, REQ_NONE) in one loop, then the others: a mem-initializer
+     * per field cost 4 bytes of flash each (the fields are plain data: no virtual function, no member
+     * with a constructor) */
+    memset(static_cast<void *>(this), 0, sizeof *this);
+    axis_ = (uint8_t)axis;
+    algo_ = RAMP_ALGO_EXACT;
+    enabled_ = true;
+    dir_pin_ = 0xFF;
+    en_pin_ = ENABLE_PIN[axis > Z ? 0 : axis];
+    jerk_ = (float)STEPPER_DEFAULT_JERK;
+    sig_flex_ = 5.0f;
+    sig_len_ = 250;
+    sig_hold_ = 4;
     made_++;
     /* the MultiAxisStepper sketch's defaults */
     params_.v0_sps = 0.0;
