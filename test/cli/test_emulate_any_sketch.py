@@ -81,6 +81,13 @@ def test_make_emulate_shows_the_conversation_and_where_the_outputs_are(built, tm
     assert order == sorted(order), texts
     times = [t for t, _ in said]
     assert times == sorted(times) and times[-1] > 0
+    # README.md and docs/emulator.md quote this conversation with its times: as measured now
+    shown = {t: f"[{w:8.3f} s] {t}" for w, t in said if t in ("> 50", "< OK 0 50", "< DONE 50")}
+    for doc in ("README.md", os.path.join("docs", "emulator.md")):
+        with open(os.path.join(ROOT, doc), encoding="utf-8") as f:
+            text = re.sub(r"\s+", " ", f.read())
+        for t, line in shown.items():
+            assert re.sub(r"\s+", " ", line) in text, f"{doc} does not quote '{line}' (the run shows it so)"
     rest = p.stdout[p.stdout.index("< DONE 50"):]
     assert f"outputs in {tmp_path}/" in rest
     for name in ("LeibRampStepper.csv", "LeibRampStepper.motionsim.csv", "LeibRampStepper.png",

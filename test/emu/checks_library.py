@@ -446,7 +446,22 @@ def check_stop_on_switch(env):
             f" steps/s after the switch over {len(STOP_PHASES) + 1} phases (lead {LEAD_MS} ms), v^2/2a steps on the "
             "law; halts: last step "
             f"{max(halt_us):.0f} us after the switch; moveTo/stop/forceStop returned within {took} us")
-    return CheckResult(not problems, figs, problems)
+    # the speed line: a word that is not a number is refused as such (it was read as 0 and refused as
+    # "vmax must be greater than v0", a fresh-clone review, 2026-12-06), a number out of range as such
+    log = run(env, "StopOnSwitch", "pin D3 1\npin D2 1\nwait ^READY StopOnSwitch$\n" +
+              "".join(f"send {w}\nwait ^(SPEED|ERR)\n" for w, _ in SPEED_LINES))
+    common(log, problems)
+    got = [l.text for l in log.rx if l.text.startswith(("SPEED", "ERR"))]
+    want = [r for _, r in SPEED_LINES]
+    if got != want:
+        problems.append(f"speed lines {[w for w, _ in SPEED_LINES]}: replies {got}, expected {want}")
+    return CheckResult(not problems, figs + f"; speed lines: {len(want)} replies as expected", problems)
+
+
+# StopOnSwitch's speed lines and their replies (the sentences: lib/src/motion_status.h)
+SPEED_LINES = (("abc", "ERR not a number"), ("5000", "SPEED 5000"), ("12a", "ERR not a number"),
+               ("99999999999", "ERR number out of range"), ("0", "ERR maximum speed vmax must be greater than "
+                                                             "minimum speed v0"), ("20000", "SPEED 20000"))
 
 
 # ---- FollowTarget ---------------------------------------------------------------------------

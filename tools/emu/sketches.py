@@ -269,7 +269,7 @@ EXAMPLE_PARENTS = ("lib/examples", "firmware/libraries/*/examples")
 EXAMPLE_FAMILY = "multiaxis"
 
 # What `make emulate SKETCH=<Example>` runs without INPUT=: the example's first 5 s (every shipped
-# example has ended or shown its moves by then), unless it needs the host for more (below).
+# example but SmoothMove has ended or shown its moves by then), unless it needs more (below).
 EXAMPLE_DEFAULT_INPUT = """\
 # {sketch}: the example runs by itself; its first 5 s of emulated time
 until 5000
@@ -317,6 +317,13 @@ run 700
 send 25000
 wait ^DONE
 run 100
+""",
+    # SmoothMove: its legs take 18 s of emulated time (the stop, the new targets, the forceStop()); the run
+    # ends at its FINISHED line
+    "SmoothMove": """\
+# SmoothMove: every leg, up to its FINISHED line (about 18 s of emulated time)
+timeout 40000
+wait ^FINISHED
 """,
     # SmoothConsole: the stepper sketches' commands and `set jerk` for the smooth ramp (115200 baud)
     "SmoothConsole": """\

@@ -72,7 +72,7 @@ motion_status_t StepperGroup::moveTo(long a, long b, long c)
     return move_all(t, 7U);
 }
 
-motion_status_t StepperGroup::moveTo(const long *targets, uint8_t members)
+motion_status_t StepperGroup::move_members(const long *targets, uint8_t members)
 {
     if (members == 0 || members >= (1U << n_))
         return MS_ERR_OUT_OF_RANGE;

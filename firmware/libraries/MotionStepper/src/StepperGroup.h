@@ -37,8 +37,13 @@ public:
     motion_status_t moveTo(long a, long b);
     motion_status_t moveTo(long a, long b, long c);
     /* The members in `members` (bit j: the j-th member given to the constructor) to targets[j]; the
-     * others are not part of the move. MS_ERR_OUT_OF_RANGE for no member or one this group lacks. */
-    motion_status_t moveTo(const long *targets, uint8_t members);
+     * others are not part of the move. MS_ERR_OUT_OF_RANGE for no member, one this group lacks or
+     * one beyond the array. (An array, not a pointer: with a pointer, moveTo(0, 0) would be
+     * ambiguous, a literal 0 being a null pointer too.) */
+    template <unsigned N> motion_status_t moveTo(const long (&targets)[N], uint8_t members)
+    {
+        return members >= (1U << N) ? MS_ERR_OUT_OF_RANGE : move_members(targets, members);
+    }
     /* false from moveTo until the planner interrupt has planned it (then lastStatus() tells). */
     bool planned() const { return !plan_req_; }
     motion_status_t stop() override;      /* decelerate to rest on the line */
@@ -60,6 +65,7 @@ private:
         uint8_t repeats; /* the member whose commands it repeats (moves as far: pulsed by its interrupt), or 0xFF */
         uint8_t clones;  /* members that repeat this one's */
     };
+    motion_status_t move_members(const long *targets, uint8_t members);
     motion_status_t move_all(const long *targets, uint8_t members);
     int8_t index_of(uint8_t axis) const;
     /* for Stepper and the planner interrupt (axis: the engine's axis number) */

@@ -18,6 +18,7 @@ static const long FAR = 1000000L;
 static bool stop_was = false, halt_was = false;
 static long direction = 1;
 static long typed = 0; /* digits of a speed line so far */
+static bool digits, junk; /* the line has a digit; it has something else */
 
 static bool closed(uint8_t pin)
 {
@@ -91,9 +92,13 @@ void loop()
     while (Serial.available()) {
         int ch = Serial.read();
         if (ch >= '0' && ch <= '9') {
-            typed = typed * 10 + (ch - '0');
+            if (typed < 10000000L) /* beyond any speed: kept there, refused below */
+                typed = typed * 10 + (ch - '0');
+            digits = true;
+        } else if (ch != '\n' && ch != '\r') {
+            junk = true; /* not a number: the whole line is refused */
         } else if (ch == '\n') {
-            motion_status_t st = x.setMaxSpeed((float)typed);
+            motion_status_t st = junk || !digits ? MS_ERR_NOT_A_NUMBER : x.setMaxSpeed((float)typed);
             if (st == MS_OK) {
                 Serial.print(F("SPEED "));
                 Serial.println(typed);
@@ -102,6 +107,7 @@ void loop()
                 Serial.println(Stepper::statusText(st));
             }
             typed = 0;
+            digits = junk = false;
         }
     }
     if (x.takeDone(at)) {
