@@ -55,5 +55,5 @@ def test_section_counts_the_engine_and_the_consoles(tmp_path):
     assert "| step engine (MultiStepEngine*, StepCut.*) | 2 | 5 | 3 |" in out
     assert "| consoles (MotionConsole*) | 2 | 5 | 3 |" in out
     assert "| engine + consoles | 4 | 10 | 6 |" in out
-    assert "| the MotionStepper API beside them (Stepper*, BackgroundPlanner.*) | 1 | 4 | 2 |" in out
+    assert "| the MotionStepper API beside them (Stepper*, BackgroundPlanner*) | 1 | 4 | 2 |" in out
     assert "| LeibRampStepper | 1 |" in out  # Nothing.h does not exist: only the sketch

@@ -18,7 +18,7 @@ ENGINE = ("MultiStepEngine*", "StepCut.*")
 CONSOLES = ("MotionConsole*",)
 # the MotionStepper library's API over the engine (not counted in issue 23's engine + consoles, shown
 # beside them: the engine's C paths it calls are the engine's)
-API = ("Stepper*", "BackgroundPlanner.*")
+API = ("Stepper*", "BackgroundPlanner*")
 SOURCE_EXT = (".c", ".cpp", ".S")
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.M)
 

@@ -2,6 +2,9 @@
  * compare A interrupt, every millisecond, lays out step commands (lib's planners, step_planner.h and
  * step_coord.h) into MotionBoard's MultiStepEngine queues, starts moves and collects their ends.
  *
+ * The interrupt's code is BackgroundPlannerTimer.cpp, linked by MotionStepper.h (a sketch that plans
+ * in loop(), planInLoop(), and includes only MotionConsole.h has none of it).
+ *
  * Timer3 is taken (CTC mode, prescaler 64, OCR3A = 249: 1 kHz): analogWrite() on D2, D3 and D5 (its
  * PWM pins) no longer works, and no other code may reprogram Timer3. Timer1 belongs to the step
  * interrupts (MultiStepEngine.h): no analogWrite() on D11, D12, D13 either; GPIOR0 is the engine's.
@@ -121,6 +124,9 @@ public:
      * (delay()) starves the queue in this mode: the default, the interrupt, is the one for that. */
     static bool planInLoop();
     static bool inLoop() { return in_loop_; }
+    /* Whether Timer3's interrupt is linked into the sketch (BackgroundPlannerTimer.cpp: MotionStepper.h
+     * links it; a sketch that includes only MotionConsole.h plans in loop() and has none). */
+    static bool timerLinked();
     /* With planInLoop() (and in timed-loop mode, STEPPER_TIMED_LOOP = 1, where loop() also makes X's
      * steps that are due by micros()): the planner's tick, on every pass of loop(). Otherwise it
      * does nothing: the interrupt plans, loop() is free. */
@@ -161,6 +167,20 @@ private:
     static uint8_t tpu_;
     static bool in_loop_;
 };
+
+/* What the planner interrupt's vector (BackgroundPlannerTimer.cpp) and BackgroundPlanner.cpp share;
+ * not for sketches. */
+struct PlannerIrqState {
+    volatile uint8_t in_tick;      /* a tick under way: the re-entrancy guard */
+    volatile uint8_t locks;        /* PlannerLocks alive */
+    volatile uint8_t deferred;     /* a tick came while loop() held a lock */
+    volatile uint8_t deferrals;    /* ticks deferred by locks in a row */
+    volatile uint8_t step_mask[3]; /* each claimed axis's STEP bit in its port (0: no Stepper there): the
+                                      vector's test of a step interrupt under way looks at these alone,
+                                      so that a sketch may drive the other axes' STEP pins */
+    uint8_t retry;                 /* Timer3 counts to the next retry */
+};
+extern PlannerIrqState planner_irq;
 
 /* Holds the planner interrupt off while it lives (loop()'s changes to a planner): the planner
  * interrupt is not running when loop() runs (it preempts loop(), never the other way), so keeping it

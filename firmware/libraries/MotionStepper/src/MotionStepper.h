@@ -24,4 +24,10 @@
 #include "Stepper.h"
 #include "StepperGroup.h"
 
+/* Links Timer3's planner interrupt (BackgroundPlannerTimer.cpp, a member of this library's archive)
+ * into the sketch: the Steppers plan in the background (a sketch that includes only MotionConsole.h
+ * plans in loop() and links none of it; Stepper::begin() without it: MS_ERR_NO_PLANNER_TIMER). */
+bool planner_timer_start();
+static bool (*const motion_stepper_links_planner_timer)() __attribute__((used)) = planner_timer_start;
+
 #endif

@@ -81,6 +81,8 @@ motion_status_t Stepper::begin()
         return MS_ERR_OUT_OF_RANGE; /* a lab ramp taken by the constructor, the library's default vmax */
     if (algo_ == RAMP_ALGO_SIGMOID && !sig_)
         return MS_ERR_TABLE_MISSING; /* made with the sigmoid: setRamp(RAMP_ALGO_SIGMOID) fills its table */
+    if (!BackgroundPlanner::inLoop() && !BackgroundPlanner::timerLinked())
+        return MS_ERR_NO_PLANNER_TIMER; /* Stepper.h included, not MotionStepper.h */
     if (!BackgroundPlanner::inLoop() && !stop_ && !stop_ahead_begin())
         return MS_ERR_OUT_OF_RANGE; /* no room on the heap (StepperCut.cpp) */
     st = init_planner(0);
