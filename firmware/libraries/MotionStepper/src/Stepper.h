@@ -432,6 +432,7 @@ private:
     void run_request(); /* planner interrupt: carries out req_ */
     bool plan_at_cut(uint8_t req, int32_t target); /* planner interrupt: a stop or a move from a cut */
     bool cut_again();                              /* planner interrupt: try that cut again later? */
+    bool beyond_plan(int32_t to) const;            /* a new target the queue needs no cut for */
     bool stop_in_cruise(bool then, int32_t to);    /* planner interrupt: the stop planned ahead, at a cut */
     void prepare_stop();                           /* planner interrupt: plans that stop ahead */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
