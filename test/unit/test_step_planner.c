@@ -588,6 +588,42 @@ static void replan_case(ramp_algo_t algo, double a1, double a2, double vmax2, in
     trace_free(&tr);
 }
 
+/* Parameters set while moving, then a halt (forceStop) and a move from rest: the move is on the new
+ * parameters' closed form, every step. The exact planner converts its constants at a move from rest
+ * only when parameters were set while moving (params_new), so the halt must keep that mark: with it
+ * cleared (as before 2026-12-06, when every move from rest converted) this move ran on the old accel. */
+static void params_set_while_moving_apply_after_a_halt(void **state)
+{
+    ramp_params_t p = {0.0f, 20000.0f, 50000.0f, 16000000U};
+    ramp_params_t q = {0.0f, 8000.0f, 120000.0f, 16000000U};
+    step_planner_t pl;
+    trace_t tr;
+    closed_t cf;
+    uint32_t n, d = 3000;
+    int32_t at;
+    (void)state;
+    assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0), MS_OK);
+    assert_int_equal(step_planner_move(&pl, 100000), MS_OK);
+    trace_init(&tr, 100000);
+    drain_steps(&pl, &tr, 2000);
+    assert_int_equal(step_planner_set_params(&pl, &q), MS_OK);
+    at = step_planner_position(&pl);
+    step_planner_halt(&pl, at);
+    trace_free(&tr);
+    assert_int_equal(step_planner_move(&pl, at + (int32_t)d), MS_OK);
+    trace_init(&tr, d);
+    drain(&pl, &tr, UINT32_MAX);
+    assert_int_equal(tr.n, d);
+    cf = closed_plan(0.0f, 8000.0f, 120000.0f, d);
+    for (n = 1; n <= d; n++) {
+        long double want = floorl(closed_time(&cf, n) * 16000000.0L + 0.5L);
+        if (fabsl((long double)tr.t[n] - want) > 1.0L)
+            fail_msg("step %u at %llu ticks, the new parameters' closed form %.0Lf", n, (unsigned long long)tr.t[n],
+                     want);
+    }
+    trace_free(&tr);
+}
+
 static void replan_with_new_params_keeps_speed(void **state)
 {
     (void)state;
@@ -1252,6 +1288,7 @@ int main(void)
         cmocka_unit_test(leib_lab_checkpoint_through_the_queue),
         cmocka_unit_test(new_target_while_moving),
         cmocka_unit_test(replan_with_new_params_keeps_speed),
+        cmocka_unit_test(params_set_while_moving_apply_after_a_halt),
         cmocka_unit_test(continued_ramp_never_above_vmax),
         cmocka_unit_test(stop_decelerates_to_rest),
         cmocka_unit_test(stop_never_passes_the_target),
