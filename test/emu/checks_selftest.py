@@ -322,6 +322,41 @@ def check_timer_wrap():
                                      "cycles after the write", problems)
 
 
+def check_timer_rewrap():
+    """A compare value of the first ticks of a period, written once, matches at every wrap (the chip's
+    comparator sees TCNT pass k each period; libsimavr 1.6 alone schedules each period's match at its
+    overflow only if it still lies ahead when the overflow is handled, a few cycles after the wrap
+    inside a long instruction, and skipped the match of k = 0..3 for that period: a step engine counting
+    the wraps of a long interval stepped one wrap, 65,536 cycles, late; tools/emu/emu_timer.c, fix 3).
+    From first principles: the compare B interrupt toggles PF3 once a period, 65,536 cycles apart
+    (give or take the instruction it waits for and the harness's correction of 16 cycles at most), and
+    counts as many matches as toggles."""
+    ks = (0, 1, 2, 3, 4, 7, 100)
+    script = "wait ^READY\n" + "".join(f"send rewrap {k}\nwait ^OK rewrap {k} [0-9]+$\n" for k in ks)
+    log = emulog.run(SELFTEST, script, pins={"WRAP": "D57"})
+    problems = []
+    _fails(log, problems)
+    tg = [c for c, _ in log.pins.get("WRAP", [])]
+    oks = log.lines_matching(r"^OK rewrap ")
+    worst, n_gaps = 0, 0
+    for k, ok in zip(ks, oks):
+        start = next((t.cycle for t in log.tx if t.text == f"rewrap {k}"), 0)
+        mine = [c for c in tg if start < c <= ok.cycle]
+        if len(mine) != int(ok.text.split()[3]) or len(mine) < 10:
+            problems.append(f"rewrap {k}: {len(mine)} toggles of PF3, the ISR counted {ok.text.split()[3]} "
+                            "(at least 10 wraps)")
+        for a, b in zip(mine, mine[1:]):
+            n_gaps += 1
+            worst = max(worst, abs(b - a - 65536))
+            if abs(b - a - 65536) > 30:
+                problems.append(f"rewrap {k}: matches {b - a} cycles apart (a wrap is 65536)")
+                break
+    if len(oks) != len(ks):
+        problems.append(f"{len(oks)} of {len(ks)} rewrap replies")
+    return CheckResult(not problems, f"OCR5B = k written once, k in {list(ks)}: {n_gaps} matches a wrap apart "
+                                     f"within {worst} cycles", problems)
+
+
 def check_tifr_write():
     """Writing TIFRn clears the flags written as 1 and leaves the others pending (ATmega2560
     datasheet, TIFRn: a flag is cleared by writing a logic one to it): with OCF5A and OCF5B both
@@ -354,4 +389,5 @@ CHECKS = [
     ("harness self-test: a compare match armed for the first ticks after a timer wrap comes there",
      check_timer_wrap),
     ("harness self-test: a TIFRn write clears only the flags written as 1", check_tifr_write),
+    ("harness self-test: a compare value right after the wrap matches at every wrap", check_timer_rewrap),
 ]

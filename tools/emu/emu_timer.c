@@ -16,6 +16,16 @@
  *    simavr clears every pending flag of the timer whatever the value, so a sketch that clears one
  *    channel's flag (TIFR1 = _BV(OCF1B)) loses another channel's pending match. Fix: the flags the
  *    written value leaves alone are raised again right after simavr's handler.
+ * 3. A compare match right after a wrap that recurs, its compare value unchanged (a step engine
+ *    counting the wraps of a long interval). At each overflow simavr schedules the new period's
+ *    compare event only if it still lies ahead when its overflow handler runs, up to a few cycles
+ *    after the wrap: a compare value of 0..3 or so is skipped for that period, and the step came a
+ *    whole wrap late (make fuzz, seed 6: MultiAxisStepper's Y counting 13 wraps of a 56 ms
+ *    interval with OCR1B = 1: one wrap lost, the step 4.1 ms late). Fix: EARLY_CYCLES + 1 cycles
+ *    into every period of a timer in normal mode, a channel whose match lies within the first
+ *    EARLY_CYCLES cycles, whose register was not written since the wrap (fix 1 covers those) and
+ *    that has not matched since, has its compare interrupt raised then (the match log puts it at
+ *    the cycle of the match).
  * And, on request (motionemu --matches), a log line for every compare match of Timer1's channels
  * (the time a step engine planned an edge for): "match <cycle> OC1A|OC1B|OC1C", the cycle the timer
  * reached the compare value (simavr raises it at the next instruction boundary, a few cycles on).
@@ -40,6 +50,12 @@ static struct {
     void *param; /* simavr's avr_timer_comp_t of the channel */
 } simavr_write[N_OCR];
 
+/* per channel, for fix 3: the cycles of its register's last write and of its last compare match */
+static struct {
+    avr_t *avr;
+    uint64_t written, matched;
+} chan[N_OCR];
+
 static avr_cycle_count_t raise_compare(struct avr_t *avr, avr_cycle_count_t when, void *param)
 {
     (void)when;
@@ -54,6 +70,7 @@ static void ocr_write(struct avr_t *avr, avr_io_addr_t addr, uint8_t v, void *pa
     avr_timer_t *t = comp->timer;
     avr_cycle_timer_process(avr);
     avr_cycle_timer_cancel(avr, raise_compare, comp);
+    chan[i].written = avr->cycle;
     simavr_write[i].c(avr, addr, v, simavr_write[i].param);
     if (t->wgm_op_mode_kind == avr_timer_wgm_normal && t->tov_cycles > EARLY_CYCLES && comp->comp_cycles != 0 &&
         comp->comp_cycles <= EARLY_CYCLES && avr->cycle - t->tov_base >= comp->comp_cycles) {
@@ -137,6 +154,36 @@ int emu_timer_log_matches(avr_t *avr)
     return 0;
 }
 
+static void chan_matched(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    uintptr_t i = (uintptr_t)param;
+    (void)irq;
+    if (value && !reraising)
+        chan[i].matched = chan[i].avr->cycle;
+}
+
+/* fix 3, for the timer of channels first..first+2: runs EARLY_CYCLES + 1 cycles into each period */
+static avr_cycle_count_t early_check(struct avr_t *avr, avr_cycle_count_t when, void *param)
+{
+    uintptr_t first = (uintptr_t)param;
+    avr_timer_t *t = ((avr_timer_comp_t *)simavr_write[first].param)->timer;
+    (void)when;
+    if (t->tov_cycles == 0 || t->tov_base == 0)
+        return avr->cycle + 1024U; /* not running yet */
+    if (t->wgm_op_mode_kind == avr_timer_wgm_normal && t->tov_cycles > EARLY_CYCLES) {
+        for (uintptr_t i = first; i < first + 3U; i++) {
+            avr_timer_comp_t *comp = simavr_write[i].param;
+            if (comp->comp_cycles != 0 && comp->comp_cycles <= EARLY_CYCLES &&
+                avr->cycle >= t->tov_base + comp->comp_cycles && chan[i].written < t->tov_base &&
+                chan[i].matched < t->tov_base)
+                avr_raise_interrupt(avr, &comp->interrupt);
+        }
+    }
+    if (t->tov_base + EARLY_CYCLES + 1U > avr->cycle)
+        return t->tov_base + EARLY_CYCLES + 1U; /* this period's check is still to come */
+    return t->tov_base + t->tov_cycles + EARLY_CYCLES + 1U;
+}
+
 int emu_timer_attach(avr_t *avr)
 {
     for (uintptr_t i = 0; i < N_TIFR; i++) {
@@ -156,6 +203,11 @@ int emu_timer_attach(avr_t *avr)
         simavr_write[i].param = avr->io[io].w.param;
         avr->io[io].w.c = ocr_write;
         avr->io[io].w.param = (void *)i;
+        chan[i].avr = avr;
+        avr_irq_register_notify(&((avr_timer_comp_t *)simavr_write[i].param)->interrupt.irq[AVR_INT_IRQ_PENDING],
+                                chan_matched, (void *)i);
     }
+    for (uintptr_t first = 0; first < N_OCR; first += 3)
+        avr_cycle_timer_register(avr, 1024U, early_check, (void *)first);
     return 0;
 }

@@ -20,6 +20,9 @@
  * OCR5A = k, which matches at tick k of the next period, toggles PF3 (D57), waits n nops, then runs
  * calls and returns (long instructions) across the wrap; the compare ISR toggles PF3 again:
  * 65536 - TCNT5 + k cycles after the write, plus the ISR's entry, whatever k; replies "OK wrap k"),
+ * rewrap <k> (Timer5 normal mode, clk/1: OCR5B = k written once, mid-period, its compare interrupt on;
+ * the compare B ISR toggles PF3 and counts; calls and returns for about 13 wraps, interrupts on:
+ * every wrap's match toggles PF3, 65,536 cycles apart; replies "OK rewrap k <matches>"),
  * tifr (Timer5, interrupts off, OCIE5A on: OCR5A and OCR5B match, both flags set, then TIFR5 = OCF5B,
  * which clears only OCF5B; PF3 toggled, interrupts on: the compare A ISR toggles PF3 at once),
  * pins ("OK pins d2=<PINE4> d18=<PIND3> int4=<n>": two inputs, D2 = PE4 with its pull-up on, D18 = PD3
@@ -129,6 +132,14 @@ ISR(TIMER5_COMPA_vect)
 {
     PINF = _BV(PF3);
     TIMSK5 = 0;
+}
+
+static volatile uint8_t rewrap_matches;
+
+ISR(TIMER5_COMPB_vect)
+{
+    PINF = _BV(PF3);
+    rewrap_matches = (uint8_t)(rewrap_matches + 1U);
 }
 
 #define TOGGLE_1000()                                   \
@@ -338,6 +349,25 @@ int main(void)
                 call_nothing();
             TIMSK5 = 0;
             sprintf(buf, "OK wrap %u", k);
+            println(buf);
+        } else if (!strncmp(line, "rewrap ", 7)) {
+            uint16_t k = (uint16_t)strtoul(line + 7, 0, 10);
+            TCCR5A = 0;
+            TCCR5B = _BV(CS50); /* normal mode, clk/1 */
+            TIMSK5 = 0;
+            cli();
+            while (TCNT5 < 30000U || TCNT5 > 40000U)
+                ;
+            OCR5B = k;
+            TIFR5 = _BV(OCF5B);
+            rewrap_matches = 0;
+            TIMSK5 = _BV(OCIE5B);
+            sei();
+            /* about 13 wraps of calls and returns: the wraps fall at every phase of the loop */
+            for (uint16_t i = 0; i < 60000U; i++)
+                call_nothing();
+            TIMSK5 = 0;
+            sprintf(buf, "OK rewrap %u %u", k, rewrap_matches);
             println(buf);
         } else if (!strcmp(line, "tifr")) {
             TCCR5A = 0;

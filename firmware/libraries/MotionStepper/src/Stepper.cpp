@@ -392,7 +392,11 @@ void Stepper::run_request()
         return; /* the sigmoid's table is being refilled: the move from rest waits for it */
     req_ = REQ_NONE;
     if (r == REQ_STOP) {
-        c = MultiStepEngine::extend(axis_, ended);
+        /* the move's end mark stays while a cut is tried (cut_apply withdraws it when the cut comes
+         * off): a stop that arrives as the last queued steps run adds nothing, and with the mark
+         * withdrawn meanwhile the move's end counted as an underrun (make fuzz, seed 6: a `stop`
+         * within a millisecond of the end of a move at 776,404 steps/s^2) */
+        c = MultiStepEngine::extend(axis_, ended, false);
         if (c == MultiStepEngine::CONTINUES) {
             if ((cut_retry_us_ == 0 && cut_in_cruise(false, 0)) || cut_plan(REQ_STOP, 0)) {
                 /* with two or three Steppers stopped at once the cuts come one after the other,
@@ -403,9 +407,15 @@ void Stepper::run_request()
                     (void)MultiStepEngine::service(axis_, source(), MOTION_STEPPER_CMDS_PER_PICK);
             } else if (cut_again()) {
                 req_ = REQ_STOP; /* its cut is tried again at the next pass, farther ahead */
-            } else {
-                step_planner_stop(&planner_);
+            } else if (step_planner_busy(&planner_)) {
+                /* the stop after the steps already queued: the move goes on into it */
+                c = MultiStepEngine::extend(axis_, ended);
+                if (c == MultiStepEngine::CONTINUES)
+                    step_planner_stop(&planner_);
+                else if (c == MultiStepEngine::ENDED)
+                    engine_done(ended);
             }
+            /* (every step queued already: the move ends at its target, as planned) */
         } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
         return;
