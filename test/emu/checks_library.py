@@ -1277,6 +1277,11 @@ THREE_LATE_CUT_MS = 5.0
 # (measured 2026-12-06: 4.84-5.64 ms over five moments; a search that gave up left the stop to the 40 ms
 # lead: 38.8-39.6 ms)
 THREE_RACE_CUT_MS = 7.0
+# how far above the worst latency measured docs/library.md may quote it: the latency depends on where the
+# switch falls in the planner's tick (one every 2 ms with two Steppers, lasting up to 1.8 ms), and that
+# phase moves with every change of the code's layout (two Steppers: 1.85 to 2.65 ms over the builds of
+# 2026-12-06); the page quotes the worst of those
+THREE_DOC_SLACK_MS = 1.0
 THREE_LATE = 700  # cycles: three step interrupts share the CPU (the edges' jitter); a velocity jump is more
 
 
@@ -1455,7 +1460,7 @@ def check_three_steppers(env):
                 if lat > THREE_RACE_CUT_MS:
                     problems.append(f"{build}: stop latency {lat:.2f} ms with the interrupt taking the slot a cut "
                                     f"search chose (bound {THREE_RACE_CUT_MS} ms: the search starts again)")
-            elif lat > doc[build] + 0.05 or doc[build] > lat + 0.5:
+            elif lat > doc[build] + 0.05 or doc[build] > lat + THREE_DOC_SLACK_MS:
                 problems.append(f"{build}: stop latency {lat:.2f} ms at worst; docs/library.md says {doc[build]} ms")
     return CheckResult(not problems, "; ".join(notes), problems)
 
