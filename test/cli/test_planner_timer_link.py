@@ -72,7 +72,7 @@ def test_stepper_h_alone_refuses_begin_with_the_header_to_include(tmp_path):
     elf = build(tmp_path, "TimerMissing", ["Stepper.h"])
     assert "__vector_planner_tick" not in symbols(elf)
     lines = serial_lines(tmp_path, elf)
-    assert "begin: the planner interrupt is not linked: #include <MotionStepper.h>" in lines, lines
+    assert "begin: no planner interrupt: #include <MotionStepper.h>" in lines, lines
     # nothing moves without begin()
     assert "moveTo: begin() has not been called: nothing moves before it" in lines, lines
     assert "at 200" not in lines, lines

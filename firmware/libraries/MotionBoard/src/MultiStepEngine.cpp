@@ -409,7 +409,7 @@ __attribute__((always_inline)) static inline bool take_end(uint8_t axis, int32_t
     return true;
 }
 
-MultiStepEngine::Continuation MultiStepEngine::extend(uint8_t axis, int32_t &ended_at, bool reopen)
+MultiStepEngine::Continuation MultiStepEngine::extend(uint8_t axis, int32_t &ended_at)
 {
     AxisState &s = state(axis);
     Continuation r = CONTINUES;
@@ -419,7 +419,7 @@ MultiStepEngine::Continuation MultiStepEngine::extend(uint8_t axis, int32_t &end
             r = ENDED;
         } else if (!s_feed[axis].open) {
             r = AT_REST;
-        } else if (reopen) {
+        } else {
             s.finishing = 0;
         }
     }

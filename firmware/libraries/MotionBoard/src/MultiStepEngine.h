@@ -202,10 +202,9 @@ public:
 
     /* Before a new plan of this axis: the move continues into it (CONTINUES, its end mark
      * withdrawn), the axis is at rest with no move open (AT_REST), or the move had just ended
-     * (ENDED, with its final position: report it first). reopen false: CONTINUES leaves the end
-     * mark (a plan that may add nothing: a stop tried at a cut, which cut_apply reopens itself). */
+     * (ENDED, with its final position: report it first). */
     enum Continuation { CONTINUES, AT_REST, ENDED };
-    static Continuation extend(uint8_t axis, int32_t &ended_at, bool reopen = true);
+    static Continuation extend(uint8_t axis, int32_t &ended_at);
 
     /* A move from rest has been planned: feed it and report its end (take_done). held: it waits
      * for start_together. */

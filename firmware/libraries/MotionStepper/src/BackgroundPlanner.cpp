@@ -203,23 +203,25 @@ void BackgroundPlanner::collect_done()
 
 void BackgroundPlanner::tick()
 {
-    for (uint8_t i = 0; i < 3; i++) {
-        bool asked;
-        if (!axes_[i])
-            continue;
-        axes_[i]->refill_tick(); /* the sigmoid's table, a slice at a time */
-        asked = axes_[i]->req_ != Stepper::REQ_NONE;
-        axes_[i]->run_request();
-        if (axes_[i]->group_)
-            axes_[i]->group_->run_request();
-        /* a stop or a new target cut this axis's queue a few milliseconds ahead: the queues are fed
-         * before the next axis's request, whose cut search and plan may take milliseconds more (two
-         * Steppers stopped at once, the second one's searches slow: the first one's queue, a few
-         * milliseconds after its cut, ran dry; test/emu/ThreeSteppers, two-20k-race) */
-        if (asked && count_ >= 2)
-            feed();
-    }
-    feed();
+    uint8_t i = 0;
+    do {
+        /* the requests of the axes from i on; a stop or a new target cut an axis's queue a few
+         * milliseconds ahead: with two or three Steppers the queues are fed before the next axis's
+         * request, whose cut search and plan may take milliseconds more (two Steppers stopped at
+         * once, the second one's searches slow: the first one's queue, a few milliseconds after its
+         * cut, ran dry; test/emu/ThreeSteppers, two-20k-race). feed() is called from here alone. */
+        bool asked = false;
+        for (; i < 3 && !asked; i++) {
+            if (!axes_[i])
+                continue;
+            axes_[i]->refill_tick(); /* the sigmoid's table, a slice at a time */
+            asked = axes_[i]->req_ != Stepper::REQ_NONE && count_ >= 2;
+            axes_[i]->run_request();
+            if (axes_[i]->group_)
+                axes_[i]->group_->run_request();
+        }
+        feed();
+    } while (i < 3);
     collect_done();
     for (uint8_t i = 0; i < 3; i++)
         if (axes_[i])

@@ -392,11 +392,15 @@ void Stepper::run_request()
         return; /* the sigmoid's table is being refilled: the move from rest waits for it */
     req_ = REQ_NONE;
     if (r == REQ_STOP) {
-        /* the move's end mark stays while a cut is tried (cut_apply withdraws it when the cut comes
-         * off): a stop that arrives as the last queued steps run adds nothing, and with the mark
-         * withdrawn meanwhile the move's end counted as an underrun (make fuzz, seed 6: a `stop`
-         * within a millisecond of the end of a move at 776,404 steps/s^2) */
-        c = MultiStepEngine::extend(axis_, ended, false);
+        /* every step queued already: the stop can act only through a cut (cut_apply withdraws the
+         * move's end mark when it comes off), so the mark stays while the cut is tried; withdrawn
+         * meanwhile (extend), a stop that came as the last queued steps ran counted the move's end
+         * as an underrun (make fuzz, seed 6: a `stop` within a millisecond of the end of a move at
+         * 776,404 steps/s^2) */
+        bool all_queued = !step_planner_busy(&planner_);
+        /* (all queued: a move that ended meanwhile, or an axis at rest, has no queue to cut; its end
+         * is collected as any other, BackgroundPlanner::collect_done) */
+        c = all_queued ? MultiStepEngine::CONTINUES : MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
             if ((cut_retry_us_ == 0 && cut_in_cruise(false, 0)) || cut_plan(REQ_STOP, 0)) {
                 /* with two or three Steppers stopped at once the cuts come one after the other,
@@ -407,15 +411,9 @@ void Stepper::run_request()
                     (void)MultiStepEngine::service(axis_, source(), MOTION_STEPPER_CMDS_PER_PICK);
             } else if (cut_again()) {
                 req_ = REQ_STOP; /* its cut is tried again at the next pass, farther ahead */
-            } else if (step_planner_busy(&planner_)) {
-                /* the stop after the steps already queued: the move goes on into it */
-                c = MultiStepEngine::extend(axis_, ended);
-                if (c == MultiStepEngine::CONTINUES)
-                    step_planner_stop(&planner_);
-                else if (c == MultiStepEngine::ENDED)
-                    engine_done(ended);
+            } else {
+                step_planner_stop(&planner_); /* after the steps already queued (all queued: nothing) */
             }
-            /* (every step queued already: the move ends at its target, as planned) */
         } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
         return;
