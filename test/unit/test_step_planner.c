@@ -157,13 +157,30 @@ static void executor_follows_its_formula(void **state)
 
 /* ---- exact: the closed form, every step --------------------------------------------------- */
 
+/* every step of tr (d steps) within one tick of the closed form of (v0, vmax, a) as the board holds
+ * them (floats); the worst error, in ticks, into *worst_out (may be 0) */
+static void check_closed_form(const trace_t *tr, double v0, double vmax, double a, uint32_t tick_hz, uint32_t d,
+                              uint32_t *worst_out)
+{
+    closed_t cf = closed_plan((float)v0, (float)vmax, (float)a, d);
+    uint32_t n;
+    for (n = 1; n <= d; n++) {
+        long double want = floorl(closed_time(&cf, n) * tick_hz + 0.5L);
+        long double err = (long double)tr->t[n] - (long double)want;
+        if (fabsl(err) > 1.0L)
+            fail_msg("v0 %g vmax %g a %g F %u D %u: step %u at %llu ticks, closed form %.0Lf", v0, vmax, a, tick_hz, d, n,
+                     (unsigned long long)tr->t[n], want);
+        if (worst_out && fabsl(err) > *worst_out)
+            *worst_out = (uint32_t)fabsl(err);
+    }
+}
+
 static void check_exact_move(double v0, double vmax, double a, uint32_t tick_hz, uint32_t d, int32_t from,
                              uint32_t *worst_out)
 {
     ramp_params_t p = {(float)v0, (float)vmax, (float)a, tick_hz};
     step_planner_t pl;
     trace_t tr;
-    closed_t cf;
     uint32_t n;
     int32_t to = (int32_t)((int64_t)from + (from > 0 ? -(int64_t)d : (int64_t)d));
     assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, from), MS_OK);
@@ -172,18 +189,9 @@ static void check_exact_move(double v0, double vmax, double a, uint32_t tick_hz,
     drain(&pl, &tr, UINT32_MAX);
     assert_int_equal(tr.n, d);
     assert_int_equal(step_planner_position(&pl), to);
-    /* the parameters as the board holds them: floats */
-    cf = closed_plan((float)v0, (float)vmax, (float)a, d);
-    for (n = 1; n <= d; n++) {
-        long double want = floorl(closed_time(&cf, n) * tick_hz + 0.5L);
-        long double err = (long double)tr.t[n] - (long double)want;
-        if (fabsl(err) > 1.0L)
-            fail_msg("v0 %g vmax %g a %g F %u D %u: step %u at %llu ticks, closed form %.0Lf", v0, vmax, a, tick_hz, d, n,
-                     (unsigned long long)tr.t[n], want);
-        if (worst_out && fabsl(err) > *worst_out)
-            *worst_out = (uint32_t)fabsl(err);
+    check_closed_form(&tr, v0, vmax, a, tick_hz, d, worst_out);
+    for (n = 1; n <= d; n++)
         assert_int_equal(tr.dir[n], to > from ? 1 : -1);
-    }
     trace_free(&tr);
 }
 
@@ -598,8 +606,7 @@ static void params_set_while_moving_apply_after_a_halt(void **state)
     ramp_params_t q = {0.0f, 8000.0f, 120000.0f, 16000000U};
     step_planner_t pl;
     trace_t tr;
-    closed_t cf;
-    uint32_t n, d = 3000;
+    uint32_t d = 3000;
     int32_t at;
     (void)state;
     assert_int_equal(step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0), MS_OK);
@@ -614,13 +621,7 @@ static void params_set_while_moving_apply_after_a_halt(void **state)
     trace_init(&tr, d);
     drain(&pl, &tr, UINT32_MAX);
     assert_int_equal(tr.n, d);
-    cf = closed_plan(0.0f, 8000.0f, 120000.0f, d);
-    for (n = 1; n <= d; n++) {
-        long double want = floorl(closed_time(&cf, n) * 16000000.0L + 0.5L);
-        if (fabsl((long double)tr.t[n] - want) > 1.0L)
-            fail_msg("step %u at %llu ticks, the new parameters' closed form %.0Lf", n, (unsigned long long)tr.t[n],
-                     want);
-    }
+    check_closed_form(&tr, 0.0, 8000.0, 120000.0, 16000000U, d, 0); /* the new parameters' */
     trace_free(&tr);
 }
 
