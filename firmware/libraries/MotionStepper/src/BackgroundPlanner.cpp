@@ -1,8 +1,6 @@
-/* BackgroundPlanner.cpp - Timer3's interrupt keeps the step queues planned (see BackgroundPlanner.h). */
+/* BackgroundPlanner.cpp - the planner's tick, its locks and its axes (see BackgroundPlanner.h); Timer3's
+ * interrupt that runs the tick is BackgroundPlannerTimer.cpp. */
 #include "BackgroundPlanner.h"
-
-#include <avr/interrupt.h>
-#include <util/atomic.h>
 
 #include <MultiStepEngine.h>
 
