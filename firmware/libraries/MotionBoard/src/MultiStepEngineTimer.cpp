@@ -134,11 +134,14 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s, 
     change_mode(s, set, clear);
     if (in_isr) {
         /* the window: a pending edge of another axis is taken after the instruction that follows
-         * sei on the chip, after the second one in libsimavr (docs/emulator.md),
-         * so neither may be the caller's cli: two nops (with one the emulator never took an edge
-         * here, and one waited 276 cycles for the rest of this path: the halt check) */
+         * sei on the chip, after the second one in libsimavr (docs/emulator.md), and after a
+         * nested interrupt's reti one instruction runs first on both: three nops, so that neither
+         * is the caller's cli (with one the emulator never took an edge here, and one waited 276
+         * cycles for the rest of this path: the halt check; with two, the serial interrupt took
+         * the window in libsimavr, its reti came back to the cli and a Y edge matched a cycle
+         * after that interrupt's entry waited 287 cycles, `run_fuzz.py --seed 6 --kinds multi`) */
         sei();
-        __asm__ __volatile__("nop\n\tnop" ::: "memory");
+        __asm__ __volatile__("nop\n\tnop\n\tnop" ::: "memory");
     }
 }
 
