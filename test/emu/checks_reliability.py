@@ -16,6 +16,7 @@
 import math
 import os
 import re
+import sys
 
 import emulog
 import sketches
@@ -194,7 +195,8 @@ def checks_for(env):
                            f"script): every reply a whole line of its own", lambda s=s: check_whole_lines(env, s)))
         if replay_scripts(s):
             checks.append((f"{s}: fuzz replays ({len(replay_scripts(s))} scripts of test/data/fuzz-replays): no "
-                           f"underrun", lambda s=s: check_fuzz_replays(env, s)))
+                           f"underrun" + (", no edge late after its match" if fam == "multiaxis" else ""),
+                           lambda s=s: check_fuzz_replays(env, s)))
         # a trapezoid ramp: a Stepper's lab or exact ramp
         if fam == "stepper" and any(w in open(env.ino(s)).read() for w in
                                     ("RAMP_ALGO_LEIB", "RAMP_ALGO_SIMPLISTIC", "RAMP_ALGO_EXACT")):
@@ -632,8 +634,31 @@ def check_cut_race(env, sketch):
 
 # Fuzz replays (test/data/fuzz-replays/README.md): the scripts of `make fuzz` runs that found a bug,
 # replayed on the sketch they were written for: the run must end normally and every `?` must say
-# underruns=0 (each failed so on the firmware before its fix).
+# underruns=0 (each failed so on the firmware before its fix); on MultiAxisStepper, as the fuzzer
+# requires too, every STEP edge comes at most STEP_LATE_CYCLES after a compare match (its own
+# channel's, or another's for an axis that follows it on a diagonal).
 REPLAY_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "fuzz-replays")
+MULTI_CHANNELS = {"X": "OC1A", "Y": "OC1B", "Z": "OC1C"}  # MultiAxisPins.h: Timer1's channel per axis
+
+
+def fuzz_oracles(env):
+    """tools/fuzz/fuzz_oracles.py, imported: the fuzzer's own edge oracle"""
+    path = os.path.join(env.source_dir, "tools", "fuzz")
+    if path not in sys.path:
+        sys.path.insert(0, path)
+    import fuzz_oracles as fo
+    return fo
+
+
+def late_edge_problems(env, log, name):
+    """the STEP edges of every axis more than the fuzzer's bound after a compare match"""
+    fo = fuzz_oracles(env)
+    every = sorted(c for ch in MULTI_CHANNELS.values() for c in log.matches.get(ch, []))
+    out = []
+    for ax, ch in MULTI_CHANNELS.items():
+        _, bad = fo.planned_cycles(log.rising(ax + "STEP"), log.matches.get(ch, []), every)
+        out += [f"{name}: {ax.lower()} edge late: {b}" for b in bad]
+    return out
 
 
 def replay_scripts(sketch):
@@ -649,8 +674,11 @@ def check_fuzz_replays(env, sketch):
         script = "".join(l for l in text.splitlines(True) if not l.startswith("#"))
         multi = env.family(sketch) == "multiaxis"
         log = emulog.run(env.elf(sketch), script,
-                         pins=sketches.multiaxis_pins(env) if multi else sketches.stepper_pins(env))
+                         pins=sketches.multiaxis_pins(env) if multi else sketches.stepper_pins(env),
+                         extra=["--matches"] if multi else None)
         fails_of(log, problems)
+        if multi:
+            problems += late_edge_problems(env, log, name)
         qs = log.lines_matching(r"(^|\s)underruns=")
         bad = [l.text for l in qs if not re.search(r"underruns=0\b", l.text)]
         if not qs:
