@@ -5,6 +5,7 @@
 #include <string.h>
 
 #define SEG_B 7U           /* a quadratic command spans at most 2^SEG_B steps */
+_Static_assert(SEG_B == 7U, "emit32's |add| test: 2^(14 - 2b) = (2^(SEG_B - b))^2");
 #define CRUISE_MAX 4096U   /* steps one cruise command may span (rate rounding <= 2^-17 tick per step) */
 /* (L s)^3 <= FIT_GAIN y^2 keeps a quadratic command within 0.0234 FIT_GAIN u (0.37 tick) of the
  * time law (the span rule below). Not more: an edge may come at most half a tick early (the
@@ -646,8 +647,15 @@ static uint8_t emit32(step_exact_t *e, step_cmd_t *c, uint8_t b, uint32_t dt, ui
         if ((s1i | e->slope_i) >= 0x40000000UL)
             return 2;
         add = ((int32_t)(s1i - e->slope_i) + (int32_t)(l >> 1)) >> b; /* round((s1 - s0) / l) */
-        if (((uint32_t)(add < 0 ? -add : add) >> (30U - 2U * b)) != 0U)
-            return 2; /* |add l^2/2| from 2^29 */
+        {
+            /* |add| >= 2^(30 - 2b), i.e. |add l^2/2| from 2^29: the high half against 2^(14 - 2b) =
+             * (2^(SEG_B - b))^2 (a byte product; the 32-bit shift by 30 - 2b is a loop on the AVR
+             * that took some 140 cycles of every ramp command) */
+            uint16_t hi = (uint16_t)((uint32_t)(add < 0 ? -add : add) >> 16);
+            uint8_t p2 = pow2_8[SEG_B - b];
+            if (hi >= (uint16_t)((uint16_t)p2 * p2))
+                return 2;
+        }
         dl = (int32_t)((uint32_t)add << b) - add;                      /* add (l - 1) */
         d2 = (int32_t)(l >> 1) - (int32_t)((uint32_t)dl << (b - 1U)); /* l/2 - add l (l - 1)/2 */
         v = dt + (uint32_t)d2;
