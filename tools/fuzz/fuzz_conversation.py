@@ -340,11 +340,12 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
         open_moves[ax].pop(0)
         open_at[ax] = c if open_moves[ax] else None
 
-    def move(ax, to, chained, gi):
+    def move(ax, frm, to, chained, gi):
         o.accepted_moves += 1
         if not table or not open_moves[ax] or chained:
             pat = (r"(?:[xyz] )?(" + NUM + ")") if family == "multiaxis" else "(" + NUM + ")"
-            plans[ax].append((arrive[line_of(gi, pat, float(to))], c))
+            # (arrived, answered, where the plan starts: its OK's `from`)
+            plans[ax].append((arrive[line_of(gi, pat, float(to))], c, frm))
         if not open_moves[ax]:
             open_moves[ax] = [to]
             open_at[ax], open_line[ax] = sends[groups[gi][0]].cycle, groups[gi][0]
@@ -372,13 +373,13 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
         sent = lines[a][1].decode("latin-1").strip() if groups[gi][2] is None else None
         m = re.match(r"^OK (?:([xyz]) )?(-?\d+) (-?\d+)( \(after DONE [^)]*\))?$", t)
         if m and (family == "stepper") == (m.group(1) is None):
-            move(m.group(1) or "", int(m.group(3)), bool(m.group(4)), gi)
+            move(m.group(1) or "", int(m.group(2)), int(m.group(3)), bool(m.group(4)), gi)
             continue
         m = re.match(r"^OK move((?: [xyz] -?\d+ -?\d+)+)$", t)
         if m and family == "multiaxis":
             w = m.group(1).split()
             for k in range(0, len(w), 3):
-                move(w[k], int(w[k + 2]), False, gi)
+                move(w[k], int(w[k + 1]), int(w[k + 2]), False, gi)
             continue
         m = re.match(r"^OK (?:([xyz]) )?(v0|vmax|accel)=(" + NUM + ")", t)
         if m:
@@ -465,7 +466,8 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
         tick = int(round(emulog.F_CPU / lim.tick_hz))
         probs, pairs, worst, rev = fo.speed_law(planned, [e[1] for e in edges], splits, params, tick, lim.exact,
                                                f"{name}speed" if name else "speed",
-                                               reversals=lim.algo != "sigmoid", plans=plans[ax], pins=cyc)
+                                               reversals=lim.algo != "sigmoid", plans=plans[ax], pins=cyc,
+                                               positions=[q for _, q in pos_after])
         o.pairs += pairs
         o.reversals += rev
         o.worst_law = max(o.worst_law, worst)

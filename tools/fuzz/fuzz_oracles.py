@@ -21,6 +21,7 @@ them synthetic traces. The bounds come from the documented guarantees, not from 
   fast. (Not for the S-curve, whose largest acceleration `?` does not give: its `accel=` is the
   average.)
 """
+import bisect
 import math
 
 F_CPU = 16_000_000
@@ -201,13 +202,19 @@ def undo_late_edges(times, runs, late=STEP_LATE_CYCLES, tick_cycles=1, moved=Non
 
 
 def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit=3, reversals=True, plans=(),
-              pins=None):
+              pins=None, positions=None):
     """The speed-continuity oracle on planned edge times (cycles). Returns (problems, pairs
     checked, worst fraction of the allowance used, reversals checked).
-    plans: when plans were made: cycles, or (line arrived, reply) pairs. A run of edges
-    belongs to the plan made before it started (a reversal is planned with the target that caused
-    it), and that plan has the parameters in force then: the values in force are taken from that
-    plan's time on, not from the run's first edge (a `set` after the plan is "from the next plan").
+    plans: when plans were made: cycles, or (line arrived, reply) pairs, or (line arrived, reply,
+    position where the plan starts: the `from` of its `OK`). A run of edges belongs to the plan made
+    before it started (a reversal is planned with the target that caused it), and that plan has the
+    parameters in force then: the values in force are taken from that plan's time on, not from the
+    run's first edge (a `set` after the plan is "from the next plan"). A plan that starts at a
+    position is the run's only once the axis has been there since its reply: the queue ahead may
+    hold an earlier plan's reversal and the run after it (a lab ramp's new target takes over after
+    the queued lead: LeibRampStepper, `make fuzz` seed 8, a reversal planned before a lower `set vmax`
+    began its run 80 ms after the next target's `OK`, whose `from` lay 600 steps into that run).
+    positions: the position after each edge (the same length as times), for that test.
     exact: apply the constant-acceleration law between consecutive intervals (exact ramp); every
     ramp gets the vmax bound and the reversal bound.
     pins: the edges on the STEP pin (cycles, one per time): a late edge, put back on its plan, must
@@ -230,21 +237,34 @@ def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit
             if pins[i] - times[i] > STEP_LATE_CYCLES and len(problems) < limit:
                 problems.append(f"{label}: a late edge on the pin at {pins[i] / F_CPU:.6f} s, {pins[i] - times[i]} "
                                 f"cycles after its plan (bound {STEP_LATE_CYCLES})")
-    # a plan: (the line arrived, its reply): the sketch made it in between (lines are taken in order)
-    plans = sorted((p, p) if isinstance(p, (int, float)) else tuple(p) for p in plans)
+    # a plan: (the line arrived, its reply[, the position it starts at]): the sketch made it in
+    # between (lines are taken in order)
+    plans = sorted(((p, p, None) if isinstance(p, (int, float)) else (tuple(p) + (None,))[:3]) for p in plans)
 
-    def since(c):
-        """the time from which the parameters of the run starting at cycle c are in force: the run's
-        plan is the last one made before c, which is the last one answered before c or a later one
-        (arrived before c, answered after it); the earliest of these is the honest bound"""
-        sure = [a for a, e in plans if e <= c]
+    def started(plan, i):
+        """whether the axis had been at the plan's start position between its reply and edge i (the
+        run's first edge): there when answered, or an edge since then brought it there"""
+        a, e, at = plan
+        if at is None or positions is None:
+            return True
+        k = bisect.bisect_right(times, e)
+        if (positions[k - 1] if k else 0) == at:
+            return True
+        return any(positions[j] == at for j in range(k, i))
+
+    def since(c, i=None):
+        """the time from which the parameters of the run starting at cycle c (edge i) are in force: the
+        run's plan is the last one made before c, which is the last one answered before c (whose start
+        position the axis had reached) or a later one (arrived before c, answered after it); the
+        earliest of these is the honest bound"""
+        sure = [p for p in plans if p[1] <= c and (i is None or started(p, i))]
         if sure:
-            return sure[-1]
-        maybe = [a for a, e in plans if a <= c < e]
+            return sure[-1][0]
+        maybe = [a for a, e, _ in plans if a <= c < e]
         return maybe[0] if maybe else c
 
     for r in runs:
-        r_from = since(times[r[0]])
+        r_from = since(times[r[0]], r[0])
         for k in range(1, len(r)):
             i0, i1 = r[k - 1], r[k]
             t = times[i1] - times[i0]
@@ -276,8 +296,8 @@ def speed_law(times, dirs, split_after, params, tick_cycles, exact, label, limit
         if not check_reversals or dirs[r0[-1]] == dirs[r1[0]] or r0[-1] in split_after or len(r0) < 2 or len(r1) < 2:
             continue   # not a turn of one motion: a move ended (DONE, halt) and a new one started
         reversals += 1
-        a = params.max_over("accel", since(times[r0[0]]), times[r1[-1]])
-        v0 = params.max_over("v0", since(times[r0[0]]), times[r1[-1]])
+        a = params.max_over("accel", since(times[r0[0]], r0[0]), times[r1[-1]])
+        v0 = params.max_over("v0", since(times[r0[0]], r0[0]), times[r1[-1]])
         bound = math.sqrt(v0 * v0 + 4 * a)
         for ia, ib in ((r0[-2], r0[-1]), (r1[0], r1[1])):
             t = times[ib] - times[ia]

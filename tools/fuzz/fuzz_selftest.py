@@ -35,9 +35,10 @@ def cruise_then(edges, v, n):
     return out
 
 
-def law(times, a, vmax, v0=0.0, dirs=None, splits=(), events=(), plans=(), pins=None):
+def law(times, a, vmax, v0=0.0, dirs=None, splits=(), events=(), plans=(), pins=None, positions=None):
     p = fo.Params({"accel": a, "vmax": vmax, "v0": v0}, events)
-    return fo.speed_law(times, dirs or [1] * len(times), set(splits), p, 1, True, "t", plans=plans, pins=pins)
+    return fo.speed_law(times, dirs or [1] * len(times), set(splits), p, 1, True, "t", plans=plans, pins=pins,
+                        positions=positions)
 
 
 def displaced(edges, at, cycles):
@@ -139,6 +140,22 @@ def run():
     expect("a line arrived before the turn and answered after it does not replace the turn's plan",
            law(turn, 500000, 1e6, dirs=dirs, events=[(set_at, "accel", 50000.0)],
                plans=[0, (plan_at, plan_at), (set_at + 5, again[-1] + F)])[0], False)
+    # 1e. the queue's lead: a later target answered before the turn, whose plan starts (its OK's
+    # `from`) 30 steps into the run after the turn (a position the axis passed on its way out, before
+    # that answer), does not replace the turn's plan at the turn (make fuzz seed 8, LeibRampStepper);
+    # the same target starting at a position the axis reached after its answer and before the turn
+    # (235, on the deceleration) is the turn's plan, and its lower accel fails
+    pos, q = [], 0
+    for d in dirs:
+        q += d
+        pos.append(q)
+    later = (back[95], back[100], pos[len(fast) + len(back) + 29])   # answered past that position
+    expect("a later target whose plan starts ahead in the run after the turn does not replace the turn's plan",
+           law(turn, 500000, 1e6, dirs=dirs, events=[(set_at, "accel", 50000.0)], plans=[0, plan_at, later],
+               positions=pos)[0], False)
+    expect("a later target whose plan starts before the turn is the turn's plan (its lower accel fails)",
+           law(turn, 500000, 1e6, dirs=dirs, events=[(set_at, "accel", 50000.0)],
+               plans=[0, plan_at, later[:2] + (235,)], positions=pos)[0], True)
     # 2. issue 22 item 1: after the replan the interval drops from 200 us to 50 us (4x vmax)
     jump = cruise_then(good, 20000, 50)
     expect("a 4x speed jump at a replan (5,000 -> 20,000 steps/s)",
