@@ -134,14 +134,20 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s, 
     change_mode(s, set, clear);
     if (in_isr) {
         /* the window: a pending edge of another axis is taken after the instruction that follows
-         * sei on the chip, after the second one in libsimavr (docs/emulator.md), and after a
-         * nested interrupt's reti one instruction runs first on both: three nops, so that neither
-         * is the caller's cli (with one the emulator never took an edge here, and one waited 276
-         * cycles for the rest of this path: the halt check; with two, the serial interrupt took
-         * the window in libsimavr, its reti came back to the cli and a Y edge matched a cycle
-         * after that interrupt's entry waited 287 cycles, `run_fuzz.py --seed 6 --kinds multi`) */
-        sei();
-        __asm__ __volatile__("nop\n\tnop\n\tnop" ::: "memory");
+         * sei on the chip, after the second one in libsimavr (docs/emulator.md), so the window is
+         * two nops (with one the emulator never took an edge here, and one waited 276 cycles for the
+         * rest of this path: the halt check). Another interrupt may take the window (the serial
+         * one) and an edge match while it runs: after its reti one instruction runs on the chip (two
+         * in libsimavr) before the edge's interrupt, and a cli there held the edge for the rest of
+         * this path (a Y edge 287 cycles after its plan, `run_fuzz.py --seed 6 --kinds multi`; with
+         * a third nop, 268 cycles at seed 7). So with interrupts off again the window is opened
+         * once more while another running axis's match is pending (its flag set, its interrupt
+         * enabled: this axis's own is masked here): the edge is taken at once, whatever came first */
+        do {
+            sei();
+            __asm__ __volatile__("nop\n\tnop" ::: "memory");
+            cli();
+        } while (TIFR1 & TIMSK1); /* (Timer1's other interrupts are never enabled; one would be taken too) */
     }
 }
 
@@ -182,36 +188,32 @@ __attribute__((always_inline)) inline void cold_path(uint8_t axis)
         MULTI_LED_PIN = _BV(MULTI_LED_BIT); /* the LED mirror (the asm path mirrors its own steps) */
     if (s.left != 0) {
         s.left = s.left - 1U;
-        arm_step(axis, s, true);
-        cli();
-        step_low(axis);
-        return;
-    }
-    next = cur->other;
-    if (!next->ready) {
-        ATOMIC_BLOCK(ATOMIC_FORCEON)
-        {
-            TIMSK1 &= (uint8_t)~ocie_bit(axis);
+    } else {
+        next = cur->other;
+        if (!next->ready) {
+            ATOMIC_BLOCK(ATOMIC_FORCEON)
+            {
+                TIMSK1 &= (uint8_t)~ocie_bit(axis);
+            }
+            __builtin_avr_delay_cycles(32); /* the STEP pulse: >= 2 us */
+            cli();
+            stop_after(s, *cur);
+            step_low(axis);
+            return;
         }
-        __builtin_avr_delay_cycles(32); /* the STEP pulse: >= 2 us */
-        cli();
-        stop_after(s, *cur);
-        step_low(axis);
-        return;
-    }
-    load_slot(s, *next);
-    if (next->flags & _BV(AXIS_SLOT_TURN)) {
-        /* DIR while STEP is still high (>= 1.5 us after the rising edge of the old direction's last
-         * step: the interrupt's entry and this call took longer), before the arming: interrupts are
-         * off only for the port write, not after the arming with the rest of the stretch (a Z turn
-         * there held an X edge 267 cycles, `make fuzz`; the bound is 260) */
-        ATOMIC_BLOCK(ATOMIC_FORCEON)
-        {
-            set_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
+        load_slot(s, *next);
+        if (next->flags & _BV(AXIS_SLOT_TURN)) {
+            /* DIR while STEP is still high (>= 1.5 us after the rising edge of the old direction's
+             * last step: the interrupt's entry and this call took longer), before the arming:
+             * interrupts are off only for the port write, not after the arming with the rest of the
+             * stretch (a Z turn there held an X edge 267 cycles, `make fuzz`; the bound is 260) */
+            ATOMIC_BLOCK(ATOMIC_FORCEON)
+            {
+                set_dir(axis, next->flags & _BV(AXIS_SLOT_FORWARD));
+            }
         }
     }
-    arm_step(axis, s, true);
-    cli();
+    arm_step(axis, s, true); /* one copy for both (it returns with interrupts off: its window) */
     step_low(axis);
 }
 
@@ -376,28 +378,28 @@ extern "C" void multi_cold_y(void);
 extern "C" void multi_cold_z(void);
 void multi_cold_x(void)
 {
-    cold_path(0);
-    cli();
-    if (s_own_masked & _BV(0)) {
-        s_own_masked = s_own_masked & (uint8_t)~_BV(0);
+    cold_path(0); /* returns with interrupts off, whatever its path */
+    uint8_t m = s_own_masked; /* (one read: interrupts are off) */
+    if (m & _BV(0)) {
+        s_own_masked = m & (uint8_t)~_BV(0);
         TIMSK1 |= ocie_bit(0);
     }
 }
 void multi_cold_y(void)
 {
-    cold_path(1);
-    cli();
-    if (s_own_masked & _BV(1)) {
-        s_own_masked = s_own_masked & (uint8_t)~_BV(1);
+    cold_path(1); /* returns with interrupts off, whatever its path */
+    uint8_t m = s_own_masked; /* (one read: interrupts are off) */
+    if (m & _BV(1)) {
+        s_own_masked = m & (uint8_t)~_BV(1);
         TIMSK1 |= ocie_bit(1);
     }
 }
 void multi_cold_z(void)
 {
-    cold_path(2);
-    cli();
-    if (s_own_masked & _BV(2)) {
-        s_own_masked = s_own_masked & (uint8_t)~_BV(2);
+    cold_path(2); /* returns with interrupts off, whatever its path */
+    uint8_t m = s_own_masked; /* (one read: interrupts are off) */
+    if (m & _BV(2)) {
+        s_own_masked = m & (uint8_t)~_BV(2);
         TIMSK1 |= ocie_bit(2);
     }
 }
