@@ -638,26 +638,20 @@ def check_cut_race(env, sketch):
 # requires too, every STEP edge comes at most STEP_LATE_CYCLES after a compare match (its own
 # channel's, or another's for an axis that follows it on a diagonal).
 REPLAY_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "fuzz-replays")
-MULTI_CHANNELS = {"X": "OC1A", "Y": "OC1B", "Z": "OC1C"}  # MultiAxisPins.h: Timer1's channel per axis
-
-
-def fuzz_oracles(env):
-    """tools/fuzz/fuzz_oracles.py, imported: the fuzzer's own edge oracle"""
+def late_edge_problems(env, log, name):
+    """the STEP edges of every axis more than the fuzzer's bound after a compare match (its own
+    oracle and pin/channel table, tools/fuzz)"""
     path = os.path.join(env.source_dir, "tools", "fuzz")
     if path not in sys.path:
         sys.path.insert(0, path)
+    import fuzz_conversation as fc
     import fuzz_oracles as fo
-    return fo
-
-
-def late_edge_problems(env, log, name):
-    """the STEP edges of every axis more than the fuzzer's bound after a compare match"""
-    fo = fuzz_oracles(env)
-    every = sorted(c for ch in MULTI_CHANNELS.values() for c in log.matches.get(ch, []))
+    every = sorted(c for v in log.matches.values() for c in v)
     out = []
-    for ax, ch in MULTI_CHANNELS.items():
-        _, bad = fo.planned_cycles(log.rising(ax + "STEP"), log.matches.get(ch, []), every)
-        out += [f"{name}: {ax.lower()} edge late: {b}" for b in bad]
+    for ax in "xyz":
+        step, _, ch = fc.PINS[ax]
+        _, bad = fo.planned_cycles(log.rising(step), log.matches.get(ch, []), every)
+        out += [f"{name}: {ax} edge late: {b}" for b in bad]
     return out
 
 

@@ -376,32 +376,28 @@ bool MultiStepEngine::in_step_interrupt()
 extern "C" void multi_cold_x(void);
 extern "C" void multi_cold_y(void);
 extern "C" void multi_cold_z(void);
+/* the C path, then the axis's own compare interrupt unmasked if its arming masked it (interrupts off:
+ * cold_path returns so, whatever its path; one read of s_own_masked) */
+__attribute__((always_inline)) inline void cold_exit(uint8_t axis)
+{
+    cold_path(axis);
+    uint8_t m = s_own_masked;
+    if (m & _BV(axis)) {
+        s_own_masked = m & (uint8_t)~_BV(axis);
+        TIMSK1 |= ocie_bit(axis);
+    }
+}
 void multi_cold_x(void)
 {
-    cold_path(0); /* returns with interrupts off, whatever its path */
-    uint8_t m = s_own_masked; /* (one read: interrupts are off) */
-    if (m & _BV(0)) {
-        s_own_masked = m & (uint8_t)~_BV(0);
-        TIMSK1 |= ocie_bit(0);
-    }
+    cold_exit(0);
 }
 void multi_cold_y(void)
 {
-    cold_path(1); /* returns with interrupts off, whatever its path */
-    uint8_t m = s_own_masked; /* (one read: interrupts are off) */
-    if (m & _BV(1)) {
-        s_own_masked = m & (uint8_t)~_BV(1);
-        TIMSK1 |= ocie_bit(1);
-    }
+    cold_exit(1);
 }
 void multi_cold_z(void)
 {
-    cold_path(2); /* returns with interrupts off, whatever its path */
-    uint8_t m = s_own_masked; /* (one read: interrupts are off) */
-    if (m & _BV(2)) {
-        s_own_masked = m & (uint8_t)~_BV(2);
-        TIMSK1 |= ocie_bit(2);
-    }
+    cold_exit(2);
 }
 
 
