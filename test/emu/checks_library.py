@@ -402,9 +402,10 @@ def check_stop_on_switch(env):
         lat = check_one_stop(log, problems, e, position_at(t_sw), t_sw, d, float(v), STOP_ACCEL)
         if lat is not None:
             latency[v] = lat
-    # the latency depends on where the next command boundary lies after the cut (the cruise's commands
-    # cover up to 1 ms): each rate is also stopped at STOP_PHASES offsets across a millisecond, and the
-    # page quotes the worst of them (one stop alone moved between 1.1 and 2.1 ms with the code's timing)
+    # the latency depends on where the switch falls in the planner's tick and on the step interrupts
+    # (until 2026-12-06 mostly on where the next command boundary lay after the cut: the cruise's
+    # commands covered up to 1 ms): each rate is also stopped at STOP_PHASES offsets across a
+    # millisecond, and the page quotes the worst of them
     sweep = {v: [lat for lat in (stop_latency_at(env, v, dt, problems) for dt in STOP_PHASES) if lat is not None]
              for v in (10000, 20000, 25000)}
     for v, lat in latency.items():
@@ -1280,7 +1281,8 @@ THREE_RACE_CUT_MS = 7.0
 # how far above the worst latency measured docs/library.md may quote it: the latency depends on where the
 # switch falls in the planner's tick (one every 2 ms with two Steppers, lasting up to 1.8 ms), and that
 # phase moves with every change of the code's layout (two Steppers: 1.85 to 3.3 ms over the builds of
-# 2026-12-06, three: 3.0 to 3.8 ms); the page quotes the worst of those, at most this far above a build's
+# 2026-12-06, three: 3.0 to 3.8 ms, while the cut waited for the next cruise command; 1.2-1.9 and 1.2-1.6
+# ms since it lands inside it); the page quotes the worst of those, at most this far above a build's
 THREE_DOC_SLACK_MS = 1.5
 THREE_LATE = 700  # cycles: three step interrupts share the CPU (the edges' jitter); a velocity jump is more
 

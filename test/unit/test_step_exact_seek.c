@@ -668,13 +668,16 @@ static long double closed_speed(const closed_t *cf, long double x)
     return sqrtl(cf->v0 * cf->v0 + 2.0L * cf->a * (cf->d - x));
 }
 
-static void stop_after_cut_follows_the_law(void **state)
+/* inside: the cut lands inside a cruise command (a command of constant intervals, 2 steps or more),
+ * as the MotionStepper library's engine cuts one (MultiStepEngine::cut_find's split): only its first
+ * m steps are kept, the rewind is told m as the last command's count and the executor's time of the
+ * rest (count - m intervals of its rate) as dropped */
+static void stop_after_cut(int inside)
 {
     uint32_t i, checked = 0, kept_profile = 0;
     long double worst = 0.0L, worst_jump = 0.0L;
     uint64_t *edges = calloc(60001U, sizeof *edges);
     uint8_t *wide = calloc(60001U, 1U);
-    (void)state;
     assert_non_null(edges);
     assert_non_null(wide);
     for (i = 0; i < 1500U; i++) {
@@ -683,6 +686,7 @@ static void stop_after_cut_follows_the_law(void **state)
         step_cmd_t c, last;
         closed_t cf;
         uint32_t d = (uint32_t)lrand(3, 60000), k = 1U + (uint32_t)lrand(1, 2000), j, n = 0, more, steps = 0, ds;
+        uint32_t kept_count = 0;
         int64_t t16 = 0;
         uint64_t abs16 = 0x8000U, cut16;
         long double f, v_cut, x_stop, t_prev = 0.0L, t_prev2 = 0.0L, law_before, law_after, act_before, act_after;
@@ -696,18 +700,30 @@ static void stop_after_cut_follows_the_law(void **state)
         assert_int_equal(step_planner_move(&pl, (int32_t)d), MS_OK);
         f = p.tick_hz;
         cf = closed_plan(p.v0_sps, p.vmax_sps, p.accel_sps2, d);
-        /* the kept commands, through the executor's arithmetic */
-        for (j = 0; j < k && pl.exact.n < d - 1U && step_planner_next(&pl, &last); j++) {
-            uint32_t rate = last.rate, s;
-            for (s = 0; s < last.count; s++) {
+        /* the kept commands, through the executor's arithmetic (inside: up to the first cruise command
+         * from the k-th on, of which m steps) */
+        if (inside)
+            k = 1U + (uint32_t)lrand(1, 300);
+        for (j = 0; (inside || j < k) && pl.exact.n < d - 1U && step_planner_next(&pl, &last); j++) {
+            uint32_t rate = last.rate, s, use = last.count;
+            int split = inside && j + 1U >= k && last.add == 0 && !(last.flags & STEP_CMD_WIDE) && last.count >= 2U;
+            if (split)
+                use = (uint32_t)lrand(1, (long)last.count - 1L);
+            for (s = 0; s < use; s++) {
                 abs16 += (last.flags & STEP_CMD_WIDE) ? (uint64_t)rate << 16 : rate;
                 rate += (uint32_t)last.add;
                 n++;
                 e_prev2 = e_prev;
                 e_prev = abs16 >> 16;
             }
+            kept_count = use;
+            if (split) {
+                steps = last.count - use; /* dropped with the commands after it */
+                t16 = (int64_t)steps * last.rate;
+                break;
+            }
         }
-        if (n < 2U || n >= d)
+        if (n < 2U || n >= d || (inside && steps == 0U))
             continue;
         cut16 = abs16;
         /* B: further commands, then taken back */
@@ -717,7 +733,7 @@ static void stop_after_cut_follows_the_law(void **state)
             steps += c.count;
             t16 += step_exact_cmd_time16(&c);
         }
-        assert_int_equal(step_planner_rewind(&b, steps, t16, last.count), MS_OK);
+        assert_int_equal(step_planner_rewind(&b, steps, t16, (uint16_t)kept_count), MS_OK);
         step_planner_stop(&b);
         /* the stop's step times (the executor's arithmetic, from the cut) */
         j = 0;
@@ -771,12 +787,24 @@ static void stop_after_cut_follows_the_law(void **state)
             worst_jump = fabsl(act_after - act_before) - fabsl(law_after - law_before);
         checked++;
     }
-    printf("# %u stops after a cut (%u kept the move's own deceleration): worst edge %.0Lf tick from the law, "
+    printf("# %u stops after a cut%s (%u kept the move's own deceleration): worst edge %.0Lf tick from the law, "
            "interval change at the cut at most %.0Lf tick more than the law's\n",
-           checked, kept_profile, worst, worst_jump);
+           checked, inside ? " inside a cruise command" : "", kept_profile, worst, worst_jump);
     free(edges);
     free(wide);
-    assert_true(checked > 800U);
+    assert_true(checked > (inside ? 150U : 800U));
+}
+
+static void stop_after_cut_follows_the_law(void **state)
+{
+    (void)state;
+    stop_after_cut(0);
+}
+
+static void stop_after_cut_inside_a_cruise_command_follows_the_law(void **state)
+{
+    (void)state;
+    stop_after_cut(1);
 }
 
 int main(void)
@@ -790,6 +818,7 @@ int main(void)
         cmocka_unit_test(every_boundary_from_above_vmax_slow),
         cmocka_unit_test(random_cuts_bit_for_bit),
         cmocka_unit_test(stop_after_cut_follows_the_law),
+        cmocka_unit_test(stop_after_cut_inside_a_cruise_command_follows_the_law),
         cmocka_unit_test(longest_move),
     };
     return cmocka_run_group_tests(tests, 0, 0);

@@ -362,8 +362,8 @@ def one_stepper_section(motionsim, out_dir, rates=None):
             "The test sketch test/emu/OneStepper (a Stepper on X with the exact ramp, moveTo() from the serial line; "
             "Timer3 plans in the background, Timer1 steps), built with the library's speed limit lifted "
             "(MULTI_MAX_SPS; as shipped a Stepper is refused above 25,000 steps/s), on the reference move as the "
-            "sketches' rows above; plan and verdict as there (the Stepper's commands last up to 1 ms, motionsim's "
-            "up to 4 ms: the same steps within a tick). No `late` column: the library does not report it.", "",
+            "sketches' rows above; plan and verdict as there (the Stepper's cruise commands last up to 4 ms, as "
+            "motionsim's). No `late` column: the library does not report it.", "",
             "| sketch | algorithm | steps/s | steps | worst vs plan (ticks) | beyond 8 cycles | worst vs exact (ticks) "
             "| underruns | late | ISR cycles min / mean / max | CPU left | verdict |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|"] + rows + \

@@ -672,7 +672,40 @@ static __attribute__((noinline)) uint32_t ticks_until(uint8_t axis, uint8_t to)
     return ahead;
 }
 
-uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16)
+/* the modes in which the current slot is not split: its steps are not made by the common path */
+#define SPLIT_MODES (_BV(AXIS_MODE_SLOW) | _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_DEFER) | _BV(AXIS_MODE_MASKED))
+
+/* cut_find's split: how many steps of slot p to drop (0: none), so that its first step dropped lies
+ * beyond min_ticks ahead of the edge armed now, p's steps lying `before` + j intervals ahead (j = 1,
+ * 2, ...; before = 0: p is the current slot). Only a slot of constant intervals (no add), stepped by
+ * the interrupt's common path (not slow, not WIDE), in a build with step interrupts; the current one
+ * only in ahead form and on the common path, keeping at least the step computed already. */
+static uint16_t split_at(uint8_t axis, uint8_t p, uint32_t before, uint32_t min_ticks)
+{
+    AxisState &s = state(axis);
+    const AxisSlot &t = s.slot[p];
+    uint32_t n, per, keep;
+    if (MULTI_TIMED_LOOP || (t.flags & (_BV(AXIS_SLOT_HAS_ADD) | _BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_WIDE))) ||
+        min_ticks <= before)
+        return 0;
+    per = t.rate >> 16;
+    if (per == 0)
+        return 0;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        if (s.cur == &t)
+            n = (looked_ahead(s) && !(s.mode & SPLIT_MODES)) ? (uint32_t)s.left + 1U : 0U; /* the steps not armed */
+        else
+            n = t.ready ? slot_count(t) : 0U;
+    }
+    keep = (min_ticks - before) / per;
+    if (keep == 0)
+        keep = 1;
+    return keep < n ? (uint16_t)(n - keep) : 0U;
+}
+
+uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16,
+                                  bool split)
 {
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
@@ -681,6 +714,7 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
     r.steps = 0;
     r.time16 = 0;
     r.last_count = 0;
+    r.split = 0;
     r.cmds = 0;
     r.first = 0;
     if (axis >= MULTI_AXES)
@@ -726,13 +760,26 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
         if (again != 0 || !s.running)
             return 0;
     }
-    /* the first slot whose first step lies beyond min_ticks_ahead */
+    /* the first slot whose first step lies beyond min_ticks_ahead; before: the time to the step
+     * before the slot ahead of it (0: that slot is the current one) */
+    uint32_t before = 0;
     while (ahead <= min_ticks_ahead) {
+        before = ahead;
         ahead += lead_weight(f.duration[i]);
         steps -= slot_count(s.slot[i]);
         i = next_slot(f, i);
-        if (i == f.head)
-            return 0;
+        if (i == f.head) {
+            if (!split)
+                return 0;
+            break; /* the last slot may still be split */
+        }
+    }
+    if (split)
+        r.split = split_at(axis, prev_slot(f, i), before, min_ticks_ahead);
+    steps += r.split;
+    if (steps > max_steps) {
+        steps -= r.split; /* whole commands only */
+        r.split = 0;
     }
     first = i;
     /* at most max_steps steps: keep more from the front */
@@ -740,16 +787,19 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
         steps -= slot_count(s.slot[first]);
         first = next_slot(f, first);
     }
-    if (first == f.head)
+    if (first == f.head && r.split == 0)
         return 0;
     r.cmds = (uint8_t)(f.head >= first ? f.head - first : f.head + f.nslots - first);
     if (time16)
         for (i = first; i != f.head; i = next_slot(f, i))
             r.time16 += slot_time16(s.slot[i]);
+    const AxisSlot &p = s.slot[prev_slot(f, first)];
+    if (r.split && time16)
+        r.time16 += (int64_t)mul32x32(p.rate, r.split); /* no add: split_at */
     r.steps = steps;
-    r.last_count = (uint16_t)slot_count(s.slot[prev_slot(f, first)]);
+    r.last_count = (uint16_t)(slot_count(p) - r.split);
     r.first = first;
-    return r.cmds;
+    return (uint8_t)(r.cmds + (r.split ? 1U : 0U));
 }
 
 /* a slot's command (its ready flag and ring link stay) */
@@ -762,9 +812,46 @@ static inline void copy_slot(AxisSlot &t, const AxisSlot &c)
     t.p_start = c.p_start;
 }
 
+/* cut_apply's switch, with interrupts off (kept short: an edge due meanwhile waits for it; its own
+ * function, so that its few values are in registers, not in cut_apply's frame): slot t becomes
+ * c[0] (img0) if the interrupt has not taken it (cmds dropped from it on: it is ready; none: it
+ * is the free slot after the last one), after it the slot `after` stops being ready (more than one
+ * dropped); with split, slot q (the last kept) first loses its last split steps: if it is the
+ * current one, only if the interrupt's count is still at least lim and it steps on the common
+ * path (ahead form). Returns whether it was done (else nothing changed). */
+static __attribute__((noinline)) uint8_t cut_switch(AxisState &s, AxisSlot &t, AxisSlot &q, AxisSlot &after,
+                                                    const AxisSlot &img0, uint8_t cmds, uint16_t split, uint16_t lim)
+{
+    uint8_t ok;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
+    {
+        ok = cmds ? t.ready : (uint8_t)(!t.ready && &t != s.cur);
+        if (ok && split) {
+            if (s.cur == &q) {
+                ok = s.running && !(s.mode & SPLIT_MODES) && s.left >= lim;
+                if (ok)
+                    s.left = (uint16_t)(s.left - split);
+            } else {
+                ok = q.ready;
+            }
+            if (ok)
+                q.left = (uint16_t)(q.left - split);
+        }
+        if (ok) {
+            copy_slot(t, img0);
+            if (cmds > 1U)
+                after.ready = 0;
+            if (cmds == 0)
+                t.ready = 1; /* a slot after the last one (written with interrupts off: no fence needed) */
+            s.finishing = 0; /* the move goes on with c */
+        }
+    }
+    return ok;
+}
+
 __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n)
 {
-    if (axis >= MULTI_AXES || r.cmds == 0 || n == 0 || n > MULTI_CUT_MAX_CMDS)
+    if (axis >= MULTI_AXES || (r.cmds == 0 && r.split == 0) || n == 0 || n > MULTI_CUT_MAX_CMDS)
         return false;
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
@@ -773,13 +860,17 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
     uint16_t dur[MULTI_CUT_MAX_CMDS];
     uint8_t k, i, ok;
     uint32_t ticks = 0, left;
+    const uint8_t p = prev_slot(f, r.first); /* the last slot kept (split: what is kept of it) */
+    AxisSlot &q = s.slot[p];
+    /* (a split slot is not slow: an interval below 2^15 ticks, and a count below 2^16) */
+    const uint16_t per = (uint16_t)(q.rate >> 16), kept = (uint16_t)(slot_count(q) - r.split);
     /* c's slots are made first, off the ring: the switch below is then a copy of a few bytes, done
      * where the interrupt cannot come between (laying them out in place took up to 4,000 cycles
      * after the margin was checked, and the interrupt, reaching the cut meanwhile, found the first
      * new slot not ready: `make fuzz` seed 23, ExactRampStepper, a step 8.1 ms late after a
      * reversal cut at 7,300 steps/s) */
-    g.next_p_start = s.slot[r.first].p_start;
-    g.last_forward = (s.slot[prev_slot(f, r.first)].flags & _BV(AXIS_SLOT_FORWARD)) != 0;
+    g.last_forward = (q.flags & _BV(AXIS_SLOT_FORWARD)) != 0;
+    g.next_p_start = r.split == 0 ? s.slot[r.first].p_start : q.p_start + (g.last_forward ? (int32_t)kept : -(int32_t)kept);
     for (k = 0; k < n; k++) {
         lay_out(g, img[k], c[k]);
         if (s_dir_hook[axis] && (img[k].flags & _BV(AXIS_SLOT_TURN)))
@@ -788,26 +879,35 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
     }
     /* the interrupt must still be that far from the cut: else the planning took too long, and the
      * queue stays as it was */
-    left = ticks_until(axis, r.first);
+    if (r.split == 0) {
+        left = ticks_until(axis, r.first);
+    } else {
+        /* the time to the first step dropped of slot p: checked again below if it is the current one */
+        left = s.cur == &q ? 0U : ticks_until(axis, p);
+        if (left == UINT32_MAX && s.cur == &q)
+            left = 0U; /* the interrupt has taken it since */
+        left = left == UINT32_MAX ? left : left + (uint32_t)kept * per;
+    }
     if (left == UINT32_MAX || left < min_ticks_left || (uint8_t)(f.ready - r.cmds + n) >= f.nslots - 1U)
         return false;
+    /* a split of the current slot: the interrupt's count must still be at least lim (the dropped steps,
+     * and enough kept before them for min_ticks_left), worked out here: the switch below is short */
+    uint32_t lim = 0;
+    if (r.split) {
+        uint32_t kmin = (min_ticks_left + per - 1U) / per; /* steps kept, at least the one computed */
+        lim = (uint32_t)r.split + (kmin ? kmin : 1U) - 1U;
+        if (lim > 0xFFFFU)
+            lim = 0xFFFFU;
+    }
+    const uint16_t lim16 = (uint16_t)lim;
+    AxisSlot &t0 = s.slot[r.first];
     /* the switch: the first dropped slot becomes c[0] in one piece if the interrupt has not taken it
      * (then it has taken none after it either), and the slot after it stops being ready. From then
      * on the ready slots after the cut are c's alone: each next slot is made not ready before the
      * one before it becomes ready with its command, c[1] first (a one-step c[0] gives the interrupt
      * two intervals before it must take c[1]) */
     i = next_slot(f, r.first);
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        AxisSlot &t = s.slot[r.first];
-        ok = t.ready;
-        if (ok) {
-            copy_slot(t, img[0]);
-            if (r.cmds > 1U)
-                s.slot[i].ready = 0;
-            s.finishing = 0; /* the move goes on with c */
-        }
-    }
+    ok = cut_switch(s, t0, q, s.slot[i], img[0], r.cmds, r.split, lim16);
     if (!ok)
         return false; /* nothing changed */
     for (k = 1; k < n; k++, i = next_slot(f, i)) {
@@ -822,9 +922,15 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
         i = next_slot(f, i);
         s.slot[i].ready = 0;
     }
-    /* the engine's books without the dropped slots, with c's */
+    /* the engine's books without the dropped slots (and steps), with c's */
     for (i = r.first; i != f.head; i = next_slot(f, i))
         ticks += lead_weight(f.duration[i]);
+    if (r.split) {
+        uint32_t d = ((uint32_t)kept * per) >> DUR_SHIFT;
+        ticks += lead_weight(f.duration[p]);
+        f.duration[p] = d > 0xFFFFU ? 0xFFFFU : (uint16_t)d;
+        ticks -= lead_weight(f.duration[p]);
+    }
     for (k = 0, i = r.first; k < n; k++, i = next_slot(f, i)) {
         f.duration[i] = dur[k];
         ticks -= lead_weight(dur[k]);

@@ -255,7 +255,7 @@ public:
      * the executor's arithmetic (step_exec_next's sum, 2^-16 ticks: count rate + add count
      * (count - 1)/2, WIDE: count rate 2^16; lib's step_exact_cmd_time16, bit for bit) and the
      * count of the last command kept (the time only with time16: a few hundred cycles a command).
-     * Returns r.cmds (0: no cut: not stepping, or nothing that far).
+     * Returns 0 when there is no cut (not stepping, or nothing that far), else not 0.
      * The planner then goes back there and plans the new commands c[0..n-1] from there (taking its
      * time); cut_apply() drops those commands and lays c out in their place, if the interrupt is
      * still at least min_ticks_left ticks from them and the ring has room (else it changes nothing
@@ -265,16 +265,24 @@ public:
      * (if the interrupt has not taken it: else nothing changes), so the interrupt never finds a
      * half-made or missing slot at the cut; the engine's bookkeeping (queue length and time,
      * positions, direction) then stands as if c had followed the kept ones all along, and the
-     * move's end mark is withdrawn. n is at most MULTI_CUT_MAX_CMDS. */
+     * move's end mark is withdrawn. n is at most MULTI_CUT_MAX_CMDS.
+     * With split, the cut may also land inside a command of constant intervals (a cruise's: no add,
+     * not slow), the one being stepped included: its steps beyond min_ticks_ahead are dropped too
+     * (r.split of them; r.last_count is then what is kept of it), so that the cut lands one interval
+     * beyond min_ticks_ahead instead of at the next command's start (a stop from the cruise acts
+     * within a millisecond or so however long its commands are). For a planner that can go back to
+     * any step of such a command (the exact ramp's cruise: lib's step_exact_rewind). */
     enum { MULTI_CUT_MAX_CMDS = 4 };
     struct Cut {
         uint32_t steps;
         int64_t time16;
         uint16_t last_count;
-        uint8_t cmds; /* commands dropped (0: no cut) */
-        uint8_t first; /* the first slot dropped */
+        uint16_t split; /* steps dropped from the end of the slot before `first` (0: none) */
+        uint8_t cmds; /* whole commands dropped (0 and no split: no cut) */
+        uint8_t first; /* the first slot dropped (with split: the first slot after the one split) */
     };
-    static uint8_t cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16 = true);
+    static uint8_t cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16 = true,
+                            bool split = false);
     static bool cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n);
 };
 

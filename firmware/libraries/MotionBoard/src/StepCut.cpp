@@ -108,7 +108,11 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
         ahead_us = asked; /* farther than the first */
     uint32_t t0 = micros();
     step_cut_trace(true);
-    if (MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * ahead_us, reach, cut) == 0) {
+    /* the exact ramp goes back to any step of its cruise: the cut may land inside a cruise command
+     * (MultiStepEngine::cut_find's split); elsewhere only between commands (a split there is
+     * refused by the rewind: then the cut at the next command) */
+    bool split = pl->algo == RAMP_ALGO_EXACT;
+    if (MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * ahead_us, reach, cut, true, split) == 0) {
         if (again)
             (*missed)++; /* a try again found nothing queued that far: it acts after the queued lead */
         step_cut_trace(false);
@@ -117,7 +121,11 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
     saved = *pl; /* planned in place: put back if the cut does not come off */
     if (pl->algo == RAMP_ALGO_SMOOTH)
         *s_smooth_backup = *pl->smooth;
-    if (rewind_to(pl, cut) != MS_OK) {
+    motion_status_t st = rewind_to(pl, cut);
+    if (st != MS_OK && cut.split != 0 &&
+        MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * ahead_us, reach, cut) != 0)
+        st = rewind_to(pl, cut);
+    if (st != MS_OK) {
         (*missed)++;
         step_cut_trace(false);
         return false; /* nothing changed */

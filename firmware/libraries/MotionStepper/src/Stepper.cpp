@@ -124,20 +124,27 @@ motion_status_t Stepper::init_planner(int32_t pos)
     return MS_OK;
 }
 
-/* The longest command, for the next plan from rest: MOTION_STEPPER_CMD_MS, or MOTION_STEPPER_CMD_MS_3
- * with three Steppers begun. The smooth ramp keeps lib's 4 ms: its commands cost more (solves), and
- * a stop is cut tens of milliseconds ahead anyway (MOTION_STEPPER_SMOOTH_CUT_US). */
+/* The longest command, for the next plan from rest: the exact ramp's cruise MOTION_STEPPER_CRUISE_MS
+ * (a stop or a new target cuts inside such a command); the lab ramps' MOTION_STEPPER_CMD_MS, or
+ * MOTION_STEPPER_CMD_MS_3 with three Steppers begun. The smooth ramp keeps lib's 4 ms: its commands
+ * cost more (solves), and a stop is cut tens of milliseconds ahead anyway (MOTION_STEPPER_SMOOTH_CUT_US). */
 void Stepper::set_cmd_length()
 {
+    static_assert(MOTION_STEPPER_CRUISE_MS <= 4U && MOTION_STEPPER_CMD_MS <= 4U && MOTION_STEPPER_CMD_MS_3 <= 4U,
+                  "set_cmd_length: a command of at most 4 ms (64,000 ticks at 16 MHz)");
+    uint8_t ms;
     if (MULTI_TIMED_LOOP)
-        planner_.max_cmd_ticks = 1UL; /* one step per command: it fits between two deadlines of loop() */
+        ms = 0; /* one step per command: it fits between two deadlines of loop() */
     else if (BackgroundPlanner::inLoop())
-        planner_.max_cmd_ticks = BackgroundPlanner::ticksPerUs() * 4000UL; /* lib's 4 ms: a cut lands 5-6 ms ahead
-                                                                        anyway, and at 90,000 steps/s the
-                                                                        planner has a quarter of the CPU */
-    else if (planner_.algo != RAMP_ALGO_SMOOTH)
-        planner_.max_cmd_ticks = BackgroundPlanner::ticksPerUs() * 1000UL *
-                                 (BackgroundPlanner::steppers() >= 3 ? MOTION_STEPPER_CMD_MS_3 : MOTION_STEPPER_CMD_MS);
+        ms = 4U; /* lib's 4 ms: a cut lands 5-6 ms ahead anyway, and at 90,000 steps/s the planner has a
+                    quarter of the CPU */
+    else if (planner_.algo == RAMP_ALGO_SMOOTH)
+        return;
+    else if (planner_.algo == RAMP_ALGO_EXACT)
+        ms = MOTION_STEPPER_CRUISE_MS;
+    else
+        ms = BackgroundPlanner::steppers() >= 3 ? MOTION_STEPPER_CMD_MS_3 : MOTION_STEPPER_CMD_MS;
+    planner_.max_cmd_ticks = ms ? (uint16_t)(BackgroundPlanner::ticksPerUs() * 1000U * ms) : 1U;
     if (planner_.algo == RAMP_ALGO_EXACT)
         planner_.exact.max_cmd_ticks = planner_.max_cmd_ticks;
 }

@@ -106,9 +106,9 @@ class StepperGroup;
  * the planner interrupt plans it ahead, once the cruise has begun, and a stop() in the cruise then
  * only cuts and lays it out: this many microseconds ahead (the cut itself must be ready
  * MOTION_STEPPER_CUT_MARGIN_US before it lands, else the stop is planned at a cut as any other).
- * 600: with 800 the stop's latency reached 2.34 ms at 10,000 steps/s (the cut, plus the cruise
- * command of up to 1 ms it must wait for); with 600 at most 2.0 ms at every rate checked
- * (StopOnSwitch's check, docs/library.md; about 2 ms at worst by construction). */
+ * The cut lands one interval beyond it, inside the cruise command that holds that step
+ * (MultiStepEngine::cut_find's split): StopOnSwitch's stop latency 1.1-1.3 ms at worst (docs/library.md;
+ * until 2026-12-06 the cut waited for the next command: 2.0-2.1 ms with 1 ms commands). */
 #ifndef MOTION_STEPPER_CUT_CRUISE_US
 #define MOTION_STEPPER_CUT_CRUISE_US 600UL
 #endif
@@ -138,17 +138,23 @@ class StepperGroup;
 #define MOTION_STEPPER_LOOP_CUT_NEW_US 3000U
 #endif
 
-/* The longest time one step command covers with one or two Steppers begun, ms (a cruise is cut into
- * such commands): with the lead, what a stop or a new target waits for. */
+/* The longest time one command of the exact ramp's cruise covers, ms: a stop or a new target cuts the
+ * queue inside such a command (MultiStepEngine::cut_find's split: one interval beyond the cut's
+ * distance), so its length costs no latency, and each command costs the planner interrupt some
+ * 3,000 cycles laid out. Until 2026-12-06 the cut landed at the next command's start and the cruise
+ * took commands of 1 ms (2 ms with three Steppers), the planner interrupt's largest load in a cruise. */
+#ifndef MOTION_STEPPER_CRUISE_MS
+#define MOTION_STEPPER_CRUISE_MS 4U
+#endif
+/* The longest time one step command of the lab ramps covers with one or two Steppers begun, ms (a
+ * cruise is cut into such commands): with the lead, what their stop waits for. */
 #ifndef MOTION_STEPPER_CMD_MS
 #define MOTION_STEPPER_CMD_MS 1U
 #endif
 /* The same with three Steppers begun, ms: three queues of 1 ms commands cost more of the AVR than
- * there is (a cruise command costs the planner interrupt some 3,000 cycles, laid out; at 10,000
- * steps/s the ticks ran back to back, 93 % of the time, and every axis ran dry hundreds of times),
- * so their cruise takes commands of 2 ms (test/emu/ThreeSteppers: clean at 10,000 to 25,000 steps/s
- * and 50,000 to 200,000 steps/s^2). A stop() in the cruise then waits for up to one such command
- * (docs/library.md has the latency measured). */
+ * there is (a cruise command costs the planner interrupt some 3,000 cycles, laid out; with the exact
+ * ramp's 1 ms commands at 10,000 steps/s the ticks ran back to back, 93 % of the time, and every axis
+ * ran dry hundreds of times), so the lab ramps' cruise takes commands of 2 ms with three Steppers. */
 #ifndef MOTION_STEPPER_CMD_MS_3
 #define MOTION_STEPPER_CMD_MS_3 2U
 #endif

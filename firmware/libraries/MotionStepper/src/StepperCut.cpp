@@ -103,7 +103,7 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     for (uint8_t k = 0;; k++) {
         step_cut_trace(true);
         if (k == STEP_CUT_TRIES ||
-            MultiStepEngine::cut_find(axis_, tpu * (MOTION_STEPPER_CUT_CRUISE_US << k), e.n - 1U, cut, false) == 0) {
+            MultiStepEngine::cut_find(axis_, tpu * (MOTION_STEPPER_CUT_CRUISE_US << k), e.n - 1U, cut, false, true) == 0) {
             step_cut_trace(false);
             return false;
         }
