@@ -674,7 +674,9 @@ def check_fuzz_replays(env, sketch):
         if multi:
             problems += late_edge_problems(env, log, name)
         qs = log.lines_matching(r"(^|\s)underruns=")
-        bad = [l.text for l in qs if not re.search(r"underruns=0\b", l.text)]
+        # a replay from the three-axis overload (docs/multi-axis.md, Known limit) has that limit's
+        # underruns: it is held to the edges' oracle alone (test/data/fuzz-replays/README.md)
+        bad = [] if "-overload-" in name else [l.text for l in qs if not re.search(r"underruns=0\b", l.text)]
         if not qs:
             problems.append(f"{name}: no `?` reply")
         if bad:

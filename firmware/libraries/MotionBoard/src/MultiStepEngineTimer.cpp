@@ -105,6 +105,13 @@ __attribute__((always_inline)) inline void arm_step(uint8_t axis, AxisState &s, 
          * the edge waited a whole wrap (then the re-arming of catch_missed_match; found on a smooth
          * move at 50,000 steps/s, check_smooth_stall) */
         TIFR1 = ocf_bit(axis);
+        /* and the axis's interrupt unmasked before the late test below: a first edge already passed
+         * is armed again a few ticks ahead, and libsimavr drops a match that comes while its
+         * interrupt is masked (the chip keeps the flag): with the unmask after it, at start_axis's
+         * end, a start delayed by other interrupts lost that match, the edge waited for
+         * catch_missed_match (17,028 cycles: run_fuzz --kinds multi seed 7, a restart after an
+         * underrun) and the queued edges, all behind, followed 131 cycles apart */
+        TIMSK1 |= ocie_bit(axis);
     }
     since = (int16_t)(TCNT1 - prev);
     if (since < 0) {
@@ -238,11 +245,11 @@ void start_axis(uint8_t axis, uint32_t base)
     /* running before the arming, so that arm_step's change_mode syncs it too: the stretch with
      * interrupts off from the arming to `SREG = sreg` below is what other axes' edges wait for (242 cycles with a
      * second sync_g0: a Z edge 274 cycles after its match, the halt check; about 180 now, as long as
-     * a C path's own arming); the axis's interrupt stays off until TIMSK1 below */
+     * a C path's own arming); the axis's interrupt stays off until arm_step unmasks it */
     s.running = 1;
     sreg = SREG;
-    arm_step(axis, s, false); /* interrupts off from its arming on; clears the axis's stale match flag */
-    TIMSK1 |= ocie_bit(axis);
+    arm_step(axis, s, false); /* interrupts off from its arming on; clears the axis's stale match flag and
+                                 unmasks its interrupt */
     SREG = sreg;
     s_feed[axis].held = 0;
     s_feed[axis].started = 1;
