@@ -724,14 +724,16 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
     i = next_slot(f, curi);
     if (i == f.head)
         return 0; /* nothing queued after the current slot (one the interrupt took meanwhile: below) */
-    /* The steps of every slot after the current one first: the cut is chosen after this loop, so
-     * that the time from its choice to cut_apply's check of it stays short (the loops over a ring
-     * of 40 commands took 0.6 ms with two Steppers at 20,000 steps/s stepping meanwhile, and a cut
-     * 600 us ahead, checked 200 us before it, never came off: test/emu/ThreeSteppers). The slots
-     * the interrupt takes meanwhile are before the cut, which lies beyond them. */
+    /* The steps of every slot after the current one: the books' count (queued_steps, from f.seen
+     * on: the current slot after retire_consumed) less the slots before. Until 2026-12-06 a loop
+     * over the ring summed them (40 commands: 0.6 ms with two Steppers at 20,000 steps/s stepping
+     * meanwhile, a fifth of a cut's budget with three at 25,000: its first try 600 us ahead came
+     * too late); it is done before the cut is chosen, so that the time from its choice to
+     * cut_apply's check of it stays short. The slots the interrupt takes meanwhile are before the
+     * cut, which lies beyond them. */
     steps = 0;
-    for (first = i; first != f.head; first = next_slot(f, first))
-        steps += slot_count(s.slot[first]);
+    for (const AxisSlot *t = &s.slot[i], *h = &s.slot[f.head]; t != h; t = t->other)
+        steps += slot_count(*t);
     first = i;
     for (uint8_t again = 0;; again++) {
         /* less the slots the interrupt has taken meanwhile (their steps are not dropped) */
@@ -851,8 +853,12 @@ static __attribute__((noinline)) uint8_t cut_switch(AxisState &s, AxisSlot &t, A
 
 __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n)
 {
-    if (axis >= MULTI_AXES || (r.cmds == 0 && r.split == 0) || n == 0 || n > MULTI_CUT_MAX_CMDS)
+    if (axis >= MULTI_AXES || (r.cmds == 0 && r.split == 0) || n == 0)
         return false;
+    /* the commands the switch puts in place (the rest are laid out after it, below) */
+    const uint8_t all = n;
+    if (n > MULTI_CUT_MAX_CMDS)
+        n = MULTI_CUT_MAX_CMDS;
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
     AxisFeed g = f; /* the books as they will stand: c laid out from the cut on */
@@ -888,7 +894,7 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
             left = 0U; /* the interrupt has taken it since */
         left = left == UINT32_MAX ? left : left + (uint32_t)kept * per;
     }
-    if (left == UINT32_MAX || left < min_ticks_left || (uint8_t)(f.ready - r.cmds + n) >= f.nslots - 1U)
+    if (left == UINT32_MAX || left < min_ticks_left || (uint16_t)(f.ready - r.cmds + all) >= f.nslots - 1U)
         return false;
     /* a split of the current slot: the interrupt's count must still be at least lim (the dropped steps,
      * and enough kept before them for min_ticks_left), worked out here: the switch below is short */
@@ -922,23 +928,27 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
         i = next_slot(f, i);
         s.slot[i].ready = 0;
     }
-    /* the engine's books without the dropped slots (and steps), with c's */
-    for (i = r.first; i != f.head; i = next_slot(f, i))
+    /* the engine's books without the dropped slots (and steps), with c's: what the slots before the
+     * cut hold (a few; the ring's dropped slots are not walked) */
+    for (i = f.seen; i != r.first; i = next_slot(f, i))
         ticks += lead_weight(f.duration[i]);
     if (r.split) {
         uint32_t d = ((uint32_t)kept * per) >> DUR_SHIFT;
-        ticks += lead_weight(f.duration[p]);
-        f.duration[p] = d > 0xFFFFU ? 0xFFFFU : (uint16_t)d;
         ticks -= lead_weight(f.duration[p]);
+        f.duration[p] = d > 0xFFFFU ? 0xFFFFU : (uint16_t)d;
+        ticks += lead_weight(f.duration[p]); /* (its steps: counted above, the split ones gone) */
     }
     for (k = 0, i = r.first; k < n; k++, i = next_slot(f, i)) {
         f.duration[i] = dur[k];
-        ticks -= lead_weight(dur[k]);
+        ticks += lead_weight(dur[k]);
     }
-    f.queued_ticks -= ticks;
+    f.queued_ticks = ticks;
     f.ready = (uint8_t)(f.ready - r.cmds + n);
     f.head = i;
     f.next_p_start = g.next_p_start;
     f.last_forward = g.last_forward;
+    /* the commands beyond the switch's, after the ones just made ready (the ring has room: above) */
+    for (k = n; k < all; k++)
+        lay_one(axis, s, f, c[k]);
     return true;
 }

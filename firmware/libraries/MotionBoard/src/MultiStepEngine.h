@@ -265,7 +265,10 @@ public:
      * (if the interrupt has not taken it: else nothing changes), so the interrupt never finds a
      * half-made or missing slot at the cut; the engine's bookkeeping (queue length and time,
      * positions, direction) then stands as if c had followed the kept ones all along, and the
-     * move's end mark is withdrawn. n is at most MULTI_CUT_MAX_CMDS.
+     * move's end mark is withdrawn. The first MULTI_CUT_MAX_CMDS of c are made before the check
+     * and put in place in one switch; the rest, if any, are laid out once the switch has come off
+     * (as service() lays out commands, without its lead's bound: a stop planned ahead hands out
+     * several milliseconds of its commands at once).
      * With split, the cut may also land inside a command of constant intervals (a cruise's: no add,
      * not slow), the one being stepped included: its steps beyond min_ticks_ahead are dropped too
      * (r.split of them; r.last_count is then what is kept of it), so that the cut lands one interval

@@ -133,8 +133,9 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
 
 /* Commands to the stepping axis whose queue reaches least far ahead, MOTION_STEPPER_CMDS_PER_PICK at
  * a time (choosing costs about as much as laying one out); a move not yet started one at a time and
- * only when no stepping axis needs one (a move started never starves one that runs). */
-void BackgroundPlanner::feed()
+ * only when no stepping axis needs one (a move started never starves one that runs). up_to (ticks;
+ * UINT32_MAX: the lead): a stepping queue that holds that much is left as it is. */
+void BackgroundPlanner::feed(uint32_t up_to)
 {
     uint8_t dry = 0;
     /* with share_: the tick's start, and half the lead in ticks: above it a long tick leaves loop()
@@ -153,7 +154,7 @@ void BackgroundPlanner::feed()
             if (q == UINT32_MAX)
                 continue;
             if (MultiStepEngine::stepping(i)) {
-                if (q < best) {
+                if (q < best && q < up_to) {
                     best = q;
                     pick = i;
                 }
@@ -199,15 +200,24 @@ void BackgroundPlanner::collect_done()
     }
 }
 
+void BackgroundPlanner::feedBeforePlan()
+{
+    if (count_ >= 2)
+        feed((uint32_t)tpu_ * (MOTION_STEPPER_PLAN_SAFE_MS * 1000UL));
+}
+
 void BackgroundPlanner::tick()
 {
     uint8_t i = 0;
+    bool any = false;
     do {
         /* the requests of the axes from i on; a stop or a new target cut an axis's queue a few
          * milliseconds ahead: with two or three Steppers the queues are fed before the next axis's
          * request, whose cut search and plan may take milliseconds more (two Steppers stopped at
          * once, the second one's searches slow: the first one's queue, a few milliseconds after its
-         * cut, ran dry; test/emu/ThreeSteppers, two-20k-race). feed() is called from here alone. */
+         * cut, ran dry; test/emu/ThreeSteppers, two-20k-race), but from the first request on only
+         * up to MOTION_STEPPER_URGENT_MS: the tick then returns, loop() may ask for the next axis's
+         * stop, and the next tick feeds them up to the lead. */
         bool asked = false;
         for (; i < 3 && !asked; i++) {
             if (!axes_[i])
@@ -218,7 +228,8 @@ void BackgroundPlanner::tick()
             if (axes_[i]->group_)
                 axes_[i]->group_->run_request();
         }
-        feed();
+        any = any || asked;
+        feed(any ? (uint32_t)tpu_ * (MOTION_STEPPER_URGENT_MS * 1000UL) : UINT32_MAX);
     } while (i < 3);
     collect_done();
     for (uint8_t i = 0; i < 3; i++)

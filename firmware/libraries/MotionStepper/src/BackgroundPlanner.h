@@ -71,6 +71,22 @@
 #endif
 /* commands laid out for the axis chosen before choosing again (choosing looks at every axis's queue:
  * about as costly as a command of the cruise) */
+/* With two or three Steppers, a tick that carries out a stop or a new target feeds the queues only
+ * up to this many ms before the next axis's request and before it returns (the next tick feeds
+ * them up to the lead), so that loop() gets its turn to ask for the next axis's stop: the stops
+ * of three Steppers at once come one after the other, each about a millisecond. Until 2026-12-06 the tick
+ * fed every queue up to the lead after each request: with three Steppers at 10,000 steps/s it ran
+ * for tens of milliseconds before loop() could call the second axis's stop(), whose deceleration
+ * began 24 ms after the switch (the third's 37 ms; test/emu/ThreeSteppers). */
+#ifndef MOTION_STEPPER_URGENT_MS
+#define MOTION_STEPPER_URGENT_MS 4U
+#endif
+/* ... and before a stop or a new target planned at a cut (not the stop planned ahead: a plan that
+ * can take ten milliseconds with three Steppers at 25,000 steps/s) the other queues are fed up to
+ * this many ms (with 10, that plan ran two of them dry). */
+#ifndef MOTION_STEPPER_PLAN_SAFE_MS
+#define MOTION_STEPPER_PLAN_SAFE_MS 20U
+#endif
 #ifndef MOTION_STEPPER_CMDS_PER_PICK
 #define MOTION_STEPPER_CMDS_PER_PICK 3U
 #endif
@@ -87,6 +103,14 @@
  * retry met the next step interrupt every time (BlockingLoop ran dry). */
 #ifndef MOTION_STEPPER_RETRY_COUNTS
 #define MOTION_STEPPER_RETRY_COUNTS 4U
+#endif
+/* kick() (a stop or a new target from loop()) brings the tick this many counts of Timer3 (4 us
+ * each) ahead, unless it comes sooner anyway: loop()'s next few calls (the other axes' stop(), as
+ * a limit switch's handler makes them) come first and are carried out by the same tick. Until
+ * 2026-12-06 2 counts: the tick came between the second and the third stop() of three Steppers,
+ * and at times the third's deceleration began 15 ms after the first's. */
+#ifndef MOTION_STEPPER_KICK_COUNTS
+#define MOTION_STEPPER_KICK_COUNTS 12U
 #endif
 /* MOTION_STEPPER_TRACE = 1: D4 (PG5) is high while a planner tick runs (nested interrupts included);
  * 2: D4 is high from a stop's or a new target's cut of the queue (Stepper::plan_at_cut) until the
@@ -139,7 +163,7 @@ public:
     static bool claim(uint8_t axis, Stepper *s);
     static Stepper *stepper(uint8_t axis) { return axis < 3 ? axes_[axis] : 0; }
 
-    /* Brings the next tick forward to within about 10 us (a stop or a new target left by loop()):
+    /* Brings the next tick forward to within about 50 us (a stop or a new target left by loop()):
      * it then acts without waiting up to a millisecond for the tick. Under a PlannerLock the unlock
      * brings it (8 us after the unlock). */
     static void kick();
@@ -153,9 +177,12 @@ public:
 
     /* One tick's work (the interrupt calls it; public for the vector only). */
     static void tick();
+    /* The tick's part, for a Stepper about to plan at a cut (its run_request): every stepping queue
+     * fed up to MOTION_STEPPER_PLAN_SAFE_MS first, when there are two or three Steppers. */
+    static void feedBeforePlan();
 
 private:
-    static void feed();
+    static void feed(uint32_t up_to);
     static void collect_done();
     static void apply_lead();
     static Stepper *axes_[3];

@@ -66,17 +66,17 @@ void planner_timer_unlocked()
     }
 }
 
-/* BackgroundPlanner::kick(): the next tick within about 10 us */
+/* BackgroundPlanner::kick(): the next tick within about 50 us (MOTION_STEPPER_KICK_COUNTS) */
 void planner_timer_kick()
 {
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        /* the match two counts (8 us) from now, unless it comes sooner anyway; under a PlannerLock
-         * the unlock brings it */
+        /* the match MOTION_STEPPER_KICK_COUNTS counts from now, unless it comes sooner anyway;
+         * under a PlannerLock the unlock brings it */
         if (planner_irq.locks)
             planner_irq.deferred = 1;
-        else if (!planner_irq.in_tick && TCNT3 < OCR3A - 2U)
-            TCNT3 = OCR3A - 2U;
+        else if (!planner_irq.in_tick && TCNT3 < OCR3A - MOTION_STEPPER_KICK_COUNTS)
+            TCNT3 = OCR3A - MOTION_STEPPER_KICK_COUNTS;
     }
 }
 

@@ -409,18 +409,15 @@ void Stepper::run_request()
          * is collected as any other, BackgroundPlanner::collect_done) */
         c = all_queued ? MultiStepEngine::CONTINUES : MultiStepEngine::extend(axis_, ended);
         if (c == MultiStepEngine::CONTINUES) {
-            if ((cut_retry_us_ == 0 && cut_in_cruise(false, 0)) || cut_plan(REQ_STOP, 0)) {
-                /* with two or three Steppers stopped at once the cuts come one after the other,
-                 * each taking up to a millisecond or more: a few more of this one's commands first
-                 * (else the first axis cut ran dry once: test/emu/ThreeSteppers, three at 10,000
-                 * steps/s, and two at 20,000) */
-                if (BackgroundPlanner::steppers() >= 2)
-                    (void)MultiStepEngine::service(axis_, source(), MOTION_STEPPER_CMDS_PER_PICK);
-            } else if (cut_again()) {
+            /* (with two or three Steppers stopped at once the cuts come one after the other: the
+             * tick feeds this one's queue a little before the next one's, BackgroundPlanner::tick;
+             * the stop planned ahead lays out 10 ms of its steps at once) */
+            if ((cut_retry_us_ == 0 && cut_in_cruise(false, 0)) || cut_plan(REQ_STOP, 0))
+                return;
+            if (cut_again())
                 req_ = REQ_STOP; /* its cut is tried again at the next pass, farther ahead */
-            } else {
+            else
                 step_planner_stop(&planner_); /* after the steps already queued (all queued: nothing) */
-            }
         } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
         return;
@@ -752,7 +749,7 @@ void Stepper::hook_z(bool forward)
 }
 
 /* ---- the planner interrupt's side ---- */
-AxisSource Stepper::source()
+__attribute__((noinline)) AxisSource Stepper::source()
 {
     AxisSource s;
     if (group_)

@@ -112,6 +112,19 @@ class StepperGroup;
 #ifndef MOTION_STEPPER_CUT_CRUISE_US
 #define MOTION_STEPPER_CUT_CRUISE_US 600UL
 #endif
+/* The stop planned ahead covers this many microseconds of its steps (at most
+ * MOTION_STEPPER_STOP_AHEAD_CMDS commands, about 11 bytes each on the heap), all laid out at the cut:
+ * planned while the move cruised, they cost the stop no planning, and with two or three Steppers
+ * stopped at once the next one's cut comes before more of this one's deceleration must be planned
+ * (with 1 ms, as the cuts planned at a stop: each axis's stop waited for a few milliseconds of the
+ * one before's commands, and at 25,000 steps/s the second axis's deceleration began 3-5 ms after
+ * the switch; BackgroundPlanner::tick). */
+#ifndef MOTION_STEPPER_STOP_AHEAD_US
+#define MOTION_STEPPER_STOP_AHEAD_US 10000UL
+#endif
+#ifndef MOTION_STEPPER_STOP_AHEAD_CMDS
+#define MOTION_STEPPER_STOP_AHEAD_CMDS 12U
+#endif
 
 /* No cut above this speed (steps/s): the stop or the new target acts after the queued lead (the
  * sketches' console's rule since `make fuzz` seed 11: at 89,000 steps/s a target behind cut the
@@ -299,7 +312,7 @@ public:
      * While moving, the move continues from its speed to the new target (no stop in between when
      * it lies ahead beyond the stopping distance); MS_ERR_BUSY while in a StepperGroup's move.
      * Returns at once (a few microseconds); the planner interrupt, brought forward, plans it about
-     * 10 us later. */
+     * 50 us later (MOTION_STEPPER_KICK_COUNTS). */
     motion_status_t moveTo(long target);
     motion_status_t move(long distance);
     /* Decelerate to rest at the acceleration in force, from the step where the queue is cut

@@ -11,15 +11,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-static_assert(MOTION_STEPPER_CUT_CMDS <= MultiStepEngine::MULTI_CUT_MAX_CMDS,
-              "the stop planned ahead is laid out by cut_apply: at most MULTI_CUT_MAX_CMDS commands");
+static_assert(MOTION_STEPPER_STOP_AHEAD_CMDS >= 1 && MOTION_STEPPER_STOP_AHEAD_CMDS < MULTI_SLOTS / 2,
+              "the stop planned ahead is laid out by cut_apply at once: a few commands of the ring");
 
 /* the stop from the cruise, planned ahead (prepare_stop) from position `from`: the planner's state
  * after it and its first commands; valid for any profile whose constants, direction and cruise
  * speed are exact's (k, dir) and up */
 struct Stepper::StopAhead {
     step_exact_t exact;
-    step_cmd_t cmds[MOTION_STEPPER_CUT_CMDS];
+    step_cmd_t cmds[MOTION_STEPPER_STOP_AHEAD_CMDS];
     uint64_t up;
     int32_t from, pos, target;
     uint8_t n, active;
@@ -66,8 +66,8 @@ void Stepper::prepare_stop()
     s_scratch = planner_;
     step_planner_stop(&s_scratch);
     stop_->n = 0;
-    stop_->n = step_cut_first_cmds(&s_scratch, stop_->cmds, BackgroundPlanner::ticksPerUs(), MOTION_STEPPER_CUT_NEW_US,
-                                  MOTION_STEPPER_CUT_CMDS);
+    stop_->n = step_cut_first_cmds(&s_scratch, stop_->cmds, BackgroundPlanner::ticksPerUs(), MOTION_STEPPER_STOP_AHEAD_US,
+                                  MOTION_STEPPER_STOP_AHEAD_CMDS);
     stop_->exact = s_scratch.exact;
     stop_->up = e.up;
     stop_->from = planner_.pos;
@@ -174,6 +174,8 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
             timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
     }
     timing.ticks_per_us = BackgroundPlanner::ticksPerUs(); /* the timer's (setTickRate) */
+    if (!BackgroundPlanner::inLoop())
+        BackgroundPlanner::feedBeforePlan(); /* the other queues last through the plan */
     return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_, &cut_retry_us_);
 #endif
 }
