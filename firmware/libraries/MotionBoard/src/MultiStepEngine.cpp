@@ -724,13 +724,13 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
     i = next_slot(f, curi);
     if (i == f.head)
         return 0; /* nothing queued after the current slot (one the interrupt took meanwhile: below) */
-    /* The steps of every slot after the current one: the books' count (queued_steps, from f.seen
-     * on: the current slot after retire_consumed) less the slots before. Until 2026-12-06 a loop
-     * over the ring summed them (40 commands: 0.6 ms with two Steppers at 20,000 steps/s stepping
-     * meanwhile, a fifth of a cut's budget with three at 25,000: its first try 600 us ahead came
-     * too late); it is done before the cut is chosen, so that the time from its choice to
-     * cut_apply's check of it stays short. The slots the interrupt takes meanwhile are before the
-     * cut, which lies beyond them. */
+    /* The steps of every slot after the current one first, along the ring's links (an index walk
+     * over a ring of 40 commands took 0.6 ms with two Steppers at 20,000 steps/s stepping
+     * meanwhile: the link walk takes a third of that, and a running count kept by every lay-out
+     * cost more flash than SCurveStepper's bound left): the cut is chosen after this loop, so that
+     * the time from its choice to cut_apply's check of it stays short (a cut 600 us ahead, checked
+     * 200 us before it, never came off: test/emu/ThreeSteppers). The slots the interrupt takes
+     * meanwhile are before the cut, which lies beyond them. */
     steps = 0;
     for (const AxisSlot *t = &s.slot[i], *h = &s.slot[f.head]; t != h; t = t->other)
         steps += slot_count(*t);
@@ -923,20 +923,22 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
         __asm__ __volatile__("" ::: "memory"); /* the fields stored before the flag */
         s.slot[i].ready = 1; /* one byte, written last */
     }
-    /* the other dropped slots (none can be taken now: the one at i is not ready) */
+    /* the other dropped slots (none can be taken now: the one at i is not ready), along the ring's
+     * links (a lead of 100 ms holds tens of them) */
+    AxisSlot *d = &s.slot[i];
     for (k = n + 1U; k < r.cmds; k++) {
-        i = next_slot(f, i);
-        s.slot[i].ready = 0;
+        d = d->other;
+        d->ready = 0;
     }
-    /* the engine's books without the dropped slots (and steps), with c's: what the slots before the
-     * cut hold (a few; the ring's dropped slots are not walked) */
+    /* the engine's books without the dropped slots, with c's: what the slots before the cut hold (a
+     * few; the ring's dropped slots are not walked) */
     for (i = f.seen; i != r.first; i = next_slot(f, i))
         ticks += lead_weight(f.duration[i]);
     if (r.split) {
         uint32_t d = ((uint32_t)kept * per) >> DUR_SHIFT;
         ticks -= lead_weight(f.duration[p]);
         f.duration[p] = d > 0xFFFFU ? 0xFFFFU : (uint16_t)d;
-        ticks += lead_weight(f.duration[p]); /* (its steps: counted above, the split ones gone) */
+        ticks += lead_weight(f.duration[p]);
     }
     for (k = 0, i = r.first; k < n; k++, i = next_slot(f, i)) {
         f.duration[i] = dur[k];
