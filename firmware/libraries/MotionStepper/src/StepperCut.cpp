@@ -27,9 +27,9 @@ struct Stepper::StopAhead {
 
 const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Stepper::cuts_prepare};
 
-/* begin(), with the planner interrupt: the stop planned ahead's room on the heap (about 250 bytes;
- * planned from loop(), planInLoop, a stop is planned at a cut as any other, and the three Steppers of
- * a sketch that plans so keep their SRAM for the stack). False: no room. */
+/* begin(), with the planner interrupt: the stop planned ahead's room on the heap (about 310 bytes;
+ * planned from loop(), planInLoop, only a Stepper alone takes it, at its first cruise: prepare_stop;
+ * the three Steppers of a sketch that plans so keep their SRAM for the stack). False: no room. */
 bool Stepper::stop_ahead_begin()
 {
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
@@ -56,12 +56,20 @@ void Stepper::prepare_stop()
 {
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
     const step_exact_t &e = planner_.exact;
-    if (!stop_ || group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
+    if (group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
         !(e.n > e.n1 && e.n < e.n2))
+        return;
+    /* planned from loop(), a Stepper alone (ExactRampStepper's console) takes its room at its first
+     * cruise (about 310 bytes of the heap; MultiAxisStepper's three keep their SRAM for the stack):
+     * its serial `stop` or a target behind in the cruise then cuts 600 us ahead and more with the
+     * speed, not 5 ms (until 2026-12-06: 5.6 and 10.5 ms after the line at 20,000 steps/s) */
+    if (!stop_ && (!BackgroundPlanner::inLoop() || BackgroundPlanner::steppers() != 1 || !stop_ahead_begin()))
         return;
     if (stop_->n != 0 && stop_->up == e.up && stop_->exact.dir == e.dir && stop_->exact.max_cmd_ticks == e.max_cmd_ticks &&
         memcmp(&stop_->exact.k, &e.k, sizeof e.k) == 0)
         return;
+    if (BackgroundPlanner::inLoop() && fabs(MultiStepEngine::speed(axis_)) > MOTION_STEPPER_CUT_MAX_SPS)
+        return; /* planned from loop(): no cut that fast (stop_in_cruise), and loop() keeps its time */
     step_planner_t &s_scratch = step_cut_scratch();
     s_scratch = planner_;
     step_planner_stop(&s_scratch);
@@ -89,13 +97,23 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     MultiStepEngine::Cut cut;
     uint32_t nb;
     int32_t dp;
-    /* (no stop planned ahead from loop(): stop_ null; the interrupt's Steppers step at most
-     * MULTI_MAX_SPS, below MOTION_STEPPER_CUT_MAX_SPS) */
     if (!stop_ || stop_->n == 0 || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
         stop_->up != e.up || stop_->exact.dir != e.dir ||
         stop_->exact.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_->exact.k, &e.k, sizeof e.k) != 0)
         return false;
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
+    uint32_t ahead_us = MOTION_STEPPER_CUT_CRUISE_US, margin_us = MOTION_STEPPER_CUT_MARGIN_US;
+    if (BackgroundPlanner::inLoop()) {
+        /* planned from loop() (a console sketch's Stepper alone, MotionConsole::begin): no cut
+         * above MOTION_STEPPER_CUT_MAX_SPS, and the margin grows with the speed as plan_at_cut's
+         * (the step interrupt takes up to half the CPU there) */
+        float v = fabs(MultiStepEngine::speed(axis_));
+        if (v > MOTION_STEPPER_CUT_MAX_SPS)
+            return false;
+        uint16_t more = (uint16_t)(v * 0.015f);
+        ahead_us += more;
+        margin_us += more;
+    }
     /* a cut the step interrupt came too close to is tried again twice as far ahead (STEP_CUT_TRIES
      * cuts in all): each try costs only the search and the lay-out, 0.4 ms or so with two Steppers
      * at 20,000 steps/s, as much as the first cut leaves it; until 2026-12-05 one miss sent the stop
@@ -103,7 +121,7 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     for (uint8_t k = 0;; k++) {
         step_cut_trace(true);
         if (k == STEP_CUT_TRIES ||
-            MultiStepEngine::cut_find(axis_, tpu * (MOTION_STEPPER_CUT_CRUISE_US << k), e.n - 1U, cut, false, true) == 0) {
+            MultiStepEngine::cut_find(axis_, tpu * (ahead_us << k), e.n - 1U, cut, false, true) == 0) {
             step_cut_trace(false);
             return false;
         }
@@ -116,7 +134,7 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
             step_cut_trace(false);
             return false; /* not in the cruise, or a target ahead of the cut (a plan of its own) */
         }
-        if (MultiStepEngine::cut_apply(axis_, cut, tpu * MOTION_STEPPER_CUT_MARGIN_US, stop_->cmds, stop_->n))
+        if (MultiStepEngine::cut_apply(axis_, cut, tpu * margin_us, stop_->cmds, stop_->n))
             break;
         step_cut_trace(false); /* too late */
     }
