@@ -383,12 +383,13 @@ def check_axes(log, family, lines, sends, groups, per_group, owner, asyncs, lim,
             continue
         m = re.match(r"^OK (?:([xyz]) )?(v0|vmax|accel)=(" + NUM + ")", t)
         if m:
-            # in force from when the sketch read the line, before its reply went out: a move the
-            # sketch plans meanwhile (a target waiting for a DONE) already has it
+            # in force from when the sketch read the line, before its reply went out (a move the
+            # sketch plans meanwhile, a target waiting for a DONE, already has it): at some moment
+            # between the line's arrival and its reply (Params)
             when = min(c, arrive[line_of(gi, r"set (?:[xyz] )?" + m.group(2) + r"\s+(" + NUM + r")",
                                          float(m.group(3)))])
             for ax in ([m.group(1)] if m.group(1) else axes):
-                sets[ax].append((when, m.group(2), float(m.group(3))))
+                sets[ax].append((when, c, m.group(2), float(m.group(3))))
             continue
         if t in ("OK halt", "OK stop"):
             if sent is not None and re.fullmatch(r"(stop|!) [xyz]", sent):

@@ -135,6 +135,15 @@ def run():
            law(turn, 500000, 1e6, dirs=dirs, events=[(set_at, "accel", 50000.0)], plans=[0, plan_at])[0], False)
     expect("the same reversal with the lower accel set before its plan",
            law(turn, 500000, 1e6, dirs=dirs, events=[(plan_at - 1, "accel", 50000.0)], plans=[0, plan_at])[0], True)
+    # 1c'. a flood's lower `set accel` arrived before the plan of the turn but answered after the turn
+    # (the sketch read it at some moment in between): the old accel may still be in force; the same
+    # `set` answered before the plan is in force for it and fails
+    expect("a lower `set accel` arrived before the turn's plan and answered after the turn",
+           law(turn, 500000, 1e6, dirs=dirs, events=[(plan_at - 1, again[-1] + F, "accel", 50000.0)],
+               plans=[0, plan_at])[0], False)
+    expect("a lower `set accel` arrived and answered before the turn's plan",
+           law(turn, 500000, 1e6, dirs=dirs, events=[(plan_at - 2, plan_at - 1, "accel", 50000.0)],
+               plans=[0, plan_at])[0], True)
     # 1d. in a flood a later target's line has arrived before the turn but is answered after it (the
     # sketch may read it after the turn): the turn's plan is the earlier one, answered before it
     expect("a line arrived before the turn and answered after it does not replace the turn's plan",
