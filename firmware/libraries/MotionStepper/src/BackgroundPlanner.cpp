@@ -217,7 +217,9 @@ void BackgroundPlanner::tick()
          * once, the second one's searches slow: the first one's queue, a few milliseconds after its
          * cut, ran dry; test/emu/ThreeSteppers, two-20k-race), but from the first request on only
          * up to MOTION_STEPPER_URGENT_MS: the tick then returns, loop() may ask for the next axis's
-         * stop, and the next tick feeds them up to the lead. */
+         * stop, and the next tick feeds them up to the lead (planned from loop(), the tick is
+         * loop()'s own: no such turn to give, and the queues are fed as before; MultiAxisStepper's
+         * coordinated and independent moves lost a rung of make bench with it) */
         bool asked = false;
         for (; i < 3 && !asked; i++) {
             if (!axes_[i])
@@ -229,7 +231,7 @@ void BackgroundPlanner::tick()
                 axes_[i]->group_->run_request();
         }
         any = any || asked;
-        feed(any ? (uint32_t)tpu_ * (MOTION_STEPPER_URGENT_MS * 1000UL) : UINT32_MAX);
+        feed(any && !in_loop_ ? (uint32_t)tpu_ * (MOTION_STEPPER_URGENT_MS * 1000UL) : UINT32_MAX);
     } while (i < 3);
     collect_done();
     for (uint8_t i = 0; i < 3; i++)
