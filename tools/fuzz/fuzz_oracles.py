@@ -96,8 +96,7 @@ class Params:
     def __init__(self, initial, events=()):
         self.initial = dict(initial)
         # in the order the sketch answered them (the order it read them)
-        self.events = sorted((e if len(e) == 4 else (e[0], e[0]) + tuple(e[1:])) for e in events)
-        self.events.sort(key=lambda e: e[1])
+        self.events = sorted((e if len(e) == 4 else (e[0],) + tuple(e) for e in events), key=lambda e: (e[1], e[0]))
 
     def max_over(self, key, a, b):
         v = self.initial.get(key, 0.0)
