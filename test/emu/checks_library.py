@@ -1263,10 +1263,12 @@ def check_smooth_stall(env):
 # from the switch to the last cruise edge, X's (its stop() comes first) and the last axis's, at STOP_PHASES
 # moments against docs/library.md's figures (until 2026-12-06 only X's was measured: the other axes'
 # decelerations began 8-37 ms after the switch, the planner's tick feeding every queue up to the lead
-# before loop() could call their stop()). (build, Steppers, vmax, accel, the stop's moments). Not
-# checked (docs/library.md's known limits): a stop of three Steppers at once at 25,000 steps/s (an axis
-# still accelerating takes the plan at a cut: tens of milliseconds there), nor of two at 25,000
-THREE_BUILDS = (("three-10k", 3, 10000, 50000, STOP_PHASES), ("three-25k", 3, 25000, 50000, ()),
+# before loop() could call their stop()). Three at 25,000 steps/s: the third axis still accelerates at
+# the switch and takes a plan at a cut (its deceleration from its own speed, on the law, no velocity
+# jump); only the last axis's latency is held to the page's figure there (57-60 ms until 2026-12-06,
+# when that cut lay as far ahead as for one Stepper and the plan missed it). (build, Steppers, vmax,
+# accel, the stop's moments). Not checked (docs/library.md's known limits): a stop of two at 25,000
+THREE_BUILDS = (("three-10k", 3, 10000, 50000, STOP_PHASES), ("three-25k", 3, 25000, 50000, STOP_PHASES[:3]),
                 ("three-25k-steep", 3, 25000, 200000, ()), ("two-25k", 2, 25000, 50000, ()),
                 ("two-20k", 2, 20000, 50000, STOP_PHASES), ("two-20k-late", 2, 20000, 50000, STOP_PHASES[:3]),
                 ("two-20k-race", 2, 20000, 50000, STOP_PHASES[:3]))
@@ -1302,11 +1304,13 @@ def doc_three_stop_latency(env):
 
 
 def doc_three_stop_all(env):
-    """'... every axis decelerating within **a ms** of the switch (two Steppers: **b ms**)' in
-    docs/library.md: {build: ms} (three-10k, two-20k), or None"""
+    """'... every axis decelerating within **a ms** of the switch (two Steppers: **b ms**; three at 25,000
+    steps/s, one of them still accelerating: **c ms**)' in docs/library.md: {build: ms} (three-10k, two-20k,
+    three-25k), or None"""
     m = library_doc_search(env, r"every\s+axis\s+decelerating\s+within\s+\*\*([0-9.]+) ms\*\*\s+of\s+the\s+switch\s+"
-                                r"\(two\s+Steppers:\s+\*\*([0-9.]+) ms\*\*\)")
-    return {"three-10k": float(m.group(1)), "two-20k": float(m.group(2))} if m else None
+                                r"\(two\s+Steppers:\s+\*\*([0-9.]+) ms\*\*;\s+three\s+at\s+25,000\s+steps/s,\s+one\s+of\s+them\s+"
+                                r"still\s+accelerating:\s+\*\*([0-9.]+) ms\*\*\)")
+    return {"three-10k": float(m.group(1)), "two-20k": float(m.group(2)), "three-25k": float(m.group(3))} if m else None
 
 
 def three_stop(log, problems, build, n, v, a):
@@ -1336,11 +1340,44 @@ def three_stop(log, problems, build, n, v, a):
         if ax == "X" and (not m or int(m.group(1)) != made + len(after) or m.group(2) != "0"):
             problems.append(f"{build}: the stop: '{done.text}', expected 'DONE {made + len(after)}' with underruns=0")
             return None
-        if len(after) < n_dec + 2:
-            problems.append(f"{build}: the stop: {len(after)} {ax} steps after the switch, fewer than v^2/2a = {n_dec}")
+        before = [c for c in e if c < sw[0]][-9:]
+        cruising = len(before) == 9 and F_CPU * 8 / (before[-1] - before[0]) > 0.98 * v
+        if cruising:
+            n_ax, times_ax = n_dec, times
+        else:
+            # still accelerating at the switch (the Steppers' moves from rest start one after the
+            # other): a deceleration to rest from its own speed v_s. Every tail of such a deceleration
+            # is on the law, so its start is the longest tail on it (the law's error grows with the
+            # length once the tail takes in steps before the deceleration: found by bisection), and
+            # there must be no velocity jump: the speed of the 16 steps before that start within 3 %
+            # of the law's there, sqrt(2 a n)
+            def tail_err(n_try):
+                v_s = math.sqrt(2 * a * n_try)
+                t_try = [v_s / a - math.sqrt(2 * (n_try - k) / a) for k in range(1, n_try + 1)]
+                return law_errors([after[-n_try - 1]] + after[-n_try:], [0.0] + t_try)[0], t_try
+            lo, hi = 2, len(after) - 1
+            if hi <= lo or tail_err(lo)[0] > THREE_LATE:
+                problems.append(f"{build}: the stop: {ax}'s last steps are not a deceleration to rest on the law")
+                return None
+            while hi - lo > 1:
+                mid = (lo + hi) // 2
+                if tail_err(mid)[0] <= THREE_LATE:
+                    lo = mid
+                else:
+                    hi = mid
+            n_ax, times_ax = lo, tail_err(lo)[1]
+            k0 = len(after) - n_ax - 1
+            pre = [c for c in e if c <= after[k0]][-17:]
+            v_pre = F_CPU * 16 / (pre[-1] - pre[0]) if len(pre) == 17 else 0.0
+            v_law = math.sqrt(2 * a * n_ax)
+            if abs(v_pre - v_law) > 0.03 * v_law:
+                problems.append(f"{build}: the stop: {ax} stepped at {v_pre:.0f} steps/s before its deceleration, "
+                                f"which starts at {v_law:.0f} on the law (a velocity jump)")
+        if len(after) < n_ax + 2:
+            problems.append(f"{build}: the stop: {len(after)} {ax} steps after the switch, fewer than v^2/2a = {n_ax}")
             return None
-        start = after[-n_dec - 1]
-        late, at = law_errors([start] + after[-n_dec:], [0.0] + times)
+        start = after[-n_ax - 1]
+        late, at = law_errors([start] + after[-n_ax:], [0.0] + times_ax)
         if late > THREE_LATE:
             problems.append(f"{build}: the stop: {ax}'s deceleration step {at} is {late:.0f} cycles off the law "
                             f"(bound {THREE_LATE})")
@@ -1493,7 +1530,7 @@ def check_three_steppers(env):
                 if lat > THREE_RACE_CUT_MS:
                     problems.append(f"{build}: stop latency {lat:.2f} ms with the interrupt taking the slot a cut "
                                     f"search chose (bound {THREE_RACE_CUT_MS} ms: the search starts again)")
-            elif lat > doc[build] + 0.05 or doc[build] > lat + THREE_DOC_SLACK_MS:
+            elif build in doc and (lat > doc[build] + 0.05 or doc[build] > lat + THREE_DOC_SLACK_MS):
                 problems.append(f"{build}: stop latency {lat:.2f} ms at worst; docs/library.md says {doc[build]} ms")
     return CheckResult(not problems, "; ".join(notes), problems)
 
@@ -1555,7 +1592,7 @@ def checks_for(env):
                    lambda: guarded(check_heap_share, env)))
     checks.append(("MotionStepper library, test sketch ThreeSteppers: three Steppers at once at 10,000 and 25,000 "
                    "steps/s, two at 20,000 and 25,000: every step, no underrun, no pause within a move; a stop() of all at a switch "
-                   "(three at 10,000, two at 20,000): every axis on the law, X's latency and the last axis's, no underrun; "
+                   "(three at 10,000 and 25,000, two at 20,000): every axis on the law, X's latency and the last axis's, no underrun; "
                    "with every first cut too close for its plan: "
                    f"deceleration within {THREE_LATE_CUT_MS} ms (the cut tried again farther ahead); with the interrupt "
                    f"taking the slot a cut search chose: within {THREE_RACE_CUT_MS} ms (the search starts again)",

@@ -3,6 +3,7 @@
 #include "BackgroundPlanner.h"
 
 #include <MultiStepEngine.h>
+#include <math.h>
 
 #include "Stepper.h"
 
@@ -109,6 +110,15 @@ uint16_t BackgroundPlanner::leadMs()
 {
     uint16_t floor = count_ >= 3 ? MOTION_STEPPER_LEAD_MS_3 : count_ == 2 ? MOTION_STEPPER_LEAD_MS_2 : 0U;
     return lead_ms_ > floor ? lead_ms_ : floor;
+}
+
+float BackgroundPlanner::stepRate()
+{
+    float sum = 0.0f;
+    for (uint8_t i = 0; i < 3; i++)
+        if (axes_[i])
+            sum += fabs(MultiStepEngine::speed(i));
+    return sum;
 }
 
 void BackgroundPlanner::apply_lead()

@@ -158,6 +158,8 @@ public:
 
     /* Steppers begun (their axes claimed): 0 to 3. */
     static uint8_t steppers() { return count_; }
+    /* The steps per second of all the Steppers' axes together now: their step interrupts' load. */
+    static float stepRate();
 
     /* Registers s as the stepper of its axis; false when another holds it. */
     static bool claim(uint8_t axis, Stepper *s);

@@ -125,7 +125,6 @@ class StepperGroup;
 #ifndef MOTION_STEPPER_STOP_AHEAD_CMDS
 #define MOTION_STEPPER_STOP_AHEAD_CMDS 12U
 #endif
-
 /* No cut above this speed (steps/s): the stop or the new target acts after the queued lead (the
  * sketches' console's rule since `make fuzz` seed 11: at 89,000 steps/s a target behind cut the
  * queue and the axis stalled 12.6 ms, the step interrupt leaving the planner a quarter of the
@@ -149,6 +148,18 @@ class StepperGroup;
 #endif
 #ifndef MOTION_STEPPER_LOOP_CUT_NEW_US
 #define MOTION_STEPPER_LOOP_CUT_NEW_US 3000U
+#endif
+
+/* A plan at a cut runs beside the step interrupts, which take some MOTION_STEPPER_STEP_CYCLES cycles of
+ * the CPU per step (docs/bench.md: 133-137 per step, plus the entries of nested ones), so its time
+ * grows as 1/(1 - their share of the CPU). The cut distances above are made for a share up to
+ * MOTION_STEPPER_CUT_SHARE (one Stepper at 20,000 steps/s): above it they grow by
+ * (1 - MOTION_STEPPER_CUT_SHARE) / (1 - share), the share taken at most 0.9. */
+#ifndef MOTION_STEPPER_STEP_CYCLES
+#define MOTION_STEPPER_STEP_CYCLES 160.0f
+#endif
+#ifndef MOTION_STEPPER_CUT_SHARE
+#define MOTION_STEPPER_CUT_SHARE 0.2f
 #endif
 
 /* The longest time one command of the exact ramp's cruise covers, ms: a stop or a new target cuts the

@@ -191,6 +191,19 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
         if (timing.margin_us != 0)
             timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
     }
+    {
+        /* the plan runs beside the step interrupts: with the axes fast its time grows as 1/(1 - their
+         * share of the CPU), and a cut the plan cannot meet is tried again only after the next tick's
+         * feed, milliseconds later (until 2026-12-06 three Steppers at 25,000 steps/s, one still
+         * accelerating at the switch: its plan took 10 ms, missed the 4 ms cut, and its deceleration
+         * began 57-60 ms after the switch; test/emu/ThreeSteppers, three-25k; Stepper.h) */
+        float share = BackgroundPlanner::stepRate() * (MOTION_STEPPER_STEP_CYCLES / (float)F_CPU);
+        if (share > MOTION_STEPPER_CUT_SHARE) {
+            float grow = (1.0f - MOTION_STEPPER_CUT_SHARE) / (1.0f - (share < 0.9f ? share : 0.9f));
+            timing.ahead_us = (uint16_t)(timing.ahead_us * grow);
+            timing.ahead_slow_us = (uint16_t)(timing.ahead_slow_us * grow);
+        }
+    }
     timing.ticks_per_us = BackgroundPlanner::ticksPerUs(); /* the timer's (setTickRate) */
     if (!BackgroundPlanner::inLoop())
         BackgroundPlanner::feedBeforePlan(); /* the other queues last through the plan */
