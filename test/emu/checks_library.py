@@ -1480,9 +1480,42 @@ def check_one_stepper(env):
                        f"{', '.join(figs)} late at most (bound {ONE_BOUND}), 0 underruns", problems)
 
 
+def loop_waits(log, switch):
+    """loop()'s longest waits (ms) from the D6 it toggles on every pass: over the 300 ms before the switch
+    (the moves accelerating and cruising), and from the switch to the last step (the decelerations planned)"""
+    turns = sorted(c for c, _ in log.pins.get("LOOP", []))
+    last = max((max(log.rising(ax + "STEP"), default=0) for ax in "XYZ"), default=0)
+
+    def longest(a, b):
+        xs = [c for c in turns if a <= c <= b]
+        return max((y - x for x, y in zip(xs, xs[1:])), default=None)
+    cruise, stop = longest(switch - 0.3 * F_CPU, switch), longest(switch, last)
+    if cruise is None or stop is None:
+        return None
+    return cruise * 1000.0 / F_CPU, stop * 1000.0 / F_CPU
+
+
+def doc_loop_waits(env):
+    """'... three Steppers at 10,000 steps/s: **a ms** while they move and **b ms** after their stop; ...' in
+    docs/library.md: {build: (ms while moving, ms after the stop)}, or None"""
+    m = library_doc_search(env, r"three\s+Steppers\s+at\s+10,000\s+steps/s:\s+\*\*([0-9.]+) ms\*\*\s+while\s+they\s+move\s+and\s+"
+                                r"\*\*([0-9.]+) ms\*\*\s+after\s+their\s+stop;\s+two\s+at\s+20,000:\s+\*\*([0-9.]+) ms\*\*\s+and\s+"
+                                r"\*\*([0-9.]+) ms\*\*;\s+three\s+at\s+25,000:\s+\*\*([0-9.]+) ms\*\*\s+and\s+\*\*([0-9.]+) ms\*\*")
+    if not m:
+        return None
+    g = [float(x) for x in m.groups()]
+    return {"three-10k": (g[0], g[1]), "two-20k": (g[2], g[3]), "three-25k": (g[4], g[5])}
+
+
+# how far above a build's longest wait of loop() docs/library.md may quote it: ms, or this share of it
+# (the waits are whole ticks of the planner, and where the switch falls among them moves with the layout)
+LOOP_WAIT_SLACK = (1.0, 0.15)
+
+
 def check_three_steppers(env):
-    problems, notes, worst_lat, worst_all = [], [], {}, {}
+    problems, notes, worst_lat, worst_all, waits = [], [], {}, {}, {}
     pins = sketches.multiaxis_pins(env)
+    pins["LOOP"] = "PH3"  # D6, toggled on every pass of loop()
     for build, n, vmax, accel, phases in THREE_BUILDS:
         elf = os.path.join(env.source_dir, "build", "emu", build, "ThreeSteppers", "ThreeSteppers.ino.elf")
         if not os.path.isfile(elf):
@@ -1500,6 +1533,13 @@ def check_three_steppers(env):
                 if axes is not None:
                     lats.append(axes[0])
                     alls.append(max(axes))
+                sw = [c for c, t, r in log.events if t == "input" and r.split()[0] == "D3" and r.split()[2] == "0"]
+                w = loop_waits(log, sw[0]) if len(sw) == 1 else None
+                if w is None:
+                    problems.append(f"{build}: loop() did not toggle D6 around the stop")
+                else:
+                    old_w = waits.get(build, (0.0, 0.0))
+                    waits[build] = (max(old_w[0], w[0]), max(old_w[1], w[1]))
             if k == 0:
                 notes.append(three_legs(log, problems, build, n, vmax, accel))
         if lats:
@@ -1507,6 +1547,22 @@ def check_three_steppers(env):
             worst_all[build] = max(alls)
             notes.append(f"{build}: stop latency {min(lats):.2f}-{max(lats):.2f} ms over {len(lats)} moments, "
                          f"every axis decelerating within {min(alls):.2f}-{max(alls):.2f} ms")
+    doc_w = doc_loop_waits(env)
+    if doc_w is None:
+        problems.append("docs/library.md quotes no \"three Steppers at 10,000 steps/s: **<ms> ms** while they move and **<ms> ms** "
+                        "after their stop; two at 20,000: **<ms> ms** and **<ms> ms**; three at 25,000: **<ms> ms** and "
+                        f"**<ms> ms**\" (loop()'s longest waits, measured {waits})")
+    else:
+        for build, meas in waits.items():
+            for what, got, quoted in zip(("while moving", "after the stop"), meas, doc_w.get(build, (None, None))):
+                if quoted is None:
+                    continue
+                slack = max(LOOP_WAIT_SLACK[0], LOOP_WAIT_SLACK[1] * got)
+                if got > quoted + 0.05 or quoted > got + slack:
+                    problems.append(f"{build}: loop() waited {got:.2f} ms at the longest {what}; docs/library.md says "
+                                    f"{quoted} ms")
+        notes.append("loop()'s longest waits (while moving, after the stop): " +
+                     ", ".join(f"{b} {c:.2f} / {a:.2f} ms" for b, (c, a) in waits.items()))
     doc = doc_three_stop_latency(env)
     if doc is None:
         problems.append("docs/library.md quotes no \"three Steppers' stop latency **<ms> ms** at 10,000 steps/s "
