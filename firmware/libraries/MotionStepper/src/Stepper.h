@@ -236,14 +236,16 @@ public:
      * there is no room), ENABLE as set (enabled unless auto-disable is on), position 0. */
     motion_status_t begin();
 
-    /* Limits for the next plan; MS_ERR_OUT_OF_RANGE above this library's limits. */
-    motion_status_t setMaxSpeed(float steps_per_s);          /* vmax > v0, <= MULTI_MAX_SPS */
-    motion_status_t setAcceleration(float steps_per_s2);     /* > 0 (>= 8), <= STEPPER_MAX_ACCEL_EXACT */
-    motion_status_t setMinSpeed(float steps_per_s);          /* v0: 0 <= v0 < vmax, <= STEPPER_MAX_V0_EXACT */
+    /* Limits for the next plan; MS_ERR_OUT_OF_RANGE above this library's limits for the ramp taken
+     * (maxSpeedLimit(), accelerationLimit(), minSpeedLimit() tell them: on the exact ramp MULTI_MAX_SPS,
+     * STEPPER_MAX_ACCEL_EXACT and STEPPER_MAX_V0_EXACT; docs/library.md has the others). */
+    motion_status_t setMaxSpeed(float steps_per_s);          /* vmax > v0 */
+    motion_status_t setAcceleration(float steps_per_s2);     /* > 0 (>= 8 on the exact ramp) */
+    motion_status_t setMinSpeed(float steps_per_s);          /* v0: 0 <= v0 < vmax */
     /* The ramp this stepper's moves follow; idle only (MS_ERR_BUSY while moving), before or after
      * begin(), nothing changes on a refusal:
      *   RAMP_ALGO_EXACT       (default) every step on true constant acceleration, within one tick;
-     *                         the only one whose stop() and new targets cut the queue
+     *                         its stop() and new targets cut the queue (the smooth ramp's too)
      *   RAMP_ALGO_LEIB        the lab's Leib recurrence (lib's ramp_leib.c, the LeibRampStepper sketch)
      *   RAMP_ALGO_SIMPLISTIC  the lab's starting point (its interval changes by a fixed amount)
      * hooks: the lab's own preComputation()/computeNewSpeed() for the lab's ramps (ramp.h's
@@ -351,8 +353,9 @@ public:
     motion_status_t lastStatus() const { return last_status_; }
     /* Steps the queue ran dry before they were planned (0 on a healthy machine). */
     uint16_t underruns() const;
-    /* STEP edges made 2 us or more after their planned time (another interrupt held the step
-     * interrupt up; a few near the engine's top rate, none at the rates the checks run). */
+    /* STEP edges armed after their planned time had passed (made 2 us later: the step interrupt came
+     * too late to arm them; an edge only held up by another interrupt is not counted); a few near the
+     * engine's top rate, none at the rates the checks run. */
     uint16_t lateEdges() const;
     /* Where the move being stepped is in its ramp: RAMP_IDLE at rest, else RAMP_ACCEL, RAMP_CRUISE or
      * RAMP_DECEL (ramp.h; FastAccelStepper's rampState(); a move just asked and not yet stepping:
@@ -395,8 +398,9 @@ public:
     void enableOutputs();
     void disableOutputs();
     void setAutoDisable(bool on);
-    /* Polarity (the pins are fixed on a RAMPS): idle only (MS_ERR_BUSY while moving). */
+    /* DIR's polarity: idle only (MS_ERR_BUSY while moving). */
     motion_status_t setDirectionInverted(bool inverted);
+    /* ENABLE's polarity (low enables a RAMPS driver: false, the default), at once. */
     void setEnableActiveHigh(bool active_high);
     /* Your function sets DIR (the lab's moveOneStep(bool)): called before the first step of every
      * move and at every reversal, from the engine (an interrupt: keep it short, e.g. a digitalWrite);
@@ -409,8 +413,9 @@ public:
      * of every move and at every reversal; high = counting up in the engine's sense, so with
      * setDirectionInverted(true) high counts down), unless a hook is set, which then has it; the
      * RAMPS DIR pin is left alone. ENABLE on another pin follows enableOutputs()/auto-disable and
-     * setEnableActiveHigh; the RAMPS ENABLE pin keeps the level it had. Before begin() the pins are
-     * only remembered. directionPin(), enablePin(): the pins in use. */
+     * setEnableActiveHigh; the RAMPS ENABLE pin keeps the level it had. A new pin is set up at once,
+     * before begin() too (DIR an output, ENABLE at its level). directionPin(), enablePin(): the pins
+     * in use. */
     motion_status_t setDirectionPin(uint8_t pin);
     motion_status_t setEnablePin(uint8_t pin);
     uint8_t directionPin() const;

@@ -1,4 +1,4 @@
-/* ApiTour - every Stepper call once, with what it answers: the refusals (their statuses print as the
+/* ApiTour - most Stepper calls once, with what they answer: the refusals (their statuses print as the
  * sketches' serial ERR sentences), the limits, direction inversion, auto-disable, a direction hook,
  * a new target while moving, setCurrentPosition and move, DIR and ENABLE on other pins. The RAMPS X
  * axis; Serial Monitor at 9600. The hook writes D32 (a free pin): with a hook, the engine leaves DIR
