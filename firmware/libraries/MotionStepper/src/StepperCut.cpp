@@ -196,7 +196,7 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
          * share of the CPU), and a cut the plan cannot meet is tried again only after the next tick's
          * feed, milliseconds later (until 2026-12-06 three Steppers at 25,000 steps/s, one still
          * accelerating at the switch: its plan took 10 ms, missed the 4 ms cut, and its deceleration
-         * began 57-60 ms after the switch; test/emu/ThreeSteppers, three-25k; Stepper.h) */
+         * began 55-60 ms after the switch; test/emu/ThreeSteppers, three-25k; Stepper.h) */
         float share = BackgroundPlanner::stepRate() * (MOTION_STEPPER_STEP_CYCLES / (float)F_CPU);
         if (share > MOTION_STEPPER_CUT_SHARE) {
             float grow = (1.0f - MOTION_STEPPER_CUT_SHARE) / (1.0f - (share < 0.9f ? share : 0.9f));
