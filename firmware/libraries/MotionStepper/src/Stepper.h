@@ -125,6 +125,7 @@ class StepperGroup;
 #ifndef MOTION_STEPPER_STOP_AHEAD_CMDS
 #define MOTION_STEPPER_STOP_AHEAD_CMDS 12U
 #endif
+
 /* No cut above this speed (steps/s): the stop or the new target acts after the queued lead (the
  * sketches' console's rule since `make fuzz` seed 11: at 89,000 steps/s a target behind cut the
  * queue and the axis stalled 12.6 ms, the step interrupt leaving the planner a quarter of the
