@@ -169,9 +169,21 @@ static uint32_t steps_between(const step_exact_consts_t *k, uint64_t ua, uint64_
 {
     float xf;
     int64_t n, rr, adj;
+    uint64_t dif, sq;
     if (ua == ub) {
         /* what the arithmetic below gives then (x = 0, no remainder), without its cost */
         *r = 0;
+        return 0;
+    }
+    /* ua^2 - ub^2 = (ua - ub)(ua + ub), modulo 2^64 as the result: one product of 64 by 32 bits when
+     * ua - ub fits 32 bits (the common case: a stop, a profile's regions) */
+    dif = ua - ub;
+    sq = (dif >> 32) == 0 ? mul64x32(ua + ub, (uint32_t)dif) : square64(ua) - square64(ub);
+    if (sq < k->cu && ((dif | (ua + ub)) >> 32) == 0) {
+        /* less than a step (both factors below 2^32: sq is the product itself, not its remainder
+         * modulo 2^64), as a profile's peak just above its start (a stop while accelerating): what
+         * the float estimate and the loops below give, without their cost */
+        *r = sq;
         return 0;
     }
     xf = ((float)ua - (float)ub) * ((float)ua + (float)ub) / k->cu_f;
@@ -180,10 +192,15 @@ static uint32_t steps_between(const step_exact_consts_t *k, uint64_t ua, uint64_
         return UINT32_MAX;
     }
     n = (int64_t)xf;
-    rr = (int64_t)(square64(ua) - square64(ub) - mul64x32(k->cu, (uint32_t)n));
-    adj = (int64_t)((float)rr / k->cu_f);
-    n += adj;
-    rr -= adj * (int64_t)k->cu;
+    rr = (int64_t)(sq - mul64x32(k->cu, (uint32_t)n));
+    /* the float quotient is within a step or so below 2^22 steps: the loops below finish it; a float
+     * correction (a division and a 64-bit product) only when it is farther off (the quotient and the
+     * remainder are unique: the same result either way) */
+    if (rr < -(int64_t)k->cu || rr >= 2 * (int64_t)k->cu) {
+        adj = (int64_t)((float)rr / k->cu_f);
+        n += adj;
+        rr -= adj * (int64_t)k->cu;
+    }
     while (rr < 0) {
         n--;
         rr += (int64_t)k->cu;
@@ -377,10 +394,24 @@ static uint8_t b_at_most(uint32_t lim)
 
 /* ---- setting up a profile ------------------------------------------------------------------ */
 
+/* 1 when a stop from us (u0 <= us < vmax: a profile of d = ceil(D) steps, D = (us^2 - u0^2)/C)
+ * has no cruise because vmax lies two steps or more above us, A = (vu^2 - us^2)/C >= 2: then
+ * floor(A) + floor(A + D) > 2A + D - 2 >= D + 1 >= d, the test setup_profile_n3 makes with two
+ * divisions (a stop while accelerating cost four, 16,000 cycles on the AVR). Exact, in integers, where
+ * both factors are below 2^32 (else 0: the divisions decide). */
+static uint8_t stop_no_cruise(const step_exact_consts_t *k, uint64_t us)
+{
+    uint64_t dv = k->vu - us, sv = k->vu + us;
+    if (us >= k->vu || us < k->u0 || ((dv | sv) >> 32) != 0)
+        return 0;
+    return mul64x32(sv, (uint32_t)dv) >= 2U * k->cu;
+}
+
 /* sets up a profile of d steps in direction dir from speed us (d >= the stopping distance) */
-/* have_n3: the caller has steps_between(k, vu, u0) already (n3k, r3k: a stop from vmax) */
+/* have_n3: the caller has steps_between(k, vu, u0) already (n3k, r3k: a stop from vmax); stop: d is
+ * the stopping distance from us (step_exact_stop) */
 static void setup_profile_n3(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us, uint8_t have_n3, uint32_t n3k,
-                             uint64_t r3k)
+                             uint64_t r3k, uint8_t stop)
 {
     const step_exact_consts_t *k = &e->k;
     uint64_t ue = k->u0, vu = k->vu, r1 = 0, r3 = 0, up;
@@ -394,25 +425,30 @@ static void setup_profile_n3(step_exact_t *e, int8_t dir, uint32_t d, uint64_t u
     e->us = us;
     e->y = us;
     e->a_down = us > vu;
-    if (have_n3) {
-        n3 = n3k;
-        r3 = r3k;
+    if (stop && !have_n3 && stop_no_cruise(k, us)) {
+        trapezoid = 0; /* (n1 follows from the peak below) */
+        n1 = 0;
     } else {
-        n3 = steps_between(k, vu, ue, &r3);
-    }
-    if (e->a_down) {
-        n1 = steps_between(k, us, vu, &r1);
-        trapezoid = 1;
-    } else {
-        n1 = steps_between(k, vu, us, &r1);
-        if (n1 == UINT32_MAX || n3 == UINT32_MAX || (uint64_t)n1 + n3 > d)
-            trapezoid = 0;
-        else if ((uint64_t)n1 + n3 + 2U <= d)
+        if (have_n3) {
+            n3 = n3k;
+            r3 = r3k;
+        } else {
+            n3 = steps_between(k, vu, ue, &r3);
+        }
+        if (e->a_down) {
+            n1 = steps_between(k, us, vu, &r1);
             trapezoid = 1;
-        else if ((uint64_t)n1 + n3 + 1U == d)
-            trapezoid = r1 <= k->cu - r3;
-        else
-            trapezoid = r1 == 0 && r3 == 0;
+        } else {
+            n1 = steps_between(k, vu, us, &r1);
+            if (n1 == UINT32_MAX || n3 == UINT32_MAX || (uint64_t)n1 + n3 > d)
+                trapezoid = 0;
+            else if ((uint64_t)n1 + n3 + 2U <= d)
+                trapezoid = 1;
+            else if ((uint64_t)n1 + n3 + 1U == d)
+                trapezoid = r1 <= k->cu - r3;
+            else
+                trapezoid = r1 == 0 && r3 == 0;
+        }
     }
     if (trapezoid) {
         uint32_t m;
@@ -449,7 +485,11 @@ static void setup_profile_n3(step_exact_t *e, int8_t dir, uint32_t d, uint64_t u
     /* region A */
     e->q = square64(us);
     ic = 1.0f / k->cu_f;
-    if (e->a_down) {
+    if (n1 == 0U) {
+        /* no region A (a stop while accelerating: its peak is where it starts): no span to find */
+        e->span_b = 0;
+        e->thr = 0;
+    } else if (e->a_down) {
         e->span_b = SEG_B;
         e->thr = thr_a_down(e, ic);
     } else {
@@ -487,7 +527,7 @@ static void setup_profile_n3(step_exact_t *e, int8_t dir, uint32_t d, uint64_t u
 
 static void setup_profile(step_exact_t *e, int8_t dir, uint32_t d, uint64_t us)
 {
-    setup_profile_n3(e, dir, d, us, 0, 0, 0);
+    setup_profile_n3(e, dir, d, us, 0, 0, 0, 0);
 }
 
 motion_status_t step_exact_change_params(step_exact_t *e, const ramp_params_t *p)
@@ -561,7 +601,7 @@ void step_exact_stop(step_exact_t *e)
      * whole steps): keep that profile, so that a stop never passes the target */
     if (e->n < e->d && ds >= e->d - e->n)
         return;
-    setup_profile_n3(e, e->dir, ds, u, u == e->k.vu, n, r);
+    setup_profile_n3(e, e->dir, ds, u, u == e->k.vu, n, r, 1);
 }
 
 float step_exact_speed_sps(const step_exact_t *e)
@@ -960,7 +1000,7 @@ int64_t step_exact_cmd_time16(const step_cmd_t *c)
 
 /* y at a boundary of region A (nn: the step) or D (nn: the steps left) from its exact radicand q,
  * as ramp_cmd works it out (the same float estimate, the same correction: the same bits) */
-static uint64_t y_at(const step_exact_t *s, uint64_t q, uint32_t nn, float *ih)
+static __attribute__((noinline)) uint64_t y_at(const step_exact_t *s, uint64_t q, uint32_t nn, float *ih)
 {
     float qf;
     if (s->flags & F_SMALL) {
@@ -985,7 +1025,7 @@ static void fit_a_down(step_exact_t *s, uint32_t p, float ic)
 }
 
 /* the same in region D with m steps left (the span fits while m >= thr) */
-static void fit_d(step_exact_t *s, uint32_t m, float ic)
+static __attribute__((noinline)) void fit_d(step_exact_t *s, uint32_t m, float ic)
 {
     s->span_b = SEG_B;
     s->thr = thr_d(s, ic);
@@ -1006,7 +1046,7 @@ static uint8_t span_of(uint16_t count)
 }
 
 /* the radicand region A left behind at step at (<= n1) */
-static uint64_t q_a(const step_exact_t *s, uint32_t at)
+static __attribute__((noinline)) uint64_t q_a(const step_exact_t *s, uint32_t at)
 {
     uint64_t cl = mul64x32(s->k.cu, at), u2 = square64(s->us);
     return s->a_down ? u2 - cl : u2 + cl;
@@ -1052,7 +1092,7 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
     b = span_of(last_count);
     if (p < s.n1) {
         /* region A: y, its slope and the span at step n */
-        if (n > s.n1 || b > SEG_B)
+        if (n > s.n1 || last_count > SPAN(SEG_B))
             return MS_ERR_OUT_OF_RANGE;
         ic = 1.0f / s.k.cu_f;
         s.flags = (uint8_t)(base | F_SLOPE | F_ERR);
@@ -1061,18 +1101,24 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
         s.slope_i = slope_int(s.k.cu_f * ih);
         if (s.a_down) {
             uint32_t lim = s.n1 - p;
+            uint8_t want;
             fit_a_down(&s, p, ic);
-            if (b != (SPAN(s.span_b) > lim ? b_at_most(lim) : s.span_b)) {
+            want = SPAN(s.span_b) > lim ? b_at_most(lim) : s.span_b;
+            if (b != want && !(last_count > 1U && last_count < SPAN(want))) {
                 if (b != 0U)
                     return MS_ERR_OUT_OF_RANGE;
                 s.span_b = 0; /* the span did not fit the intervals: single steps from here on */
                 s.thr = UINT32_MAX;
             }
+            /* (the first last_count steps of that command, the rest cut: the span fitted at p, which
+             * the next command shrinks as it needs) */
         } else {
             /* the span grows by one a command at most, and a command has the span (or, near n1,
              * fewer steps: then every later command of region A is as short as n1 - n allows,
-             * whatever the span; after a span that did not fit, 0 and growing again) */
-            s.span_b = b;
+             * whatever the span; after a span that did not fit, 0 and growing again). The first
+             * last_count steps of a longer command (the rest cut: no power of two): the largest span
+             * within them, which fits at n as it did at p (the spans that fit only grow here) */
+            s.span_b = b <= SEG_B ? b : b_at_most(last_count);
             s.thr = thr_grow(&s, ic);
         }
         t = t16_y(&s, s.y);
@@ -1091,7 +1137,7 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
     } else {
         /* region D */
         uint32_t m = s.d - n, mp = s.d - p;
-        if (b > SEG_B)
+        if (last_count > SPAN(SEG_B))
             return MS_ERR_OUT_OF_RANGE;
         ic = 1.0f / s.k.cu_f;
         s.flags = (uint8_t)(base | F_IN_D | F_ERR);
@@ -1105,8 +1151,11 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
             s.span_b = SEG_B;
             s.thr = thr_d(&s, ic);
         } else {
+            uint8_t want;
             fit_d(&s, mp, ic);
-            if (b != (SPAN(s.span_b) > mp ? b_at_most(mp) : s.span_b)) {
+            want = SPAN(s.span_b) > mp ? b_at_most(mp) : s.span_b;
+            /* (the first last_count steps of that command, the rest cut: as in region A decelerating) */
+            if (b != want && !(last_count > 1U && last_count < SPAN(want))) {
                 if (b != 0U)
                     return MS_ERR_OUT_OF_RANGE;
                 s.span_b = 0; /* as step_exact_next after a span that did not fit */
@@ -1123,6 +1172,55 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
     s.n = n;
     s.pos = ramp_position_after(e->pos, (int8_t)-e->dir, e->n - n);
     s.moving = n < s.d;
+    *e = s;
+    return MS_OK;
+}
+
+/* ---- a stop while accelerating from rest, its first steps the acceleration's last ones reversed ---- */
+
+uint8_t step_exact_mirror_ok(const step_exact_t *e, uint32_t n)
+{
+    /* region A of a profile from u0 (a move from rest), accelerating, n at least two steps before its
+     * end (the stop from there is a profile of its own: it never keeps this one's deceleration) */
+    return e != 0 && e->moving && e->d != 0 && !e->a_down && e->us == e->k.u0 && n >= 4U && n <= e->n &&
+           n + 2U <= e->n1;
+}
+
+__attribute__((noinline)) motion_status_t step_exact_stop_mirrored(step_exact_t *e, uint32_t n, uint32_t steps,
+                                                                   int64_t time16)
+{
+    step_exact_t s;
+    float ic, ih;
+    int64_t er;
+    uint32_t m;
+    if (!step_exact_mirror_ok(e, n) || steps == 0 || steps + 2U > n)
+        return MS_ERR_OUT_OF_RANGE;
+    s = *e;
+    /* the speed at step n, as the rewind works it out in region A (the radicand u0^2 + n C exactly) */
+    s.flags = (uint8_t)(e->flags & (F_SMALL | F_CFAST));
+    s.q = q_a(&s, n);
+    s.y = y_at(&s, s.q, n, &ih);
+    s.pos = ramp_position_after(e->pos, (int8_t)-e->dir, e->n - n);
+    /* the stop from there: n steps (its radicands u0^2 + m C are those of the acceleration's steps,
+     * which its deceleration passes again in reverse), a profile whose peak is where it starts */
+    setup_profile_n3(&s, e->dir, n, s.y, 0, 0, 0, 1);
+    /* after its first `steps` steps (the acceleration's last ones reversed, time16 in the executor's
+     * time): region D with m steps left, as step_exact_rewind builds it there */
+    m = n - steps;
+    ic = 1.0f / s.k.cu_f;
+    s.flags = (uint8_t)((s.flags & (F_SMALL | F_CFAST)) | F_IN_D | F_ERR);
+    s.q = square64(s.k.u0) + mul64x32(s.k.cu, m);
+    s.y = y_at(&s, s.q, m, &ih);
+    s.slope_i = slope_int(s.k.cu_f * ih);
+    fit_d(&s, m, ic);
+    er = time16 - t16_y(&s, s.y);
+    s.err = (int32_t)er;
+    if (er != (int64_t)s.err)
+        s.flags &= (uint8_t)~F_ERR;
+    s.acc16 = time16;
+    s.n = steps;
+    s.pos = ramp_position_after(s.pos, s.dir, steps);
+    s.moving = 1;
     *e = s;
     return MS_OK;
 }

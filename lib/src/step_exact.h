@@ -151,6 +151,21 @@ int64_t step_exact_cmd_time16(const step_cmd_t *c);
  * products. */
 motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, uint16_t last_count);
 
+/* A stop while accelerating from rest, begun with the acceleration's own last steps reversed (the
+ * deceleration from the speed of step n passes the acceleration's speeds again in reverse: on the
+ * law, the same intervals): a step engine that still holds the commands that ended at step n can lay
+ * them out reversed (each command's intervals in the opposite order: rate + (count - 1) add, -add) at
+ * once, without a plan, and ask the planner for the rest afterwards. step_exact_mirror_ok: 1 when
+ * the profile in progress allows it at step n (a profile from u0, a move from rest; n in its
+ * acceleration, at least two steps before its end; n <= e->n). step_exact_stop_mirrored: the state
+ * after `steps` steps of the stop from step n (1 <= steps <= n - 2) that were so laid out, taking
+ * time16 in the executor's time (the sum of step_exact_cmd_time16 over the reversed commands): the
+ * stop profile of n steps from the speed of step n (the exact stopping distance: its radicands are
+ * the acceleration's), in its deceleration with n - steps steps left; step_exact_next then hands out
+ * the rest of it. MS_ERR_OUT_OF_RANGE (nothing changed) otherwise. */
+uint8_t step_exact_mirror_ok(const step_exact_t *e, uint32_t n);
+motion_status_t step_exact_stop_mirrored(step_exact_t *e, uint32_t n, uint32_t steps, int64_t time16);
+
 /* 1 when the profile's constants (from e->k) are still those it was planned with: it is planned
  * again from its start on a copy and compared (the cost of a step_exact_plan: about 10 float
  * divisions). 0 without a profile. */

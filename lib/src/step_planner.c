@@ -390,12 +390,14 @@ motion_status_t step_planner_move(step_planner_t *pl, int32_t to)
 static void exact_stop(step_planner_t *pl)
 {
     if (pl->active && pl->exact.moving) {
-        step_exact_t e = pl->exact;
         /* a stop is a plan: it decelerates at the accel in force now (set while moving) */
-        if (pl->params_new && step_exact_change_params(&e, &pl->params) == MS_OK) {
-            if (e.k.cu != pl->exact.k.cu || e.k.u0 != pl->exact.k.u0 || e.k.vu != pl->exact.k.vu)
-                pl->exact = e; /* unchanged: the profile stays (a stop then never passes the target) */
-            pl->params_new = 0;
+        if (pl->params_new) {
+            step_exact_t e = pl->exact; /* (a copy of 160 bytes: only then) */
+            if (step_exact_change_params(&e, &pl->params) == MS_OK) {
+                if (e.k.cu != pl->exact.k.cu || e.k.u0 != pl->exact.k.u0 || e.k.vu != pl->exact.k.vu)
+                    pl->exact = e; /* unchanged: the profile stays (a stop then never passes the target) */
+                pl->params_new = 0;
+            }
         }
         step_exact_stop(&pl->exact);
         pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d - pl->exact.n);
@@ -751,4 +753,25 @@ motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t 
 uint32_t step_planner_rewindable(const step_planner_t *pl)
 {
     return RAMP_TABLE_FN(pl->ops, rewindable) ? RAMP_TABLE_FN(pl->ops, rewindable)(pl) : 0U;
+}
+
+uint8_t step_planner_mirror_ok(const step_planner_t *pl, uint32_t steps_back)
+{
+    return pl != 0 && pl->algo == RAMP_ALGO_EXACT && pl->active && !pl->params_new && steps_back < pl->exact.n &&
+           step_exact_mirror_ok(&pl->exact, pl->exact.n - steps_back);
+}
+
+motion_status_t step_planner_stop_mirrored(step_planner_t *pl, uint32_t steps_back, uint32_t steps, int64_t time16)
+{
+    motion_status_t st;
+    if (!step_planner_mirror_ok(pl, steps_back))
+        return MS_ERR_OUT_OF_RANGE;
+    st = step_exact_stop_mirrored(&pl->exact, pl->exact.n - steps_back, steps, time16);
+    if (st != MS_OK)
+        return st;
+    pl->pos = pl->exact.pos;
+    pl->target = ramp_position_after(pl->exact.pos, pl->exact.dir, pl->exact.d - pl->exact.n);
+    pl->has_then = 0;
+    pl->active = 1;
+    return MS_OK;
 }

@@ -152,6 +152,14 @@ uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c);
  * the parameters since (step_exact_profile_intact). On error nothing changes. */
 motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count);
 
+/* A stop while accelerating from rest, its first steps the acceleration's last ones reversed
+ * (step_exact_stop_mirrored; the exact ramp only): step_planner_mirror_ok tells whether the step
+ * `steps_back` steps before the last handed out allows it; step_planner_stop_mirrored then takes the
+ * planner back there and to the stop's state after `steps` steps laid out so (time16: their executor
+ * time), as step_planner_rewind and step_planner_stop would, the rest of the stop to hand out. */
+uint8_t step_planner_mirror_ok(const step_planner_t *pl, uint32_t steps_back);
+motion_status_t step_planner_stop_mirrored(step_planner_t *pl, uint32_t steps_back, uint32_t steps, int64_t time16);
+
 /* The most steps step_planner_rewind can take back now (0: none; the exact ramp: all but the
  * profile's first; the smooth move: smooth_move_rewindable; the stepwise ramps: 0). */
 uint32_t step_planner_rewindable(const step_planner_t *pl);

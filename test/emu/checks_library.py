@@ -374,6 +374,82 @@ def stop_latency_at(env, v, dt, problems):
     return check_one_stop(log, problems, e, made, stops[0], dones[2], float(v), STOP_ACCEL)
 
 
+# ms after the first move's MOVE line at which the stop switch closes while it still accelerates (from
+# rest to 20,000 steps/s at 50,000 steps/s^2: some 8,700 to 18,900 steps/s at these moments)
+ACCEL_STOP_MOMENTS = (100.0, 150.3, 200.6, 250.9, 300.2)
+
+
+def doc_accel_stop_latency(env):
+    """the latency docs/library.md quotes for a stop while accelerating ('while it accelerates ... its
+    deceleration begins within **5.5 ms**'), ms, or None"""
+    m = library_doc_search(env, r"while\s+it\s+accelerates[^*]*?its\s+deceleration\s+begins\s+within\s+\*\*([0-9.]+) ms\*\*")
+    return float(m.group(1)) if m else None
+
+
+def accel_stop_at(env, t_ms, problems):
+    """StopOnSwitch's first move stopped t_ms after its MOVE line, still accelerating: every step made
+    (DONE) with no underrun, the whole move on the law of a triangle from rest to rest (every edge within
+    the late bound: the deceleration from the speed reached, no velocity jump); returns (the speed at the switch, the latency from the
+    switch to the deceleration's first interval, ms), or None (a problem said)"""
+    script = (f"pin D3 1\npin D2 1\nwait ^READY StopOnSwitch$\nwait ^MOVE towards 1000000 \nrun {t_ms:.1f}\n"
+              "pin D3 0\ntimeout 20000\nwait ^DONE\n")
+    log = run(env, "StopOnSwitch", script)
+    common(log, problems)
+    sw = [c for c, t, r in log.events if t == "input" and r.split()[0] == "D3" and r.split()[2] == "0"]
+    done = log.lines_matching(r"^DONE ")
+    what = f"stop {t_ms} ms into the acceleration"
+    if len(sw) != 1 or len(done) != 1:
+        problems.append(f"{what}: no conversation ({[l.text for l in log.rx]})")
+        return None
+    e = log.rising("XSTEP")
+    made = sum(1 for c in e if c < sw[0])
+    after = [c for c in e if sw[0] <= c < done[0].cycle]
+    if done[0].text != f"DONE {made + len(after)} underruns=0":
+        problems.append(f"{what}: '{done[0].text}', expected 'DONE {made + len(after)} underruns=0' (the steps made)")
+        return None
+    pre = [c for c in e if c < sw[0]][-17:]
+    v_sw = F_CPU * 16 / (pre[-1] - pre[0]) if len(pre) == 17 else 0.0
+    if not 0 < v_sw < 0.95 * 20000:
+        problems.append(f"{what}: {v_sw:.0f} steps/s at the switch: not accelerating (StopOnSwitch's first move "
+                        "reaches 20,000 steps/s at 50,000 steps/s^2 after 0.4 s)")
+        return None
+    # from rest and back to rest at one acceleration: the move is the triangle of its N steps, whose top is
+    # its middle step (the stop from step k takes k steps: the lib's exact ramp, v0 = 0). Every edge on
+    # that law (a velocity jump, or a deceleration from elsewhere, is off it); the deceleration's first
+    # interval starts at edge N/2. (At the top the intervals change by a fraction of a cycle a step, so
+    # the top cannot be read from them: a least mean of 32 intervals missed it by up to a millisecond.)
+    total = made + len(after)
+    late, at = law_errors(e[:total], law(total, 20000.0, STOP_ACCEL))
+    if late > LATE_BOUND + 2:
+        problems.append(f"{what}: step {at} of the {total} is {late:.0f} cycles off the law of a triangle from rest "
+                        f"to rest at {STOP_ACCEL:.0f} steps/s^2 (bound {LATE_BOUND} + 2): not the deceleration from "
+                        "the speed reached")
+    start = e[total // 2 - 1]
+    return v_sw, (start - sw[0]) * 1000.0 / F_CPU
+
+
+def check_accel_stops(env, problems):
+    """stop() while StopOnSwitch's first move accelerates, at ACCEL_STOP_MOMENTS: each on the law (accel_stop_at),
+    the worst latency against docs/library.md; the figures' text"""
+    got = [r for r in (accel_stop_at(env, t, problems) for t in ACCEL_STOP_MOMENTS) if r is not None]
+    if not got:
+        return "stop while accelerating: not measured"
+    worst = max(lat for _, lat in got)
+    doc = doc_accel_stop_latency(env)
+    if doc is None:
+        problems.append("docs/library.md quotes no '... while it accelerates ... its deceleration begins within "
+                        f"**<ms> ms**' (measured {worst:.2f} ms)")
+    elif worst > doc:
+        problems.append(f"a stop while accelerating: the deceleration began {worst:.2f} ms after the switch, more "
+                        f"than the {doc} ms docs/library.md promises")
+    elif doc - worst > DOC_DRIFT_MS:
+        problems.append(f"docs/library.md quotes {doc} ms for a stop while accelerating, measured at most {worst:.2f} "
+                        f"ms (more than {DOC_DRIFT_MS} ms below): update the page")
+    return (f"stop while accelerating ({min(v for v, _ in got):.0f}-{max(v for v, _ in got):.0f} steps/s at the "
+            f"switch, {len(got)} moments): deceleration began {min(l for _, l in got):.2f}-{worst:.2f} ms after it, "
+            "every edge on the law of the triangle from rest to rest")
+
+
 def check_stop_on_switch(env):
     """stop() at one switch at three speeds, forceStop() at another (StopOnSwitch.ino): the deceleration's
     length and law, the latency from the switch against docs/library.md, no step after a halt"""
@@ -442,11 +518,12 @@ def check_stop_on_switch(env):
         if line_of(log, r"^HALT switch at ", t_h) is None:
             problems.append("halt: no 'HALT switch at' line")
     took = call_times(log, problems)
+    accel_figs = check_accel_stops(env, problems)
     figs = ("stop: deceleration began " + ", ".join(f"{min(sweep[v]):.2f}-{max(sweep[v]):.2f} ms at {v}"
                                                      for v in sorted(sweep) if sweep[v]) +
             f" steps/s after the switch over {len(STOP_PHASES) + 1} phases (lead {LEAD_MS} ms), v^2/2a steps on the "
             "law; halts: last step "
-            f"{max(halt_us):.0f} us after the switch; moveTo/stop/forceStop returned within {took} us")
+            f"{max(halt_us):.0f} us after the switch; moveTo/stop/forceStop returned within {took} us; {accel_figs}")
     # the speed line: a word that is not a number is refused as such (it was read as 0 and refused as
     # "vmax must be greater than v0", a fresh-clone review, 2026-12-06), a number out of range as such
     log = run(env, "StopOnSwitch", "pin D3 1\npin D2 1\nwait ^READY StopOnSwitch$\n" +
@@ -1313,6 +1390,30 @@ def doc_three_stop_all(env):
     return {"three-10k": float(m.group(1)), "two-20k": float(m.group(2)), "three-25k": float(m.group(3))} if m else None
 
 
+def decel_from_top(e, after, a):
+    """a stop while accelerating, from the edges e of the move and those after the switch: its deceleration
+    to rest starts at the top speed, where the mean of 32 intervals is least (the step interrupts' jitter
+    averaged out), and runs on the law from there; the speed of the 16 steps before it must be the law's
+    there, sqrt(2 a n) (no velocity jump). (The longest tail on the law within the bound is no estimate:
+    near the top speed the acceleration's last steps stay within it for some 80 steps at 25,000 steps/s.)
+    Returns (n, the law's times of those n steps from the last edge before them, the speed of the 16 steps
+    before, the law's speed there), or None (too few steps)."""
+    iv = [b2 - b1 for b1, b2 in zip(after, after[1:])]
+    if len(iv) < 40:
+        return None
+    sums = [sum(iv[:32])]
+    for k in range(1, len(iv) - 31):
+        sums.append(sums[-1] - iv[k - 1] + iv[k + 31])
+    top = min(range(len(sums)), key=lambda k: sums[k]) + 16  # the edge at the top speed
+    n_ax = max(2, len(after) - 1 - top)
+    v_s = math.sqrt(2 * a * n_ax)
+    times = [v_s / a - math.sqrt(2 * (n_ax - k) / a) for k in range(1, n_ax + 1)]
+    k0 = len(after) - n_ax - 1
+    pre = [c for c in e if c <= after[k0]][-17:]
+    v_pre = F_CPU * 16 / (pre[-1] - pre[0]) if len(pre) == 17 else 0.0
+    return n_ax, times, v_pre, v_s
+
+
 def three_stop(log, problems, build, n, v, a):
     """the run towards 1,000,000 stopped at the switch: every axis's steps to its position at rest and
     no underrun; every axis's deceleration on the law and its latency (ms), X's first (its stop()
@@ -1346,29 +1447,12 @@ def three_stop(log, problems, build, n, v, a):
             n_ax, times_ax = n_dec, times
         else:
             # still accelerating at the switch (the Steppers' moves from rest start one after the
-            # other): a deceleration to rest from its own speed v_s. It starts at the top speed: where
-            # the mean of 32 intervals is least (the step interrupts' jitter averaged out), its steps
-            # on the law from there, and there must be no velocity jump: the speed of the 16 steps before it within 3 % of the law's there,
-            # sqrt(2 a n). (The longest tail on the law within the bound is no estimate: near the top
-            # speed the acceleration's last steps stay within it for some 80 steps at 25,000 steps/s.)
-            def tail_err(n_try):
-                v_s = math.sqrt(2 * a * n_try)
-                t_try = [v_s / a - math.sqrt(2 * (n_try - k) / a) for k in range(1, n_try + 1)]
-                return law_errors([after[-n_try - 1]] + after[-n_try:], [0.0] + t_try)[0], t_try
-            iv = [b2 - b1 for b1, b2 in zip(after, after[1:])]
-            if len(iv) < 40:
+            # other): a deceleration to rest from its own speed (decel_from_top), no velocity jump
+            found = decel_from_top(e, after, a)
+            if found is None:
                 problems.append(f"{build}: the stop: {len(after)} {ax} steps after the switch, too few to find its deceleration")
                 return None
-            sums = [sum(iv[:32])]
-            for k in range(1, len(iv) - 31):
-                sums.append(sums[-1] - iv[k - 1] + iv[k + 31])
-            top = min(range(len(sums)), key=lambda k: sums[k]) + 16  # the edge at the top speed
-            n_ax = max(2, len(after) - 1 - top)
-            times_ax = tail_err(n_ax)[1]
-            k0 = len(after) - n_ax - 1
-            pre = [c for c in e if c <= after[k0]][-17:]
-            v_pre = F_CPU * 16 / (pre[-1] - pre[0]) if len(pre) == 17 else 0.0
-            v_law = math.sqrt(2 * a * n_ax)
+            n_ax, times_ax, v_pre, v_law = found
             if abs(v_pre - v_law) > 0.03 * v_law:
                 problems.append(f"{build}: the stop: {ax} stepped at {v_pre:.0f} steps/s before its deceleration, "
                                 f"which starts at {v_law:.0f} on the law (a velocity jump)")

@@ -16,6 +16,7 @@
 #include "step_queue.h"
 
 #define TEST_RNG_SEED 0x5EEC2026D1CEULL
+#define SPAN_MAX 128U /* the longest command of a ramp (step_exact.c: 2^SEG_B steps) */
 #include "closed_form.h"
 
 /* ---- a command's time in the executor -------------------------------------------------------- */
@@ -502,7 +503,16 @@ static void refusals_change_nothing(void **state)
     expect_refused(&e, e.n, e.acc16, 0, "count 0");
     expect_refused(&e, n_at_n1, acc_at_n1, (uint16_t)(n_at_n1 + 1U), "count beyond n");
     expect_refused(&e, n_at_n1 + 1U, acc_at_n1, 2, "a command across the end of region A");
-    expect_refused(&e, n_at_n1, acc_at_n1, 3, "region A: no span of 3 steps");
+    expect_refused(&e, n_at_n1, acc_at_n1, (uint16_t)(SPAN_MAX + 1U), "region A: a count beyond the largest span");
+    {
+        /* a count of no span (3): the first 3 steps of a longer command, the rest cut (the engine's
+         * split): the same step, speed and position as that boundary's (the span from those steps) */
+        step_exact_t g = e;
+        assert_int_equal(step_exact_rewind(&g, n_at_n1, acc_at_n1, 3), MS_OK);
+        assert_int_equal(g.n, f.n);
+        assert_true(g.y == f.y && g.q == f.q && g.pos == f.pos && g.acc16 == f.acc16);
+        assert_int_equal(g.span_b, 1);
+    }
     expect_refused(&e, n_at_n1, acc_at_n1 + (1LL << 21), (uint16_t)count_at_n1, "acc16 32 ticks off");
     expect_refused(&e, n_at_n1, acc_at_n1 - (1LL << 21), (uint16_t)count_at_n1, "acc16 32 ticks early");
     /* region D: its first command is one step, and spans as the rule allows */
@@ -513,7 +523,13 @@ static void refusals_change_nothing(void **state)
     while (step_exact_next(&e, &c) && c.count < 64U) {
     }
     assert_true(c.count >= 64U);
-    expect_refused(&e, e.n, e.acc16, (uint16_t)(c.count / 2U), "region D: the span was larger");
+    expect_refused(&e, e.n, e.acc16, (uint16_t)(SPAN_MAX + 1U), "region D: a count beyond the largest span");
+    {
+        /* half of that command (a power of two below its span): its first half, the rest cut */
+        step_exact_t g = e;
+        assert_int_equal(step_exact_rewind(&g, e.n, e.acc16, (uint16_t)(c.count / 2U)), MS_OK);
+        assert_true(g.n == e.n && g.y == e.y && g.q == e.q && g.pos == e.pos);
+    }
     assert_int_equal(step_exact_rewind(&e, e.n, e.acc16, c.count), MS_OK);
     /* the constants changed: by change_params (the profile ends) or set_params (at rest) */
     f = e;
@@ -674,7 +690,7 @@ static long double closed_speed(const closed_t *cf, long double x)
  * rest (count - m intervals of its rate) as dropped */
 static void stop_after_cut(int inside)
 {
-    uint32_t i, checked = 0, kept_profile = 0;
+    uint32_t i, checked = 0, kept_profile = 0, split_ramp = 0;
     long double worst = 0.0L, worst_jump = 0.0L;
     uint64_t *edges = calloc(60001U, sizeof *edges);
     uint8_t *wide = calloc(60001U, 1U);
@@ -687,6 +703,7 @@ static void stop_after_cut(int inside)
         closed_t cf;
         uint32_t d = (uint32_t)lrand(3, 60000), k = 1U + (uint32_t)lrand(1, 2000), j, n = 0, more, steps = 0, ds;
         uint32_t kept_count = 0;
+        int ramp_cut = 0;
         int64_t t16 = 0;
         uint64_t abs16 = 0x8000U, cut16;
         long double f, v_cut, x_stop, t_prev = 0.0L, t_prev2 = 0.0L, law_before, law_after, act_before, act_after;
@@ -702,13 +719,24 @@ static void stop_after_cut(int inside)
         cf = closed_plan(p.v0_sps, p.vmax_sps, p.accel_sps2, d);
         /* the kept commands, through the executor's arithmetic (inside: up to the first cruise command
          * from the k-th on, of which m steps) */
-        if (inside)
+        if (inside == 1)
             k = 1U + (uint32_t)lrand(1, 300);
+        else if (inside == 2)
+            k = 1U + (uint32_t)((i & 1U) ? lrand(0, 40) : lrand(1, 3000)); /* the acceleration, or anywhere */
         for (j = 0; (inside || j < k) && pl.exact.n < d - 1U && step_planner_next(&pl, &last); j++) {
             uint32_t rate = last.rate, s, use = last.count;
-            int split = inside && j + 1U >= k && last.add == 0 && !(last.flags & STEP_CMD_WIDE) && last.count >= 2U;
+            int split = inside && j + 1U >= k && (last.add == 0 || inside == 2) && !(last.flags & STEP_CMD_WIDE) &&
+                        last.count >= 2U;
             if (split)
                 use = (uint32_t)lrand(1, (long)last.count - 1L);
+            if (split && inside == 2) {
+                /* a command with an add (a ramp's), split as the engine splits it: the executor's time
+                 * of the steps dropped, the full command's less its first `use` */
+                step_cmd_t kept_part = last;
+                kept_part.count = (uint16_t)use;
+                t16 = step_exact_cmd_time16(&last) - step_exact_cmd_time16(&kept_part);
+                ramp_cut = last.add != 0;
+            }
             for (s = 0; s < use; s++) {
                 abs16 += (last.flags & STEP_CMD_WIDE) ? (uint64_t)rate << 16 : rate;
                 rate += (uint32_t)last.add;
@@ -719,7 +747,8 @@ static void stop_after_cut(int inside)
             kept_count = use;
             if (split) {
                 steps = last.count - use; /* dropped with the commands after it */
-                t16 = (int64_t)steps * last.rate;
+                if (inside != 2)
+                    t16 = (int64_t)steps * last.rate;
                 break;
             }
         }
@@ -786,13 +815,17 @@ static void stop_after_cut(int inside)
         if (fabsl(act_after - act_before) - fabsl(law_after - law_before) > worst_jump)
             worst_jump = fabsl(act_after - act_before) - fabsl(law_after - law_before);
         checked++;
+        split_ramp += ramp_cut ? 1U : 0U;
     }
-    printf("# %u stops after a cut%s (%u kept the move's own deceleration): worst edge %.0Lf tick from the law, "
-           "interval change at the cut at most %.0Lf tick more than the law's\n",
-           checked, inside ? " inside a cruise command" : "", kept_profile, worst, worst_jump);
+    printf("# %u stops after a cut%s (%u kept the move's own deceleration; %u inside a command with an add): worst "
+           "edge %.0Lf tick from the law, interval change at the cut at most %.0Lf tick more than the law's\n",
+           checked, inside == 1 ? " inside a cruise command" : inside == 2 ? " inside any command" : "", kept_profile,
+           split_ramp, worst, worst_jump);
     free(edges);
     free(wide);
     assert_true(checked > (inside ? 150U : 800U));
+    if (inside == 2)
+        assert_true(split_ramp > 300U);
 }
 
 static void stop_after_cut_follows_the_law(void **state)
@@ -807,6 +840,129 @@ static void stop_after_cut_inside_a_cruise_command_follows_the_law(void **state)
     stop_after_cut(1);
 }
 
+/* A stop while accelerating from rest begun with the acceleration's last commands reversed (the
+ * MotionStepper library's cut lays them out at once, step_planner_stop_mirrored plans the rest): every
+ * edge of the stop on the closed-form law of the deceleration from the speed at the cut (within 2
+ * ticks: the reversed steps carry the acceleration's own rounding), the stop n steps long (the exact
+ * stopping distance from step n of a move from rest), the position where it ends. */
+static void mirrored_stop_follows_the_law(void **state)
+{
+    uint32_t i, checked = 0, max_mirrored = 0;
+    long double worst = 0.0L;
+    uint64_t *edges = calloc(60001U, sizeof *edges);
+    step_cmd_t *hist = calloc(4096U, sizeof *hist);
+    (void)state;
+    assert_non_null(edges);
+    assert_non_null(hist);
+    for (i = 0; i < 3000U; i++) {
+        ramp_params_t p;
+        step_planner_t pl;
+        step_cmd_t c, rev[8];
+        closed_t cf;
+        prof_t sp;
+        uint32_t d = (uint32_t)lrand(20, 60000), k = 1U + (uint32_t)lrand(1, 80), nh = 0, use, back, n = 0, ms = 0, nr = 0;
+        uint32_t j, s, want_cmds = 1U + (i % 5U);
+        uint64_t abs16 = 0x8000U, cut16;
+        int64_t t16 = 0;
+        long double f, v_cut;
+        random_params(&p, i);
+        if (step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0) != MS_OK)
+            continue;
+        assert_int_equal(step_planner_move(&pl, (int32_t)d), MS_OK);
+        f = p.tick_hz;
+        cf = closed_plan(p.v0_sps, p.vmax_sps, p.accel_sps2, d);
+        while (nh < k && nh < 4096U && step_planner_next(&pl, &hist[nh]))
+            nh++;
+        if (nh == 0U)
+            continue;
+        /* the cut inside the last command handed out: its first `use` steps kept */
+        use = hist[nh - 1U].count >= 2U ? (uint32_t)lrand(1, (double)hist[nh - 1U].count + 0.999) : 1U;
+        if (use > hist[nh - 1U].count)
+            use = hist[nh - 1U].count;
+        back = hist[nh - 1U].count - use;
+        if (!step_planner_mirror_ok(&pl, back))
+            continue;
+        for (j = 0; j < nh; j++) {
+            uint32_t rate = hist[j].rate, cnt = j + 1U == nh ? use : hist[j].count;
+            for (s = 0; s < cnt; s++) {
+                abs16 += (hist[j].flags & STEP_CMD_WIDE) ? (uint64_t)rate << 16 : rate;
+                rate += (uint32_t)hist[j].add;
+                n++;
+            }
+        }
+        cut16 = abs16;
+        /* the kept commands reversed, the last first, up to want_cmds of them and n - 2 steps */
+        for (j = nh; j-- > 0U && nr < want_cmds && nr < 8U;) {
+            const step_cmd_t *o = &hist[j];
+            uint32_t cnt = j + 1U == nh ? use : o->count;
+            if (ms + cnt + 2U > n)
+                break;
+            rev[nr].count = (uint16_t)cnt;
+            rev[nr].flags = (uint8_t)((o->flags & (STEP_CMD_REVERSE | STEP_CMD_WIDE)) | (RAMP_DECEL << STEP_CMD_PHASE_SHIFT));
+            rev[nr].rate = (o->flags & STEP_CMD_WIDE) ? o->rate : o->rate + (uint32_t)o->add * (cnt - 1U);
+            rev[nr].add = (o->flags & STEP_CMD_WIDE) ? 0 : -o->add;
+            t16 += step_exact_cmd_time16(&rev[nr]);
+            ms += cnt;
+            nr++;
+        }
+        if (ms == 0U)
+            continue;
+        assert_int_equal(step_planner_stop_mirrored(&pl, back, ms, t16), MS_OK);
+        /* the stop's edges: the reversed commands, then the planner's */
+        j = 0;
+        for (s = 0; s < nr; s++) {
+            uint32_t rate = rev[s].rate, q;
+            for (q = 0; q < rev[s].count; q++) {
+                abs16 += (rev[s].flags & STEP_CMD_WIDE) ? (uint64_t)rate << 16 : rate;
+                rate += (uint32_t)rev[s].add;
+                edges[j++] = abs16 >> 16;
+            }
+        }
+        while (step_planner_next(&pl, &c)) {
+            uint32_t rate = c.rate, q;
+            for (q = 0; q < c.count; q++) {
+                abs16 += (c.flags & STEP_CMD_WIDE) ? (uint64_t)rate << 16 : rate;
+                rate += (uint32_t)c.add;
+                assert_true(j < 60000U);
+                edges[j++] = abs16 >> 16;
+            }
+        }
+        if (j != n)
+            fail_msg("case %u (v0 %g vmax %g a %g F %u D %u, cut at %u, %u mirrored): the stop took %u steps, not %u",
+                     i, p.v0_sps, p.vmax_sps, p.accel_sps2, p.tick_hz, d, n, ms, j, n);
+        assert_int_equal(step_planner_position(&pl), (int32_t)(2U * n));
+        v_cut = closed_speed(&cf, n);
+        sp = prof_plan(v_cut, cf.v0, p.vmax_sps, cf.a, n);
+        for (s = 1; s <= j; s++) {
+            long double want = floorl((long double)cut16 / 65536.0L + prof_time(&sp, s) * f), err;
+            err = (long double)edges[s - 1U] - want;
+            if (fabsl(err) > worst)
+                worst = fabsl(err);
+            if (fabsl(err) > 2.0L)
+                fail_msg("case %u (v0 %g vmax %g a %g F %u D %u, cut at %u, %u mirrored): stop step %u of %u at %llu, "
+                         "the law %.1Lf", i, p.v0_sps, p.vmax_sps, p.accel_sps2, p.tick_hz, d, n, ms, s, j,
+                         (unsigned long long)edges[s - 1U], want);
+        }
+        if (ms > max_mirrored)
+            max_mirrored = ms;
+        checked++;
+    }
+    printf("# %u stops while accelerating begun with up to %u steps reversed: worst edge %.0Lf tick from the law\n",
+           checked, max_mirrored, worst);
+    free(edges);
+    free(hist);
+    assert_true(checked > 400U);
+}
+
+/* the cut inside an acceleration's or a deceleration's command (a quadratic: rate and add), as the
+ * MotionStepper library's engine splits one since 2026-12-06 (a stop while accelerating acted at the
+ * next command's start, up to 128 steps later) */
+static void stop_after_cut_inside_a_ramp_command_follows_the_law(void **state)
+{
+    (void)state;
+    stop_after_cut(2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -819,6 +975,8 @@ int main(void)
         cmocka_unit_test(random_cuts_bit_for_bit),
         cmocka_unit_test(stop_after_cut_follows_the_law),
         cmocka_unit_test(stop_after_cut_inside_a_cruise_command_follows_the_law),
+        cmocka_unit_test(stop_after_cut_inside_a_ramp_command_follows_the_law),
+        cmocka_unit_test(mirrored_stop_follows_the_law),
         cmocka_unit_test(longest_move),
     };
     return cmocka_run_group_tests(tests, 0, 0);

@@ -715,7 +715,7 @@ def library_section(out_dir):
         sys.exit("bench: the library examples did not build:\n" + r.stdout[-2000:])
     env = sketches.Env(firmware_dir=out, source_dir=ROOT)
     rows = []
-    for title, fn in (("StopOnSwitch: stop() at a switch at 10,000, 20,000 and 25,000 steps/s, forceStop()",
+    for title, fn in (("StopOnSwitch: stop() at a switch at 10,000, 20,000 and 25,000 steps/s and while accelerating, forceStop()",
                        checks_library.check_stop_on_switch),
                       ("BlockingLoop: a 20,000-step move at 20,000 steps/s with delay(1000) in loop()",
                        checks_library.check_blocking_loop),

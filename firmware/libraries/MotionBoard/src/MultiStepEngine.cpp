@@ -6,6 +6,7 @@
 
 #include "BoardHeap.h"
 
+#include <ramp_common.h> /* the ramp phases of the commands (cut_mirror) */
 #include <stddef.h>
 #include <stdlib.h>
 #include <util/atomic.h>
@@ -675,30 +676,54 @@ static __attribute__((noinline)) uint32_t ticks_until(uint8_t axis, uint8_t to)
 /* the modes in which the current slot is not split: its steps are not made by the common path */
 #define SPLIT_MODES (_BV(AXIS_MODE_SLOW) | _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_DEFER) | _BV(AXIS_MODE_MASKED))
 
+/* the smallest interval of slot t's first `kept` steps, whole ticks (its intervals change linearly: the
+ * first one's or the last one's; a split slot is not WIDE) */
+static uint32_t split_per(const AxisSlot &t, uint32_t kept)
+{
+    uint32_t first = t.rate + (uint32_t)t.add, last = t.rate + (uint32_t)t.add * kept;
+    return (first < last ? first : last) >> 16;
+}
+
 /* cut_find's split: how many steps of slot p to drop (0: none), so that its first step dropped lies
- * beyond min_ticks ahead of the edge armed now, p's steps lying `before` + j intervals ahead (j = 1,
- * 2, ...; before = 0: p is the current slot). Only a slot of constant intervals (no add), stepped by
- * the interrupt's common path (not slow, not WIDE), in a build with step interrupts; the current one
- * only in ahead form and on the common path, keeping at least the step computed already. */
-static uint16_t split_at(uint8_t axis, uint8_t p, uint32_t before, uint32_t min_ticks)
+ * beyond min_ticks ahead of the edge armed now, p's j-th step lying `before` + the sum of its first j
+ * intervals ahead (before = 0: p is the current slot, whose j-th step not armed is the j-th counted).
+ * A slot stepped by the interrupt's common path (not slow, not WIDE) in a build with step interrupts:
+ * a cruise's (constant intervals) and, since 2026-12-06, a ramp's (rate and add: lib's
+ * step_exact_rewind takes back to any of its steps; until then a stop while accelerating was cut at
+ * the next command's start, up to 128 steps farther); the current one only in ahead form and on the
+ * common path, keeping at least the step computed already. */
+static __attribute__((noinline)) uint16_t split_at(uint8_t axis, uint8_t p, uint32_t before, uint32_t min_ticks)
 {
     AxisState &s = state(axis);
     const AxisSlot &t = s.slot[p];
-    uint32_t n, per, keep;
-    if (MULTI_TIMED_LOOP || (t.flags & (_BV(AXIS_SLOT_HAS_ADD) | _BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_WIDE))) ||
-        min_ticks <= before)
-        return 0;
-    per = t.rate >> 16;
-    if (per == 0)
+    uint32_t n, per, keep, rate;
+    if (MULTI_TIMED_LOOP || (t.flags & (_BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_WIDE))) || min_ticks <= before)
         return 0;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
-        if (s.cur == &t)
+        rate = t.rate; /* the interval before its first step's, 16.16 (laid out less add) */
+        if (s.cur == &t) {
             n = (looked_ahead(s) && !(s.mode & SPLIT_MODES)) ? (uint32_t)s.left + 1U : 0U; /* the steps not armed */
-        else
+            rate = s.rate - (uint32_t)t.add; /* the step computed already has s.rate */
+        } else {
             n = t.ready ? slot_count(t) : 0U;
+        }
     }
-    keep = (min_ticks - before) / per;
+    if (t.flags & _BV(AXIS_SLOT_HAS_ADD)) {
+        /* the steps whose intervals add up to at most min_ticks - before (a ramp's: up to 128) */
+        uint32_t lim = min_ticks - before;
+        for (keep = 0; keep < n; keep++) {
+            rate += (uint32_t)t.add;
+            if ((rate >> 16) > lim)
+                break;
+            lim -= rate >> 16;
+        }
+    } else {
+        per = t.rate >> 16;
+        if (per == 0)
+            return 0;
+        keep = (min_ticks - before) / per;
+    }
     if (keep == 0)
         keep = 1;
     return keep < n ? (uint16_t)(n - keep) : 0U;
@@ -796,12 +821,82 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
         for (i = first; i != f.head; i = next_slot(f, i))
             r.time16 += slot_time16(s.slot[i]);
     const AxisSlot &p = s.slot[prev_slot(f, first)];
-    if (r.split && time16)
-        r.time16 += (int64_t)mul32x32(p.rate, r.split); /* no add: split_at */
+    if (r.split && time16) {
+        /* the steps dropped of p, kept + 1 to count: split rate + add (kept + 1 + count) split / 2 (a
+         * whole number: a sum of the step numbers) */
+        uint32_t count = slot_count(p), sum = count - r.split + 1U + count, tri;
+        tri = (r.split & 1U) ? r.split * (sum / 2U) : (r.split / 2U) * sum; /* (a ramp's: up to 128 steps) */
+        r.time16 += (int64_t)mul32x32(p.rate, r.split);
+        if (p.add > 0)
+            r.time16 += (int64_t)mul32x32((uint32_t)p.add, tri);
+        else if (p.add < 0)
+            r.time16 -= (int64_t)mul32x32(0U - (uint32_t)p.add, tri);
+    }
     r.steps = steps;
     r.last_count = (uint16_t)(slot_count(p) - r.split);
     r.first = first;
     return (uint8_t)(r.cmds + (r.split ? 1U : 0U));
+}
+
+__attribute__((noinline)) uint8_t MultiStepEngine::cut_mirror(uint8_t axis, const Cut &r, step_cmd_t *c, uint8_t max, uint32_t max_steps,
+                                    uint32_t min_ticks, uint32_t &steps)
+{
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    const uint8_t accel = (uint8_t)(RAMP_ACCEL << AXIS_SLOT_PHASE_SHIFT), ph_mask = (uint8_t)(3U << AXIS_SLOT_PHASE_SHIFT);
+    uint8_t i, k = 0;
+    uint32_t ticks = 0, count = r.last_count;
+    int32_t start;
+    steps = 0;
+    if (axis >= MULTI_AXES || (r.cmds == 0 && r.split == 0) || MULTI_TIMED_LOOP)
+        return 0;
+    i = prev_slot(f, r.first); /* the last slot kept, of which r.last_count steps */
+    start = s.slot[i].p_start;
+    for (;;) {
+        const AxisSlot &t = s.slot[i];
+        uint32_t last, per;
+        /* the acceleration's commands only, in one direction (a slot the ring has reused, or one of a
+         * move before, breaks the chain of positions below, or the phase) */
+        if ((t.flags & ph_mask) != accel || steps + count > max_steps)
+            break;
+        step_cmd_t &m = c[k];
+        m.count = (uint16_t)count;
+        m.flags = (uint8_t)(((t.flags & _BV(AXIS_SLOT_FORWARD)) ? 0U : STEP_CMD_REVERSE) |
+                            ((uint8_t)RAMP_DECEL << STEP_CMD_PHASE_SHIFT));
+        if (t.flags & _BV(AXIS_SLOT_WIDE)) {
+            m.flags |= STEP_CMD_WIDE;
+            m.rate = t.rate; /* whole ticks, every interval the same */
+            m.add = 0;
+            per = t.rate;
+        } else {
+            /* the intervals t.rate + j add, j = 1..count (laid out less add), from the last */
+            last = t.rate + (uint32_t)t.add * count;
+            m.rate = last;
+            m.add = -t.add;
+            per = (last >> 17) + ((t.rate + (uint32_t)t.add) >> 17); /* the mean interval, ticks */
+        }
+        ticks += per * count;
+        steps += count;
+        k++;
+        if (ticks >= min_ticks || k == max)
+            break;
+        /* the command before: the slot before in the ring, if it is the one laid out before this one
+         * (its positions end where this one's start; a split slot counts what it kept) */
+        uint8_t b = prev_slot(f, i);
+        if (b == f.head)
+            break;
+        const AxisSlot &u = s.slot[b];
+        count = slot_count(u);
+        if (u.p_start + ((u.flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)count : -(int32_t)count) != start)
+            break;
+        start = u.p_start;
+        i = b;
+    }
+    if (ticks < min_ticks) {
+        steps = 0;
+        return 0; /* not enough to plan the rest meanwhile */
+    }
+    return k;
 }
 
 /* a slot's command (its ready flag and ring link stay) */
@@ -868,8 +963,10 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
     uint32_t ticks = 0, left;
     const uint8_t p = prev_slot(f, r.first); /* the last slot kept (split: what is kept of it) */
     AxisSlot &q = s.slot[p];
-    /* (a split slot is not slow: an interval below 2^15 ticks, and a count below 2^16) */
-    const uint16_t per = (uint16_t)(q.rate >> 16), kept = (uint16_t)(slot_count(q) - r.split);
+    /* (a split slot is not slow: an interval below 2^15 ticks, and a count below 2^16; with an add, its
+     * smallest interval of the kept steps: the time left and the steps kept for the margin reckoned
+     * with it are at most the true ones) */
+    const uint16_t kept = (uint16_t)(slot_count(q) - r.split), per = (uint16_t)split_per(q, kept);
     /* c's slots are made first, off the ring: the switch below is then a copy of a few bytes, done
      * where the interrupt cannot come between (laying them out in place took up to 4,000 cycles
      * after the margin was checked, and the interrupt, reaching the cut meanwhile, found the first

@@ -269,12 +269,13 @@ public:
      * and put in place in one switch; the rest, if any, are laid out once the switch has come off
      * (as service() lays out commands, without its lead's bound: a stop planned ahead hands out
      * several milliseconds of its commands at once).
-     * With split, the cut may also land inside a command of constant intervals (a cruise's: no add,
-     * not slow), the one being stepped included: its steps beyond min_ticks_ahead are dropped too
-     * (r.split of them; r.last_count is then what is kept of it), so that the cut lands one interval
-     * beyond min_ticks_ahead instead of at the next command's start (a stop from the cruise acts
-     * within a millisecond or so however long its commands are). For a planner that can go back to
-     * any step of such a command (the exact ramp's cruise: lib's step_exact_rewind). */
+     * With split, the cut may also land inside a command stepped by the interrupt's common path (a
+     * cruise's or, since 2026-12-06, a ramp's: not slow, not WIDE), the one being stepped included:
+     * its steps beyond min_ticks_ahead are dropped too (r.split of them; r.last_count is then what
+     * is kept of it), so that the cut lands one interval beyond min_ticks_ahead instead of at the
+     * next command's start (a stop acts within a millisecond or so however long its commands are).
+     * For a planner that can go back to any step of such a command (the exact ramp: lib's
+     * step_exact_rewind). */
     enum { MULTI_CUT_MAX_CMDS = 4 };
     struct Cut {
         uint32_t steps;
@@ -287,6 +288,14 @@ public:
     static uint8_t cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16 = true,
                             bool split = false);
     static bool cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n);
+    /* A stop while accelerating from rest, at once (lib's step_exact_stop_mirrored): the commands that
+     * end at cut r (the last kept, then the ones before it, as long as the ring still holds them
+     * unchanged), each reversed (its intervals in the opposite order), into c: at most max commands and
+     * max_steps steps, until they cover min_ticks; steps: theirs. Returns how many (0: the ring does
+     * not hold min_ticks of them, or they are not all the acceleration's); cut_apply then lays them
+     * out at the cut, and the planner plans the rest of the stop while they run. */
+    static uint8_t cut_mirror(uint8_t axis, const Cut &r, step_cmd_t *c, uint8_t max, uint32_t max_steps,
+                              uint32_t min_ticks, uint32_t &steps);
 };
 
 #endif

@@ -72,6 +72,54 @@ static __attribute__((noinline)) motion_status_t rewind_to(step_planner_t *pl, c
     return step_planner_rewind(pl, cut.steps, cut.time16, cut.last_count);
 }
 
+bool step_cut_mirror(uint8_t axis, step_planner_t *pl, const StepCutTiming &t, uint32_t min_us, int32_t *from,
+                     StepCutMirror *rest)
+{
+#if MOTION_STEPPER_CUT_US && MOTION_STEPPER_CUT_MIRROR_US
+    MultiStepEngine::Cut cut;
+    step_cmd_t c[STEP_CUT_MIRROR_CMDS];
+    uint32_t steps, n;
+    uint8_t k, i;
+    /* a profile with an acceleration (the planner may be in its cruise already, the lead ahead of the
+     * axis): the axis may still be accelerating from rest at the cut */
+    if (pl->algo != RAMP_ALGO_EXACT || t.ahead_mirror_us == 0 || pl->exact.n1 == 0 || pl->exact.n < 2U ||
+        !(fabs(MultiStepEngine::speed(axis)) < 0.98 * pl->params.vmax_sps) || /* cruising: no search */
+        MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * t.ahead_mirror_us, pl->exact.n - 1U, cut, false,
+                                  true) == 0 ||
+        !step_planner_mirror_ok(pl, cut.steps))
+        return false;
+    n = pl->exact.n - cut.steps; /* the step of the profile where the cut lands */
+    k = MultiStepEngine::cut_mirror(axis, cut, c, STEP_CUT_MIRROR_CMDS, n - 2U, (uint32_t)t.ticks_per_us * min_us, steps);
+    step_cut_trace(true);
+    if (k == 0 || !MultiStepEngine::cut_apply(axis, cut, (uint32_t)t.ticks_per_us * t.margin_us, c, k)) {
+        step_cut_trace(false);
+        return false;
+    }
+    step_cut_trace(false);
+    rest->back = cut.steps;
+    rest->steps = steps;
+    rest->time16 = 0;
+    for (i = 0; i < k; i++)
+        rest->time16 += step_exact_cmd_time16(&c[i]);
+    *from = ramp_position_after(pl->pos, (int8_t)-pl->exact.dir, cut.steps);
+    return true;
+#else
+    (void)axis;
+    (void)pl;
+    (void)t;
+    (void)min_us;
+    (void)from;
+    (void)rest;
+    return false;
+#endif
+}
+
+void step_cut_mirror_rest(step_planner_t *pl, const StepCutMirror &rest)
+{
+    /* (not refused: step_cut_mirror checked step_planner_mirror_ok, and steps <= n - 2) */
+    (void)step_planner_stop_mirrored(pl, rest.back, rest.steps, rest.time16);
+}
+
 bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,
                    int32_t *from, uint16_t *missed, uint32_t *retry_us)
 {
@@ -90,6 +138,7 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
     if (pl->algo == RAMP_ALGO_EXACT) {
         if (pl->exact.n < 2U)
             return false;
+
         reach = pl->exact.n - 1U; /* all but the profile's first step (step_planner_rewindable) */
         /* a stop from the cruise (y = 0) is the cheapest plan; a stop while the speed changes, or a
          * new target (a move plan, maybe a reversal), costs up to twice as much */

@@ -36,6 +36,19 @@
 #ifndef MOTION_STEPPER_CUT_CMDS
 #define MOTION_STEPPER_CUT_CMDS 4U
 #endif
+/* A stop while accelerating from rest needs no plan before its cut: its first steps are the
+ * acceleration's last ones reversed (MultiStepEngine::cut_mirror, lib's step_exact_stop_mirrored), laid
+ * out at a cut this many microseconds ahead, at least MOTION_STEPPER_MIRROR_MIN_US of them (the
+ * planner plans the rest of the stop while they run); where the ring does not hold that much of the
+ * acceleration (or the move did not start from rest: a new target while moving), the stop is planned
+ * at the slow cut. 0: no such cut. */
+#ifndef MOTION_STEPPER_CUT_MIRROR_US
+#define MOTION_STEPPER_CUT_MIRROR_US 1000UL
+#endif
+#ifndef MOTION_STEPPER_MIRROR_MIN_US
+#define MOTION_STEPPER_MIRROR_MIN_US 4000UL
+#endif
+#define STEP_CUT_MIRROR_CMDS 8U
 /* A target behind (a stop, then a move from rest) is cut only if its stop lasts this long
  * (docs/stepper-engine.md says why). */
 #ifndef MOTION_STEPPER_CUT_THEN_MIN_US
@@ -64,6 +77,7 @@ struct StepCutTiming {
                               exact ramp; the smooth move's stop lasts tau1 + tau2 at least) */
     uint16_t ahead_smooth_us; /* the smooth move's stop or new target (its plans cost tens of
                                  milliseconds); 0: no cut of a smooth move */
+    uint16_t ahead_mirror_us; /* a stop while accelerating from rest (MOTION_STEPPER_CUT_MIRROR_US); 0: none */
 };
 
 /* A stop (stop true) or a move to target (engine coordinates) of axis, whose planner pl is in an
@@ -80,6 +94,22 @@ struct StepCutTiming {
  * where the axis's commands are laid out (nothing else may lay out commands for it meanwhile). */
 bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,
                    int32_t *from, uint16_t *missed, uint32_t *retry_us);
+
+/* A stop of axis while it accelerates from rest (its planner pl in an exact move from rest), at a cut
+ * t.ahead_mirror_us ahead with no plan before it: the acceleration's last commands reversed
+ * (MultiStepEngine::cut_mirror), at least min_us of them, are laid out there. True: done (*from: the
+ * position at the cut); the planner must then take the rest of the stop, step_cut_mirror_rest(pl,
+ * *rest), before it hands out its next command (while the reversed commands run: the other axes'
+ * queues may be fed first, as the planner is left as it was until then). False: nothing changed (not
+ * accelerating from rest there, the ring does not hold min_us of the acceleration, or the interrupt
+ * came too close): plan it with step_cut_plan. */
+struct StepCutMirror {
+    uint32_t back, steps; /* the steps dropped, the steps laid out reversed */
+    int64_t time16;       /* the executor's time of those */
+};
+bool step_cut_mirror(uint8_t axis, step_planner_t *pl, const StepCutTiming &t, uint32_t min_us, int32_t *from,
+                     StepCutMirror *rest);
+void step_cut_mirror_rest(step_planner_t *pl, const StepCutMirror &rest);
 
 /* The first commands of the plan in pl, at least new_us of steps (a stop's first is one step), into
  * c[0..max_cmds-1]: the planner then has that long to plan the next. */

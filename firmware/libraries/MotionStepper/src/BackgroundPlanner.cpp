@@ -145,7 +145,7 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
  * a time (choosing costs about as much as laying one out); a move not yet started one at a time and
  * only when no stepping axis needs one (a move started never starves one that runs). up_to (ticks;
  * UINT32_MAX: the lead): a stepping queue that holds that much is left as it is. */
-void BackgroundPlanner::feed(uint32_t up_to)
+void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
 {
     uint8_t dry = 0;
     /* with share_: the tick's start, and half the lead in ticks: above it a long tick leaves loop()
@@ -158,7 +158,7 @@ void BackgroundPlanner::feed(uint32_t up_to)
         uint8_t pick = 3, start = 3, n = MOTION_STEPPER_CMDS_PER_PICK;
         for (uint8_t i = 0; i < 3; i++) {
             uint32_t q;
-            if (!axes_[i] || (dry & (1U << i)) || !MultiStepEngine::moving(i))
+            if (!axes_[i] || i == except || (dry & (1U << i)) || !MultiStepEngine::moving(i))
                 continue;
             q = MultiStepEngine::queued_ticks(i);
             if (q == UINT32_MAX)
@@ -187,7 +187,7 @@ void BackgroundPlanner::feed(uint32_t up_to)
         k = (uint8_t)(k + (laid ? laid : 1U));
     }
     for (uint8_t i = 0; i < 3; i++)
-        if (axes_[i])
+        if (axes_[i] && i != except)
             (void)MultiStepEngine::service(i, axes_[i]->source(), 0); /* starts and ends */
     for (uint8_t i = 0; i < 3; i++) {
         GroupMove *g = axes_[i] ? axes_[i]->group_ : 0;
@@ -210,10 +210,10 @@ void BackgroundPlanner::collect_done()
     }
 }
 
-void BackgroundPlanner::feedBeforePlan()
+void BackgroundPlanner::feedBeforePlan(uint8_t except)
 {
     if (count_ >= 2)
-        feed((uint32_t)tpu_ * (MOTION_STEPPER_PLAN_SAFE_MS * 1000UL));
+        feed((uint32_t)tpu_ * (MOTION_STEPPER_PLAN_SAFE_MS * 1000UL), except);
 }
 
 void BackgroundPlanner::tick()

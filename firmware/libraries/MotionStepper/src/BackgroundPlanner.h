@@ -180,11 +180,12 @@ public:
     /* One tick's work (the interrupt calls it; public for the vector only). */
     static void tick();
     /* The tick's part, for a Stepper about to plan at a cut (its run_request): every stepping queue
-     * fed up to MOTION_STEPPER_PLAN_SAFE_MS first, when there are two or three Steppers. */
-    static void feedBeforePlan();
+     * fed up to MOTION_STEPPER_PLAN_SAFE_MS first, when there are two or three Steppers (but axis
+     * except's: a stop laid out reversed, whose planner plans the rest after this; StepCut.h). */
+    static void feedBeforePlan(uint8_t except = 3);
 
 private:
-    static void feed(uint32_t up_to);
+    static void feed(uint32_t up_to, uint8_t except = 3);
     static void collect_done();
     static void apply_lead();
     static Stepper *axes_[3];

@@ -174,11 +174,12 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
 #else
     static const StepCutTiming TIMING = {16, MOTION_STEPPER_CUT_US, MOTION_STEPPER_CUT_SLOW_US,
                                          MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_CUT_NEW_US, MOTION_STEPPER_CUT_CMDS,
-                                         MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US};
+                                         MOTION_STEPPER_CUT_THEN_MIN_US, MOTION_STEPPER_SMOOTH_CUT_US,
+                                         MOTION_STEPPER_CUT_MIRROR_US};
     static const StepCutTiming LOOP_TIMING = {16, MOTION_STEPPER_LOOP_CUT_US, MOTION_STEPPER_LOOP_CUT_SLOW_US,
                                               MOTION_STEPPER_CUT_MARGIN_US, MOTION_STEPPER_LOOP_CUT_NEW_US,
                                               MOTION_STEPPER_CUT_CMDS, MOTION_STEPPER_CUT_THEN_MIN_US,
-                                              MOTION_STEPPER_SMOOTH_CUT_US};
+                                              MOTION_STEPPER_SMOOTH_CUT_US, MOTION_STEPPER_CUT_MIRROR_US};
     StepCutTiming timing = TIMING;
     if (BackgroundPlanner::inLoop()) {
         /* a Stepper alone may step up to STEPPER_MAX_SPS_EXACT there (the interrupt's, MULTI_MAX_SPS) */
@@ -190,6 +191,8 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
         timing = LOOP_TIMING;
         if (timing.margin_us != 0)
             timing.margin_us = (uint16_t)(timing.margin_us + v * 0.015f);
+        /* loop() may be busy elsewhere between its passes: the mirror's cut as far beyond the margin */
+        timing.ahead_mirror_us = MOTION_STEPPER_CUT_MIRROR_US ? (uint16_t)(timing.margin_us + MOTION_STEPPER_CUT_MIRROR_US) : 0;
     }
     {
         /* the plan runs beside the step interrupts: with the axes fast its time grows as 1/(1 - their
@@ -202,9 +205,32 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
             float grow = (1.0f - MOTION_STEPPER_CUT_SHARE) / (1.0f - (share < 0.9f ? share : 0.9f));
             timing.ahead_us = (uint16_t)(timing.ahead_us * grow);
             timing.ahead_slow_us = (uint16_t)(timing.ahead_slow_us * grow);
+            timing.ahead_mirror_us = (uint16_t)(timing.ahead_mirror_us * grow);
         }
     }
     timing.ticks_per_us = BackgroundPlanner::ticksPerUs(); /* the timer's (setTickRate) */
+    /* a stop while accelerating from rest takes no plan before its cut (with three Steppers at 25,000
+     * steps/s the other queues' feeding before a plan took some 14 ms): the acceleration's last commands
+     * reversed, at least MOTION_STEPPER_MIRROR_MIN_US of them, and with two or three Steppers enough to
+     * outlast the other queues' feeding up to MOTION_STEPPER_PLAN_SAFE_MS, which comes next (this
+     * axis's planner left as it is), then the rest of the stop planned (with three Steppers at 25,000
+     * steps/s, when that plan came first, the other axes' queues, a few milliseconds after their own
+     * cuts, ran dry during it) */
+#if MOTION_STEPPER_CUT_MIRROR_US
+    {
+        StepCutMirror rest;
+        /* (as the cut's distance, grown with the step interrupts' share of the CPU) */
+        uint32_t min_us = MOTION_STEPPER_MIRROR_MIN_US * (uint32_t)timing.ahead_mirror_us / MOTION_STEPPER_CUT_MIRROR_US;
+        if (BackgroundPlanner::steppers() >= 2 && min_us < MOTION_STEPPER_PLAN_SAFE_MS * 1000UL + 6000UL)
+            min_us = MOTION_STEPPER_PLAN_SAFE_MS * 1000UL + 6000UL;
+        if (req == REQ_STOP && cut_retry_us_ == 0 && step_cut_mirror(axis_, &planner_, timing, min_us, &plan_from_, &rest)) {
+            if (!BackgroundPlanner::inLoop())
+                BackgroundPlanner::feedBeforePlan(axis_);
+            step_cut_mirror_rest(&planner_, rest);
+            return true;
+        }
+    }
+#endif
     if (!BackgroundPlanner::inLoop())
         BackgroundPlanner::feedBeforePlan(); /* the other queues last through the plan */
     return step_cut_plan(axis_, &planner_, req == REQ_STOP, target, timing, &plan_from_, &cuts_missed_, &cut_retry_us_);
