@@ -702,7 +702,7 @@ static void stop_after_cut(int inside)
         step_cmd_t c, last;
         closed_t cf;
         uint32_t d = (uint32_t)lrand(3, 60000), k = 1U + (uint32_t)lrand(1, 2000), j, n = 0, more, steps = 0, ds;
-        uint32_t kept_count = 0;
+        uint32_t kept_count = 0, ncmd;
         int ramp_cut = 0;
         int64_t t16 = 0;
         uint64_t abs16 = 0x8000U, cut16;
@@ -726,9 +726,11 @@ static void stop_after_cut(int inside)
         for (j = 0; (inside || j < k) && pl.exact.n < d - 1U && step_planner_next(&pl, &last); j++) {
             uint32_t rate = last.rate, s, use = last.count;
             int split = inside && j + 1U >= k && (last.add == 0 || inside == 2) && !(last.flags & STEP_CMD_WIDE) &&
-                        last.count >= 2U;
+                        last.count >= (last.add != 0 ? 3U : 2U);
             if (split)
                 use = (uint32_t)lrand(1, (long)last.count - 1L);
+            if (split && last.add != 0 && use < 2U)
+                use = 2U; /* the engine keeps two steps of a ramp's command at least (split_at) */
             if (split && inside == 2) {
                 /* a command with an add (a ramp's), split as the engine splits it: the executor's time
                  * of the steps dropped, the full command's less its first `use` */
@@ -766,8 +768,10 @@ static void stop_after_cut(int inside)
         step_planner_stop(&b);
         /* the stop's step times (the executor's arithmetic, from the cut) */
         j = 0;
+        ncmd = 0;
         while (step_planner_next(&b, &c)) {
             uint32_t rate = c.rate, s;
+            ncmd++;
             for (s = 0; s < c.count; s++) {
                 abs16 += (c.flags & STEP_CMD_WIDE) ? (uint64_t)rate << 16 : rate;
                 rate += (uint32_t)c.add;
@@ -777,6 +781,12 @@ static void stop_after_cut(int inside)
                 j++;
             }
         }
+        /* in commands of the span rule, not one step each where the intervals are short (below 8,000
+         * ticks at the cut: a rewound state that took a cut command for one whose span did not fit went
+         * on in single steps, 1,941 commands for 1,941 steps, which the AVR could not plan in time) */
+        if (j >= 400U && ncmd > j / 2U && closed_speed(&cf, n) * 8000.0L > f)
+            fail_msg("case %u (v0 %g vmax %g a %g F %u D %u, cut at %u): the stop's %u steps came in %u commands", i,
+                     p.v0_sps, p.vmax_sps, p.accel_sps2, p.tick_hz, d, n, j, ncmd);
         /* the law at the cut: the move's speed after n steps; a stop of ceil(x_stop) steps (or, x_stop
          * a whole number to a few ulps, one more or less), or the move's own end if that comes as soon */
         t_prev = closed_time(&cf, n);
@@ -838,6 +848,53 @@ static void stop_after_cut_inside_a_cruise_command_follows_the_law(void **state)
 {
     (void)state;
     stop_after_cut(1);
+}
+
+/* make fuzz seed 31 (MultiAxisStepper, 2026-12-06): y decelerating from 85026 towards 68788 (vmax 19123,
+ * accel 10000) got its own target again; the cut landed inside a deceleration's command, and the
+ * rewind, told a count of 1, took it for a command whose span did not fit: the rest of the
+ * deceleration came in single steps (1,941 commands), more than the AVR could plan (107 underruns).
+ * A count of 2 or more is a prefix of that command and keeps the span rule; a count of 1 still means
+ * single steps (what a span that did not fit leaves), so MultiStepEngine's split_at keeps two steps of a
+ * ramp's command at least. */
+static void a_split_deceleration_keeps_its_spans(void **state)
+{
+    ramp_params_t p = {0.0f, 19123.0f, 10000.0f, 16000000U};
+    step_planner_t a, b;
+    step_cmd_t c, more[3];
+    uint32_t use, nm = 0;
+    (void)state;
+    assert_int_equal(step_planner_init_exact(&a, &p, 85026), MS_OK);
+    assert_int_equal(step_planner_move(&a, 68788), MS_OK);
+    while (step_planner_next(&a, &c) && !(a.exact.n > a.exact.n2 + 20U && a.exact.d - a.exact.n < 1950U)) {
+    }
+    while (nm < 3U && step_planner_next(&a, &more[nm]))
+        nm++;
+    assert_true(nm == 3U && more[0].count >= 8U && more[0].add != 0);
+    for (use = 1; use < more[0].count; use++) {
+        step_cmd_t kept = more[0];
+        uint32_t steps = more[0].count - use, i, ncmd = 0, tot = 0;
+        int64_t t16;
+        kept.count = (uint16_t)use;
+        t16 = step_exact_cmd_time16(&more[0]) - step_exact_cmd_time16(&kept);
+        for (i = 1; i < nm; i++) {
+            steps += more[i].count;
+            t16 += step_exact_cmd_time16(&more[i]);
+        }
+        b = a;
+        assert_int_equal(step_planner_rewind(&b, steps, t16, (uint16_t)use), MS_OK);
+        assert_int_equal(step_planner_move(&b, 68788), MS_OK); /* its target again: it keeps the deceleration */
+        while (step_planner_next(&b, &c)) {
+            ncmd++;
+            tot += c.count;
+        }
+        assert_true(tot > 1500U);
+        if (use == 1U)
+            assert_int_equal(ncmd, tot); /* single steps: why split_at keeps two */
+        else if (ncmd > tot / 4U)
+            fail_msg("a cut keeping %u steps of a %u-step deceleration command: %u steps in %u commands", use,
+                     more[0].count, tot, ncmd);
+    }
 }
 
 /* A stop while accelerating from rest begun with the acceleration's last commands reversed (the
@@ -977,6 +1034,7 @@ int main(void)
         cmocka_unit_test(stop_after_cut_inside_a_cruise_command_follows_the_law),
         cmocka_unit_test(stop_after_cut_inside_a_ramp_command_follows_the_law),
         cmocka_unit_test(mirrored_stop_follows_the_law),
+        cmocka_unit_test(a_split_deceleration_keeps_its_spans),
         cmocka_unit_test(longest_move),
     };
     return cmocka_run_group_tests(tests, 0, 0);

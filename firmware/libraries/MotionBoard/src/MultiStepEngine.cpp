@@ -726,7 +726,13 @@ static __attribute__((noinline)) uint16_t split_at(uint8_t axis, uint8_t p, uint
     }
     if (keep == 0)
         keep = 1;
-    return keep < n ? (uint16_t)(n - keep) : 0U;
+    n = keep < n ? n - keep : 0U; /* the steps to drop */
+    /* a ramp's command keeps two steps at least: lib's rewind takes a command kept to its first step as
+     * one whose span did not fit (single steps from there on; make fuzz seed 31, MultiAxisStepper: a
+     * deceleration in one-step commands, 107 underruns) */
+    if ((t.flags & _BV(AXIS_SLOT_HAS_ADD)) && n + 2U > slot_count(t))
+        n = slot_count(t) >= 2U ? slot_count(t) - 2U : 0U;
+    return (uint16_t)n;
 }
 
 uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16,
