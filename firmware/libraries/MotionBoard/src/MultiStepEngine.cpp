@@ -697,7 +697,10 @@ static __attribute__((noinline)) uint16_t split_at(uint8_t axis, uint8_t p, uint
     AxisState &s = state(axis);
     const AxisSlot &t = s.slot[p];
     uint32_t n, per, keep, rate;
-    if (MULTI_TIMED_LOOP || (t.flags & (_BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_WIDE))) || min_ticks <= before)
+    /* (before == min_ticks: the step before p lies exactly at the cut's distance, as when 600 us are six
+     * intervals at 10,000 steps/s and six steps are left of the one before; p is split after its first
+     * step then: until 2026-12-06 it was not split, and the stop waited for the next 4 ms command) */
+    if (MULTI_TIMED_LOOP || (t.flags & (_BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_WIDE))) || min_ticks < before)
         return 0;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
     {
