@@ -258,6 +258,16 @@ def check_two_axes_line(env):
 # ---- StopOnSwitch ---------------------------------------------------------------------------
 
 DOC_DRIFT_MS = 0.5  # how far below docs/library.md's quoted stop latency the measurement may lie
+
+
+def doc_bound(problems, what, measured, doc):
+    """a latency measured (ms, the worst) against the figure docs/library.md quotes for it: not above it,
+    and not more than DOC_DRIFT_MS below (the page follows the code)"""
+    if measured > doc:
+        problems.append(f"{what}: {measured:.2f} ms at worst, more than the {doc} ms docs/library.md promises")
+    elif doc - measured > DOC_DRIFT_MS:
+        problems.append(f"docs/library.md quotes {doc} ms for {what}, measured at most {measured:.2f} ms (more than "
+                        f"{DOC_DRIFT_MS} ms below): update the page")
 STOP_RATES = (20000, 10000, 25000)  # the speeds of the script's three stops, in its order
 STOP_ACCEL = 50000.0  # StopOnSwitch.ino's setAcceleration
 
@@ -439,12 +449,8 @@ def check_accel_stops(env, problems):
     if doc is None:
         problems.append("docs/library.md quotes no '... while it accelerates ... its deceleration begins within "
                         f"**<ms> ms**' (measured {worst:.2f} ms)")
-    elif worst > doc:
-        problems.append(f"a stop while accelerating: the deceleration began {worst:.2f} ms after the switch, more "
-                        f"than the {doc} ms docs/library.md promises")
-    elif doc - worst > DOC_DRIFT_MS:
-        problems.append(f"docs/library.md quotes {doc} ms for a stop while accelerating, measured at most {worst:.2f} "
-                        f"ms (more than {DOC_DRIFT_MS} ms below): update the page")
+    else:
+        doc_bound(problems, "a stop while accelerating (switch to deceleration)", worst, doc)
     return (f"stop while accelerating ({min(v for v, _ in got):.0f}-{max(v for v, _ in got):.0f} steps/s at the "
             f"switch, {len(got)} moments): deceleration began {min(l for _, l in got):.2f}-{worst:.2f} ms after it, "
             "every edge on the law of the triangle from rest to rest")
@@ -494,13 +500,8 @@ def check_stop_on_switch(env):
         for v, lats in sorted(sweep.items()):
             if not lats:
                 continue
-            if max(lats) > doc[v]:
-                problems.append(f"stop at {v}: the deceleration began {max(lats):.2f} ms after the switch, more than "
-                                f"the {doc[v]} ms docs/library.md promises")
-            elif doc[v] - max(lats) > DOC_DRIFT_MS:
-                problems.append(f"docs/library.md quotes a stop latency of {doc[v]} ms at {v}, measured at most "
-                                f"{max(lats):.2f} ms over the command's phase (more than {DOC_DRIFT_MS} ms below): "
-                                "update the page")
+            doc_bound(problems, f"the stop latency at {v} steps/s (switch to deceleration, over the command's phase)",
+                      max(lats), doc[v])
     # the halts: no step after the switch (loop() reads two pins per pass)
     halt_us = []
     for t_h in halts:
@@ -612,12 +613,8 @@ def check_follow_target(env):
         doc = doc_retarget_latency(env)
         if doc is None:
             problems.append(f"docs/library.md quotes no 'retarget latency **<ms> ms**' (measured {latency_ms:.2f} ms)")
-        elif latency_ms > doc:
-            problems.append(f"a target behind: the deceleration began {latency_ms:.2f} ms after the line, more than "
-                            f"the {doc} ms docs/library.md promises")
-        elif doc - latency_ms > DOC_DRIFT_MS:
-            problems.append(f"docs/library.md quotes a retarget latency of {doc} ms, measured {latency_ms:.2f} ms "
-                            f"(more than {DOC_DRIFT_MS} ms below): update the page")
+        else:
+            doc_bound(problems, "the retarget latency (a target behind: the line to the deceleration)", latency_ms, doc)
     figs = (f"target 100000 -> 30000 while cruising: 30000 steps on the law of that move ({late1:.0f} cycles late "
             f"at most); 30000 -> 0, then 40000 behind: stop on the law {latency_ms:.2f} ms after the line, back "
             f"from rest; 0 underruns, 0 missed cuts" if latency_ms is not None else "reversal not measured")

@@ -674,6 +674,18 @@ static long double prof_time(const prof_t *r, long double j)
     return r->tt - (sqrtl(r->v0 * r->v0 + 2.0L * r->a * (r->d - j)) - r->v0) / r->a;
 }
 
+/* case i's random parameters, a move of d steps from 0 planned with them and its closed form; 0 when
+ * the planner refuses them (the case is skipped) */
+static int random_move(step_planner_t *pl, ramp_params_t *p, closed_t *cf, uint32_t i, uint32_t d)
+{
+    random_params(p, i);
+    if (step_planner_init_trapezoid(pl, RAMP_ALGO_EXACT, p, 0) != MS_OK)
+        return 0;
+    assert_int_equal(step_planner_move(pl, (int32_t)d), MS_OK);
+    *cf = closed_plan(p->v0_sps, p->vmax_sps, p->accel_sps2, d);
+    return 1;
+}
+
 /* the closed-form speed of the move cf after x steps */
 static long double closed_speed(const closed_t *cf, long double x)
 {
@@ -711,12 +723,9 @@ static void stop_after_cut(int inside)
         uint32_t s;
         int near_whole;
         prof_t sp;
-        random_params(&p, i);
-        if (step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0) != MS_OK)
+        if (!random_move(&pl, &p, &cf, i, d))
             continue;
-        assert_int_equal(step_planner_move(&pl, (int32_t)d), MS_OK);
         f = p.tick_hz;
-        cf = closed_plan(p.v0_sps, p.vmax_sps, p.accel_sps2, d);
         /* the kept commands, through the executor's arithmetic (inside: up to the first cruise command
          * from the k-th on, of which m steps) */
         if (inside == 1)
@@ -922,12 +931,9 @@ static void mirrored_stop_follows_the_law(void **state)
         uint64_t abs16 = 0x8000U, cut16;
         int64_t t16 = 0;
         long double f, v_cut;
-        random_params(&p, i);
-        if (step_planner_init_trapezoid(&pl, RAMP_ALGO_EXACT, &p, 0) != MS_OK)
+        if (!random_move(&pl, &p, &cf, i, d))
             continue;
-        assert_int_equal(step_planner_move(&pl, (int32_t)d), MS_OK);
         f = p.tick_hz;
-        cf = closed_plan(p.v0_sps, p.vmax_sps, p.accel_sps2, d);
         while (nh < k && nh < 4096U && step_planner_next(&pl, &hist[nh]))
             nh++;
         if (nh == 0U)
