@@ -377,6 +377,23 @@ def check_tifr_write():
                                      f"{gap} cycles after sei", problems)
 
 
+def check_udre_after_txen():
+    """UDRE0 is set whenever the transmit buffer is empty (ATmega2560 datasheet, UCSRnA: initial
+    value 1), whatever TXEN0 did: after UCSR0B = 0 and the transmitter on again, nothing being sent,
+    it reads 1, so a sketch that polls it can send (the stepper consoles' SerialOutQueue does:
+    libsimavr 1.6 alone clears it with TXEN0 and never sets it again: tools/emu/emu_uart.c)."""
+    log = emulog.run(SELFTEST, "wait ^READY\nsend udre\nwait ^OK udre\n")
+    problems = []
+    _fails(log, problems)
+    got = log.first(r"^OK udre ")
+    if not got:
+        problems.append("no reply to 'udre'")
+    elif got.text != "OK udre 1":
+        problems.append(f"'{got.text}': UDRE0 read 0 after the transmitter was switched off and on")
+    return CheckResult(not problems, f"UDRE0 after UCSR0B = 0 and TXEN0 on again: {got.text if got else '-'}",
+                       problems)
+
+
 CHECKS = [
     ("harness self-test: pin edges and timer timing from first principles", check_pins_and_timers),
     ("harness self-test: pin direction (DDR) and level changes at their cycles", check_pin_direction),
@@ -389,5 +406,6 @@ CHECKS = [
     ("harness self-test: a compare match armed for the first ticks after a timer wrap comes there",
      check_timer_wrap),
     ("harness self-test: a TIFRn write clears only the flags written as 1", check_tifr_write),
+    ("harness self-test: UDRE0 set while nothing is sent, after the transmitter was off", check_udre_after_txen),
     ("harness self-test: a compare value right after the wrap matches at every wrap", check_timer_rewrap),
 ]

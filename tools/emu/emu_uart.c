@@ -67,6 +67,13 @@ static void uart_config_written(struct avr_irq_t *irq, uint32_t value, void *par
     (void)value;
     (void)param;
     avr_t *avr = the_avr;
+    /* UDRE0 is set on the chip whenever the transmit buffer is empty, whatever TXEN0; simavr 1.6
+     * clears it when TXEN0 goes off (the core's init() writes UCSR0B = 0) and sets it again only
+     * after a byte written to UDR0 has gone, so a sketch that polls UDRE0 never sent its first
+     * byte (Arduino's Serial does not poll: it enables its interrupt, which simavr raises). Set
+     * again here while no byte is on its way. */
+    if (uart->tx_cnt == 0 && !avr_regbit_get(avr, uart->udrc.raised))
+        avr_regbit_set(avr, uart->udrc.raised);
     if (uart->cycles_per_byte != last_seen_cpb || (fixed_cpb && real_cycles_per_byte(avr) != fixed_cpb)) {
         /* simavr recomputed it (baud register write): put the real frame length in */
         fixed_cpb = real_cycles_per_byte(avr);

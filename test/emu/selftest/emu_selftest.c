@@ -268,6 +268,16 @@ int main(void)
             TCCR3A = _BV(WGM30) | _BV(COM3C1);
             snprintf(buf, sizeof buf, "OK pwm %d", v);
             println(buf);
+        } else if (!strcmp(line, "udre")) {
+            /* the transmitter off and on again (as the core's init() and Serial.begin() do), nothing
+             * being sent: UDRE0 reads 1 on the chip. The reply's first byte is then written without
+             * polling, so that an emulator that cleared UDRE0 still answers ("OK udre 0"). */
+            UCSR0B = 0;
+            UCSR0B = _BV(RXEN0) | _BV(TXEN0);
+            uint8_t udre = (UCSR0A & _BV(UDRE0)) ? 1 : 0;
+            UDR0 = 'O';
+            snprintf(buf, sizeof buf, "K udre %u", udre);
+            println(buf);
         } else if (!strcmp(line, "dir")) {
             uint8_t sreg = SREG;
             cli();

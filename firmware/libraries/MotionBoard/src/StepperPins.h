@@ -133,7 +133,12 @@
  * replays); but `make fuzz`'s fast and set-while-moving runs at that limit (seeds 2 and 4, 3,000
  * lines) found edges 90 cycles late and a 6.3 ms stall (underruns=2) at 98,765 steps/s, so the limit
  * stays 90,000, a rung below the bench's ceiling (at 90,000 seed 2 found one edge 266 cycles after
- * its plan, 6 over the bound, as an earlier seed 24 did). Near it
+ * its plan, 6 over the bound, as an earlier seed 24 did). Since the console sends its replies
+ * without the transmit interrupt while the axis steps (2026-12-06: SerialOutQueue's direct mode) the
+ * bench has 339 edges beyond 8 cycles at 100,000 and make fuzz seed 32's late edges at 90,000 are
+ * gone, but its set-while-moving runs with the limit at 100,000 (seeds 2 and 4, 500 lines) still
+ * held a step back (intervals of 1,548 and 18,688 cycles at 87,900 and 98,765 steps/s, then the held
+ * steps above vmax): the limit stays 90,000. Near it
  * an edge comes late now and then (`late=`: the core's serial and millis interrupts delayed the step
  * interrupt past its next edge's time, which then fires 2 us after its arming), sometimes a few
  * in a row (the interrupt that fired one ends after the next edge's time too), each less late than

@@ -108,7 +108,14 @@ bool MotionConsole::collect_done()
 void MotionConsole::poll()
 {
     const char *line;
+    bool stepping = false;
     plan();
+    /* while an axis steps, the replies go out without the transmit interrupt, which would nest in the
+     * step interrupts (SerialOutQueue.h); at rest through it, so that a long pass of loop() (a table
+     * refill) does not hold the reply back byte by byte */
+    for (uint8_t i = 0; i < n_; i++)
+        stepping = stepping || MultiStepEngine::moving(ax_[i]->axis());
+    queue_.set_direct(stepping);
     if (!collect_done() || (ok_pending_ && !finish_ok()) || (move_pending_ && !(this->*move_->finish)())) {
         serial_.drain_input(); /* no line is read meanwhile, but input must not pile up in the core */
         queue_.pump();
