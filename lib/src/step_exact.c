@@ -340,7 +340,7 @@ static float root5(float x)
 /* the radicand at the start (A) or the end (D) as a float */
 static float qbase_f(const step_exact_t *e)
 {
-    float u = (float)((e->flags & F_IN_D) ? e->k.u0 : e->us);
+    float u = (float)((e->flags & F_IN_D) ? e->ue : e->us);
     return u * u;
 }
 
@@ -424,6 +424,8 @@ static void setup_profile_n3(step_exact_t *e, int8_t dir, uint32_t d, uint64_t u
     e->acc16 = 0;
     e->us = us;
     e->y = us;
+    e->ue = ue;
+    e->qr = 0;
     e->a_down = us > vu;
     if (stop && !have_n3 && stop_no_cruise(k, us)) {
         trapezoid = 0; /* (n1 follows from the peak below) */
@@ -617,7 +619,7 @@ float step_exact_speed_sps(const step_exact_t *e)
 static int64_t t16_y(const step_exact_t *e, uint64_t y)
 {
     if (e->flags & F_IN_D)
-        return e->t_end16 - (int64_t)((y - e->k.u0) << 8);
+        return e->t_end16 - (int64_t)((y - e->ue) << 8);
     return (int64_t)((e->a_down ? e->us - y : y - e->us) << 8);
 }
 
@@ -946,7 +948,7 @@ uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c)
             float ih, f;
             int64_t er;
             e->flags |= F_IN_D;
-            e->q = square64(e->k.u0) + mul64x32(e->k.cu, m);
+            e->q = square64(e->k.u0) + e->qr + mul64x32(e->k.cu, m);
             f = qbase_f(e) + e->k.cu_f * (float)m;
             e->y = root_ih(e->q, (e->flags & F_SMALL) ? (float)e->q : f, &ih);
             e->slope_i = slope_int(e->k.cu_f * ih);
@@ -1082,7 +1084,7 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
     base = (uint8_t)(s.flags & (F_SMALL | F_CFAST));
     /* C (and v0) exactly as planned: the radicand of the state now */
     if (e->flags & F_IN_D)
-        q_now = square64(e->k.u0) + mul64x32(e->k.cu, e->d - e->n);
+        q_now = square64(e->k.u0) + e->qr + mul64x32(e->k.cu, e->d - e->n);
     else
         q_now = q_a(e, e->n < e->n1 ? e->n : e->n1);
     if (q_now != e->q)
@@ -1141,7 +1143,7 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
             return MS_ERR_OUT_OF_RANGE;
         ic = 1.0f / s.k.cu_f;
         s.flags = (uint8_t)(base | F_IN_D | F_ERR);
-        s.q = square64(s.k.u0) + mul64x32(s.k.cu, m);
+        s.q = square64(s.k.u0) + s.qr + mul64x32(s.k.cu, m);
         s.y = y_at(&s, s.q, m, &ih);
         s.slope_i = slope_int(s.k.cu_f * ih);
         if (p == s.n2) {
@@ -1180,9 +1182,10 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
 
 uint8_t step_exact_mirror_ok(const step_exact_t *e, uint32_t n)
 {
-    /* region A of a profile from u0 (a move from rest), accelerating, n at least two steps before its
-     * end (the stop from there is a profile of its own: it never keeps this one's deceleration) */
-    return e != 0 && e->moving && e->d != 0 && !e->a_down && e->us == e->k.u0 && n >= 4U && n <= e->n &&
+    /* region A accelerating (a move from rest, or one continued from speed), n at least two steps
+     * before its end (the stop from there is a profile of its own: it never keeps this one's
+     * deceleration) */
+    return e != 0 && e->moving && e->d != 0 && !e->a_down && e->us >= e->k.u0 && n >= 4U && n <= e->n &&
            n + 2U <= e->n1;
 }
 
@@ -1192,24 +1195,40 @@ __attribute__((noinline)) motion_status_t step_exact_stop_mirrored(step_exact_t 
     step_exact_t s;
     float ic, ih;
     int64_t er;
-    uint32_t m;
+    uint64_t r, qe;
+    uint32_t m, d;
     if (!step_exact_mirror_ok(e, n) || steps == 0 || steps + 2U > n)
         return MS_ERR_OUT_OF_RANGE;
     s = *e;
-    /* the speed at step n, as the rewind works it out in region A (the radicand u0^2 + n C exactly) */
+    /* the speed at step n, as the rewind works it out in region A (the radicand us^2 + n C exactly) */
     s.flags = (uint8_t)(e->flags & (F_SMALL | F_CFAST));
     s.q = q_a(&s, n);
     s.y = y_at(&s, s.q, n, &ih);
     s.pos = ramp_position_after(e->pos, (int8_t)-e->dir, e->n - n);
-    /* the stop from there: n steps (its radicands u0^2 + m C are those of the acceleration's steps,
-     * which its deceleration passes again in reverse), a profile whose peak is where it starts */
-    setup_profile_n3(&s, e->dir, n, s.y, 0, 0, 0, 1);
+    /* the stop from there passes the acceleration's radicands us^2 + j C again, j = n, n - 1, ..., and
+     * those below its start, down to the last one at or above u0^2: u0^2 + r, r < C, after
+     * d = n + floor((us^2 - u0^2) / C) steps (from rest: n steps, r = 0). A profile whose peak is
+     * where it starts, its deceleration on those radicands: it ends at sqrt(u0^2 + r), within a step's
+     * speed change above v0 (a stop planned from a speed rounds its distance up to whole steps
+     * instead, with a peak a little above its start) */
+    d = steps_between(&s.k, s.us, s.k.u0, &r);
+    if (d >= UINT32_MAX - n)
+        return MS_ERR_OUT_OF_RANGE;
+    d += n;
+    setup_profile_n3(&s, e->dir, d, s.y, 0, 0, 0, 1);
+    qe = square64(s.k.u0) + r; /* the radicand at the end, modulo 2^64 */
+    if (r != 0) {
+        float u0f = (float)s.k.u0;
+        s.qr = r;
+        s.ue = root(qe, u0f * u0f + (float)r, 1); /* (its size as a float) */
+        s.t_end16 = (int64_t)(((s.up - s.us) + (s.up - s.ue)) << 8);
+    }
     /* after its first `steps` steps (the acceleration's last ones reversed, time16 in the executor's
      * time): region D with m steps left, as step_exact_rewind builds it there */
-    m = n - steps;
+    m = d - steps;
     ic = 1.0f / s.k.cu_f;
     s.flags = (uint8_t)((s.flags & (F_SMALL | F_CFAST)) | F_IN_D | F_ERR);
-    s.q = square64(s.k.u0) + mul64x32(s.k.cu, m);
+    s.q = qe + mul64x32(s.k.cu, m);
     s.y = y_at(&s, s.q, m, &ih);
     s.slope_i = slope_int(s.k.cu_f * ih);
     fit_d(&s, m, ic);

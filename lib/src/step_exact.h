@@ -72,7 +72,9 @@ typedef struct {
     uint8_t moving;   /* the speed after step n is a real speed (not at rest) */
     uint8_t flags;    /* step_exact.c's F_* */
     uint8_t span_b;   /* the fit allows a quadratic command of 2^span_b steps here */
-    uint64_t us, up;  /* speeds at the start and at the peak, u (at the end: k.u0) */
+    uint64_t us, up;  /* speeds at the start and at the peak, u */
+    uint64_t ue, qr;  /* the speed at the end, u, and its radicand less k.u0^2 (exact): k.u0 and 0,
+                         but a little above it in a stop begun mirrored (step_exact_stop_mirrored) */
     int64_t t_end16;  /* T_end, 2^-16 ticks */
     int64_t acc16;    /* predicted executor time of step n, 2^-16 ticks from the profile start */
     uint64_t y;       /* sqrt(...) at step n in regions A and D (the speed there, u); 0 in the cruise */
@@ -151,18 +153,20 @@ int64_t step_exact_cmd_time16(const step_cmd_t *c);
  * products. */
 motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, uint16_t last_count);
 
-/* A stop while accelerating from rest, begun with the acceleration's own last steps reversed (the
- * deceleration from the speed of step n passes the acceleration's speeds again in reverse: on the
- * law, the same intervals): a step engine that still holds the commands that ended at step n can lay
- * them out reversed (each command's intervals in the opposite order: rate + (count - 1) add, -add) at
- * once, without a plan, and ask the planner for the rest afterwards. step_exact_mirror_ok: 1 when
- * the profile in progress allows it at step n (a profile from u0, a move from rest; n in its
- * acceleration, at least two steps before its end; n <= e->n). step_exact_stop_mirrored: the state
- * after `steps` steps of the stop from step n (1 <= steps <= n - 2) that were so laid out, taking
- * time16 in the executor's time (the sum of step_exact_cmd_time16 over the reversed commands): the
- * stop profile of n steps from the speed of step n (the exact stopping distance: its radicands are
- * the acceleration's), in its deceleration with n - steps steps left; step_exact_next then hands out
- * the rest of it. MS_ERR_OUT_OF_RANGE (nothing changed) otherwise. */
+/* A stop while accelerating, begun with the acceleration's own last steps reversed (the deceleration
+ * from the speed of step n passes the acceleration's speeds again in reverse: on the law, the same
+ * intervals): a step engine that still holds the commands that ended at step n can lay them out
+ * reversed (each command's intervals in the opposite order: rate + (count - 1) add, -add) at once,
+ * without a plan, and ask the planner for the rest afterwards. step_exact_mirror_ok: 1 when the
+ * profile in progress allows it at step n (its acceleration, from rest or from a speed, n at least two
+ * steps before its end; n <= e->n). step_exact_stop_mirrored: the state after `steps` steps of the
+ * stop from step n (1 <= steps <= n - 2) that were so laid out, taking time16 in the executor's time
+ * (the sum of step_exact_cmd_time16 over the reversed commands): the stop profile on the
+ * acceleration's own radicands (us^2 + j C for j = n, n - 1, ... and on below its start while they
+ * stay at or above v0's: n steps from rest, the exact stopping distance; from a speed us, n +
+ * floor((us^2 - u0^2) / C) steps, ending within a step's speed change above v0), in its deceleration
+ * with the rest of its steps left; step_exact_next then hands out the rest of it.
+ * MS_ERR_OUT_OF_RANGE (nothing changed) otherwise. */
 uint8_t step_exact_mirror_ok(const step_exact_t *e, uint32_t n);
 motion_status_t step_exact_stop_mirrored(step_exact_t *e, uint32_t n, uint32_t steps, int64_t time16);
 

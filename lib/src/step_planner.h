@@ -152,8 +152,8 @@ uint8_t step_planner_next(step_planner_t *pl, step_cmd_t *c);
  * the parameters since (step_exact_profile_intact). On error nothing changes. */
 motion_status_t step_planner_rewind(step_planner_t *pl, uint32_t steps, int64_t time16, uint16_t last_count);
 
-/* A stop while accelerating from rest, its first steps the acceleration's last ones reversed
- * (step_exact_stop_mirrored; the exact ramp only): step_planner_mirror_ok tells whether the step
+/* A stop while accelerating (from rest or from a speed), its first steps the acceleration's last
+ * ones reversed (step_exact_stop_mirrored; the exact ramp only): step_planner_mirror_ok tells whether the step
  * `steps_back` steps before the last handed out allows it; step_planner_stop_mirrored then takes the
  * planner back there and to the stop's state after `steps` steps laid out so (time16: their executor
  * time), as step_planner_rewind and step_planner_stop would, the rest of the stop to hand out. */

@@ -571,11 +571,99 @@ def doc_retarget_latency(env):
     return float(m.group(1)) if m else None
 
 
+def law_accel_stop(total, a):
+    """t(n), n = 1..total, seconds, of a move from rest that accelerates at a for ceil(total/2) steps and
+    then decelerates at a from the speed reached (the stop of a new target behind, begun with the
+    acceleration's own commands reversed: lib's step_exact_stop_mirrored; the last of its decelerating
+    steps may come one step early, at a speed within one step's change above rest, when the speed the move
+    went on from after a new target was a hair below that of its step: then total is odd)"""
+    na = (total + 1) // 2
+    v = math.sqrt(2 * a * na)
+    out = [math.sqrt(2 * n / a) for n in range(1, na + 1)]
+    out += [v / a + (v - math.sqrt(max(0.0, v * v - 2 * a * j))) / a for j in range(1, total - na + 1)]
+    return out
+
+
+# FollowTarget: a target farther ahead 100 ms into the move from rest (the move goes on accelerating from
+# its speed: a new profile that does not start from rest), then a target behind it (0) this many ms later,
+# still accelerating: its stop, the move back from rest
+FOLLOW_ACCEL_REVERSALS = (60.0, 120.0, 200.0)
+
+
+def doc_accel_reversal_latency(env):
+    """the latency docs/library.md quotes for a target behind while accelerating after a new target
+    ('... after a new target ... a target behind ... its deceleration begins within **<ms> ms** of the line'),
+    ms, or None"""
+    m = library_doc_search(env, r"after\s+a\s+new\s+target[^*]*?target\s+behind[^*]*?its\s+deceleration\s+begins\s+"
+                                r"within\s+\*\*([0-9.]+) ms\*\*")
+    return float(m.group(1)) if m else None
+
+
+def follow_accel_reversal_at(env, t_ms, problems):
+    """FollowTarget sent 100000, 200000 (100 ms later: a new target while accelerating) and 0 t_ms after
+    that, still accelerating: DONE 0 with no underrun and no cut missed, the move out on the law of an
+    acceleration from rest and the deceleration from the speed reached (law_accel_stop: no velocity jump,
+    the new target on the same law), the move back one from rest; returns (the speed at the line, the
+    latency from the line's end to the deceleration's first interval, ms), or None (a problem said)"""
+    script = (f"wait ^READY FollowTarget$\nsend 100000\nwait ^MOVE 100000$\nrun 100\nsend 200000\n"
+              f"wait ^MOVE 200000$\nrun {t_ms:.1f}\nsend 0\ntimeout 20000\nwait ^DONE\n")
+    log = run(env, "FollowTarget", script)
+    common(log, problems)
+    what = f"a target behind {t_ms:.0f} ms after a new target, accelerating"
+    line = next((t for t in log.tx if t.text == "0"), None)
+    done = log.lines_matching(r"^DONE ")
+    if line is None or len(done) != 1:
+        problems.append(f"{what}: no conversation ({[l.text for l in log.rx]})")
+        return None
+    if done[0].text != "DONE 0 underruns=0 missed=0":
+        problems.append(f"{what}: '{done[0].text}', expected 'DONE 0 underruns=0 missed=0'")
+    e = log.rising("XSTEP")
+    turn = next((i for i, c in enumerate(e) if log.level_before("XDIR", c) == 0), None)
+    if turn is None:
+        problems.append(f"{what}: X never turned back")
+        return None
+    out, back = e[:turn], e[turn:]
+    total = len(out)
+    arrival = line.cycle + (len(line.text) + 2) * emulate.frame_cycles(log)
+    pre = [c for c in out if c < arrival][-17:]
+    v_line = F_CPU * 16 / (pre[-1] - pre[0]) if len(pre) == 17 else 0.0
+    if not 0 < v_line < 0.95 * 20000:
+        problems.append(f"{what}: {v_line:.0f} steps/s at the line: not accelerating")
+        return None
+    late, at = law_errors(out, law_accel_stop(total, 50000.0))
+    if late > LATE_BOUND + 2:
+        problems.append(f"{what}: step {at} of the {total} out is {late:.0f} cycles off the law of the acceleration "
+                        f"from rest and the deceleration from the speed reached (bound {LATE_BOUND} + 2)")
+    check_move(log, problems, "X", back, total, 0, 20000.0, 50000.0, f"{what}: the move back from rest")
+    start = out[(total + 1) // 2 - 1]  # the last edge of the acceleration
+    return v_line, (start - arrival) * 1000.0 / F_CPU
+
+
+def check_follow_accel_reversals(env, problems):
+    """FollowTarget: targets behind while accelerating after a new target (FOLLOW_ACCEL_REVERSALS), each on the
+    law; the worst latency against docs/library.md; the figures' text"""
+    got = [r for r in (follow_accel_reversal_at(env, t, problems) for t in FOLLOW_ACCEL_REVERSALS) if r is not None]
+    if not got:
+        return "targets behind while accelerating after a new target: not measured"
+    worst = max(lat for _, lat in got)
+    doc = doc_accel_reversal_latency(env)
+    if doc is None:
+        problems.append("docs/library.md quotes no '... after a new target ... a target behind ... its deceleration "
+                        f"begins within **<ms> ms**' (measured {worst:.2f} ms)")
+    else:
+        doc_bound(problems, "a target behind while accelerating after a new target (the line to the deceleration)",
+                  worst, doc)
+    return (f"a target behind while accelerating after a new target ({min(v for v, _ in got):.0f}-"
+            f"{max(v for v, _ in got):.0f} steps/s at the line, {len(got)} moments): deceleration began "
+            f"{min(l for _, l in got):.2f}-{worst:.2f} ms after the line, on the law, back from rest")
+
+
 def check_follow_target(env):
     """new targets while moving (FollowTarget.ino, 20,000 steps/s, 50,000 steps/s^2): a nearer target
     ahead, sent while cruising towards 100000, makes the move one of 30000 steps from rest (every edge
     on that law); a target behind, sent while cruising from 30000 towards 0, stops on the law (no
-    velocity jump) after a latency against docs/library.md, and the move back is one from rest"""
+    velocity jump) after a latency against docs/library.md, and the move back is one from rest; targets
+    behind while accelerating after a new target (check_follow_accel_reversals)"""
     log = run(env, "FollowTarget", FOLLOW_SCRIPT)
     problems = []
     common(log, problems)
@@ -619,6 +707,7 @@ def check_follow_target(env):
             f"at most); 30000 -> 0, then 40000 behind: stop on the law {latency_ms:.2f} ms after the line, back "
             f"from rest; 0 underruns, 0 missed cuts" if latency_ms is not None else "reversal not measured")
     figs += "; " + check_follow_target_default(env, problems)
+    figs += "; " + check_follow_accel_reversals(env, problems)
     return CheckResult(not problems, figs, problems)
 
 
@@ -1242,7 +1331,8 @@ CHECKS_BY_EXAMPLE = (
     ("StopOnSwitch", "stop() at a switch (latency, deceleration law), forceStop() at another (no step "
                      "after)", check_stop_on_switch),
     ("FollowTarget", "new targets while moving: one ahead (the law of the shorter move), one behind (stop on "
-                     "the law, latency, back from rest)", check_follow_target),
+                     "the law, latency, back from rest), one behind while accelerating after a new target (the "
+                     "stop's law and latency)", check_follow_target),
     ("BlockingLoop", "delay(1000) in loop(): 20,000 steps at 20,000 steps/s, 0 underruns", check_blocking_loop),
     ("ApiTour", "every call's status as documented, inversion, auto-disable, the direction hook, "
                 "setCurrentPosition, move", check_api_tour),

@@ -882,7 +882,9 @@ __attribute__((noinline)) uint8_t MultiStepEngine::cut_mirror(uint8_t axis, cons
             last = t.rate + (uint32_t)t.add * count;
             m.rate = last;
             m.add = -t.add;
-            per = (last >> 17) + ((t.rate + (uint32_t)t.add) >> 17); /* the mean interval, ticks */
+            /* the mean interval, ticks: (last >> 17) + (first >> 17), each as its upper half shifted
+             * once (a 32-bit shift by 17 is a loop of 17 on the AVR: 120 cycles) */
+            per = (uint32_t)((uint16_t)(last >> 16) >> 1) + ((uint16_t)((t.rate + (uint32_t)t.add) >> 16) >> 1);
         }
         ticks += per * count;
         steps += count;

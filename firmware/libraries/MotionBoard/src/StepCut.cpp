@@ -72,28 +72,45 @@ static __attribute__((noinline)) motion_status_t rewind_to(step_planner_t *pl, c
     return step_planner_rewind(pl, cut.steps, cut.time16, cut.last_count);
 }
 
-bool step_cut_mirror(uint8_t axis, step_planner_t *pl, const StepCutTiming &t, uint32_t min_us, int32_t *from,
-                     StepCutMirror *rest)
+bool step_cut_mirror(uint8_t axis, step_planner_t *pl, const StepCutTiming &t, uint32_t min_us, bool then, int32_t to,
+                     int32_t *from, StepCutMirror *rest)
 {
 #if MOTION_STEPPER_CUT_US && MOTION_STEPPER_CUT_MIRROR_US
     MultiStepEngine::Cut cut;
     step_cmd_t c[STEP_CUT_MIRROR_CMDS];
     uint32_t steps, n;
     uint8_t k, i;
+    int32_t at;
+    float v = fabs(MultiStepEngine::speed(axis));
     /* a profile with an acceleration (the planner may be in its cruise already, the lead ahead of the
-     * axis): the axis may still be accelerating from rest at the cut */
+     * axis): the axis may still be accelerating at the cut */
     if (pl->algo != RAMP_ALGO_EXACT || t.ahead_mirror_us == 0 || pl->exact.n1 == 0 || pl->exact.n < 2U ||
-        !(fabs(MultiStepEngine::speed(axis)) < 0.98 * pl->params.vmax_sps) || /* cruising: no search */
-        MultiStepEngine::cut_find(axis, (uint32_t)t.ticks_per_us * t.ahead_mirror_us, pl->exact.n - 1U, cut, false,
-                                  true) == 0 ||
-        !step_planner_mirror_ok(pl, cut.steps))
+        !(v < 0.98f * pl->params.vmax_sps) || /* cruising: no search */
+        /* a reversal: the move back from rest is planned when the stop's commands run out, and costs
+         * milliseconds (step_cut_plan's rule) */
+        (then && (v - pl->params.v0_sps) < pl->params.accel_sps2 * (float)t.then_min_us * 1e-6f))
         return false;
-    n = pl->exact.n - cut.steps; /* the step of the profile where the cut lands */
-    k = MultiStepEngine::cut_mirror(axis, cut, c, STEP_CUT_MIRROR_CMDS, n - 2U, (uint32_t)t.ticks_per_us * min_us, steps);
-    step_cut_trace(true);
-    if (k == 0 || !MultiStepEngine::cut_apply(axis, cut, (uint32_t)t.ticks_per_us * t.margin_us, c, k)) {
+    /* a cut the interrupt came too close to (cut_apply refused it) is tried once more twice as far
+     * ahead: the search, the reversal and the lay-out cost a few tenths of a millisecond, where the
+     * stop planned instead would take the slow cut */
+    for (uint8_t tries = 0;; tries++) {
+        if (tries == 2 ||
+            MultiStepEngine::cut_find(axis, ((uint32_t)t.ticks_per_us * t.ahead_mirror_us) << tries, pl->exact.n - 1U,
+                                      cut, false, true) == 0 ||
+            !step_planner_mirror_ok(pl, cut.steps))
+            return false;
+        at = ramp_position_after(pl->pos, (int8_t)-pl->exact.dir, cut.steps); /* the position at the cut */
+        if (then && (pl->exact.dir > 0 ? to >= at : to <= at))
+            return false; /* a target ahead of the cut: a plan of its own */
+        n = pl->exact.n - cut.steps; /* the step of the profile where the cut lands */
+        k = MultiStepEngine::cut_mirror(axis, cut, c, STEP_CUT_MIRROR_CMDS, n - 2U, (uint32_t)t.ticks_per_us * min_us,
+                                        steps);
+        if (k == 0)
+            return false;
+        step_cut_trace(true);
+        if (MultiStepEngine::cut_apply(axis, cut, (uint32_t)t.ticks_per_us * t.margin_us, c, k))
+            break;
         step_cut_trace(false);
-        return false;
     }
     step_cut_trace(false);
     rest->back = cut.steps;
@@ -101,13 +118,17 @@ bool step_cut_mirror(uint8_t axis, step_planner_t *pl, const StepCutTiming &t, u
     rest->time16 = 0;
     for (i = 0; i < k; i++)
         rest->time16 += step_exact_cmd_time16(&c[i]);
-    *from = ramp_position_after(pl->pos, (int8_t)-pl->exact.dir, cut.steps);
+    rest->then = then;
+    rest->to = to;
+    *from = at;
     return true;
 #else
     (void)axis;
     (void)pl;
     (void)t;
     (void)min_us;
+    (void)then;
+    (void)to;
     (void)from;
     (void)rest;
     return false;
@@ -118,6 +139,12 @@ void step_cut_mirror_rest(step_planner_t *pl, const StepCutMirror &rest)
 {
     /* (not refused: step_cut_mirror checked step_planner_mirror_ok, and steps <= n - 2) */
     (void)step_planner_stop_mirrored(pl, rest.back, rest.steps, rest.time16);
+    if (rest.then) {
+        /* the move to the target behind, from rest after the stop (as step_planner_move plans a reversal) */
+        pl->target = rest.to;
+        pl->has_then = 1;
+        pl->then_target = rest.to;
+    }
 }
 
 bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,

@@ -36,14 +36,14 @@
 #ifndef MOTION_STEPPER_CUT_CMDS
 #define MOTION_STEPPER_CUT_CMDS 4U
 #endif
-/* A stop while accelerating from rest needs no plan before its cut: its first steps are the
- * acceleration's last ones reversed (MultiStepEngine::cut_mirror, lib's step_exact_stop_mirrored), laid
- * out at a cut this many microseconds ahead, at least MOTION_STEPPER_MIRROR_MIN_US of them (the
- * planner plans the rest of the stop while they run); where the ring does not hold that much of the
- * acceleration (or the move did not start from rest: a new target while moving), the stop is planned
- * at the slow cut. 0: no such cut. */
+/* A stop while accelerating (from rest, or after a new target while moving) needs no plan before its
+ * cut: its first steps are the acceleration's last ones reversed (MultiStepEngine::cut_mirror, lib's
+ * step_exact_stop_mirrored), laid out at a cut this many microseconds ahead, at least
+ * MOTION_STEPPER_MIRROR_MIN_US of them (the planner plans the rest of the stop while they run); a new
+ * target behind is that stop and the move back after it. Where the ring does not hold that much of
+ * the acceleration, they are planned at the slow cut. 0: no such cut. */
 #ifndef MOTION_STEPPER_CUT_MIRROR_US
-#define MOTION_STEPPER_CUT_MIRROR_US 1000UL
+#define MOTION_STEPPER_CUT_MIRROR_US 800UL
 #endif
 #ifndef MOTION_STEPPER_MIRROR_MIN_US
 #define MOTION_STEPPER_MIRROR_MIN_US 4000UL
@@ -95,20 +95,24 @@ struct StepCutTiming {
 bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, const StepCutTiming &t,
                    int32_t *from, uint16_t *missed, uint32_t *retry_us);
 
-/* A stop of axis while it accelerates from rest (its planner pl in an exact move from rest), at a cut
+/* A stop of axis while it accelerates (its planner pl in the acceleration of an exact move), at a cut
  * t.ahead_mirror_us ahead with no plan before it: the acceleration's last commands reversed
- * (MultiStepEngine::cut_mirror), at least min_us of them, are laid out there. True: done (*from: the
- * position at the cut); the planner must then take the rest of the stop, step_cut_mirror_rest(pl,
- * *rest), before it hands out its next command (while the reversed commands run: the other axes'
- * queues may be fed first, as the planner is left as it was until then). False: nothing changed (not
- * accelerating from rest there, the ring does not hold min_us of the acceleration, or the interrupt
- * came too close): plan it with step_cut_plan. */
+ * (MultiStepEngine::cut_mirror), at least min_us of them, are laid out there. then: a new target `to`
+ * behind the cut, the move to it from rest after the stop (only where the stop lasts t.then_min_us,
+ * as step_cut_plan's reversals). True: done (*from: the position at the cut); the planner must then
+ * take the rest of the stop, step_cut_mirror_rest(pl, *rest), before it hands out its next command
+ * (while the reversed commands run: the other axes' queues may be fed first, as the planner is left
+ * as it was until then). False: nothing changed (not accelerating there, the ring does not hold
+ * min_us of the acceleration, a target that is not behind the cut, or the interrupt came too close):
+ * plan it with step_cut_plan. */
 struct StepCutMirror {
     uint32_t back, steps; /* the steps dropped, the steps laid out reversed */
     int64_t time16;       /* the executor's time of those */
+    bool then;            /* the move to `to` from rest after the stop */
+    int32_t to;
 };
-bool step_cut_mirror(uint8_t axis, step_planner_t *pl, const StepCutTiming &t, uint32_t min_us, int32_t *from,
-                     StepCutMirror *rest);
+bool step_cut_mirror(uint8_t axis, step_planner_t *pl, const StepCutTiming &t, uint32_t min_us, bool then, int32_t to,
+                     int32_t *from, StepCutMirror *rest);
 void step_cut_mirror_rest(step_planner_t *pl, const StepCutMirror &rest);
 
 /* The first commands of the plan in pl, at least new_us of steps (a stop's first is one step), into

@@ -209,7 +209,8 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
         }
     }
     timing.ticks_per_us = BackgroundPlanner::ticksPerUs(); /* the timer's (setTickRate) */
-    /* a stop while accelerating from rest takes no plan before its cut (with three Steppers at 25,000
+    /* a stop while accelerating (or a target behind: that stop, then the move back) takes no plan
+     * before its cut (with three Steppers at 25,000
      * steps/s the other queues' feeding before a plan took some 14 ms): the acceleration's last commands
      * reversed, at least MOTION_STEPPER_MIRROR_MIN_US of them, and with two or three Steppers enough to
      * outlast the other queues' feeding up to MOTION_STEPPER_PLAN_SAFE_MS, which comes next (this
@@ -223,7 +224,8 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
         uint32_t min_us = MOTION_STEPPER_MIRROR_MIN_US * (uint32_t)timing.ahead_mirror_us / MOTION_STEPPER_CUT_MIRROR_US;
         if (BackgroundPlanner::steppers() >= 2 && min_us < MOTION_STEPPER_PLAN_SAFE_MS * 1000UL + 6000UL)
             min_us = MOTION_STEPPER_PLAN_SAFE_MS * 1000UL + 6000UL;
-        if (req == REQ_STOP && cut_retry_us_ == 0 && step_cut_mirror(axis_, &planner_, timing, min_us, &plan_from_, &rest)) {
+        if ((req == REQ_STOP || req == REQ_MOVE) && cut_retry_us_ == 0 &&
+            step_cut_mirror(axis_, &planner_, timing, min_us, req == REQ_MOVE, target, &plan_from_, &rest)) {
             if (!BackgroundPlanner::inLoop())
                 BackgroundPlanner::feedBeforePlan(axis_);
             step_cut_mirror_rest(&planner_, rest);
