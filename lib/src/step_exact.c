@@ -1178,7 +1178,7 @@ motion_status_t step_exact_rewind(step_exact_t *e, uint32_t n, int64_t acc16, ui
     return MS_OK;
 }
 
-/* ---- a stop while accelerating from rest, its first steps the acceleration's last ones reversed ---- */
+/* ---- a stop while accelerating (from rest or a speed), begun with the acceleration reversed ---- */
 
 uint8_t step_exact_mirror_ok(const step_exact_t *e, uint32_t n)
 {

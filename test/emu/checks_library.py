@@ -574,9 +574,9 @@ def doc_retarget_latency(env):
 def law_accel_stop(total, a):
     """t(n), n = 1..total, seconds, of a move from rest that accelerates at a for ceil(total/2) steps and
     then decelerates at a from the speed reached (the stop of a new target behind, begun with the
-    acceleration's own commands reversed: lib's step_exact_stop_mirrored; the last of its decelerating
-    steps may come one step early, at a speed within one step's change above rest, when the speed the move
-    went on from after a new target was a hair below that of its step: then total is odd)"""
+    acceleration's own commands reversed: lib's step_exact_stop_mirrored; the deceleration may be one step
+    shorter, ending at a speed within one step's change above rest, when the speed the move went on from
+    after a new target was a hair below that of its step: then total is odd)"""
     na = (total + 1) // 2
     v = math.sqrt(2 * a * na)
     out = [math.sqrt(2 * n / a) for n in range(1, na + 1)]

@@ -381,7 +381,8 @@ def check_udre_after_txen():
     """UDRE0 is set whenever the transmit buffer is empty (ATmega2560 datasheet, UCSRnA: initial
     value 1), whatever TXEN0 did: after UCSR0B = 0 and the transmitter on again, nothing being sent,
     it reads 1, so a sketch that polls it can send (the stepper consoles' SerialOutQueue does:
-    libsimavr 1.6 alone clears it with TXEN0 and never sets it again: tools/emu/emu_uart.c)."""
+    libsimavr 1.6 alone clears it with TXEN0 and sets it again only after a byte has gone out:
+    tools/emu/emu_uart.c)."""
     log = emulog.run(SELFTEST, "wait ^READY\nsend udre\nwait ^OK udre\n")
     problems = []
     _fails(log, problems)

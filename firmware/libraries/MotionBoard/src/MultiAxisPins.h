@@ -96,17 +96,20 @@
 #define MULTI_G_OWNOFF_Z 5
 #define MULTI_G_LED_X 6 /* set_led_mirror(true): X's interrupt toggles the LED at each of its steps */
 
-/* The fastest vmax `set` accepts per axis (steps/s): the highest rate at which three independent moves
- * at once (each axis with its own plan and interrupt, issue 13's case) are clean in `make bench`
- * (docs/bench.md, "MultiAxisStepper: several axes at once") whatever the timing of the host's
- * targets (its sweep: back to back, 1, 5, 20 ms apart, each after the OK of the one before, a `?` or
- * a `set` between them; issue 26): a rung above, the three step interrupts, nesting, sometimes take
- * longer than one step interval, and an axis arms its next edge late (`late=` in `?`) at some of
- * those timings. A coordinated move of unequal axes (its axes' edges often on one tick) is clean to
- * this rate too; a diagonal (axes moving as far, one plan, one interrupt) and one or two axes alone
- * are clean well above it. Above this rate edges come late, the queues can run dry (counted as
- * underruns in `?`) and a coordinated move can leave its line. Override at compile time, e.g.
- * -DMULTI_MAX_SPS=50000 for a machine that only moves diagonals or two axes at a time. */
+/* The fastest vmax `set` accepts per axis (steps/s): at or below the highest rate at which three
+ * independent moves at once (each axis with its own plan and interrupt, issue 13's case) are clean
+ * in `make bench` (docs/bench.md, "MultiAxisStepper: several axes at once") whatever the timing of
+ * the host's targets (its sweep: back to back, 1, 5, 20 ms apart, each after the OK of the one
+ * before, a `?` or a `set` between them; issue 26): a rung above, the three step interrupts,
+ * nesting, sometimes take longer than one step interval, and an axis arms its next edge late
+ * (`late=` in `?`) at some of those timings. That ceiling is 30,000 since 2026-12-06 (the console's
+ * replies no longer go through the transmit interrupt while an axis steps); the limit stays at
+ * 25,000, where the library's three Steppers (which share it) are checked and a coordinated move of
+ * unequal axes (its axes' edges often on one tick) was clean in that build (docs/multi-axis.md); a
+ * diagonal (axes moving as far, one plan, one interrupt) and one or two axes alone are clean well
+ * above it. Above this rate edges come late, the queues can run dry (counted as underruns in `?`)
+ * and a coordinated move can leave its line. Override at compile time, e.g. -DMULTI_MAX_SPS=50000
+ * for a machine that only moves diagonals or two axes at a time. */
 #ifndef MULTI_MAX_SPS
 #define MULTI_MAX_SPS 25000.0
 #endif

@@ -288,7 +288,7 @@ public:
     static uint8_t cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32_t max_steps, Cut &r, bool time16 = true,
                             bool split = false);
     static bool cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n);
-    /* A stop while accelerating from rest, at once (lib's step_exact_stop_mirrored): the commands that
+    /* A stop while accelerating (from rest or after a new target), at once (lib's step_exact_stop_mirrored): the commands that
      * end at cut r (the last kept, then the ones before it, as long as the ring still holds them
      * unchanged), each reversed (its intervals in the opposite order), into c: at most max commands and
      * max_steps steps, until they cover min_ticks; steps: theirs. Returns how many (0: the ring does

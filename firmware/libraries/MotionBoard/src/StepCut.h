@@ -16,7 +16,8 @@
 
 /* The cut lands on the first command whose first step lies more than this many microseconds
  * ahead: the time the plan may take (a stop from the cruise; MOTION_STEPPER_CUT_SLOW_US for a stop
- * while the speed changes, or a new target, which cost up to twice as much). 0: no cut at all. */
+ * while the speed changes, or a new target, which cost up to twice as much; but a stop or a target
+ * behind while accelerating takes step_cut_mirror's cut instead, below). 0: no cut at all. */
 #ifndef MOTION_STEPPER_CUT_US
 #define MOTION_STEPPER_CUT_US 4000UL
 #endif
@@ -77,7 +78,7 @@ struct StepCutTiming {
                               exact ramp; the smooth move's stop lasts tau1 + tau2 at least) */
     uint16_t ahead_smooth_us; /* the smooth move's stop or new target (its plans cost tens of
                                  milliseconds); 0: no cut of a smooth move */
-    uint16_t ahead_mirror_us; /* a stop while accelerating from rest (MOTION_STEPPER_CUT_MIRROR_US); 0: none */
+    uint16_t ahead_mirror_us; /* a stop, or a target behind, while accelerating (MOTION_STEPPER_CUT_MIRROR_US); 0: none */
 };
 
 /* A stop (stop true) or a move to target (engine coordinates) of axis, whose planner pl is in an
@@ -96,14 +97,16 @@ bool step_cut_plan(uint8_t axis, step_planner_t *pl, bool stop, int32_t target, 
                    int32_t *from, uint16_t *missed, uint32_t *retry_us);
 
 /* A stop of axis while it accelerates (its planner pl in the acceleration of an exact move), at a cut
- * t.ahead_mirror_us ahead with no plan before it: the acceleration's last commands reversed
+ * t.ahead_mirror_us ahead (a second try twice as far if cut_apply refuses the first) with no plan
+ * before it: the acceleration's last commands reversed
  * (MultiStepEngine::cut_mirror), at least min_us of them, are laid out there. then: a new target `to`
  * behind the cut, the move to it from rest after the stop (only where the stop lasts t.then_min_us,
  * as step_cut_plan's reversals). True: done (*from: the position at the cut); the planner must then
  * take the rest of the stop, step_cut_mirror_rest(pl, *rest), before it hands out its next command
  * (while the reversed commands run: the other axes' queues may be fed first, as the planner is left
  * as it was until then). False: nothing changed (not accelerating there, the ring does not hold
- * min_us of the acceleration, a target that is not behind the cut, or the interrupt came too close):
+ * min_us of the acceleration, a target that is not behind the cut, a stop shorter than
+ * t.then_min_us before a move back, or the interrupt came too close at both tries):
  * plan it with step_cut_plan. */
 struct StepCutMirror {
     uint32_t back, steps; /* the steps dropped, the steps laid out reversed */

@@ -86,7 +86,8 @@ class StepperGroup;
 
 /* A stop() or a new target while moving cuts the queue (MotionBoard's StepCut.h): the commands
  * whose first step lies more than MOTION_STEPPER_CUT_US (a stop from the cruise) or
- * MOTION_STEPPER_CUT_SLOW_US (a stop while the speed changes, a new target)
+ * MOTION_STEPPER_CUT_SLOW_US (a stop while the speed changes, a new target; a stop or a target
+ * behind while accelerating is reversed instead, StepCut.h's step_cut_mirror)
  * ahead are dropped and the stop or the new move starts there, so it acts after about this time
  * instead of after the lead. The planner interrupt plans it meanwhile and the cut is made only if
  * that plan is ready MOTION_STEPPER_CUT_MARGIN_US before the step where it lands; a plan that
