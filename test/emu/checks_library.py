@@ -438,19 +438,26 @@ def accel_stop_at(env, t_ms, problems):
     return v_sw, (start - sw[0]) * 1000.0 / F_CPU
 
 
+def worst_against_doc(problems, got, doc, quote, what):
+    """the worst latency of got ((speed, ms) pairs) against the figure docs/library.md quotes for it (doc: None
+    when the page has no such sentence, quote: that sentence's pattern); returns the worst"""
+    worst = max(lat for _, lat in got)
+    if doc is None:
+        problems.append(f"docs/library.md quotes no {quote} (measured {worst:.2f} ms)")
+    else:
+        doc_bound(problems, what, worst, doc)
+    return worst
+
+
 def check_accel_stops(env, problems):
     """stop() while StopOnSwitch's first move accelerates, at ACCEL_STOP_MOMENTS: each on the law (accel_stop_at),
     the worst latency against docs/library.md; the figures' text"""
     got = [r for r in (accel_stop_at(env, t, problems) for t in ACCEL_STOP_MOMENTS) if r is not None]
     if not got:
         return "stop while accelerating: not measured"
-    worst = max(lat for _, lat in got)
-    doc = doc_accel_stop_latency(env)
-    if doc is None:
-        problems.append("docs/library.md quotes no '... while it accelerates ... its deceleration begins within "
-                        f"**<ms> ms**' (measured {worst:.2f} ms)")
-    else:
-        doc_bound(problems, "a stop while accelerating (switch to deceleration)", worst, doc)
+    worst = worst_against_doc(problems, got, doc_accel_stop_latency(env),
+                              "'... while it accelerates ... its deceleration begins within **<ms> ms**'",
+                              "a stop while accelerating (switch to deceleration)")
     return (f"stop while accelerating ({min(v for v, _ in got):.0f}-{max(v for v, _ in got):.0f} steps/s at the "
             f"switch, {len(got)} moments): deceleration began {min(l for _, l in got):.2f}-{worst:.2f} ms after it, "
             "every edge on the law of the triangle from rest to rest")
@@ -645,14 +652,10 @@ def check_follow_accel_reversals(env, problems):
     got = [r for r in (follow_accel_reversal_at(env, t, problems) for t in FOLLOW_ACCEL_REVERSALS) if r is not None]
     if not got:
         return "targets behind while accelerating after a new target: not measured"
-    worst = max(lat for _, lat in got)
-    doc = doc_accel_reversal_latency(env)
-    if doc is None:
-        problems.append("docs/library.md quotes no '... after a new target ... a target behind ... its deceleration "
-                        f"begins within **<ms> ms**' (measured {worst:.2f} ms)")
-    else:
-        doc_bound(problems, "a target behind while accelerating after a new target (the line to the deceleration)",
-                  worst, doc)
+    worst = worst_against_doc(problems, got, doc_accel_reversal_latency(env),
+                              "'... after a new target ... a target behind ... its deceleration begins within "
+                              "**<ms> ms**'",
+                              "a target behind while accelerating after a new target (the line to the deceleration)")
     return (f"a target behind while accelerating after a new target ({min(v for v, _ in got):.0f}-"
             f"{max(v for v, _ in got):.0f} steps/s at the line, {len(got)} moments): deceleration began "
             f"{min(l for _, l in got):.2f}-{worst:.2f} ms after the line, on the law, back from rest")
