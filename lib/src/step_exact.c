@@ -223,7 +223,8 @@ static uint32_t steps_between(const step_exact_consts_t *k, uint64_t ua, uint64_
 
 /* ---- parameters and state ----------------------------------------------------------------- */
 
-motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
+/* the constants of p, checked (step_exact_set_params' checks, without an object) */
+static motion_status_t exact_consts(const ramp_params_t *p, step_exact_consts_t *out)
 {
     motion_status_t st = ramp_params_check(p);
     step_exact_consts_t k;
@@ -231,8 +232,6 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     int ev, e0;
     uint32_t mv, m0;
     uint64_t f = p ? p->tick_hz : 0;
-    if (e == 0)
-        return MS_ERR_NULL;
     if (st != MS_OK)
         return st;
     a = (float)p->accel_sps2;
@@ -263,10 +262,29 @@ motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
     if (k.cu == 0 || k.cu >= (1ULL << 62) || k.vu == 0 || k.vu >= (1ULL << 42) || k.p32 == 0)
         return MS_ERR_OUT_OF_RANGE;
     k.cu_f = (float)k.cu;
+    *out = k;
+    return MS_OK;
+}
+
+motion_status_t step_exact_check(const ramp_params_t *p)
+{
+    step_exact_consts_t k;
+    return exact_consts(p, &k);
+}
+
+motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p)
+{
+    step_exact_consts_t k;
+    motion_status_t st;
+    if (e == 0)
+        return MS_ERR_NULL;
+    st = exact_consts(p, &k);
+    if (st != MS_OK)
+        return st;
     e->k = k;
     e->zfit_cu = 0.0f; /* setup_profile works zfit out again */
     if (e->max_cmd_ticks == 0)
-        e->max_cmd_ticks = (uint32_t)(f / 250U); /* 4 ms */
+        e->max_cmd_ticks = (uint32_t)(k.tick_hz / 250U); /* 4 ms */
     return MS_OK;
 }
 

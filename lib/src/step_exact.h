@@ -98,6 +98,10 @@ typedef struct {
  * nothing changes. Call before the first profile; a change applies to the next profile. */
 motion_status_t step_exact_set_params(step_exact_t *e, const ramp_params_t *p);
 
+/* step_exact_set_params' checks alone: its status for p, without an object (a setter's check, with
+ * little stack: a whole planner on the stack cost a Stepper's setters some 500 bytes more). */
+motion_status_t step_exact_check(const ramp_params_t *p);
+
 /* New parameters while moving (a replan follows): converts and checks them as
  * step_exact_set_params and carries the current speed over into the new constants (a speed is
  * held as U = v F/a, so a new accel would otherwise scale it by new/old accel: a jump). The

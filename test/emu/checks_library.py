@@ -86,6 +86,18 @@ def call_times(log, problems):
     return worst
 
 
+def header_define(rel, name):
+    """the number a header #defines (e.g. BoardHeap.h's BOARD_STACK_RESERVE)"""
+    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", rel), encoding="utf-8") as f:
+        return int(re.search(rf"#define {name} (\d+)", f.read()).group(1))
+
+
+def stack_keep():
+    """the bytes the library keeps for the stack below the stack pointer of its takes from the heap
+    (BoardHeap.h)"""
+    return header_define("firmware/libraries/MotionBoard/src/BoardHeap.h", "BOARD_STACK_RESERVE")
+
+
 def common(log, problems):
     for c, k, t in log.fails:
         problems.append(f"harness reported {k} at {c / F_CPU:.4f} s: {t}")
@@ -762,7 +774,7 @@ API_TOUR = (
     ("setAcceleration(40000)", "MS_OK"),
     ("begin()", "MS_OK"),
     ("begin() of a second X", "MS_ERR_AXIS_TAKEN"),
-    ("begin() of a Leib Stepper at vmax 10000", "MS_ERR_OUT_OF_RANGE"),
+    ("begin() of a Leib Stepper at vmax 10000", "MS_ERR_RAMP_LIMIT"),
     ("begin() of a Stepper made with the sigmoid", "MS_ERR_TABLE_MISSING"),
     ("begin() of a Stepper made with the smooth ramp", "MS_ERR_OUT_OF_RANGE"),
     ("setDirectionInverted(true)", "MS_OK"),
@@ -860,7 +872,8 @@ def check_api_tour(env):
 # ---- LabRamp ----------------------------------------------------------------------------------
 
 LAB_RAMP_LEGS = (("leib", 0, 2000, 100), ("simplistic", 2000, 0, 1000))  # algo, from, to, v0 (LabRamp.ino)
-LAB_RAMP_REPLIES = ["setRamp(LEIB): number out of range", "setMaxSpeed(4000): OK", "setMinSpeed(100): OK",
+LAB_RAMP_REPLIES = ["setRamp(LEIB): above this ramp's limit: setMaxSpeed()/setAcceleration() to "
+                    "maxSpeedLimit()/accelerationLimit() or below first", "setMaxSpeed(4000): OK", "setMinSpeed(100): OK",
                     "setAcceleration(8000): OK", "setRamp(LEIB): OK", "setMaxSpeed(20000): number out of range",
                     "setRamp(SIGMOID): fmin is below timer_hz/65535: its period does not fit 16 bits", "begin(): OK",
                     "READY LabRamp", "moveTo(2000): OK", "setRamp(SIMPLISTIC) while moving: busy: a move is in progress",
@@ -1626,6 +1639,83 @@ def check_heap_share(env):
                        f"{top.text}; {done.text}; {fill.text}", problems)
 
 
+# ---- TightSram: begin() keeps the stack's reserve ---------------------------------------------------
+
+TIGHT_SLACK = 96  # bytes around the boundary: the stack pointer in begin()'s take lies deeper than loop()'s
+
+
+def check_tight_sram(env):
+    """test/emu/TightSram: a Stepper in a sketch whose heap leaves less than begin()'s takes plus
+    BOARD_STACK_RESERVE (BoardHeap.h) below the stack pointer: begin() refuses with MS_ERR_NO_MEMORY's
+    sentence and nothing moves; with TIGHT_SLACK bytes more than that, it begins, and a move of 20,000
+    steps whose maximum speed is set again every 5 ms (each setter checks the parameters on the stack,
+    under the planner's interrupt) ends with every step, no underrun, and the stack never in the heap
+    (motionemu fails a run whose stack pointer goes below the heap's top)"""
+    elf = os.path.join(env.source_dir, "build", "emu", "tightsram", "TightSram", "TightSram.ino.elf")
+    if not os.path.isfile(elf):
+        return CheckResult(False, "no TightSram build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
+    texts = status_texts(env)
+    reserve = stack_keep()
+    pins = sketches.multiaxis_pins(env)
+    problems, figs = [], []
+    # how much begin() takes, with room to spare
+    log = emulog.run(elf, "wait ^READY TightSram$\nsend begin\nwait ^BEGIN\n", pins=pins, timeout=300)
+    common(log, problems)
+    first = line_of(log, r"^BEGIN ")
+    m = re.match(r"^BEGIN (.*) USED (\d+)$", first.text) if first else None
+    if not m or m.group(1) != texts["MS_OK"]:
+        return CheckResult(False, "no first begin()", problems + [f"replies {[l.text for l in log.rx]}"])
+    need = int(m.group(2)) + reserve
+    quote = f"8,192 - {int(m.group(2)):,} - {reserve:,} bytes"
+    with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
+        if quote not in f.read():
+            problems.append(f"docs/library.md does not quote the figure measured now: '{quote}'")
+    for keep, ok in ((need - 1, False), (need + TIGHT_SLACK, True)):
+        script = (f"wait ^READY TightSram$\nsend eat {keep}\nwait ^ROOM\nsend begin\nwait ^BEGIN\nsend move\n"
+                  f"wait ^MOVE\ntimeout 20000\n" + ("wait ^DONE\n" if ok else "run 200\n"))
+        log = emulog.run(elf, script, pins=pins, timeout=300)
+        what = f"{keep} bytes left for begin() (its takes and the reserve: {need})"
+        common(log, problems)
+        room = line_of(log, r"^ROOM ")
+        begin = line_of(log, r"^BEGIN ")
+        move = line_of(log, r"^MOVE ")
+        if not room or abs(int(room.text.split()[1]) - keep) > 2 or not begin or not move:
+            problems.append(f"{what}: replies {[l.text for l in log.rx]}")
+            continue
+        steps = len(log.rising("XSTEP"))
+        if not ok:
+            if not begin.text.startswith(f"BEGIN {texts['MS_ERR_NO_MEMORY']} "):
+                problems.append(f"{what}: '{begin.text}', expected MS_ERR_NO_MEMORY's sentence")
+            if move.text != f"MOVE {texts['MS_ERR_NOT_BEGUN']}" or steps:
+                problems.append(f"{what}: '{move.text}' and {steps} steps: expected MS_ERR_NOT_BEGUN, no step")
+            figs.append(f"{keep} B: refused ({steps} steps)")
+            continue
+        done = line_of(log, r"^DONE ")
+        if not begin.text.startswith(f"BEGIN {texts['MS_OK']} ") or move.text != f"MOVE {texts['MS_OK']}":
+            problems.append(f"{what}: '{begin.text}', '{move.text}': expected both ok")
+        if not done or done.text != "DONE 20000 underruns=0" or steps != 20000:
+            problems.append(f"{what}: {done.text if done else 'no DONE'}, {steps} steps: expected DONE 20000 "
+                            f"underruns=0 and 20000 steps")
+        figs.append(f"{keep} B: began, 20000 steps, stack {log.end.get('stack_min_free')} B from the rings at "
+                    f"the closest, {log.end.get('stack_max')} B deep")
+    # a console sketch whose Steppers cannot begin says so before READY, and moves nothing
+    elf = os.path.join(env.source_dir, "build", "emu", "noroom", "MultiAxisStepper", "MultiAxisStepper.ino.elf")
+    if not os.path.isfile(elf):
+        problems.append(f"{elf} is missing: make test builds it (tools/emu/emu.mk)")
+    else:
+        log = emulog.run(elf, "wait ^READY\nsend x 100\nwait ^(OK|ERR)\nrun 200\n", pins=pins, timeout=300)
+        common(log, problems)
+        got = [l.text for l in log.rx]
+        want = [f"ERR {a} begin(): {texts['MS_ERR_NO_MEMORY']}" for a in "xyz"] + ["READY MultiAxisStepper",
+                                                                                  f"ERR {texts['MS_ERR_NOT_BEGUN']}"]
+        if got[:5] != want or log.rising("XSTEP"):
+            problems.append(f"MultiAxisStepper with BOARD_STACK_RESERVE=6000: replies {got[:6]}, "
+                            f"{len(log.rising('XSTEP'))} X steps; expected {want} and no step")
+        figs.append("MultiAxisStepper without room: each begin()'s refusal before READY, a target refused")
+    return CheckResult(not problems, f"begin() takes {need - reserve} B + the reserve {reserve} B; " +
+                       "; ".join(figs), problems)
+
+
 def check_one_stepper(env):
     """test/emu/OneStepper built with the limit lifted: the reference move (20,000 steps, accel v^2/10,000)
     at ONE_RATES through the library: every edge on the constant-acceleration law within ONE_BOUND, DIR,
@@ -1825,6 +1915,10 @@ def checks_for(env):
     checks.append(("MotionStepper library, test sketch HeapShare: malloc and free beside a Stepper's heap (board_take): "
                    "no block overlaps another, every block keeps its bytes through a move of 20,000 steps",
                    lambda: guarded(check_heap_share, env)))
+    checks.append(("MotionStepper library, test sketch TightSram: begin() keeps BOARD_STACK_RESERVE for the stack or "
+                   "refuses (MS_ERR_NO_MEMORY, nothing moves); a sketch that just fits moves 20,000 steps with setters "
+                   "while moving, its stack never in the rings",
+                   lambda: guarded(check_tight_sram, env)))
     checks.append(("MotionStepper library, test sketch ThreeSteppers: three Steppers at once at 10,000 and 25,000 "
                    "steps/s, two at 20,000 and 25,000: every step, no underrun, no pause within a move; a stop() of all at a switch "
                    "(three at 10,000 and 25,000, two at 20,000): every axis on the law, X's latency and the last axis's, no underrun; "

@@ -209,6 +209,21 @@ def check_failure_detection():
             problems.append(f"a stack overflow should be reported once, got {kinds.count('stack')} 'stack' failures")
         if kind == "crash" and log.end.get("reason") != "crash":
             problems.append(f"'{cmd}': the run should end with reason crash, got {log.end.get('reason')}")
+    # the heap grown over where the stack once was: no overflow (the emulator once compared only new
+    # lowest stack pointers with the heap's end, so this reported a negative stack_min_free); digging
+    # into it later, above that lowest point, is one (which that emulator missed)
+    log = emulog.run(SELFTEST, "wait ^READY\nsend pastdig\nwait ^OK heap\nrun 100\n")
+    kinds = [k for _, k, _ in log.fails]
+    free = int(log.end.get("stack_min_free", "-1"))
+    seen.append(f"pastdig->{','.join(kinds) or 'nothing'} (stack_min_free {free})")
+    if log.rc != 0 or kinds or free < 0:
+        problems.append(f"'pastdig' should pass with stack_min_free >= 0: got {kinds}, rc={log.rc}, "
+                        f"stack_min_free={free}")
+    log = emulog.run(SELFTEST, "wait ^READY\nsend latedig\nwait ^OK heap\nrun 100\n")
+    kinds = [k for _, k, _ in log.fails]
+    seen.append(f"latedig->{','.join(kinds) or 'nothing'}")
+    if log.rc != 1 or kinds.count("stack") != 1 or kinds[0] != "stack":
+        problems.append(f"'latedig' should be reported once as stack with exit status 1: got {kinds}, rc={log.rc}")
     log = emulog.run(SELFTEST, "wait ^READY\ntimeout 50\nwait ^never$\n")
     kinds = [k for _, k, _ in log.fails]
     seen.append(f"silent->{','.join(kinds) or 'nothing'}")

@@ -6,6 +6,7 @@
  * profile wherever it starts (what the MotionStepper library's planned-ahead stop relies on). */
 #include "cmocka_all.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -160,10 +161,53 @@ static void stop_from_the_cruise_is_one_profile(void **state)
     assert_true(tried > 150U);
 }
 
+/* step_exact_check (a setter's check without an object) gives the status step_exact_set_params gives, and
+ * the planner's init, over parameter sets that each status refuses and random ones (expected values: the
+ * setter's own statuses, which test_step_planner checks against the documented limits) */
+static void check_gives_set_params_status(void **state)
+{
+    static const double cases[][4] = {
+        /* tick_hz, v0, vmax, accel */
+        {16e6, 0.0, 20000.0, 50000.0},  {16e6, 100.0, 20000.0, 50000.0}, {16e6, 0.0, 20000.0, 7.9},
+        {16e6, 0.0, 20000.0, 0.0},      {16e6, 0.0, 0.0, 50000.0},       {16e6, 500.0, 400.0, 50000.0},
+        {16e6, -1.0, 400.0, 50000.0},   {16e6, 0.0, 1e9, 8.0},           {0.0, 0.0, 20000.0, 50000.0},
+        {4e7, 0.0, 20000.0, 50000.0},   {2e6, 0.0, 20000.0, 0.2},        {16e6, 0.0, 1e39, 50000.0},
+        {16e6, 0.0, 20000.0, 1e39},     {16e6, 0.0, 16e6, 1e6},          {16e6, 0.0, 1.0, 8.0},
+    };
+    unsigned i, refused = 0;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0] + 2000U; i++) {
+        ramp_params_t p;
+        step_exact_t e;
+        step_planner_t pl;
+        motion_status_t want_st, got_st;
+        if (i < sizeof cases / sizeof cases[0]) {
+            p.tick_hz = (uint32_t)cases[i][0];
+            p.v0_sps = cases[i][1];
+            p.vmax_sps = cases[i][2];
+            p.accel_sps2 = cases[i][3];
+        } else {
+            p.tick_hz = urand(0.0, 1.0) < 0.5 ? 16000000UL : 2000000UL;
+            p.vmax_sps = lrand(10.0, 1e6);
+            p.v0_sps = urand(0.0, 1.0) < 0.5 ? 0.0 : urand(0.0, 1.2) * p.vmax_sps;
+            p.accel_sps2 = lrand(1.0, 1e8);
+        }
+        memset(&e, 0, sizeof e);
+        want_st = step_exact_set_params(&e, &p);
+        got_st = step_exact_check(&p);
+        assert_int_equal(got_st, want_st);
+        assert_int_equal(step_planner_init_exact(&pl, &p, 0), want_st);
+        refused += want_st != MS_OK;
+    }
+    assert_true(refused >= 14U); /* the refusing cases above, and random ones */
+    assert_int_equal(step_exact_check(NULL), MS_ERR_NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(new_accel_after_a_stop),
+        cmocka_unit_test(check_gives_set_params_status),
         cmocka_unit_test(random_histories),
         cmocka_unit_test(stop_from_the_cruise_is_one_profile),
     };

@@ -125,6 +125,20 @@ $(EMU_HEAPSHARE_ELF): $(EMU_FW_SRCS) test/emu/HeapShare/HeapShare.ino tools/buil
 	@FIRMWARE_OUT=$(BUILD)/emu/heapshare bash tools/build_firmware.sh \
 	  test/emu/HeapShare >$(BUILD)/emu/heapshare.log 2>&1 || { cat $(BUILD)/emu/heapshare.log; exit 1; }
 
+# test/emu/TightSram: a Stepper in a sketch that has used up most of its SRAM (begin() keeps
+# BOARD_STACK_RESERVE for the stack or refuses: checks_library.py, check_tight_sram)
+EMU_TIGHTSRAM_ELF := $(BUILD)/emu/tightsram/TightSram/TightSram.ino.elf
+$(EMU_TIGHTSRAM_ELF): $(EMU_FW_SRCS) test/emu/TightSram/TightSram.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/tightsram
+	@FIRMWARE_OUT=$(BUILD)/emu/tightsram bash tools/build_firmware.sh \
+	  test/emu/TightSram >$(BUILD)/emu/tightsram.log 2>&1 || { cat $(BUILD)/emu/tightsram.log; exit 1; }
+# and MultiAxisStepper with a reserve no Mega holds: its console says each begin()'s refusal before READY
+EMU_NOROOM_ELF := $(BUILD)/emu/noroom/MultiAxisStepper/MultiAxisStepper.ino.elf
+$(EMU_NOROOM_ELF): $(EMU_FW_SRCS) firmware/MultiAxisStepper/MultiAxisStepper.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/noroom
+	@FIRMWARE_OUT=$(BUILD)/emu/noroom FIRMWARE_DEFINES="-DBOARD_STACK_RESERVE=6000" bash tools/build_firmware.sh \
+	  MultiAxisStepper >$(BUILD)/emu/noroom.log 2>&1 || { cat $(BUILD)/emu/noroom.log; exit 1; }
+
 # test/emu/ThreeSteppers: two and three Steppers moving at once (checks_library.py, check_three_steppers):
 # three at 10,000 and at 25,000 steps/s (50,000 steps/s^2, and 200,000 for the legs alone), two at 25,000 and 20,000;
 # two-20k-late: two at 20,000 with cuts too close for their plans (a 1 ms margin, the stop's first cut 250 us
@@ -161,7 +175,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

@@ -554,7 +554,10 @@ int main(int argc, char **argv)
     size_t lines_seen = 0;
     int script_done = !have_script;
     int booted = 0;
-    uint16_t min_sp = 0xffff;
+    long min_free = 0x10000L;
+    uint16_t min_sp = 0xffff; /* the deepest the stack went: stack_max in the end line */
+    uint32_t min_sp_pc = 0;
+    uint64_t min_sp_cycle = 0;
     int stack_reported = 0;
     const char *reason = "done";
     struct timespec t0, t1;
@@ -591,12 +594,21 @@ int main(int argc, char **argv)
         } else {
             booted = 1;
             uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
-            if (sp < min_sp) {
-                min_sp = sp;
-                /* reported once: the lowest SP reached is in the end line (stack_min_free); the
-                 * bound is the end of static data and heap (heap_end_now) */
+            /* at every instruction, against the end of static data and heap as it is then (heap_end_now):
+             * a stack that reached deep before the heap grew there is no overflow, and one that runs
+             * into the heap later, above its lowest point so far, is one; the least room seen is the
+             * end line's stack_min_free; reported once */
+            if (sp != 0) {
                 uint64_t bound = heap_end_now(avr);
-                if (sp < bound && sp != 0 && !stack_reported) {
+                long room = (long)sp - (long)bound;
+                if (sp < min_sp) {
+                    min_sp = sp;
+                    min_sp_pc = avr->pc;
+                    min_sp_cycle = avr->cycle;
+                }
+                if (room < min_free)
+                    min_free = room;
+                if (room < 0 && !stack_reported) {
                     emu_fail(avr->cycle, "stack", "stack pointer 0x%04x below the end of static data and heap 0x%04" PRIx64
                              " (stack overflow)", sp, bound);
                     stack_reported = 1;
@@ -647,14 +659,13 @@ ended:
     clock_gettime(CLOCK_MONOTONIC, &t1);
     double wall = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
     emu_motor_summary(avr->cycle);
-    /* free stack: the lowest SP seen above the end of static data and heap */
-    uint64_t heap_end = heap_end_now(avr);
-    long stack_free = (long)min_sp - (long)heap_end;
+    /* free stack: the least room seen between the stack pointer and the end of static data and heap */
+    long stack_free = min_free;
     if (emu_fail_count() && !strcmp(reason, "done"))
         reason = "failed";
-    emu_log(avr->cycle, "end", "%s t_s=%.6f wall_s=%.3f speed=%.1fx fails=%d stack_min_free=%ld ready=%d", reason,
+    emu_log(avr->cycle, "end", "%s t_s=%.6f wall_s=%.3f speed=%.1fx fails=%d stack_min_free=%ld ready=%d stack_max=%ld stack_max_pc=0x%05x stack_max_cycle=%" PRIu64, reason,
             (double)avr->cycle / EMU_F_CPU, wall, wall > 0 ? (double)avr->cycle / EMU_F_CPU / wall : 0.0,
-            emu_fail_count(), stack_free, emu_uart_ready_count());
+            emu_fail_count(), stack_free, emu_uart_ready_count(), min_sp == 0xffff ? 0L : 0x21FFL - (long)min_sp, (unsigned)min_sp_pc, min_sp_cycle);
     emu_log_flush();
     if (out != stdout)
         fclose(out);

@@ -14,7 +14,8 @@
  * high, output low: the harness must log its direction changes as well as its level changes),
  * reset (jumps to 0), wdt (watchdog reset), halt (cli; sleep), wild (writes beyond the SRAM), void
  * (calls into erased flash), recurse (recursion without end), heapdig (5,000 bytes of heap, then a
- * bounded recursion into it), dig1 (OC3C off, PE5 high by PORT, as
+ * bounded recursion into it), pastdig (a deep recursion returned from, then the heap grown over
+ * where it was), latedig (pastdig, then as deep again: into the heap, above the first lowest SP), dig1 (OC3C off, PE5 high by PORT, as
  * analogWrite(pin, 255)), rev <0..255> (analogWrite(pin, 0) then (pin, v), as on a motor reversal),
  * wrap <k> [<n>] (Timer5 normal mode, clk/1: with interrupts off, waits for TCNT5 >= 65000, writes
  * OCR5A = k, which matches at tick k of the next period, toggles PF3 (D57), waits n nops, then runs
@@ -38,6 +39,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+extern char *__brkval;   /* avr-libc malloc's top (0 before the first malloc) */
+extern char __heap_start; /* the linker's: the first byte after .bss */
 
 static void tx(char c)
 {
@@ -336,6 +340,27 @@ int main(void)
                     ;
                 snprintf(buf, sizeof buf, "dug %u", dig(100));
                 println(buf);
+            }
+        } else if (!strcmp(line, "pastdig") || !strcmp(line, "latedig")) {
+            /* about 2.4 KB of stack first, returned from; then the heap grown to 1.2 KB below the
+             * stack pointer, over where that stack was (no overflow: it is not there any more);
+             * latedig then digs as deep again, into the heap, never below its first lowest point */
+            uint16_t sp0 = SP;
+            char *top = __brkval ? __brkval : &__heap_start;
+            volatile uint8_t *heap;
+            (void)dig(60);
+            heap = (volatile uint8_t *)malloc((size_t)(sp0 - 1200U - (uint16_t)top));
+            if (!heap) {
+                println("ERR no heap");
+            } else {
+                heap[0] = 1;
+                println("OK heap over the stack's past");
+                if (line[0] == 'l') {
+                    while (!(UCSR0A & _BV(TXC0)))
+                        ;
+                    snprintf(buf, sizeof buf, "dug %u", dig(60));
+                    println(buf);
+                }
             }
         } else if (!strncmp(line, "wrap ", 5)) {
             char *end;

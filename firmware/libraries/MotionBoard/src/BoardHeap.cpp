@@ -9,13 +9,37 @@ extern char *__brkval __attribute__((weak)); /* avr-libc malloc's top, when the 
 char *board_heap_top;
 }
 
+static size_t reserve = BOARD_STACK_RESERVE; /* raised by board_reserve_stack, never lowered */
+
+/* the heap's top: malloc's when linked, else board_heap_top (0: nothing taken yet) */
+static char **heap_top()
+{
+    return &__brkval ? &__brkval : &board_heap_top;
+}
+
+static bool fits(const char *p, size_t n, size_t keep)
+{
+    size_t room = (size_t)((char *)SP - p);
+    return p <= (char *)SP && room >= n && room - n >= keep;
+}
+
 void *board_take(size_t n)
 {
-    char **top = &__brkval ? &__brkval : &board_heap_top;
+    char **top = heap_top();
     char *p = *top ? *top : &__heap_start;
-    size_t room = (size_t)((char *)SP - p);
-    if (p > (char *)SP || room < n || room - n < BOARD_HEAP_MARGIN)
+    if (!fits(p, n, reserve))
         return NULL;
     *top = p + n;
     return p;
+}
+
+bool board_reserve_stack(size_t keep, size_t n)
+{
+    char **top = heap_top();
+    if (keep <= reserve)
+        keep = reserve;
+    if (!fits(*top ? *top : &__heap_start, n, keep))
+        return false;
+    reserve = keep;
+    return true;
 }

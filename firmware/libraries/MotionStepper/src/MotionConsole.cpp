@@ -51,6 +51,19 @@ void MotionConsole::begin(const __FlashStringHelper *sketch_name)
      * so its lead costs them no latency) */
     (void)BackgroundPlanner::setLeadMs(ax_[0]->ramp() == RAMP_ALGO_LEIB ? STEP_ENGINE_LEAD_MS_LEIB : STEP_ENGINE_LEAD_MS);
     MultiStepEngine::set_led_mirror(STEPPER_LED_MIRROR && n_ == 1 && ax_[0]->axis() == Stepper::X);
+    /* a Stepper whose begin() the sketch called and that refused (a sketch adapted until its SRAM no
+     * longer holds the rings and the stack's reserve): said once, before READY, with its reason (begin()
+     * again: MS_OK once begun, its reason otherwise); its moves then answer MS_ERR_NOT_BEGUN's line */
+    for (uint8_t a = 0; a < n_; a++) {
+        motion_status_t st = ax_[a]->begin();
+        if (st != MS_OK) {
+            /* straight to Serial (it waits for room): three such lines overflow the reply queue */
+            Serial.print(F("ERR "));
+            print_axis(Serial, a);
+            Serial.print(F("begin(): "));
+            Serial.println(Stepper::statusText(st));
+        }
+    }
     serial_.out().print(F("READY "));
     serial_.out().println(sketch_name);
 }

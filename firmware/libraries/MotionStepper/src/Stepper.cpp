@@ -40,6 +40,7 @@ struct Stepper::Sigmoid {
 
 uint8_t Stepper::made_;
 motion_status_t (*Stepper::exact_init_)(step_planner_t *, const ramp_params_t *, int32_t);
+motion_status_t (*Stepper::exact_check_)(const ramp_params_t *);
 const Stepper::Cuts *Stepper::cuts_; /* CUTS: StepperCut.cpp */
 
 Stepper::Stepper(Axis axis, int)
@@ -78,18 +79,18 @@ motion_status_t Stepper::begin()
     if (axis_ > Z || begin_status_ != MS_OK)
         return MS_ERR_OUT_OF_RANGE;
     if (params_.vmax_sps > vmax_limit() || params_.accel_sps2 > accelerationLimit())
-        return MS_ERR_OUT_OF_RANGE; /* a lab ramp taken by the constructor, the library's default vmax */
+        return MS_ERR_RAMP_LIMIT; /* a lab ramp taken by the constructor, the library's default vmax */
     if (algo_ == RAMP_ALGO_SIGMOID && !sig_)
         return MS_ERR_TABLE_MISSING; /* made with the sigmoid: setRamp(RAMP_ALGO_SIGMOID) fills its table */
     if (!BackgroundPlanner::inLoop() && !BackgroundPlanner::timerLinked())
         return MS_ERR_NO_PLANNER_TIMER; /* Stepper.h included, not MotionStepper.h */
     if (!BackgroundPlanner::inLoop() && !stop_ && !stop_ahead_begin())
-        return MS_ERR_OUT_OF_RANGE; /* no room on the heap (StepperCut.cpp) */
+        return MS_ERR_NO_MEMORY; /* no room on the heap (StepperCut.cpp) */
     st = init_planner(0);
     if (st != MS_OK)
         return st;
     if (!BackgroundPlanner::begin())
-        return MS_ERR_OUT_OF_RANGE; /* no room on the heap for the step rings */
+        return MS_ERR_NO_MEMORY; /* no room on the heap for the step rings */
     if (!BackgroundPlanner::claim(axis_, this))
         return MS_ERR_AXIS_TAKEN;
     {
@@ -160,10 +161,8 @@ motion_status_t Stepper::probe(ramp_algo_t algo, const ramp_hooks_t *hooks, cons
         ramp_sigmoid_params_t s = sigmoid_params(p);
         return sigmoid_check_(&s); /* set with algo_ by set_ramp_sigmoid */
     }
-    if (algo == RAMP_ALGO_EXACT) {
-        step_planner_t pl;
-        return exact_init_(&pl, &p, 0); /* set with algo_ by the constructor or setRamp */
-    }
+    if (algo == RAMP_ALGO_EXACT)
+        return exact_check_(&p); /* set with algo_ by the constructor or setRamp; its status is the planner's */
     ramp_t r;
     return lab_probe_(&r, algo, &p, hooks, 0, 1); /* set with algo_ by set_ramp */
 }
@@ -236,7 +235,7 @@ motion_status_t Stepper::switch_ramp(ramp_algo_t algo, const ramp_hooks_t *hooks
         ramp_algo_t was = algo_;
         algo_ = algo; /* for the limits */
         params_.tick_hz = BackgroundPlanner::tickHz();
-        st = params_.vmax_sps > vmax_limit() || params_.accel_sps2 > accelerationLimit() ? MS_ERR_OUT_OF_RANGE
+        st = params_.vmax_sps > vmax_limit() || params_.accel_sps2 > accelerationLimit() ? MS_ERR_RAMP_LIMIT
                                                                                        : probe(algo, hooks, params_);
         algo_ = was;
     }
@@ -843,14 +842,14 @@ motion_status_t Stepper::set_ramp_sigmoid()
     p.tick_hz = BackgroundPlanner::tickHz();
     s = sigmoid_params(p);
     if (p.vmax_sps > (float)STEPPER_MAX_SPS_SCURVE)
-        return MS_ERR_OUT_OF_RANGE;
+        return MS_ERR_RAMP_LIMIT;
     st = ramp_sigmoid_check(&s);
     if (st != MS_OK)
         return st;
     if (!sig_) {
         sig_ = static_cast<Sigmoid *>(board_take(sizeof(Sigmoid)));
         if (!sig_)
-            return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its table */
+            return MS_ERR_NO_MEMORY; /* no room on the heap for its table */
         sig_->filling = false;
         sig_->stale = false;
         sig_->fill_i = 0;

@@ -80,6 +80,13 @@ class StepperGroup;
 #ifndef MOTION_STEPPER_SMOOTH_LEAD_MS
 #define MOTION_STEPPER_SMOOTH_LEAD_MS 150U
 #endif
+/* The stack the smooth ramp keeps below the stack pointer of setRamp(RAMP_ALGO_SMOOTH) and of every take
+ * from the heap after it (BoardHeap.h's BOARD_STACK_RESERVE for the other ramps): its planner, in the
+ * planner's interrupt, is deeper (make test's runs of SmoothMove: some 2,300 bytes below the top of
+ * SRAM, motionemu's stack_max) */
+#ifndef MOTION_STEPPER_SMOOTH_STACK
+#define MOTION_STEPPER_SMOOTH_STACK 2368U
+#endif
 #ifndef STEPPER_DEFAULT_JERK
 #define STEPPER_DEFAULT_JERK 100000.0
 #endif
@@ -198,6 +205,7 @@ public:
     {
         use_axis(axis);
         exact_init_ = step_planner_init_exact;
+        exact_check_ = step_exact_check;
         cuts_ = &CUTS;
     }
     /* A Stepper whose moves follow another ramp from the start, so that the sketch links the exact
@@ -225,6 +233,7 @@ public:
             algo_ = algo;
         } else if (algo == RAMP_ALGO_EXACT) {
             exact_init_ = step_planner_init_exact;
+            exact_check_ = step_exact_check;
             cuts_ = &CUTS;
         } else {
             begin_status_ = MS_ERR_OUT_OF_RANGE;
@@ -289,6 +298,7 @@ public:
     {
         if (algo == RAMP_ALGO_EXACT) {
             exact_init_ = step_planner_init_exact; /* only here and in Stepper(axis): see the constructors */
+            exact_check_ = step_exact_check;
             cuts_ = &CUTS;
         }
         return algo == RAMP_ALGO_SMOOTH ? set_ramp_smooth() : set_ramp(algo, hooks);
@@ -441,6 +451,7 @@ private:
     /* the exact planner's entry, set by Stepper(axis) and setRamp(RAMP_ALGO_EXACT) (null in a sketch
      * that never names the exact ramp: it links none of it) */
     static motion_status_t (*exact_init_)(step_planner_t *pl, const ramp_params_t *params, int32_t pos);
+    static motion_status_t (*exact_check_)(const ramp_params_t *params); /* a setter's check (little stack) */
     /* the cuts of the queue (stop_in_cruise, plan_at_cut, prepare_stop: StepperCut.cpp), for the exact and
      * the smooth ramp only: set with them, so that a sketch on a lab ramp alone links none of it */
     struct Cuts {

@@ -21,21 +21,24 @@ motion_status_t Stepper::set_ramp_smooth()
     if (!smooth_) {
         /* checked first, so that a refusal allocates nothing */
         if (params_.vmax_sps > (float)STEPPER_MAX_SPS_SMOOTH)
-            return MS_ERR_OUT_OF_RANGE;
+            return MS_ERR_RAMP_LIMIT;
         motion_status_t st = smooth_check_(&params_, (double)jerk_);
         if (st != MS_OK)
             return st;
+        /* its planners and its deeper stack, both, or nothing */
+        if (!board_reserve_stack(MOTION_STEPPER_SMOOTH_STACK, 2 * sizeof(step_smooth_t)))
+            return MS_ERR_NO_MEMORY;
         /* its planner, and (once for all Steppers) the copy a cut of its queue keeps (StepCut.h) */
         static step_smooth_t *backup;
         if (!backup) {
             backup = static_cast<step_smooth_t *>(board_take(sizeof(step_smooth_t)));
             if (!backup)
-                return MS_ERR_OUT_OF_RANGE; /* no room on the heap */
+                return MS_ERR_NO_MEMORY; /* no room on the heap */
             step_cut_smooth_backup(backup);
         }
         smooth_ = static_cast<step_smooth_t *>(board_take(sizeof(step_smooth_t)));
         if (!smooth_)
-            return MS_ERR_OUT_OF_RANGE; /* no room on the heap for its planner */
+            return MS_ERR_NO_MEMORY; /* no room on the heap for its planner */
     }
     motion_status_t st = switch_ramp(RAMP_ALGO_SMOOTH, 0);
     if (st == MS_OK && BackgroundPlanner::leadMs() < MOTION_STEPPER_SMOOTH_LEAD_MS)
