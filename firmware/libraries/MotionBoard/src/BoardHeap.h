@@ -20,7 +20,7 @@
  * goes below the heap's top; make test's TightSram check runs a Stepper in a sketch left just this
  * much (setters while it moves: the deepest path measured, some 750 bytes below the top of SRAM) and
  * MultiAxisStepper (three Steppers: some 930 bytes left after its rings). With malloc's 32-byte margin,
- * which this was until 2026-12-07, a sketch whose static data left the rings just room enough began,
+ * which this was until 2026-12-06, a sketch whose static data left the rings just room enough began,
  * then its stack ran into them (corrupted commands: a move that never ended). A sketch whose loop()
  * goes deep should raise it, one whose stack is known to stay shallow may lower it:
  * -DBOARD_STACK_RESERVE=... (docs/library.md: SRAM and the stack) */

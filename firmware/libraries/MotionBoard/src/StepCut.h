@@ -64,7 +64,7 @@
 #define STEP_CUT_MAX_CMDS 4U
 
 /* The cut's timing, microseconds (the Stepper's: MOTION_STEPPER_CUT_* with the planner interrupt,
- * MOTION_STEPPER_LOOP_CUT_* planned from loop(), where a Stepper alone steps up to 90,000 steps/s and
+ * MOTION_STEPPER_LOOP_CUT_* planned from loop(), where a Stepper alone steps up to 100,000 steps/s and
  * the step interrupt leaves half the processor to the planner). */
 struct StepCutTiming {
     uint8_t ticks_per_us; /* the step timer's */

@@ -143,7 +143,7 @@ public:
     /* Planning from loop() instead of Timer3's interrupt, for a sketch whose loop() never blocks and
      * calls poll() on every pass (the stepper sketches' console, MotionConsole.h): call it before
      * the first begin(); false after. Timer3 then stays free and no planner interrupt enters
-     * between the step interrupts (those of ExactRampStepper at 90,000 steps/s); a Stepper alone
+     * between the step interrupts (those of ExactRampStepper at 100,000 steps/s); a Stepper alone
      * may then step up to STEPPER_MAX_SPS_EXACT (Stepper.h's setMaxSpeed). A loop() that blocks
      * (delay()) starves the queue in this mode: the default, the interrupt, is the one for that. */
     static bool planInLoop();
