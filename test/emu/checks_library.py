@@ -269,32 +269,32 @@ def check_two_axes_line(env):
 
 # ---- StopOnSwitch ---------------------------------------------------------------------------
 
-DOC_DRIFT_MS = 0.5  # how far below docs/library.md's quoted stop latency the measurement may lie
+DOC_DRIFT_MS = 0.5  # how far below docs/stop-latency.md's quoted stop latency the measurement may lie
 
 
 def doc_bound(problems, what, measured, doc):
-    """a latency measured (ms, the worst) against the figure docs/library.md quotes for it: not above it,
+    """a latency measured (ms, the worst) against the figure docs/stop-latency.md quotes for it: not above it,
     and not more than DOC_DRIFT_MS below (the page follows the code)"""
     if measured > doc:
-        problems.append(f"{what}: {measured:.2f} ms at worst, more than the {doc} ms docs/library.md promises")
+        problems.append(f"{what}: {measured:.2f} ms at worst, more than the {doc} ms docs/stop-latency.md promises")
     elif doc - measured > DOC_DRIFT_MS:
-        problems.append(f"docs/library.md quotes {doc} ms for {what}, measured at most {measured:.2f} ms (more than "
+        problems.append(f"docs/stop-latency.md quotes {doc} ms for {what}, measured at most {measured:.2f} ms (more than "
                         f"{DOC_DRIFT_MS} ms below): update the page")
 STOP_RATES = (20000, 10000, 25000)  # the speeds of the script's three stops, in its order
 STOP_ACCEL = 50000.0  # StopOnSwitch.ino's setAcceleration
 
 
 def library_doc_search(env, pattern):
-    """pattern's first match in docs/library.md, or None (no such page, or no match)"""
+    """pattern's first match in docs/stop-latency.md, or None (no such page, or no match)"""
     try:
-        with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
+        with open(os.path.join(env.source_dir, "docs", "stop-latency.md"), encoding="utf-8") as f:
             return re.search(pattern, f.read())
     except OSError:
         return None
 
 
 def doc_stop_latency(env):
-    """the stop latencies docs/library.md quotes ('stop latency **4.1 ms** at 10,000 steps/s, **4.2 ms** at
+    """the stop latencies docs/stop-latency.md quotes ('stop latency **4.1 ms** at 10,000 steps/s, **4.2 ms** at
     20,000 and **4.3 ms** at 25,000'): {rate: ms}, or None"""
     m = library_doc_search(env, r"stop\s+latency\s+\*\*([0-9.]+) ms\*\*\s+at\s+10,000\s+steps/s,\s+\*\*([0-9.]+) ms\*\*"
                                 r"\s+at\s+20,000\s+and\s+\*\*([0-9.]+) ms\*\*\s+at\s+25,000")
@@ -402,7 +402,7 @@ ACCEL_STOP_MOMENTS = (100.0, 150.3, 200.6, 250.9, 300.2)
 
 
 def doc_accel_stop_latency(env):
-    """the latency docs/library.md quotes for a stop while accelerating ('while it accelerates ... its
+    """the latency docs/stop-latency.md quotes for a stop while accelerating ('while it accelerates ... its
     deceleration begins within **5.5 ms**'), ms, or None"""
     m = library_doc_search(env, r"while\s+it\s+accelerates[^*]*?its\s+deceleration\s+begins\s+within\s+\*\*([0-9.]+) ms\*\*")
     return float(m.group(1)) if m else None
@@ -451,11 +451,11 @@ def accel_stop_at(env, t_ms, problems):
 
 
 def worst_against_doc(problems, got, doc, quote, what):
-    """the worst latency of got ((speed, ms) pairs) against the figure docs/library.md quotes for it (doc: None
+    """the worst latency of got ((speed, ms) pairs) against the figure docs/stop-latency.md quotes for it (doc: None
     when the page has no such sentence, quote: that sentence's pattern); returns the worst"""
     worst = max(lat for _, lat in got)
     if doc is None:
-        problems.append(f"docs/library.md quotes no {quote} (measured {worst:.2f} ms)")
+        problems.append(f"docs/stop-latency.md quotes no {quote} (measured {worst:.2f} ms)")
     else:
         doc_bound(problems, what, worst, doc)
     return worst
@@ -463,7 +463,7 @@ def worst_against_doc(problems, got, doc, quote, what):
 
 def check_accel_stops(env, problems):
     """stop() while StopOnSwitch's first move accelerates, at ACCEL_STOP_MOMENTS: each on the law (accel_stop_at),
-    the worst latency against docs/library.md; the figures' text"""
+    the worst latency against docs/stop-latency.md; the figures' text"""
     got = [r for r in (accel_stop_at(env, t, problems) for t in ACCEL_STOP_MOMENTS) if r is not None]
     if not got:
         return "stop while accelerating: not measured"
@@ -477,7 +477,7 @@ def check_accel_stops(env, problems):
 
 def check_stop_on_switch(env):
     """stop() at one switch at three speeds, forceStop() at another (StopOnSwitch.ino): the deceleration's
-    length and law, the latency from the switch against docs/library.md, no step after a halt"""
+    length and law, the latency from the switch against docs/stop-latency.md, no step after a halt"""
     log = run(env, "StopOnSwitch", STOP_SCRIPT)
     problems = []
     common(log, problems)
@@ -513,7 +513,7 @@ def check_stop_on_switch(env):
         sweep.setdefault(v, []).append(lat)
     doc = doc_stop_latency(env)
     if doc is None:
-        problems.append("docs/library.md quotes no 'stop latency **<ms> ms** at 10,000 steps/s, **<ms> ms** at "
+        problems.append("docs/stop-latency.md quotes no 'stop latency **<ms> ms** at 10,000 steps/s, **<ms> ms** at "
                         f"20,000 and **<ms> ms** at 25,000' (measured {sweep})")
     else:
         for v, lats in sorted(sweep.items()):
@@ -581,9 +581,9 @@ wait ^DONE
 
 
 def doc_retarget_latency(env):
-    """the reversal latency docs/library.md quotes ('retarget latency **5.1 ms**'), or None"""
+    """the reversal latency docs/stop-latency.md quotes ('retarget latency **5.1 ms**'), or None"""
     try:
-        with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
+        with open(os.path.join(env.source_dir, "docs", "stop-latency.md"), encoding="utf-8") as f:
             m = re.search(r"retarget\s+latency\s+\*\*([0-9.]+) ms\*\*", f.read())
     except OSError:
         return None
@@ -610,7 +610,7 @@ FOLLOW_ACCEL_REVERSALS = (60.0, 120.0, 200.0)
 
 
 def doc_accel_reversal_latency(env):
-    """the latency docs/library.md quotes for a target behind while accelerating after a new target
+    """the latency docs/stop-latency.md quotes for a target behind while accelerating after a new target
     ('... after a new target ... a target behind ... its deceleration begins within **<ms> ms** of the line'),
     ms, or None"""
     m = library_doc_search(env, r"after\s+a\s+new\s+target[^*]*?target\s+behind[^*]*?its\s+deceleration\s+begins\s+"
@@ -660,7 +660,7 @@ def follow_accel_reversal_at(env, t_ms, problems):
 
 def check_follow_accel_reversals(env, problems):
     """FollowTarget: targets behind while accelerating after a new target (FOLLOW_ACCEL_REVERSALS), each on the
-    law; the worst latency against docs/library.md; the figures' text"""
+    law; the worst latency against docs/stop-latency.md; the figures' text"""
     got = [r for r in (follow_accel_reversal_at(env, t, problems) for t in FOLLOW_ACCEL_REVERSALS) if r is not None]
     if not got:
         return "targets behind while accelerating after a new target: not measured"
@@ -677,7 +677,7 @@ def check_follow_target(env):
     """new targets while moving (FollowTarget.ino, 20,000 steps/s, 50,000 steps/s^2): a nearer target
     ahead, sent while cruising towards 100000, makes the move one of 30000 steps from rest (every edge
     on that law); a target behind, sent while cruising from 30000 towards 0, stops on the law (no
-    velocity jump) after a latency against docs/library.md, and the move back is one from rest; targets
+    velocity jump) after a latency against docs/stop-latency.md, and the move back is one from rest; targets
     behind while accelerating after a new target (check_follow_accel_reversals)"""
     log = run(env, "FollowTarget", FOLLOW_SCRIPT)
     problems = []
@@ -715,7 +715,7 @@ def check_follow_target(env):
         latency_ms = (start - arrival) * 1000.0 / F_CPU
         doc = doc_retarget_latency(env)
         if doc is None:
-            problems.append(f"docs/library.md quotes no 'retarget latency **<ms> ms**' (measured {latency_ms:.2f} ms)")
+            problems.append(f"docs/stop-latency.md quotes no 'retarget latency **<ms> ms**' (measured {latency_ms:.2f} ms)")
         else:
             doc_bound(problems, "the retarget latency (a target behind: the line to the deceleration)", latency_ms, doc)
     figs = (f"target 100000 -> 30000 while cruising: 30000 steps on the law of that move ({late1:.0f} cycles late "
@@ -1447,13 +1447,13 @@ def check_smooth_stall(env):
 # steps/s no two steps closer than half the cruise's interval. The stop: every axis's steps to its
 # position at rest, no underrun, v^2/2a steps of deceleration from the cruise on the law, and the latency
 # from the switch to the last cruise edge, X's (its stop() comes first) and the last axis's, at STOP_PHASES
-# moments against docs/library.md's figures (until 2026-12-06 only X's was measured: the other axes'
+# moments against docs/stop-latency.md's figures (until 2026-12-06 only X's was measured: the other axes'
 # decelerations began 8-37 ms after the switch, the planner's tick feeding every queue up to the lead
 # before loop() could call their stop()). Three at 25,000 steps/s: the third axis still accelerates at
 # the switch and takes a plan at a cut (its deceleration from its own speed, on the law, no velocity
 # jump); only the last axis's latency is held to the page's figure there (55-60 ms until 2026-12-06,
 # when that cut lay as far ahead as for one Stepper and the plan missed it). (build, Steppers, vmax,
-# accel, the stop's moments). Not checked (docs/library.md's known limits): a stop of two at 25,000
+# accel, the stop's moments). Not checked (docs/stop-latency.md's known limits): a stop of two at 25,000
 THREE_BUILDS = (("three-10k", 3, 10000, 50000, STOP_PHASES), ("three-25k", 3, 25000, 50000, STOP_PHASES[:3]),
                 ("three-25k-steep", 3, 25000, 200000, ()), ("two-25k", 2, 25000, 50000, ()),
                 ("two-20k", 2, 20000, 50000, STOP_PHASES), ("two-20k-late", 2, 20000, 50000, STOP_PHASES[:3]),
@@ -1472,7 +1472,7 @@ THREE_LATE_CUT_MS = 8.0
 # (measured 2026-12-06: 4.84-5.64 ms over five moments; a search that gave up left the stop to the 40 ms
 # lead: 38.8-39.6 ms)
 THREE_RACE_CUT_MS = 7.0
-# how far above the worst latency measured docs/library.md may quote it: the latency depends on where the
+# how far above the worst latency measured docs/stop-latency.md may quote it: the latency depends on where the
 # switch falls in the planner's tick (one every 2 ms with two Steppers, lasting up to 1.8 ms), and that
 # phase moves with every change of the code's layout (two Steppers: 1.85 to 3.3 ms over the builds of
 # 2026-12-06, three: 3.0 to 3.8 ms, while the cut waited for the next cruise command; 1.2-1.9 and 1.2-1.6
@@ -1483,7 +1483,7 @@ THREE_LATE = 700  # cycles: three step interrupts share the CPU (the edges' jitt
 
 def doc_three_stop_latency(env):
     """'... three Steppers' stop latency **a ms** at 10,000 steps/s (two Steppers: **b ms** at 20,000)' in
-    docs/library.md: {build: ms}, or None"""
+    docs/stop-latency.md: {build: ms}, or None"""
     m = library_doc_search(env, r"three\s+Steppers'\s+stop\s+latency\s+\*\*([0-9.]+) ms\*\*\s+at\s+10,000\s+steps/s\s+"
                                 r"\(two\s+Steppers:\s+\*\*([0-9.]+) ms\*\*\s+at\s+20,000\)")
     return {"three-10k": float(m.group(1)), "two-20k": float(m.group(2))} if m else None
@@ -1491,7 +1491,7 @@ def doc_three_stop_latency(env):
 
 def doc_three_stop_all(env):
     """'... every axis decelerating within **a ms** of the switch (two Steppers: **b ms**; three at 25,000
-    steps/s, one of them still accelerating: **c ms**)' in docs/library.md: {build: ms} (three-10k, two-20k,
+    steps/s, one of them still accelerating: **c ms**)' in docs/stop-latency.md: {build: ms} (three-10k, two-20k,
     three-25k), or None"""
     m = library_doc_search(env, r"every\s+axis\s+decelerating\s+within\s+\*\*([0-9.]+) ms\*\*\s+of\s+the\s+switch\s+"
                                 r"\(two\s+Steppers:\s+\*\*([0-9.]+) ms\*\*;\s+three\s+at\s+25,000\s+steps/s,\s+one\s+of\s+them\s+"
@@ -1766,7 +1766,7 @@ def loop_waits(log, switch):
 
 def doc_loop_waits(env):
     """'... three Steppers at 10,000 steps/s: **a ms** while they move and **b ms** after their stop; ...' in
-    docs/library.md: {build: (ms while moving, ms after the stop)}, or None"""
+    docs/stop-latency.md: {build: (ms while moving, ms after the stop)}, or None"""
     m = library_doc_search(env, r"three\s+Steppers\s+at\s+10,000\s+steps/s:\s+\*\*([0-9.]+) ms\*\*\s+while\s+they\s+move\s+and\s+"
                                 r"\*\*([0-9.]+) ms\*\*\s+after\s+their\s+stop;\s+two\s+at\s+20,000:\s+\*\*([0-9.]+) ms\*\*\s+and\s+"
                                 r"\*\*([0-9.]+) ms\*\*;\s+three\s+at\s+25,000:\s+\*\*([0-9.]+) ms\*\*\s+and\s+\*\*([0-9.]+) ms\*\*")
@@ -1776,7 +1776,7 @@ def doc_loop_waits(env):
     return {"three-10k": (g[0], g[1]), "two-20k": (g[2], g[3]), "three-25k": (g[4], g[5])}
 
 
-# how far above a build's longest wait of loop() docs/library.md may quote it: ms, or this share of it
+# how far above a build's longest wait of loop() docs/stop-latency.md may quote it: ms, or this share of it
 # (the waits are whole ticks of the planner, and where the switch falls among them moves with the layout)
 LOOP_WAIT_SLACK = (1.0, 0.15)
 
@@ -1818,7 +1818,7 @@ def check_three_steppers(env):
                          f"every axis decelerating within {min(alls):.2f}-{max(alls):.2f} ms")
     doc_w = doc_loop_waits(env)
     if doc_w is None:
-        problems.append("docs/library.md quotes no \"three Steppers at 10,000 steps/s: **<ms> ms** while they move and **<ms> ms** "
+        problems.append("docs/stop-latency.md quotes no \"three Steppers at 10,000 steps/s: **<ms> ms** while they move and **<ms> ms** "
                         "after their stop; two at 20,000: **<ms> ms** and **<ms> ms**; three at 25,000: **<ms> ms** and "
                         f"**<ms> ms**\" (loop()'s longest waits, measured {waits})")
     else:
@@ -1828,22 +1828,22 @@ def check_three_steppers(env):
                     continue
                 slack = max(LOOP_WAIT_SLACK[0], LOOP_WAIT_SLACK[1] * got)
                 if got > quoted + 0.05 or quoted > got + slack:
-                    problems.append(f"{build}: loop() waited {got:.2f} ms at the longest {what}; docs/library.md says "
+                    problems.append(f"{build}: loop() waited {got:.2f} ms at the longest {what}; docs/stop-latency.md says "
                                     f"{quoted} ms")
         notes.append("loop()'s longest waits (while moving, after the stop): " +
                      ", ".join(f"{b} {c:.2f} / {a:.2f} ms" for b, (c, a) in waits.items()))
     doc = doc_three_stop_latency(env)
     if doc is None:
-        problems.append("docs/library.md quotes no \"three Steppers' stop latency **<ms> ms** at 10,000 steps/s "
+        problems.append("docs/stop-latency.md quotes no \"three Steppers' stop latency **<ms> ms** at 10,000 steps/s "
                         f"(two Steppers: **<ms> ms** at 20,000)\" (measured {worst_lat})")
     doc_all = doc_three_stop_all(env)
     if doc_all is None:
-        problems.append("docs/library.md quotes no \"every axis decelerating within **<ms> ms** of the switch (two "
+        problems.append("docs/stop-latency.md quotes no \"every axis decelerating within **<ms> ms** of the switch (two "
                         f"Steppers: **<ms> ms**)\" (measured {worst_all})")
     else:
         for build, lat in worst_all.items():
             if build in doc_all and (lat > doc_all[build] + 0.05 or doc_all[build] > lat + THREE_DOC_SLACK_MS):
-                problems.append(f"{build}: every axis decelerating within {lat:.2f} ms at worst; docs/library.md "
+                problems.append(f"{build}: every axis decelerating within {lat:.2f} ms at worst; docs/stop-latency.md "
                                 f"says {doc_all[build]} ms")
     if doc is not None:
         for build, lat in worst_lat.items():
@@ -1856,7 +1856,7 @@ def check_three_steppers(env):
                     problems.append(f"{build}: stop latency {lat:.2f} ms with the interrupt taking the slot a cut "
                                     f"search chose (bound {THREE_RACE_CUT_MS} ms: the search starts again)")
             elif build in doc and (lat > doc[build] + 0.05 or doc[build] > lat + THREE_DOC_SLACK_MS):
-                problems.append(f"{build}: stop latency {lat:.2f} ms at worst; docs/library.md says {doc[build]} ms")
+                problems.append(f"{build}: stop latency {lat:.2f} ms at worst; docs/stop-latency.md says {doc[build]} ms")
     return CheckResult(not problems, "; ".join(notes), problems)
 
 
