@@ -73,8 +73,8 @@ extern "C" {
     X(MS_ERR_AXIS_TAKEN, "axis taken: another Stepper has begun on it")                         \
     X(MS_ERR_RAMP_NOT_HERE, "a Stepper runs the exact, Leib or simplistic ramp (the sigmoid table is SCurveStepper's)") \
     X(MS_ERR_NO_PLANNER_TIMER, "no planner interrupt: #include <MotionStepper.h>")         \
-    X(MS_ERR_NO_MEMORY, "not enough SRAM: the step queues and the stack's reserve (BOARD_STACK_RESERVE) do not fit") \
-    X(MS_ERR_RAMP_LIMIT, "above this ramp's limit: setMaxSpeed()/setAcceleration() to maxSpeedLimit()/accelerationLimit() or below first")
+    X(MS_ERR_NO_MEMORY, "not enough SRAM: this Stepper's buffers and the stack's reserve (BOARD_STACK_RESERVE) do not fit") \
+    X(MS_ERR_RAMP_LIMIT, "vmax or accel above this ramp's limit: lower them first (STEPPER_MAX_SPS_* in StepperPins.h; docs/library.md, setRamp)")
 
 #define MOTION_STATUS_ENUM_ITEM(id, text) id,
 typedef enum { MOTION_STATUS_LIST(MOTION_STATUS_ENUM_ITEM) MS__COUNT } motion_status_t;

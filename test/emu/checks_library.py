@@ -872,8 +872,8 @@ def check_api_tour(env):
 # ---- LabRamp ----------------------------------------------------------------------------------
 
 LAB_RAMP_LEGS = (("leib", 0, 2000, 100), ("simplistic", 2000, 0, 1000))  # algo, from, to, v0 (LabRamp.ino)
-LAB_RAMP_REPLIES = ["setRamp(LEIB): above this ramp's limit: setMaxSpeed()/setAcceleration() to "
-                    "maxSpeedLimit()/accelerationLimit() or below first", "setMaxSpeed(4000): OK", "setMinSpeed(100): OK",
+LAB_RAMP_REPLIES = ["setRamp(LEIB): vmax or accel above this ramp's limit: lower them first (STEPPER_MAX_SPS_* "
+                    "in StepperPins.h; docs/library.md, setRamp)", "setMaxSpeed(4000): OK", "setMinSpeed(100): OK",
                     "setAcceleration(8000): OK", "setRamp(LEIB): OK", "setMaxSpeed(20000): number out of range",
                     "setRamp(SIGMOID): fmin is below timer_hz/65535: its period does not fit 16 bits", "begin(): OK",
                     "READY LabRamp", "moveTo(2000): OK", "setRamp(SIMPLISTIC) while moving: busy: a move is in progress",

@@ -47,7 +47,7 @@ static void status_later_additions_at_the_end_with_their_sentences(void **state)
     assert_non_null(strstr(motion_status_text(MS_ERR_RAMP_NOT_HERE), "exact, Leib or simplistic"));
     assert_non_null(strstr(motion_status_text(MS_ERR_NO_PLANNER_TIMER), "#include <MotionStepper.h>"));
     assert_non_null(strstr(motion_status_text(MS_ERR_NO_MEMORY), "BOARD_STACK_RESERVE"));
-    assert_non_null(strstr(motion_status_text(MS_ERR_RAMP_LIMIT), "maxSpeedLimit()"));
+    assert_non_null(strstr(motion_status_text(MS_ERR_RAMP_LIMIT), "STEPPER_MAX_SPS_"));
 }
 
 static void status_copy_truncates_and_terminates(void **state)

@@ -556,6 +556,7 @@ int main(int argc, char **argv)
     int booted = 0;
     long min_free = 0x10000L;
     uint16_t min_sp = 0xffff; /* the deepest the stack went: stack_max in the end line */
+    uint16_t prev_sp = 0;
     uint32_t min_sp_pc = 0;
     uint64_t min_sp_cycle = 0;
     int stack_reported = 0;
@@ -598,7 +599,12 @@ int main(int argc, char **argv)
              * a stack that reached deep before the heap grew there is no overflow, and one that runs
              * into the heap later, above its lowest point so far, is one; the least room seen is the
              * end line's stack_min_free; reported once */
-            if (sp != 0) {
+            /* avr-gcc's prologue writes SPH, then (after SREG) SPL: for those two instructions a frame
+             * that crosses a 256-byte boundary reads up to 255 bytes off; a change of the high byte
+             * alone is such a half-written pointer, and waits for its low byte */
+            int half = (sp >> 8) != (prev_sp >> 8) && (sp & 0xff) == (prev_sp & 0xff);
+            prev_sp = sp;
+            if (sp != 0 && !half) {
                 uint64_t bound = heap_end_now(avr);
                 long room = (long)sp - (long)bound;
                 if (sp < min_sp) {
@@ -665,7 +671,7 @@ ended:
         reason = "failed";
     emu_log(avr->cycle, "end", "%s t_s=%.6f wall_s=%.3f speed=%.1fx fails=%d stack_min_free=%ld ready=%d stack_max=%ld stack_max_pc=0x%05x stack_max_cycle=%" PRIu64, reason,
             (double)avr->cycle / EMU_F_CPU, wall, wall > 0 ? (double)avr->cycle / EMU_F_CPU / wall : 0.0,
-            emu_fail_count(), stack_free, emu_uart_ready_count(), min_sp == 0xffff ? 0L : 0x21FFL - (long)min_sp, (unsigned)min_sp_pc, min_sp_cycle);
+            emu_fail_count(), stack_free, emu_uart_ready_count(), min_sp == 0xffff ? 0L : (long)avr->ramend - (long)min_sp, (unsigned)min_sp_pc, min_sp_cycle);
     emu_log_flush();
     if (out != stdout)
         fclose(out);

@@ -7,8 +7,9 @@
  * shares the heap safely: malloc's top (__brkval, a weak reference: 0 when malloc is not linked) is
  * then moved past the bytes taken, so malloc never hands them out; without malloc the top is
  * board_heap_top (0 until the first take; the emulator reads either to know where the heap ends).
- * NULL when fewer than n bytes plus BOARD_STACK_RESERVE are left below the stack pointer (Stepper's
- * begin() then refuses: MS_ERR_NO_MEMORY). */
+ * NULL when fewer than n bytes plus the stack's reserve (BOARD_STACK_RESERVE, or more once
+ * board_reserve_stack raised it) are left below the stack pointer (Stepper's begin() then refuses:
+ * MS_ERR_NO_MEMORY). */
 #ifndef BOARD_HEAP_H
 #define BOARD_HEAP_H
 

@@ -18,10 +18,11 @@
  * Each axis's state is kept one step ahead (ahead form, MultiStepEngineIsr.inc): at a match the
  * interrupt arms the edge it computed at the step before, within a few instructions of STEP, then
  * computes the one after; its own compare interrupt stays masked meanwhile (in_step_interrupt()).
- * The interrupts nest: each raises its STEP and enables interrupts in its first instructions, and
- * arms its next edge with them off right after, so an edge never waits for another axis's step, only
- * for the short stretches another axis's interrupt runs with interrupts off (a few dozen cycles, up
- * to about 180 in a C path's arming) and for the core's millis and serial interrupts, which do not
+ * The interrupts nest: each raises its STEP in its first instructions, arms its next edge, then
+ * enables interrupts, so an edge never waits for another axis's step, only for the short stretches
+ * another axis's interrupt runs with interrupts off (some 35 cycles from its entry to its arming; up
+ * to about 150 when its own next match came during its slot switch, whose rest then runs with them
+ * off; up to about 180 in a C path's arming) and for the core's millis and serial interrupts, which do not
  * nest (a C path that would nest above another axis's masked step is put off: MultiStepEngineIsr.inc);
  * `make bench` measures it.
  * loop() calls service() for each axis: it keeps between two commands and MULTI_LEAD_MS of steps

@@ -137,7 +137,7 @@ void Stepper::set_cmd_length()
     if (MULTI_TIMED_LOOP)
         ms = 0; /* one step per command: it fits between two deadlines of loop() */
     else if (BackgroundPlanner::inLoop())
-        ms = 4U; /* lib's 4 ms: a cut lands 5-6 ms ahead anyway, and at 90,000 steps/s the planner has a
+        ms = 4U; /* lib's 4 ms: a cut lands 5-6 ms ahead anyway, and at 100,000 steps/s the planner has a
                     quarter of the CPU */
     else if (planner_.algo == RAMP_ALGO_SMOOTH)
         return;

@@ -62,7 +62,7 @@ protected:
 };
 class StepperGroup;
 
-/* The smooth ramp's highest vmax (setMaxSpeed, setRamp(RAMP_ALGO_SMOOTH): MS_ERR_OUT_OF_RANGE above):
+/* The smooth ramp's highest vmax (setMaxSpeed: MS_ERR_OUT_OF_RANGE above; setRamp(RAMP_ALGO_SMOOTH): MS_ERR_RAMP_LIMIT):
  * the highest rate `make bench` measures clean (docs/bench.md, "Highest clean rate of the smooth
  * ramp": the reference move with accel vmax^2/10,000 and jerk 2 accel^2/vmax; at 60,000 steps/s its
  * planner falls behind near rest, docs/smooth-move.md). */
@@ -215,8 +215,8 @@ public:
      * setRamp(algo, hooks) before begin() (LeibRampStepper, SimplisticRampStepper);
      * RAMP_ALGO_SIGMOID (hooks NULL): the setters check for the sigmoid from the start, and
      * setRamp(RAMP_ALGO_SIGMOID) must fill its table before begin() (SCurveStepper); RAMP_ALGO_EXACT:
-     * as Stepper(axis). begin() refuses (MS_ERR_OUT_OF_RANGE) any other algo and parameters in force
-     * that the ramp does not take then (vmax above its limit: set it first), and the sigmoid without
+     * as Stepper(axis). begin() refuses any other algo (MS_ERR_OUT_OF_RANGE), parameters in force
+     * that the ramp does not take then (vmax above its limit: set it first; MS_ERR_RAMP_LIMIT), and the sigmoid without
      * its table (MS_ERR_TABLE_MISSING). */
     inline __attribute__((always_inline)) Stepper(Axis axis, ramp_algo_t algo, const ramp_hooks_t *hooks)
         : Stepper(axis, 0)
@@ -243,8 +243,8 @@ public:
     /* Takes the axis (MS_ERR_AXIS_TAKEN if another Stepper has it), sets up the engine and the planner
      * (once for all: the first begin() takes every Stepper's ring of step commands from the heap,
      * 64 commands of 20 bytes each, 96 for a Stepper alone on X planned from loop(), as the stepper
-     * sketches' console plans; MS_ERR_OUT_OF_RANGE if
-     * there is no room), ENABLE as set (enabled unless auto-disable is on), position 0. */
+     * sketches' console plans; MS_ERR_NO_MEMORY if
+     * there is no room with BoardHeap.h's BOARD_STACK_RESERVE left for the stack), ENABLE as set (enabled unless auto-disable is on), position 0. */
     motion_status_t begin();
 
     /* Limits for the next plan; MS_ERR_OUT_OF_RANGE above this library's limits for the ramp taken
@@ -262,7 +262,7 @@ public:
      * hooks: the lab's own preComputation()/computeNewSpeed() for the lab's ramps (ramp.h's
      * ramp_hooks_t, as LeibRampStepper passes them), NULL for lib's. The lab's ramps plan every step
      * (float arithmetic), so their vmax is limited to STEPPER_MAX_SPS_LEIB / _SIMPLISTIC
-     * (StepperPins.h; setMaxSpeed and setRamp refuse more: MS_ERR_OUT_OF_RANGE); the parameters in
+     * (StepperPins.h; setMaxSpeed refuses more: MS_ERR_OUT_OF_RANGE; setRamp: MS_ERR_RAMP_LIMIT); the parameters in
      * force must suit the new ramp (its own status otherwise). A StepperGroup's moves are always exact.
      *   RAMP_ALGO_SIGMOID     the S-curve article's sigmoid: a table of timer periods from minSpeed()
      *                         (fmin) to maxSpeed() (fmax) along a logistic curve (setSigmoid: flex, len
@@ -291,7 +291,7 @@ public:
      *                         forceStop() halts at once; docs/smooth-move.md). Its planner
      *                         (about 1 KB) is allocated from the heap at the first setRamp(SMOOTH) of a
      *                         Stepper, with (once for all) the copy a cut keeps (another 1 KB;
-     *                         MS_ERR_OUT_OF_RANGE if there is no room), and kept; a sketch
+     *                         MS_ERR_NO_MEMORY if there is no room), and kept; a sketch
      *                         that never asks for it does not link it. Its first step comes about 0.15 s
      *                         after moveTo() from rest (the ring is filled first; docs/smooth-move.md). */
     inline __attribute__((always_inline)) motion_status_t setRamp(ramp_algo_t algo, const ramp_hooks_t *hooks = 0)

@@ -25,11 +25,11 @@ motion_status_t Stepper::set_ramp_smooth()
         motion_status_t st = smooth_check_(&params_, (double)jerk_);
         if (st != MS_OK)
             return st;
-        /* its planners and its deeper stack, both, or nothing */
-        if (!board_reserve_stack(MOTION_STEPPER_SMOOTH_STACK, 2 * sizeof(step_smooth_t)))
-            return MS_ERR_NO_MEMORY;
-        /* its planner, and (once for all Steppers) the copy a cut of its queue keeps (StepCut.h) */
+        /* its planner, and (once for all Steppers) the copy a cut of its queue keeps (StepCut.h), with
+         * its deeper stack, all or nothing (32 bytes more: the takes below run a few frames deeper) */
         static step_smooth_t *backup;
+        if (!board_reserve_stack(MOTION_STEPPER_SMOOTH_STACK, (backup ? 1U : 2U) * sizeof(step_smooth_t) + 32U))
+            return MS_ERR_NO_MEMORY;
         if (!backup) {
             backup = static_cast<step_smooth_t *>(board_take(sizeof(step_smooth_t)));
             if (!backup)
