@@ -396,6 +396,34 @@ def stop_latency_at(env, v, dt, problems):
     return check_one_stop(log, problems, e, made, stops[0], dones[2], float(v), STOP_ACCEL)
 
 
+# StopOnSwitch built with -DMOTION_STEPPER_CUT_US=0 (tools/emu/emu.mk): no cut of the queue, so a stop acts
+# after the steps queued ahead, the lead (LEAD_MS), plus at most a cruise command (4 ms) and a tick; with
+# the cuts it acts within about 1.3 ms. Until 2026-12-07 that documented option did not build (two helpers
+# of StepCut.cpp unused: -Werror).
+NOCUT_BOUNDS_MS = (LEAD_MS / 2.0, LEAD_MS + 4.0 + 1.0 + 1.0)
+
+
+def check_no_cut(env):
+    """StopOnSwitch without the cuts: it builds (make test's build), and its stop at 20,000 steps/s at three
+    moments decelerates on the law, after the queued lead (within NOCUT_BOUNDS_MS of the switch)"""
+    fw = os.path.join(env.source_dir, "build", "emu", "nocut")
+    if not os.path.isfile(os.path.join(fw, "StopOnSwitch", "StopOnSwitch.ino.elf")):
+        return CheckResult(False, "no build", [f"{fw}/StopOnSwitch is missing: make test builds it (tools/emu/emu.mk)"])
+    nocut = sketches.Env(source_dir=env.source_dir, firmware_dir=fw)
+    problems = []
+    lats = [lat for lat in (stop_latency_at(nocut, 20000, dt, problems) for dt in STOP_PHASES[::2]) if lat is not None]
+    lo, hi = NOCUT_BOUNDS_MS
+    for lat in lats:
+        if not lo <= lat <= hi:
+            problems.append(f"without the cuts the stop began {lat:.2f} ms after the switch: expected after the "
+                            f"queued lead, {lo}-{hi} ms")
+    if len(lats) != len(STOP_PHASES[::2]):
+        problems.append(f"{len(lats)} stops measured of {len(STOP_PHASES[::2])}")
+    return CheckResult(not problems, "without the cuts: deceleration on the law " +
+                       (f"{min(lats):.2f}-{max(lats):.2f} ms after the switch" if lats else "not measured") +
+                       f" at 20,000 steps/s (lead {LEAD_MS} ms)", problems)
+
+
 # ms after the first move's MOVE line at which the stop switch closes while it still accelerates (from
 # rest to 20,000 steps/s at 50,000 steps/s^2: some 8,700 to 18,900 steps/s at these moments)
 ACCEL_STOP_MOMENTS = (100.0, 150.3, 200.6, 250.9, 300.2)
@@ -1749,16 +1777,21 @@ def check_one_stepper(env):
                        f"{', '.join(figs)} late at most (bound {ONE_BOUND}), 0 underruns", problems)
 
 
-def loop_waits(log, switch):
+def loop_waits(log, switch, call):
     """loop()'s longest waits (ms) from the D6 it toggles on every pass: over the 300 ms before the switch
-    (the moves accelerating and cruising), and from the switch to the last step (the decelerations planned)"""
+    (the moves accelerating and cruising), and from the start of the pass that calls stop() (D5 rises in
+    it, at call) to the last step (the decelerations planned; until 2026-12-07 from the switch on, which
+    left out that pass's own wait: three Steppers at 25,000 steps/s, 28-30 ms where 19.2 were reported)"""
     turns = sorted(c for c, _ in log.pins.get("LOOP", []))
     last = max((max(log.rising(ax + "STEP"), default=0) for ax in "XYZ"), default=0)
 
     def longest(a, b):
         xs = [c for c in turns if a <= c <= b]
         return max((y - x for x, y in zip(xs, xs[1:])), default=None)
-    cruise, stop = longest(switch - 0.3 * F_CPU, switch), longest(switch, last)
+    start = max((c for c in turns if c <= call), default=None)
+    if start is None:
+        return None
+    cruise, stop = longest(switch - 0.3 * F_CPU, switch), longest(start, last)
     if cruise is None or stop is None:
         return None
     return cruise * 1000.0 / F_CPU, stop * 1000.0 / F_CPU
@@ -1781,10 +1814,30 @@ def doc_loop_waits(env):
 LOOP_WAIT_SLACK = (1.0, 0.15)
 
 
+def doc_three_call(env):
+    """'From the first stop() call ... X's deceleration begins within **a ms** of it and every axis's within
+    **b ms** (three Steppers at 10,000 steps/s; two at 20,000: **c ms** and **d ms**; three at 25,000: **e ms**
+    and **f ms**)' in docs/stop-latency.md: {build: (X's ms, every axis's ms)}, or None"""
+    m = library_doc_search(env, r"X's\s+deceleration\s+begins\s+within\s+\*\*([0-9.]+) ms\*\*\s+of\s+it\s+and\s+every\s+"
+                                r"axis's\s+within\s+\*\*([0-9.]+) ms\*\*\s+\(three\s+Steppers\s+at\s+10,000\s+steps/s;\s+two\s+at\s+"
+                                r"20,000:\s+\*\*([0-9.]+) ms\*\*\s+and\s+\*\*([0-9.]+) ms\*\*;\s+three\s+at\s+25,000:\s+"
+                                r"\*\*([0-9.]+) ms\*\*\s+and\s+\*\*([0-9.]+) ms\*\*\)")
+    if not m:
+        return None
+    g = [float(x) for x in m.groups()]
+    return {"three-10k": (g[0], g[1]), "two-20k": (g[2], g[3]), "three-25k": (g[4], g[5])}
+
+
+# the issue's bound on a stop: its deceleration begins within this many ms of the call (X's, the first
+# stop() call of the switch's pass; the other axes' stops come one after the other, docs/stop-latency.md)
+THREE_CALL_BOUND_MS = 2.0
+
+
 def check_three_steppers(env):
-    problems, notes, worst_lat, worst_all, waits = [], [], {}, {}, {}
+    problems, notes, worst_lat, worst_all, waits, calls = [], [], {}, {}, {}, {}
     pins = sketches.multiaxis_pins(env)
     pins["LOOP"] = "PH3"  # D6, toggled on every pass of loop()
+    pins["CALL"] = "PE3"  # D5, high from the first stop() call on
     for build, n, vmax, accel, phases in THREE_BUILDS:
         elf = os.path.join(env.source_dir, "build", "emu", build, "ThreeSteppers", "ThreeSteppers.ino.elf")
         if not os.path.isfile(elf):
@@ -1799,11 +1852,19 @@ def check_three_steppers(env):
             problems += [f"{build}: harness: {kind} at {c / F_CPU:.4f} s: {t}" for c, kind, t in log.fails]
             if dt is not None:
                 axes = three_stop(log, problems, build, n, vmax, accel)
+                sw = [c for c, t, r in log.events if t == "input" and r.split()[0] == "D3" and r.split()[2] == "0"]
+                call = next((c for c, v in log.pins.get("CALL", []) if v), None)
+                if len(sw) != 1 or call is None or call < sw[0]:
+                    problems.append(f"{build}: no D5 rise at the stop() calls after the switch")
+                    call = None
                 if axes is not None:
                     lats.append(axes[0])
                     alls.append(max(axes))
-                sw = [c for c, t, r in log.events if t == "input" and r.split()[0] == "D3" and r.split()[2] == "0"]
-                w = loop_waits(log, sw[0]) if len(sw) == 1 else None
+                    if call is not None:
+                        late = (call - sw[0]) * 1000.0 / F_CPU
+                        old_c = calls.get(build, (0.0, 0.0))
+                        calls[build] = (max(old_c[0], axes[0] - late), max(old_c[1], max(axes) - late))
+                w = loop_waits(log, sw[0], call) if call is not None else None
                 if w is None:
                     problems.append(f"{build}: loop() did not toggle D6 around the stop")
                 else:
@@ -1832,6 +1893,27 @@ def check_three_steppers(env):
                                     f"{quoted} ms")
         notes.append("loop()'s longest waits (while moving, after the stop): " +
                      ", ".join(f"{b} {c:.2f} / {a:.2f} ms" for b, (c, a) in waits.items()))
+    doc_c = doc_three_call(env)
+    for build, (x_ms, all_ms) in calls.items():
+        if build in ("two-20k-late", "two-20k-race"):
+            continue
+        if x_ms > THREE_CALL_BOUND_MS:
+            problems.append(f"{build}: X's deceleration began {x_ms:.2f} ms after its stop() call (bound "
+                            f"{THREE_CALL_BOUND_MS} ms)")
+        quoted = doc_c.get(build) if doc_c else None
+        if quoted is None:
+            problems.append(f"{build}: docs/stop-latency.md quotes no latency from the stop() call \"X's deceleration "
+                            "begins within **<ms> ms** of it and every axis's within **<ms> ms** (three Steppers at 10,000 "
+                            "steps/s; two at 20,000: **<ms> ms** and **<ms> ms**; three at 25,000: **<ms> ms** and "
+                            f"**<ms> ms**)\" (measured {x_ms:.2f} / {all_ms:.2f} ms)")
+            continue
+        for what, got, q in (("X's", x_ms, quoted[0]), ("every axis's", all_ms, quoted[1])):
+            if got > q + 0.05 or q > got + THREE_DOC_SLACK_MS:
+                problems.append(f"{build}: {what} deceleration within {got:.2f} ms of the stop() call at worst; "
+                                f"docs/stop-latency.md says {q} ms")
+    if calls:
+        notes.append("from the stop() call (X's, every axis's): " +
+                     ", ".join(f"{b} {x:.2f} / {a:.2f} ms" for b, (x, a) in calls.items()))
     doc = doc_three_stop_latency(env)
     if doc is None:
         problems.append("docs/stop-latency.md quotes no \"three Steppers' stop latency **<ms> ms** at 10,000 steps/s "
@@ -1912,6 +1994,8 @@ def checks_for(env):
                    "the planner tick holds no step edge back: every edge on the constant-acceleration law within "
                    f"{ONE_BOUND} cycles",
                    lambda: guarded(check_one_stepper, env)))
+    checks.append(("MotionStepper library, StopOnSwitch built with -DMOTION_STEPPER_CUT_US=0: it builds, and its stop "
+                   "decelerates on the law after the queued lead", lambda: guarded(check_no_cut, env)))
     checks.append(("MotionStepper library, test sketch HeapShare: malloc and free beside a Stepper's heap (board_take): "
                    "no block overlaps another, every block keeps its bytes through a move of 20,000 steps",
                    lambda: guarded(check_heap_share, env)))

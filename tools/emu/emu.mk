@@ -117,6 +117,14 @@ $(EMU_ONESTEPPER_ELF): $(EMU_FW_SRCS) test/emu/OneStepper/OneStepper.ino tools/b
 	@FIRMWARE_OUT=$(BUILD)/emu/onestepper FIRMWARE_DEFINES="-DMULTI_MAX_SPS=200000" bash tools/build_firmware.sh \
 	  test/emu/OneStepper >$(BUILD)/emu/onestepper.log 2>&1 || { cat $(BUILD)/emu/onestepper.log; exit 1; }
 
+# StopOnSwitch built with -DMOTION_STEPPER_CUT_US=0 (the cuts off, as docs/stop-latency.md offers): it must
+# build warning-free, and its stop acts after the queued lead, on the law (checks_library.py, check_no_cut)
+EMU_NOCUT_ELF := $(BUILD)/emu/nocut/StopOnSwitch/StopOnSwitch.ino.elf
+$(EMU_NOCUT_ELF): $(EMU_FW_SRCS) firmware/libraries/MotionStepper/examples/StopOnSwitch/StopOnSwitch.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/nocut
+	@FIRMWARE_OUT=$(BUILD)/emu/nocut FIRMWARE_DEFINES="-DMOTION_STEPPER_CUT_US=0" bash tools/build_firmware.sh \
+	  firmware/libraries/MotionStepper/examples/StopOnSwitch >$(BUILD)/emu/nocut.log 2>&1 || { cat $(BUILD)/emu/nocut.log; exit 1; }
+
 # test/emu/HeapShare: a sketch that uses malloc beside a Stepper (the heap shared with board_take:
 # checks_library.py, check_heap_share)
 EMU_HEAPSHARE_ELF := $(BUILD)/emu/heapshare/HeapShare/HeapShare.ino.elf
@@ -175,7 +183,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_NOCUT_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

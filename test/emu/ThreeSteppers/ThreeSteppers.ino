@@ -6,7 +6,8 @@
  * Then every axis moves towards 1,000,000 ("MOVE 1000000"); when D3 goes low (the script's switch)
  * every axis gets stop() ("STOP"), and at rest "DONE <X's position> underruns=<X's underruns>",
  * "AT <position> u=<underruns> ..." for every axis, then FINISHED. D6 toggles on every pass of
- * loop(): the check measures how long loop() waits for the planner. Until 2026-12-05 three Steppers moving at once ran their queues dry thousands of
+ * loop(): the check measures how long loop() waits for the planner; D5 goes high just before the
+ * stop() calls: the check measures the latency from the call as well as from the switch. Until 2026-12-05 three Steppers moving at once ran their queues dry thousands of
  * times, even at 10,000 steps/s, and a Z step could hold its STEP high for 18 ms
  * (BackgroundPlanner.h: MOTION_STEPPER_RETRY_COUNTS, MOTION_STEPPER_LEAD_MS_2/_3; Stepper.h:
  * MOTION_STEPPER_CMD_MS_3). */
@@ -62,6 +63,7 @@ void setup()
     Serial.begin(115200);
     pinMode(3, INPUT_PULLUP); /* the stop switch: closed = low */
     DDRH |= _BV(PH3);         /* D6: toggled on every pass of loop() (its turns, measured) */
+    DDRE |= _BV(PE3);         /* D5: high from the first stop() call on (the latency from the call) */
     for (uint8_t i = 0; i < TS_N; i++) {
         report(F("setMaxSpeed"), i, all[i]->setMaxSpeed(TS_V));
         report(F("setAcceleration"), i, all[i]->setAcceleration(TS_A));
@@ -85,6 +87,7 @@ void loop()
     if (leg == 4) {
         /* the run towards 1,000,000: stopped at the switch */
         if (!stopped && digitalRead(3) == LOW) {
+            PORTE |= _BV(PE3); /* D5 high: the stop() calls come now */
             for (uint8_t i = 0; i < TS_N; i++)
                 (void)all[i]->stop();
             stopped = true;

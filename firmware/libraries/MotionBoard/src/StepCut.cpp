@@ -27,6 +27,7 @@ void step_cut_smooth_backup(step_smooth_t *backup)
     s_smooth_backup = backup;
 }
 
+#if MOTION_STEPPER_CUT_US
 /* the planner as it was before the cut (saved: the planner, and a smooth move's own state) */
 static void put_back(step_planner_t *pl, const step_planner_t &saved)
 {
@@ -34,6 +35,7 @@ static void put_back(step_planner_t *pl, const step_planner_t &saved)
     if (pl->algo == RAMP_ALGO_SMOOTH)
         *pl->smooth = *s_smooth_backup;
 }
+#endif
 
 void step_cut_trace(bool on)
 {
@@ -67,10 +69,12 @@ __attribute__((noinline)) uint8_t step_cut_first_cmds(step_planner_t *pl, step_c
 
 /* kept out of step_cut_plan (no inlining): its locals are not on the stack beside the plan's (the
  * sketches' stack is a few hundred bytes deep at most: MultiAxisStepper) */
+#if MOTION_STEPPER_CUT_US
 static __attribute__((noinline)) motion_status_t rewind_to(step_planner_t *pl, const MultiStepEngine::Cut &cut)
 {
     return step_planner_rewind(pl, cut.steps, cut.time16, cut.last_count);
 }
+#endif
 
 bool step_cut_mirror(uint8_t axis, step_planner_t *pl, const StepCutTiming &t, uint32_t min_us, bool then, int32_t to,
                      int32_t *from, StepCutMirror *rest)

@@ -22,8 +22,23 @@ struct Stepper::StopAhead {
     step_cmd_t cmds[MOTION_STEPPER_STOP_AHEAD_CMDS];
     uint64_t up;
     int32_t from, pos, target;
+    /* the cut's distance (us) with 1, 2, 3 axes stepping (stop_in_cruise) */
+    uint16_t ahead_us[3];
     uint8_t n, active;
 };
+
+/* how much longer than with one Stepper at 20,000 steps/s a cut's work takes now: it runs beside the
+ * step interrupts, so its time grows as 1/(1 - their share of the CPU) (Stepper.h,
+ * MOTION_STEPPER_CUT_SHARE; the share taken at most 0.9); 1 at or below that share */
+#if !MULTI_TIMED_LOOP
+static float cut_grow()
+{
+    float share = BackgroundPlanner::stepRate() * (MOTION_STEPPER_STEP_CYCLES / (float)F_CPU);
+    if (share <= MOTION_STEPPER_CUT_SHARE)
+        return 1.0f;
+    return (1.0f - MOTION_STEPPER_CUT_SHARE) / (1.0f - (share < 0.9f ? share : 0.9f));
+}
+#endif
 
 const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Stepper::cuts_prepare};
 
@@ -82,6 +97,20 @@ void Stepper::prepare_stop()
     stop_->pos = s_scratch.pos;
     stop_->target = s_scratch.target;
     stop_->active = s_scratch.active;
+    /* the cut's search and lay-out run beside the step interrupts: their time grows as 1/(1 - the
+     * interrupts' share of the CPU), that share taken as this cruise's speed on every axis stepping
+     * (counting them costs nothing at the stop; the floats of cut_grow cost 0.5 ms there with three
+     * Steppers at 25,000 steps/s); an axis slower than the others may miss its first try and take
+     * the next, twice as far */
+    for (uint8_t n = 1; n <= 3; n++) {
+        float share = n * fabs(MultiStepEngine::speed(axis_)) * (MOTION_STEPPER_STEP_CYCLES / (float)F_CPU);
+        float grow = share <= MOTION_STEPPER_CUT_SHARE ? 1.0f
+                                                       : (1.0f - MOTION_STEPPER_CUT_SHARE) / (1.0f - (share < 0.9f ? share : 0.9f));
+        float us = MOTION_STEPPER_CUT_CRUISE_US > MOTION_STEPPER_CUT_MARGIN_US
+                       ? (float)MOTION_STEPPER_CUT_MARGIN_US + (float)(MOTION_STEPPER_CUT_CRUISE_US - MOTION_STEPPER_CUT_MARGIN_US) * grow
+                       : (float)MOTION_STEPPER_CUT_CRUISE_US; /* (a test build's cut inside its margin: as it is) */
+        stop_->ahead_us[n - 1] = (uint16_t)(us < 20000.0f ? us : 20000.0f);
+    }
 #endif
 }
 
@@ -113,6 +142,15 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
         uint16_t more = (uint16_t)(v * 0.015f);
         ahead_us += more;
         margin_us += more;
+    } else {
+        /* the search and the lay-out beside the step interrupts: with three Steppers at 25,000
+         * steps/s a try took 0.8-1.2 ms, so the cut 600 us ahead came too late and the stop took
+         * the second try (2.4 ms after the call); the part beyond the margin grows with the
+         * interrupts' share (prepare_stop) */
+        uint8_t n = 0;
+        for (uint8_t i = 0; i < 3; i++)
+            n = (uint8_t)(n + (MultiStepEngine::stepping(i) ? 1U : 0U));
+        ahead_us = stop_->ahead_us[n > 0 ? n - 1U : 0U];
     }
     /* a cut the step interrupt came too close to is tried again twice as far ahead (STEP_CUT_TRIES
      * cuts in all): each try costs only the search and the lay-out, 0.4 ms or so with two Steppers
@@ -200,9 +238,8 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
          * feed, milliseconds later (until 2026-12-06 three Steppers at 25,000 steps/s, one still
          * accelerating at the switch: its plan took 10 ms, missed the 4 ms cut, and its deceleration
          * began 55-60 ms after the switch; test/emu/ThreeSteppers, three-25k; Stepper.h) */
-        float share = BackgroundPlanner::stepRate() * (MOTION_STEPPER_STEP_CYCLES / (float)F_CPU);
-        if (share > MOTION_STEPPER_CUT_SHARE) {
-            float grow = (1.0f - MOTION_STEPPER_CUT_SHARE) / (1.0f - (share < 0.9f ? share : 0.9f));
+        float grow = cut_grow();
+        if (grow > 1.0f) {
             timing.ahead_us = (uint16_t)(timing.ahead_us * grow);
             timing.ahead_slow_us = (uint16_t)(timing.ahead_slow_us * grow);
             timing.ahead_mirror_us = (uint16_t)(timing.ahead_mirror_us * grow);
