@@ -95,7 +95,10 @@ for arg in "${sketches[@]}"; do
     rc=$?
     # arduino-cli's own noise on a machine without Arduino's servers (discoveries, indexes).
     grep -v -E '^Error initializing instance: (Error loading hardware platform: discovery|Loading index file)' "$log" > "$log.clean"
-    ours=$(grep -E '(warning|error):' "$log.clean" | grep -E "($ROOT/)?(firmware|lib)/|$SRC/" || true)
+    # ours: the project's files and the sketch's own folder (a sketch of your own outside the tree too)
+    absdir=$(cd "$dir" && pwd)
+    ours=$({ grep -E '(warning|error):' "$log.clean" | grep -E "($ROOT/)?(firmware|lib)/|$SRC/"
+             grep -E '(warning|error):' "$log.clean" | grep -F "$absdir/"; } | sort -u || true)
     if [ $rc -ne 0 ]; then
         echo "FAIL $s: compile failed" >&2
         grep -E '(error|Error)' "$log.clean" | head -20 >&2

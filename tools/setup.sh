@@ -158,4 +158,4 @@ else
     die "arduino-cli does not see the arduino:avr core in .arduino/user/hardware"
 fi
 
-step "setup complete; next: make profiles (the standard ramps, filters and servo runs: build/profiles/*.png and profiles.xlsx); make test checks everything (about 6 min)"
+step "setup complete; next: make profiles (the standard ramps, filters and servo runs: build/profiles/*.png and profiles.xlsx); make test checks everything (several minutes)"

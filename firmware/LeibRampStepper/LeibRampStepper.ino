@@ -29,7 +29,8 @@
  * sketch from setup()/loop() to the STEP pin takes these 5 files (each names the few-line glue it
  * hands over through):
  *   1. LeibRampStepper.ino (this file)  setup(), loop(), the three functions of the handout
- *   2. MotionConsole.cpp    poll(): a target line -> x.moveTo(target), then its "OK" once planned
+ *   2. MotionConsole.cpp    poll(): a target line -> x.moveTo(target) (as move_to(target, true):
+ *                           every line planned, the target in force too), then its "OK" once planned
  *   3. Stepper.cpp          moveTo() leaves the request; run_request(), called by the planner's
  *                           tick (BackgroundPlanner.cpp: tick(), run by console.poll()), plans it
  *                           with step_planner_move(), and the tick hands the commands to X's

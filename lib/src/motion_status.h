@@ -29,7 +29,7 @@ extern "C" {
     X(MS_ERR_INTERVAL_TOO_LONG, "a step interval would exceed 2^32-1 timer ticks")             \
     X(MS_ERR_LEN_TOO_SHORT, "table length must be at least 2")                                 \
     X(MS_ERR_FMAX_NOT_ABOVE_FMIN, "fmax must be greater than fmin")                            \
-    X(MS_ERR_FMIN_TOO_LOW, "fmin is below timer_hz/65535: its period does not fit 16 bits")    \
+    X(MS_ERR_FMIN_TOO_LOW, "fmin is below timer_hz/65535: its period does not fit 16 bits (a Stepper: raise setMinSpeed or lower setTickRate)") \
     X(MS_ERR_PERIOD_OUT_OF_RANGE, "a timer period is outside 1..65535 ticks")                  \
     X(MS_ERR_HOLD_ZERO, "each table entry must be held for at least 1 timer period")           \
     X(MS_ERR_FLEX_NOT_POSITIVE, "S-curve flexibility must be greater than 0")                  \
@@ -37,7 +37,7 @@ extern "C" {
     X(MS_ERR_V0_ZERO_SIMPLISTIC, "the simplistic ramp needs v0 > 0: its first interval is F/v0")  \
     X(MS_ERR_TABLE_MISSING, "the S-curve period table is missing or shorter than len")          \
     X(MS_ERR_ACCEL_PHASE_TOO_LONG, "reaching vmax from rest would take more than 2^34 timer ticks: raise accel or lower vmax") \
-    X(MS_ERR_ACCEL_TOO_LOW, "acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz (scales with F^2)") \
+    X(MS_ERR_ACCEL_TOO_LOW, "acceleration too low for the exact planner: at least 8 steps/s^2 at a 16 MHz tick (0.5 at 2 MHz; 8 (tick rate / 16 MHz)^2, and at least 0.5)") \
     X(MS_ERR_DERIVED_PARAM, "derived here from fmin, fmax, len, hold and flex: set those instead") \
     X(MS_ERR_COORD_RATIO, "axes too unequal for a coordinated move: an axis moves too few steps for the longest one at this accel") \
     X(MS_ERR_JERK_NOT_POSITIVE, "jerk must be greater than 0 steps/s^3")                      \
@@ -71,10 +71,11 @@ extern "C" {
     X(MS_ERR_NOT_BEGUN, "begin() has not been called: nothing moves before it")                \
     X(MS_ERR_NOT_SUPPORTED, "not supported by this ramp algorithm (the exact ramp only)")     \
     X(MS_ERR_AXIS_TAKEN, "axis taken: another Stepper has begun on it")                         \
-    X(MS_ERR_RAMP_NOT_HERE, "a Stepper runs the exact, Leib or simplistic ramp (the sigmoid table is SCurveStepper's)") \
+    X(MS_ERR_RAMP_NOT_HERE, "the constructor takes the exact, Leib, simplistic or sigmoid ramp: the smooth one comes with setRamp(RAMP_ALGO_SMOOTH)") \
     X(MS_ERR_NO_PLANNER_TIMER, "no planner interrupt: #include <MotionStepper.h>")         \
     X(MS_ERR_NO_MEMORY, "not enough SRAM: this Stepper's buffers and the stack's reserve (BOARD_STACK_RESERVE) do not fit") \
-    X(MS_ERR_RAMP_LIMIT, "vmax or accel above this ramp's limit: lower them first (STEPPER_MAX_SPS_* in StepperPins.h; docs/library.md, setRamp)")
+    X(MS_ERR_RAMP_LIMIT, "vmax or accel above this ramp's limit: lower them first (STEPPER_MAX_SPS_* in StepperPins.h; docs/library.md, setRamp)") \
+    X(MS_ERR_ABOVE_LIMIT, "above this Stepper's limit: maxSpeedLimit(), accelerationLimit() and minSpeedLimit() give them")
 
 #define MOTION_STATUS_ENUM_ITEM(id, text) id,
 typedef enum { MOTION_STATUS_LIST(MOTION_STATUS_ENUM_ITEM) MS__COUNT } motion_status_t;

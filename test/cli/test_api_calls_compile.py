@@ -46,3 +46,18 @@ def test_the_first_calls_compile(tmp_path):
     out = p.stdout + p.stderr + (log.read_text() if log.exists() else "")
     assert p.returncode == 0, out
     assert "ambiguous" not in out, out
+
+
+def test_a_warning_in_a_sketch_outside_the_tree_fails_its_build(tmp_path):
+    """docs/library.md: `bash tools/build_firmware.sh path/to/MySketch` builds a sketch of your own with
+    warnings as errors, as for ours; until 2026-12-07 only paths under firmware/ and lib/ counted as ours,
+    so a sketch outside the tree built with its warnings unreported (a fresh-clone review)"""
+    sketch = tmp_path / "Warned"
+    sketch.mkdir()
+    (sketch / "Warned.ino").write_text("#include <MotionStepper.h>\n\nStepper x(Stepper::X);\n\n"
+                                       "void setup()\n{\n    int unused_here;\n    x.begin();\n}\n\nvoid loop() {}\n")
+    env = dict(os.environ, FIRMWARE_OUT=str(tmp_path / "out"))
+    p = subprocess.run(["bash", BUILD, str(sketch)], cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0, out
+    assert "FAIL Warned: warnings in our code:" in out and "unused_here" in out, out

@@ -239,6 +239,17 @@ def test_make_emulate(built, tmp_path):
                        capture_output=True, text=True, timeout=600)
     assert p.returncode == 2
     assert "make emulate: SKETCH=<name> is unknown ('Nope')" in p.stderr
+    assert "copy its folder to firmware/<Name>/" in p.stderr, p.stderr  # where a sketch of your own goes
+    # a path is not a name: until 2026-12-07 SKETCH=/tmp/x/MySketch was told to rename its .ino to
+    # /tmp/x/MySketch.ino (a fresh-clone review)
+    own = tmp_path / "mine" / "MySketch"
+    own.mkdir(parents=True)
+    (own / "MySketch.ino").write_text("// motion-sketch: library\nvoid setup() {}\nvoid loop() {}\n")
+    p = subprocess.run(["make", "-s", "emulate", f"SKETCH={own}", f"EMULATE_OUT={tmp_path}"], cwd=ROOT,
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2, p.stdout + p.stderr
+    assert "not a path" in p.stderr and "copy its folder to firmware/<Name>/" in p.stderr, p.stderr
+    assert "rename" not in p.stderr, p.stderr
 
 
 def test_a_move_longer_than_motionsim_tabulates_is_plotted_without_an_overlay(built, tmp_path):

@@ -394,8 +394,8 @@ SKETCH_LIMITS = {
         ("set accel 2e7", "ERR number out of range: accel at most 1000000 steps/s^2 on this sketch"),
         ("set accel 1000001", "ERR number out of range: accel at most 1000000 steps/s^2 on this sketch"),
         ("set v0 10001", "ERR number out of range: v0 at most 10000 steps/s on this sketch"),
-        ("set accel 1", "ERR acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz "
-                        "(scales with F^2)"),
+        ("set accel 1", "ERR acceleration too low for the exact planner: at least 8 steps/s^2 at a 16 MHz tick "
+                        "(0.5 at 2 MHz; 8 (tick rate / 16 MHz)^2, and at least 0.5)"),
         ("set vmax 2e-50", "ERR number too close to 0 (underflow)"),
     ],
     "SCurveStepper": [
@@ -749,7 +749,8 @@ QUEUE_BAD = [
     (["--queue", "--algo", "exact", "--tick-hz", "16000000", "--vmax", "100000", "--accel", "10"],
      "reaching vmax from rest would take more than 2^34 timer ticks: raise accel or lower vmax (vmax/accel = 10000 s"),
     (["--queue", "--algo", "exact", "--tick-hz", "16000000", "--vmax", "20", "--accel", "5"],
-     "acceleration too low for the exact planner: at least 8 steps/s^2 at 16 MHz (scales with F^2)"),
+     "acceleration too low for the exact planner: at least 8 steps/s^2 at a 16 MHz tick (0.5 at 2 MHz; 8 "
+     "(tick rate / 16 MHz)^2, and at least 0.5)"),
     (["--queue", "--algo", "exact", "--accel", "0"], "acceleration must be greater than 0"),
     (["--queue", "--algo", "simplistic", "--v0", "0"], "simplistic ramp needs v0 > 0"),
     (["--queue", "--algo", "sigmoid", "--fmax", "400"], "fmax must be greater than fmin"),

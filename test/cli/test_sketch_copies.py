@@ -120,7 +120,8 @@ def test_a_lab_stepper_sketch_is_followed_to_the_step_pin_in_five_files():
              for f in os.listdir(d) for p in [os.path.join(d, f)]}
     assert all(f in where for f in listed), listed
     body = {f: open(where[f]).read() for f in listed}
-    assert "ax_[a]->moveTo(" in body["MotionConsole.cpp"]
+    assert "ax_[a]->move_to(" in body["MotionConsole.cpp"] and "x.moveTo(target)" in text
+    assert "return move_to(target, false);" in body["Stepper.cpp"]  # moveTo is move_to without its replan
     assert "step_planner_move" in body["Stepper.cpp"] and "void Stepper::run_request" in body["Stepper.cpp"]
     # the glue entry 3 names: the tick runs the request and feeds X's queue through the engine's service
     assert "BackgroundPlanner.cpp" in text and "MultiStepEngine::service" in text

@@ -158,6 +158,50 @@ def check_move_and_back(env):
                        f"0 underruns", problems)
 
 
+# ---- SameTarget: moveTo() with the target in force ----------------------------------------------
+
+# a pass of SameTarget's loop() (a moveTo() of the target in force, isRunning()) costs microseconds: the
+# mean over the move may not exceed this (us; measured 22 on 2026-12-07; 521 when each call replanned)
+SAME_TARGET_PASS_US = 100
+# the first pass that finds isRunning() false comes within this many ms of the last step (the planner
+# tick collects the end every millisecond; replanning on every call kept it running after the end)
+SAME_TARGET_END_MS = 5.0
+
+
+def check_same_target(env):
+    """test/emu/SameTarget: loop() calls moveTo(20000) on every pass while X moves there: the move is the
+    one planned (20,000 steps on the constant-acceleration law, DIR high, 0 underruns), each pass costs
+    microseconds (D6's toggles), isRunning() goes false right after the last step, one DONE 20000, and
+    moveTo(20000) at rest, where X is, changes nothing (not running, no end to take)"""
+    elf = os.path.join(env.source_dir, "build", "emu", "sametarget", "SameTarget", "SameTarget.ino.elf")
+    if not os.path.isfile(elf):
+        return CheckResult(False, "no SameTarget build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
+    pins = sketches.multiaxis_pins(env)
+    pins["LOOP"] = "PH3"
+    log = emulog.run(elf, "wait ^READY SameTarget$\ntimeout 20000\nwait ^FINISHED$\n", pins=pins, timeout=600)
+    problems = []
+    common(log, problems)
+    got = [l.text for l in log.rx]
+    want = ["READY SameTarget", "ENDED 20000 underruns=0", "DONE 20000", "REST 0 0", "FINISHED"]
+    if got != want:
+        problems.append(f"replies {got}, expected {want}")
+    e = log.rising("XSTEP")
+    late = check_move(log, problems, "X", e, 0, 20000, 20000, 50000, "the move") if e else 0
+    turns = sorted(c for c, _ in log.pins.get("LOOP", []))
+    inmove = [c for c in turns if e and e[0] <= c <= e[-1]]
+    mean_us = (e[-1] - e[0]) * 1e6 / F_CPU / len(inmove) if e and inmove else float("inf")
+    if mean_us > SAME_TARGET_PASS_US:
+        problems.append(f"loop() passed every {mean_us:.0f} us on average during the move (bound "
+                        f"{SAME_TARGET_PASS_US}: a moveTo() of the target in force must not replan)")
+    ended = line_of(log, r"^ENDED ")
+    end_ms = (ended.cycle - e[-1]) * 1000.0 / F_CPU if ended and e else float("inf")
+    if end_ms > SAME_TARGET_END_MS:
+        problems.append(f"isRunning() went false {end_ms:.1f} ms after the last step (bound {SAME_TARGET_END_MS} ms)")
+    return CheckResult(not problems, f"{len(e)} steps on the law within 2 ticks + {late:.0f} cycles, {len(inmove)} "
+                       f"passes of loop() calling moveTo(20000) during the move (one every {mean_us:.0f} us), "
+                       f"isRunning() false {end_ms:.1f} ms after the last step, one DONE, at rest nothing", problems)
+
+
 # ---- BlockingLoop ---------------------------------------------------------------------------
 
 def check_blocking_loop(env):
@@ -586,7 +630,8 @@ def check_stop_on_switch(env):
 
 # StopOnSwitch's speed lines and their replies (the sentences: lib/src/motion_status.h)
 SPEED_LINES = (("abc", "ERR not a number"), ("5000", "SPEED 5000"), ("12a", "ERR not a number"),
-               ("99999999999", "ERR number out of range"), ("0", "ERR maximum speed vmax must be greater than "
+               ("99999999999", "ERR above this Stepper's limit: maxSpeedLimit(), accelerationLimit() and minSpeedLimit() "
+                                "give them"), ("0", "ERR maximum speed vmax must be greater than "
                                                              "minimum speed v0"), ("20000", "SPEED 20000"))
 
 
@@ -790,11 +835,11 @@ API_TOUR = (
     ("stop() before begin()", "MS_ERR_NOT_BEGUN"),
     ("forceStop() before begin()", "MS_ERR_NOT_BEGUN"),
     ("setCurrentPosition(5) before begin()", "MS_ERR_NOT_BEGUN"),
-    ("setMaxSpeed(30000)", "MS_ERR_OUT_OF_RANGE"),
+    ("setMaxSpeed(30000)", "MS_ERR_ABOVE_LIMIT"),
     ("setMaxSpeed(NAN)", "MS_ERR_NOT_FINITE"),
-    ("setAcceleration(2000000)", "MS_ERR_OUT_OF_RANGE"),
+    ("setAcceleration(2000000)", "MS_ERR_ABOVE_LIMIT"),
     ("setAcceleration(4)", "MS_ERR_ACCEL_TOO_LOW"),
-    ("setMinSpeed(20000)", "MS_ERR_OUT_OF_RANGE"),
+    ("setMinSpeed(20000)", "MS_ERR_ABOVE_LIMIT"),
     ("setMinSpeed(5000)", "MS_OK"),
     ("setMaxSpeed(4000)", "MS_ERR_VMAX_NOT_ABOVE_V0"),
     ("setMinSpeed(0)", "MS_OK"),
@@ -804,7 +849,7 @@ API_TOUR = (
     ("begin() of a second X", "MS_ERR_AXIS_TAKEN"),
     ("begin() of a Leib Stepper at vmax 10000", "MS_ERR_RAMP_LIMIT"),
     ("begin() of a Stepper made with the sigmoid", "MS_ERR_TABLE_MISSING"),
-    ("begin() of a Stepper made with the smooth ramp", "MS_ERR_OUT_OF_RANGE"),
+    ("begin() of a Stepper made with the smooth ramp", "MS_ERR_RAMP_NOT_HERE"),
     ("setDirectionInverted(true)", "MS_OK"),
     ("moveTo(-2000)", "MS_OK"),
     ("setCurrentPosition(5) while moving", "MS_ERR_BUSY"),
@@ -902,8 +947,9 @@ def check_api_tour(env):
 LAB_RAMP_LEGS = (("leib", 0, 2000, 100), ("simplistic", 2000, 0, 1000))  # algo, from, to, v0 (LabRamp.ino)
 LAB_RAMP_REPLIES = ["setRamp(LEIB): vmax or accel above this ramp's limit: lower them first (STEPPER_MAX_SPS_* "
                     "in StepperPins.h; docs/library.md, setRamp)", "setMaxSpeed(4000): OK", "setMinSpeed(100): OK",
-                    "setAcceleration(8000): OK", "setRamp(LEIB): OK", "setMaxSpeed(20000): number out of range",
-                    "setRamp(SIGMOID): fmin is below timer_hz/65535: its period does not fit 16 bits", "begin(): OK",
+                    "setAcceleration(8000): OK", "setRamp(LEIB): OK", "setMaxSpeed(20000): above this Stepper's limit: maxSpeedLimit(), accelerationLimit() and minSpeedLimit() give them",
+                    "setRamp(SIGMOID): fmin is below timer_hz/65535: its period does not fit 16 bits (a Stepper: raise "
+                    "setMinSpeed or lower setTickRate)", "begin(): OK",
                     "READY LabRamp", "moveTo(2000): OK", "setRamp(SIMPLISTIC) while moving: busy: a move is in progress",
                     "DONE 2000 underruns=0", "setRamp(SIMPLISTIC): OK", "setMinSpeed(1000): OK", "moveTo(0): OK",
                     "DONE 0 underruns=0", "FINISHED"]
@@ -960,7 +1006,8 @@ SMOOTH_REPLIES_SETUP = [
     "setJerk(0): jerk must be greater than 0 steps/s^3",
     "setJerk(NAN): a parameter is NaN or infinite",
     "setJerk(30000): jerk too low: tau2 = accel/jerk exceeds tau1 = vmax/accel (jerk must be at least accel^2/vmax)",
-    "setJerk(200000): OK", "setRamp(SMOOTH): OK", "setMaxSpeed(60000): number out of range", "begin(): OK",
+    "setJerk(200000): OK", "setRamp(SMOOTH): OK", "setMaxSpeed(60000): above this Stepper's limit: maxSpeedLimit(), accelerationLimit() and minSpeedLimit() give them",
+    "begin(): OK",
     "READY SmoothMove"]
 # the legs: (start, target, (vmax, accel, jerk), event): event None, ("stop", at), ("to", at, target)
 SMOOTH_LEGS = [
@@ -1994,6 +2041,9 @@ def checks_for(env):
                    "the planner tick holds no step edge back: every edge on the constant-acceleration law within "
                    f"{ONE_BOUND} cycles",
                    lambda: guarded(check_one_stepper, env)))
+    checks.append(("MotionStepper library, test sketch SameTarget: moveTo() of the target in force on every pass "
+                   "of loop() changes nothing (microseconds a pass, the move as planned, its end on time)",
+                   lambda: guarded(check_same_target, env)))
     checks.append(("MotionStepper library, StopOnSwitch built with -DMOTION_STEPPER_CUT_US=0: it builds, and its stop "
                    "decelerates on the law after the queued lead", lambda: guarded(check_no_cut, env)))
     checks.append(("MotionStepper library, test sketch HeapShare: malloc and free beside a Stepper's heap (board_take): "

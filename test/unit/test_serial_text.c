@@ -37,17 +37,20 @@ static void status_later_additions_at_the_end_with_their_sentences(void **state)
     assert_int_equal(MS_ERR_NO_PLANNER_TIMER, MS_ERR_INPUT_OVERRUN + 5);
     assert_int_equal(MS_ERR_NO_MEMORY, MS_ERR_INPUT_OVERRUN + 6);
     assert_int_equal(MS_ERR_RAMP_LIMIT, MS_ERR_INPUT_OVERRUN + 7);
-    assert_int_equal(MS__COUNT, MS_ERR_RAMP_LIMIT + 1);
+    assert_int_equal(MS_ERR_ABOVE_LIMIT, MS_ERR_INPUT_OVERRUN + 8);
+    assert_int_equal(MS__COUNT, MS_ERR_ABOVE_LIMIT + 1);
     /* the sentence must say what is wrong: begin() missing; a ramp that cannot do this; the axis
-     * another Stepper holds; a ramp a Stepper does not run; the header that links the planner's
-     * interrupt; SRAM and the stack's reserve; the ramp's limit and how to meet it */
+     * another Stepper holds; a ramp the constructor does not take and where to take it; the header that
+     * links the planner's interrupt; SRAM and the stack's reserve; the ramp's limit and how to meet it;
+     * a setter's limit and the calls that give it */
     assert_non_null(strstr(motion_status_text(MS_ERR_NOT_BEGUN), "begin() has not been called"));
     assert_non_null(strstr(motion_status_text(MS_ERR_NOT_SUPPORTED), "not supported by this ramp"));
     assert_non_null(strstr(motion_status_text(MS_ERR_AXIS_TAKEN), "another Stepper"));
-    assert_non_null(strstr(motion_status_text(MS_ERR_RAMP_NOT_HERE), "exact, Leib or simplistic"));
+    assert_non_null(strstr(motion_status_text(MS_ERR_RAMP_NOT_HERE), "setRamp(RAMP_ALGO_SMOOTH)"));
     assert_non_null(strstr(motion_status_text(MS_ERR_NO_PLANNER_TIMER), "#include <MotionStepper.h>"));
     assert_non_null(strstr(motion_status_text(MS_ERR_NO_MEMORY), "BOARD_STACK_RESERVE"));
     assert_non_null(strstr(motion_status_text(MS_ERR_RAMP_LIMIT), "STEPPER_MAX_SPS_"));
+    assert_non_null(strstr(motion_status_text(MS_ERR_ABOVE_LIMIT), "maxSpeedLimit()"));
 }
 
 static void status_copy_truncates_and_terminates(void **state)

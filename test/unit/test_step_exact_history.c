@@ -181,6 +181,9 @@ static void check_gives_set_params_status(void **state)
         {0.0, 0.0, 20000.0, 50000.0, MS_ERR_TICK_HZ_ZERO},
         {4e7, 0.0, 20000.0, 50000.0, MS_ERR_OUT_OF_RANGE},        /* tick_hz above 2^25 */
         {2e6, 0.0, 20000.0, 0.2, MS_ERR_ACCEL_TOO_LOW},           /* below 0.5 steps/s^2 */
+        {2e6, 0.0, 100.0, 0.49, MS_ERR_ACCEL_TOO_LOW},            /* the status's sentence: 0.5 at 2 MHz */
+        {2e6, 0.0, 100.0, 0.5, MS_OK},
+        {16e6, 0.0, 100.0, 8.0, MS_OK},                           /* 8 at a 16 MHz tick */
         {16e6, 0.0, 1e39, 50000.0, MS_ERR_VMAX_ABOVE_TICK_HZ},
         {16e6, 0.0, 20000.0, 1e39, MS_ERR_NOT_FINITE},            /* no float holds it */
         {16e6, 0.0, 16e6, 1e6, MS_OK},

@@ -125,6 +125,14 @@ $(EMU_NOCUT_ELF): $(EMU_FW_SRCS) firmware/libraries/MotionStepper/examples/StopO
 	@FIRMWARE_OUT=$(BUILD)/emu/nocut FIRMWARE_DEFINES="-DMOTION_STEPPER_CUT_US=0" bash tools/build_firmware.sh \
 	  firmware/libraries/MotionStepper/examples/StopOnSwitch >$(BUILD)/emu/nocut.log 2>&1 || { cat $(BUILD)/emu/nocut.log; exit 1; }
 
+# test/emu/SameTarget: loop() calls moveTo() with the target in force on every pass (checks_library.py,
+# check_same_target)
+EMU_SAMETARGET_ELF := $(BUILD)/emu/sametarget/SameTarget/SameTarget.ino.elf
+$(EMU_SAMETARGET_ELF): $(EMU_FW_SRCS) test/emu/SameTarget/SameTarget.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/sametarget
+	@FIRMWARE_OUT=$(BUILD)/emu/sametarget bash tools/build_firmware.sh \
+	  test/emu/SameTarget >$(BUILD)/emu/sametarget.log 2>&1 || { cat $(BUILD)/emu/sametarget.log; exit 1; }
+
 # test/emu/HeapShare: a sketch that uses malloc beside a Stepper (the heap shared with board_take:
 # checks_library.py, check_heap_share)
 EMU_HEAPSHARE_ELF := $(BUILD)/emu/heapshare/HeapShare/HeapShare.ino.elf
@@ -183,7 +191,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_NOCUT_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_NOCUT_ELF) $(EMU_SAMETARGET_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

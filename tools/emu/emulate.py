@@ -481,6 +481,12 @@ def main(argv):
     names = env.sketch_names()
     examples = sketches.example_dirs(env)
     example = a.sketch not in names and a.sketch in examples
+    own = ("a sketch of your own: copy its folder to firmware/<Name>/ (<Name>.ino inside, "
+           "'// motion-sketch: library' at its top) and give SKETCH=<Name>")
+    if a.sketch and ("/" in a.sketch or os.sep in a.sketch):
+        print(f"make emulate: SKETCH is a sketch's name under firmware/ or a library example's, not a path "
+              f"('{a.sketch}'); {own}", file=sys.stderr)
+        return 2
     if not a.sketch or (a.sketch not in names and not example):
         folder = os.path.join(env.source_dir, "firmware", a.sketch or "")
         inos = sorted(f for f in os.listdir(folder) if f.endswith(".ino")) if a.sketch and os.path.isdir(folder) else []
@@ -490,7 +496,7 @@ def main(argv):
             return 2
         what = f"unknown ('{a.sketch}')" if a.sketch else "missing"
         print(f"make emulate: SKETCH=<name> is {what}; sketches: {' '.join(names)}; library examples: "
-              f"{' '.join(sorted(examples))}", file=sys.stderr)
+              f"{' '.join(sorted(examples))}; {own}", file=sys.stderr)
         return 2
     s = a.sketch
     try:

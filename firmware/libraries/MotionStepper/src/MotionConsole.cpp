@@ -213,7 +213,7 @@ void MotionConsole::handle_target(uint8_t a, const char *word)
         serial_.reply_error(MS_ERR_BUSY, F("the axis is in a coordinated move (stop it first, or wait for its DONE)"));
         return;
     }
-    st = ax_[a]->moveTo(to);
+    st = ax_[a]->move_to(to, true); /* planned even to the target in force: its OK and DONE come */
     if (st != MS_OK) {
         serial_.reply_error(st);
         return;

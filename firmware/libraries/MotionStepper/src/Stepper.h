@@ -12,7 +12,7 @@
  * lab's ramps of setRamp: STEPPER_MAX_SPS_LEIB / _SIMPLISTIC; a sketch with one Stepper that plans
  * from loop(), BackgroundPlanner::planInLoop(), as ExactRampStepper: STEPPER_MAX_SPS_EXACT),
  * setAcceleration up to STEPPER_MAX_ACCEL_EXACT, setMinSpeed up to STEPPER_MAX_V0_EXACT
- * (StepperPins.h); above them MS_ERR_OUT_OF_RANGE, never a silent clamp; parameter sets the exact
+ * (StepperPins.h); above them MS_ERR_ABOVE_LIMIT, never a silent clamp; parameter sets the exact
  * planner refuses (vmax not above v0, accel below 8 steps/s^2, ...) get its own status. New
  * parameters take effect at the next moveTo/move/stop (the move in progress keeps its own).
  * Before begin() nothing moves: moveTo, move, stop, forceStop, setCurrentPosition return
@@ -62,7 +62,7 @@ protected:
 };
 class StepperGroup;
 
-/* The smooth ramp's highest vmax (setMaxSpeed: MS_ERR_OUT_OF_RANGE above; setRamp(RAMP_ALGO_SMOOTH): MS_ERR_RAMP_LIMIT):
+/* The smooth ramp's highest vmax (setMaxSpeed: MS_ERR_ABOVE_LIMIT above; setRamp(RAMP_ALGO_SMOOTH): MS_ERR_RAMP_LIMIT):
  * the highest rate `make bench` measures clean (docs/bench.md, "Highest clean rate of the smooth
  * ramp": the reference move with accel vmax^2/10,000 and jerk 2 accel^2/vmax; at 60,000 steps/s its
  * planner falls behind near rest, docs/smooth-move.md). */
@@ -215,7 +215,7 @@ public:
      * setRamp(algo, hooks) before begin() (LeibRampStepper, SimplisticRampStepper);
      * RAMP_ALGO_SIGMOID (hooks NULL): the setters check for the sigmoid from the start, and
      * setRamp(RAMP_ALGO_SIGMOID) must fill its table before begin() (SCurveStepper); RAMP_ALGO_EXACT:
-     * as Stepper(axis). begin() refuses any other algo (MS_ERR_OUT_OF_RANGE), parameters in force
+     * as Stepper(axis). begin() refuses any other algo (MS_ERR_RAMP_NOT_HERE), parameters in force
      * that the ramp does not take then (vmax above its limit: set it first; MS_ERR_RAMP_LIMIT), and the sigmoid without
      * its table (MS_ERR_TABLE_MISSING). */
     inline __attribute__((always_inline)) Stepper(Axis axis, ramp_algo_t algo, const ramp_hooks_t *hooks)
@@ -236,7 +236,7 @@ public:
             exact_check_ = step_exact_check;
             cuts_ = &CUTS;
         } else {
-            begin_status_ = MS_ERR_OUT_OF_RANGE;
+            begin_status_ = MS_ERR_RAMP_NOT_HERE; /* the smooth ramp: setRamp(RAMP_ALGO_SMOOTH) */
         }
     }
 
@@ -247,7 +247,7 @@ public:
      * there is no room with BoardHeap.h's BOARD_STACK_RESERVE left for the stack), ENABLE as set (enabled unless auto-disable is on), position 0. */
     motion_status_t begin();
 
-    /* Limits for the next plan; MS_ERR_OUT_OF_RANGE above this library's limits for the ramp taken
+    /* Limits for the next plan; MS_ERR_ABOVE_LIMIT above this library's limits for the ramp taken
      * (maxSpeedLimit(), accelerationLimit(), minSpeedLimit() tell them: on the exact ramp MULTI_MAX_SPS,
      * STEPPER_MAX_ACCEL_EXACT and STEPPER_MAX_V0_EXACT; docs/library.md has the others). */
     motion_status_t setMaxSpeed(float steps_per_s);          /* vmax > v0 */
@@ -262,7 +262,7 @@ public:
      * hooks: the lab's own preComputation()/computeNewSpeed() for the lab's ramps (ramp.h's
      * ramp_hooks_t, as LeibRampStepper passes them), NULL for lib's. The lab's ramps plan every step
      * (float arithmetic), so their vmax is limited to STEPPER_MAX_SPS_LEIB / _SIMPLISTIC
-     * (StepperPins.h; setMaxSpeed refuses more: MS_ERR_OUT_OF_RANGE; setRamp: MS_ERR_RAMP_LIMIT); the parameters in
+     * (StepperPins.h; setMaxSpeed refuses more: MS_ERR_ABOVE_LIMIT; setRamp: MS_ERR_RAMP_LIMIT); the parameters in
      * force must suit the new ramp (its own status otherwise). A StepperGroup's moves are always exact.
      *   RAMP_ALGO_SIGMOID     the S-curve article's sigmoid: a table of timer periods from minSpeed()
      *                         (fmin) to maxSpeed() (fmax) along a logistic curve (setSigmoid: flex, len
@@ -336,6 +336,10 @@ public:
      * move; AccelStepper's counts from the current position: the same at rest, not while moving).
      * While moving, the move continues from its speed to the new target (no stop in between when
      * it lies ahead beyond the stopping distance); MS_ERR_BUSY while in a StepperGroup's move.
+     * While moving to `target` already (targetPosition()), with no stop asked and no v0, vmax or
+     * accel set since its plan, nothing changes, nor at rest where the axis is (no move, no
+     * takeDone, as AccelStepper's): a loop() may call moveTo() on every pass (as AccelStepper's and
+     * FastAccelStepper's users do with a knob or a joystick) at no cost.
      * Returns at once (a few microseconds); the planner interrupt, brought forward, plans it about
      * 50 us later (MOTION_STEPPER_KICK_COUNTS). */
     motion_status_t moveTo(long target);
@@ -389,7 +393,7 @@ public:
     };
     bool planStart(PlanStart &start) const;
 
-    /* This library's limits for the ramp in force (the setters refuse more: MS_ERR_OUT_OF_RANGE). */
+    /* This library's limits for the ramp in force (the setters refuse more: MS_ERR_ABOVE_LIMIT). */
     float maxSpeedLimit() const { return vmax_limit(); }
     float accelerationLimit() const;
     float minSpeedLimit() const;
@@ -474,6 +478,9 @@ private:
     friend class BackgroundPlanner;
     friend class MotionConsole;
     friend class StepperGroup;
+    /* moveTo(); replan: also to the target in force and to where the axis rests (the consoles: every
+     * target line is planned, gets its OK from the plan and its DONE, a move of no step included) */
+    motion_status_t move_to(long target, bool replan);
     enum { REQ_NONE, REQ_MOVE, REQ_STOP };
     AxisSource source();
     GroupMove *group_now() const;
@@ -551,6 +558,9 @@ private:
     uint16_t cuts_missed_;
     uint32_t cut_retry_us_; /* a cut that came too late: the distance of its next try (0: none) */
     uint8_t cut_tries_;
+    /* v0, vmax or accel set since the last plan (set_param; run_request clears it): a moveTo() of the
+     * target in force then replans with them, where otherwise it changes nothing */
+    bool set_since_plan_;
     /* the stop from the cruise, planned ahead (prepare_stop: StepperCut.cpp), from the heap at begin()
      * with the planner interrupt only (stop_ahead_begin) */
     struct StopAhead;

@@ -81,9 +81,10 @@ static void handle_set(const char *cursor)
         else
             st = x.setJerk((float)v);
     }
-    if (st == MS_ERR_OUT_OF_RANGE && text_word_is(key, "vmax")) {
+    if (st == MS_ERR_ABOVE_LIMIT && text_word_is(key, "vmax")) {
+        /* as the sketches' consoles say it: "ERR number out of range: vmax at most ..." */
         Serial.print(F("ERR "));
-        Serial.print(Stepper::statusText(st));
+        Serial.print(Stepper::statusText(MS_ERR_OUT_OF_RANGE));
         Serial.print(F(": vmax at most "));
         print_real_exact(Serial, STEPPER_MAX_SPS_SMOOTH, 0);
         Serial.println(F(" steps/s on the smooth ramp"));
