@@ -96,9 +96,9 @@ for arg in "${sketches[@]}"; do
     # arduino-cli's own noise on a machine without Arduino's servers (discoveries, indexes).
     grep -v -E '^Error initializing instance: (Error loading hardware platform: discovery|Loading index file)' "$log" > "$log.clean"
     # ours: the project's files and the sketch's own folder (a sketch of your own outside the tree too)
-    absdir=$(cd "$dir" && pwd)
+    absdir=$(cd "$dir" && pwd); realdir=$(cd "$dir" && pwd -P)
     ours=$({ grep -E '(warning|error):' "$log.clean" | grep -E "($ROOT/)?(firmware|lib)/|$SRC/"
-             grep -E '(warning|error):' "$log.clean" | grep -F "$absdir/"; } | sort -u || true)
+             grep -E '(warning|error):' "$log.clean" | grep -F -e "$absdir/" -e "$realdir/"; } | sort -u || true)
     if [ $rc -ne 0 ]; then
         echo "FAIL $s: compile failed" >&2
         grep -E '(error|Error)' "$log.clean" | head -20 >&2

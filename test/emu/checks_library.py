@@ -172,7 +172,9 @@ def check_same_target(env):
     """test/emu/SameTarget: loop() calls moveTo(20000) on every pass while X moves there: the move is the
     one planned (20,000 steps on the constant-acceleration law, DIR high, 0 underruns), each pass costs
     microseconds (D6's toggles), isRunning() goes false right after the last step, one DONE 20000, and
-    moveTo(20000) at rest, where X is, changes nothing (not running, no end to take)"""
+    moveTo(20000) at rest, where X is, changes nothing (not running, no end to take); then the cases
+    where the same target must still act: after a stop() (the move goes on to 40000) and after a vmax
+    set while moving (the next moveTo() plans with it)"""
     elf = os.path.join(env.source_dir, "build", "emu", "sametarget", "SameTarget", "SameTarget.ino.elf")
     if not os.path.isfile(elf):
         return CheckResult(False, "no SameTarget build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
@@ -182,10 +184,18 @@ def check_same_target(env):
     problems = []
     common(log, problems)
     got = [l.text for l in log.rx]
-    want = ["READY SameTarget", "ENDED 20000 underruns=0", "DONE 20000", "REST 0 0", "FINISHED"]
-    if got != want:
-        problems.append(f"replies {got}, expected {want}")
-    e = log.rising("XSTEP")
+    want = ["READY SameTarget", "ENDED 20000 underruns=0", "DONE 20000", "REST 0 0", "B DONE 40000", None,
+            "C DONE 0", "FINISHED"]
+    if len(got) != len(want) or any(w is not None and g != w for g, w in zip(got, want)):
+        problems.append(f"replies {got}, expected {want} (None: C SPEED)")
+    # a vmax set while moving is planned at the next moveTo() of the same target: 300 ms later (long enough
+    # to slow from 20,000 at 50,000 steps/s^2) the move to 0 runs at -10,000 steps/s (1 % for the reading)
+    m = re.match(r"^C SPEED (-?\d+)$", got[5]) if len(got) > 5 else None
+    if not m or not -10100 <= int(m.group(1)) <= -9900:
+        problems.append(f"{got[5] if len(got) > 5 else None!r}: expected 'C SPEED -10000' (within 1 %): the vmax set "
+                        "while moving must be planned by the next moveTo() of the target in force")
+    ended_at = line_of(log, r"^ENDED ")
+    e = [c for c in log.rising("XSTEP") if ended_at is None or c < ended_at.cycle]
     late = check_move(log, problems, "X", e, 0, 20000, 20000, 50000, "the move") if e else 0
     turns = sorted(c for c, _ in log.pins.get("LOOP", []))
     inmove = [c for c in turns if e and e[0] <= c <= e[-1]]
@@ -1290,7 +1300,7 @@ def check_smooth_move(env):
 
 
 # SmoothConsole.ino: the conversation (every refusal with its sentence, nothing changed by it: `?`
-# before and after), then a move from rest (vmax 20,000, accel 40,000, jerk 400,000 after `set jerk`)
+# before and after; a target where X rests: its OK and DONE, no step), then a move from rest (vmax 20,000, accel 40,000, jerk 400,000 after `set jerk`)
 # whose every edge is on the law's closed form (test/emu/smooth_law.py, written apart from lib), a
 # `set vmax 10000` while it moves (kept for the next move from rest: the move back never steps faster;
 # the library once dropped such a value at the end of the move, found by a review of this example),
@@ -1313,6 +1323,9 @@ send hello
 wait ^(OK|ERR)
 send 12.5
 wait ^(OK|ERR)
+send 0
+wait ^(OK|ERR)
+wait ^DONE
 send ?
 wait ^pos=
 send set jerk 400000
@@ -1345,6 +1358,8 @@ SMOOTH_CONSOLE_REPLIES = [
     "ERR unknown command: no such parameter (vmax, accel, jerk)",
     "ERR unknown command: try <target>, stop, !, ?, set vmax|accel|jerk <value>",
     "ERR not a number: a target is one whole number of steps, -2147483648..2147483647",
+    "OK 0",  # where X rests: nothing moves, and the DONE the sketch promises for every target comes at once
+    "DONE 0",
     SMOOTH_CONSOLE_IDLE,
     "OK jerk=400000",
     "OK 20000",
@@ -1875,8 +1890,10 @@ def doc_three_call(env):
     return {"three-10k": (g[0], g[1]), "two-20k": (g[2], g[3]), "three-25k": (g[4], g[5])}
 
 
-# the issue's bound on a stop: its deceleration begins within this many ms of the call (X's, the first
-# stop() call of the switch's pass; the other axes' stops come one after the other, docs/stop-latency.md)
+# issue 23's bound on a stop: its deceleration begins within this many ms of the call. Held here for X's,
+# the first stop() call of the switch's pass; the other axes' stops come one after the other in the same
+# tick and do not meet it with three Steppers at 25,000 steps/s (a known limit: their latency from the
+# call is held only to the figure docs/stop-latency.md quotes)
 THREE_CALL_BOUND_MS = 2.0
 
 

@@ -268,6 +268,10 @@ motion_status_t Stepper::set_param(float value, float limit, uint8_t which)
         return MS_ERR_NOT_FINITE;
     if (value > limit)
         return MS_ERR_ABOVE_LIMIT; /* (the consoles check the limit first and name it) */
+    if (value == (which == P_VMAX ? params_.vmax_sps : which == P_ACCEL ? params_.accel_sps2 : params_.v0_sps))
+        return MS_OK; /* the value in force: nothing changes (a loop() that sets it on every pass, as
+                         AccelStepper's users do, would otherwise replan each moveTo() and turn the
+                         stop planned ahead off until the next plan) */
     if (which == P_VMAX)
         p.vmax_sps = value;
     else if (which == P_ACCEL)
@@ -352,8 +356,11 @@ motion_status_t Stepper::move_to(long target, bool replan)
                                                      to == (req_ == REQ_MOVE ? req_target_
                                                             : has_next_      ? next_target_
                                                                              : step_planner_target(&planner_))
-                                               : req_ == REQ_NONE && !has_next_ && to == MultiStepEngine::position(axis_))
+                                               : req_ == REQ_NONE && !has_next_ && to == MultiStepEngine::position(axis_)) {
+                if (req_ == REQ_NONE && MultiStepEngine::moving(axis_))
+                    last_status_ = MS_OK; /* the target in force: accepted (an earlier refusal is past) */
                 return MS_OK;
+            }
         }
         req_target_ = to;
         req_ = REQ_MOVE;

@@ -113,7 +113,9 @@ class StepperGroup;
 /* A stop from the cruise is the same profile wherever the cut lands (only the position differs):
  * the planner interrupt plans it ahead, once the cruise has begun, and a stop() in the cruise then
  * only cuts and lays it out: this many microseconds ahead (the cut itself must be ready
- * MOTION_STEPPER_CUT_MARGIN_US before it lands, else the stop is planned at a cut as any other).
+ * MOTION_STEPPER_CUT_MARGIN_US before it lands, else the stop is planned at a cut as any other;
+ * with two or three Steppers the part beyond the margin grows with the step interrupts' share of the
+ * CPU, below).
  * The cut lands one interval beyond it, inside the cruise command that holds that step
  * (MultiStepEngine::cut_find's split): StopOnSwitch's stop latency 1.1-1.3 ms at worst (docs/library.md;
  * until 2026-12-06 the cut waited for the next command: 2.0-2.1 ms with 1 ms commands). */
@@ -163,9 +165,19 @@ class StepperGroup;
  * the CPU per step (docs/bench.md: 133-137 per step, plus the entries of nested ones), so its time
  * grows as 1/(1 - their share of the CPU). The cut distances above are made for a share up to
  * MOTION_STEPPER_CUT_SHARE (one Stepper at 20,000 steps/s): above it they grow by
- * (1 - MOTION_STEPPER_CUT_SHARE) / (1 - share), the share taken at most 0.9. */
+ * (1 - MOTION_STEPPER_CUT_SHARE) / (1 - share), the share taken at most 0.9 (a plan at a cut: the
+ * axes' speeds then; the stop planned ahead: only its distance beyond the margin, the share taken as
+ * its cruise speed times the axes stepping at the stop). */
 #ifndef MOTION_STEPPER_STEP_CYCLES
 #define MOTION_STEPPER_STEP_CYCLES 160.0f
+#endif
+/* The stop planned ahead's cut (a search and a lay-out, no plan) takes its share from the step
+ * interrupts' cycles per step as make bench measures them with three axes (docs/bench.md, "ISR cycles
+ * per step": 127-134), not the plans' margin above: with 160 its cut lay 1.5 ms ahead with three
+ * Steppers at 25,000 steps/s, and X's deceleration began up to 4.1 ms after its stop() call (a try
+ * there takes about 1 ms; test/emu/ThreeSteppers) */
+#ifndef MOTION_STEPPER_CUT_CRUISE_STEP_CYCLES
+#define MOTION_STEPPER_CUT_CRUISE_STEP_CYCLES 130.0f
 #endif
 #ifndef MOTION_STEPPER_CUT_SHARE
 #define MOTION_STEPPER_CUT_SHARE 0.2f
@@ -363,7 +375,8 @@ public:
     /* The end of a move: true once for each move that came to rest (a move replaced by a new
      * target does not end), with where it ended. Call it from loop(). */
     bool takeDone(long &position);
-    /* The status of the last move planned (moveTo/move are planned by the planner interrupt within
+    /* The status of the last move planned (a moveTo() that changed nothing, the target in force
+     * while moving: MS_OK; moveTo/move are planned by the planner interrupt within
      * a millisecond or so of the call, after their checks: a plan the exact planner refuses there,
      * which valid parameters never give, leaves the axis as it was and shows here). */
     motion_status_t lastStatus() const { return last_status_; }

@@ -27,13 +27,16 @@ struct Stepper::StopAhead {
     uint8_t n, active;
 };
 
-/* how much longer than with one Stepper at 20,000 steps/s a cut's work takes now: it runs beside the
- * step interrupts, so its time grows as 1/(1 - their share of the CPU) (Stepper.h,
- * MOTION_STEPPER_CUT_SHARE; the share taken at most 0.9); 1 at or below that share */
+static_assert(MOTION_STEPPER_CUT_CRUISE_US <= 20000UL, "the stop planned ahead keeps its cut distances in 16 bits");
+
+/* how much longer than with one Stepper at 20,000 steps/s a cut's work takes at this many steps/s of
+ * all axes together, each step's interrupt taking cycles_per_step: it runs beside the step
+ * interrupts, so its time grows as 1/(1 - their share of the CPU) (Stepper.h, MOTION_STEPPER_CUT_SHARE;
+ * the share taken at most 0.9); 1 at or below that share */
 #if !MULTI_TIMED_LOOP
-static float cut_grow()
+static float grow_at(float steps_per_s, float cycles_per_step)
 {
-    float share = BackgroundPlanner::stepRate() * (MOTION_STEPPER_STEP_CYCLES / (float)F_CPU);
+    float share = steps_per_s * (cycles_per_step / (float)F_CPU);
     if (share <= MOTION_STEPPER_CUT_SHARE)
         return 1.0f;
     return (1.0f - MOTION_STEPPER_CUT_SHARE) / (1.0f - (share < 0.9f ? share : 0.9f));
@@ -98,24 +101,24 @@ void Stepper::prepare_stop()
     stop_->target = s_scratch.target;
     stop_->active = s_scratch.active;
     /* the cut's search and lay-out run beside the step interrupts: their time grows as 1/(1 - the
-     * interrupts' share of the CPU), that share taken as this cruise's speed on every axis stepping
-     * (counting them costs nothing at the stop; the floats of cut_grow cost 0.5 ms there with three
-     * Steppers at 25,000 steps/s); an axis slower than the others may miss its first try and take
-     * the next, twice as far */
+     * interrupts' share of the CPU), that share taken as this cruise's speed (vmax: planned a lead
+     * before the axis gets there) on every axis stepping (counted at the stop: computed there from the
+     * engine's speeds, with floats, it took 0.5 ms with three Steppers at 25,000 steps/s); an axis
+     * slower than the others may miss its first try and take the next, twice as far */
     for (uint8_t n = 1; n <= 3; n++) {
-        float share = n * fabs(MultiStepEngine::speed(axis_)) * (MOTION_STEPPER_STEP_CYCLES / (float)F_CPU);
-        float grow = share <= MOTION_STEPPER_CUT_SHARE ? 1.0f
-                                                       : (1.0f - MOTION_STEPPER_CUT_SHARE) / (1.0f - (share < 0.9f ? share : 0.9f));
         float us = MOTION_STEPPER_CUT_CRUISE_US > MOTION_STEPPER_CUT_MARGIN_US
-                       ? (float)MOTION_STEPPER_CUT_MARGIN_US + (float)(MOTION_STEPPER_CUT_CRUISE_US - MOTION_STEPPER_CUT_MARGIN_US) * grow
+                       ? (float)MOTION_STEPPER_CUT_MARGIN_US +
+                             (float)(MOTION_STEPPER_CUT_CRUISE_US - MOTION_STEPPER_CUT_MARGIN_US) *
+                                 grow_at(n * params_.vmax_sps, MOTION_STEPPER_CUT_CRUISE_STEP_CYCLES)
                        : (float)MOTION_STEPPER_CUT_CRUISE_US; /* (a test build's cut inside its margin: as it is) */
-        stop_->ahead_us[n - 1] = (uint16_t)(us < 20000.0f ? us : 20000.0f);
+        stop_->ahead_us[n - 1] = (uint16_t)us;
     }
 #endif
 }
 
 /* planner interrupt: a stop in the cruise with the stop planned ahead for it: a cut
- * MOTION_STEPPER_CUT_CRUISE_US ahead, in the cruise, and that stop laid out there. then: a new
+ * MOTION_STEPPER_CUT_CRUISE_US ahead (its part beyond the margin grown with the step interrupts'
+ * share of the CPU: prepare_stop), in the cruise, and that stop laid out there. then: a new
  * target `to` that lies behind the cut (a reversal: lib's step_planner_move then plans that same
  * stop, and the move to `to` from rest after it); one that does not is left to plan_at_cut. False:
  * nothing changed. */
@@ -238,7 +241,7 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
          * feed, milliseconds later (until 2026-12-06 three Steppers at 25,000 steps/s, one still
          * accelerating at the switch: its plan took 10 ms, missed the 4 ms cut, and its deceleration
          * began 55-60 ms after the switch; test/emu/ThreeSteppers, three-25k; Stepper.h) */
-        float grow = cut_grow();
+        float grow = grow_at(BackgroundPlanner::stepRate(), MOTION_STEPPER_STEP_CYCLES);
         if (grow > 1.0f) {
             timing.ahead_us = (uint16_t)(timing.ahead_us * grow);
             timing.ahead_slow_us = (uint16_t)(timing.ahead_slow_us * grow);

@@ -154,6 +154,11 @@ static void handle(const char *line)
         }
         Serial.print(F("OK "));
         Serial.println(target);
+        if (!x.isRunning() && x.currentPosition() == target) {
+            /* where X rests: moveTo() changes nothing (no move, no end to take), the DONE is now */
+            Serial.print(F("DONE "));
+            Serial.println(target);
+        }
     } else {
         reply_error(MS_ERR_UNKNOWN_COMMAND, F("try <target>, stop, !, ?, set vmax|accel|jerk <value>"));
     }
