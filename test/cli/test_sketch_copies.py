@@ -122,7 +122,7 @@ def test_a_lab_stepper_sketch_is_followed_to_the_step_pin_in_five_files():
     body = {f: open(where[f]).read() for f in listed}
     assert "ax_[a]->move_to(" in body["MotionConsole.cpp"] and "x.moveTo(target)" in text
     assert "return move_to(target, false);" in body["Stepper.cpp"]  # moveTo is move_to without its replan
-    assert "step_planner_move" in body["Stepper.cpp"] and "void Stepper::run_request" in body["Stepper.cpp"]
+    assert "step_planner_move" in body["Stepper.cpp"] and "bool Stepper::run_request" in body["Stepper.cpp"]
     # the glue entry 3 names: the tick runs the request and feeds X's queue through the engine's service
     assert "BackgroundPlanner.cpp" in text and "MultiStepEngine::service" in text
     planner = open(where["BackgroundPlanner.cpp"]).read()

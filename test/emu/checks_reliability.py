@@ -496,7 +496,7 @@ def check_far_first_step(env, sketch):
 # came first (2,000 steps at 20,000 steps/s). The bound: 5 ms ahead (6 ms for a target) plus one
 # command of the planner (4 ms), plus a step (docs/serial.md "Stop and new targets"): MultiAxisStepper,
 # whose three Steppers plan a stop at the cut. A Stepper alone (ExactRampStepper) has its stop from the
-# cruise planned ahead (Stepper::prepare_stop) and cuts 600 us ahead and more with the speed: 2 ms, the
+# cruise planned ahead (Stepper::prepare_stop) and cuts 450 us ahead and more with the speed: 2 ms, the
 # issue's bound, at three moments (until 2026-12-06 it took the 5 ms cut: 5.60 ms, a target behind 10.53 ms).
 SERIAL_CUT_MS = 11.0
 SERIAL_CUT_ALONE_MS = 2.0

@@ -89,15 +89,10 @@ bool is_slow(const step_cmd_t &c)
     return ((c.rate | last) & 0x80000000UL) != 0;
 }
 
-void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
+/* a command's slot flags but TURN (which depends on the command before it) */
+static uint8_t slot_flags(const step_cmd_t &c)
 {
-    bool forward = !(c.flags & STEP_CMD_REVERSE);
     uint8_t fl = 0;
-    /* the interrupt adds add to rate before it uses it: laid out less add (WIDE: whole ticks, no add) */
-    t.rate = (c.flags & STEP_CMD_WIDE) ? c.rate : c.rate - (uint32_t)c.add;
-    t.add = c.add;
-    t.left = c.count - 1U; /* the first step is armed when the slot is taken */
-    t.p_start = f.next_p_start;
     if (c.add != 0)
         fl |= _BV(AXIS_SLOT_HAS_ADD);
     if (c.add >= -32768L && c.add <= 32767L)
@@ -107,8 +102,20 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
     if (c.flags & STEP_CMD_WIDE)
         fl |= _BV(AXIS_SLOT_WIDE);
     fl |= (uint8_t)(STEP_CMD_PHASE(c.flags) << AXIS_SLOT_PHASE_SHIFT);
-    if (forward)
+    if (!(c.flags & STEP_CMD_REVERSE))
         fl |= _BV(AXIS_SLOT_FORWARD);
+    return fl;
+}
+
+void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
+{
+    uint8_t fl = slot_flags(c);
+    bool forward = (fl & _BV(AXIS_SLOT_FORWARD)) != 0;
+    /* the interrupt adds add to rate before it uses it: laid out less add (WIDE: whole ticks, no add) */
+    t.rate = (c.flags & STEP_CMD_WIDE) ? c.rate : c.rate - (uint32_t)c.add;
+    t.add = c.add;
+    t.left = c.count - 1U; /* the first step is armed when the slot is taken */
+    t.p_start = f.next_p_start;
     if ((uint8_t)forward != f.last_forward)
         fl |= _BV(AXIS_SLOT_TURN);
     t.flags = fl;
@@ -676,6 +683,16 @@ static __attribute__((noinline)) uint32_t ticks_until(uint8_t axis, uint8_t to)
 /* the modes in which the current slot is not split: its steps are not made by the common path */
 #define SPLIT_MODES (_BV(AXIS_MODE_SLOW) | _BV(AXIS_MODE_WAITING) | _BV(AXIS_MODE_DEFER) | _BV(AXIS_MODE_MASKED))
 
+/* a / b, b > 0: in 16 bits when a fits there (a cut's distance in ticks and an interval as a rule; a
+ * 32-bit division costs the AVR some 570 cycles, a 16-bit one some 220, and a cut's search and
+ * check take one each before the cut comes off) */
+static inline uint32_t div_by(uint32_t a, uint32_t b)
+{
+    if (a <= 0xFFFFUL && b <= 0xFFFFUL)
+        return (uint16_t)a / (uint16_t)b;
+    return a / b;
+}
+
 /* the smallest interval of slot t's first `kept` steps, whole ticks (its intervals change linearly: the
  * first one's or the last one's; a split slot is not WIDE) */
 static uint32_t split_per(const AxisSlot &t, uint32_t kept)
@@ -725,7 +742,7 @@ static __attribute__((noinline)) uint16_t split_at(uint8_t axis, uint8_t p, uint
         per = t.rate >> 16;
         if (per == 0)
             return 0;
-        keep = (min_ticks - before) / per;
+        keep = div_by(min_ticks - before, per);
     }
     if (keep == 0)
         keep = 1;
@@ -957,20 +974,44 @@ static __attribute__((noinline)) uint8_t cut_switch(AxisState &s, AxisSlot &t, A
     return ok;
 }
 
-__attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n)
+void MultiStepEngine::make_image(const step_cmd_t &c, SlotImage &m, int32_t p_off)
+{
+    m.rate = (c.flags & STEP_CMD_WIDE) ? c.rate : c.rate - (uint32_t)c.add; /* as lay_out */
+    m.add = c.add;
+    m.left = c.count - 1U;
+    m.flags = slot_flags(c);
+    m.dur = duration_ticks(c);
+    m.p_off = p_off;
+}
+
+/* slot t gets image m: its first step after position pos0 + m.p_off, turning if its direction is not
+ * that of the command before (forward: that one's; then: m's) */
+static inline void put_image(AxisSlot &t, const MultiStepEngine::SlotImage &m, int32_t pos0, uint8_t &forward, bool hook)
+{
+    uint8_t fl = m.flags, fw = (fl & _BV(AXIS_SLOT_FORWARD)) ? 1U : 0U;
+    if (fw != forward)
+        fl |= hook ? (uint8_t)(_BV(AXIS_SLOT_TURN) | _BV(AXIS_SLOT_SLOW)) : (uint8_t)_BV(AXIS_SLOT_TURN); /* hook: the C path turns it */
+    forward = fw;
+    t.rate = m.rate;
+    t.add = m.add;
+    t.left = m.left;
+    t.flags = fl;
+    t.p_start = pos0 + m.p_off;
+}
+
+/* cut_apply's work: img[0..n-1] switched in at the cut (made off the ring, before the check), then
+ * the commands rest[0..n_rest-1] laid out after them */
+static __attribute__((noinline)) bool apply_cut(uint8_t axis, const MultiStepEngine::Cut &r, uint32_t min_ticks_left,
+                                                const MultiStepEngine::SlotImage *img, uint8_t n, const step_cmd_t *rest,
+                                                uint8_t n_rest)
 {
     if (axis >= MULTI_AXES || (r.cmds == 0 && r.split == 0) || n == 0)
         return false;
-    /* the commands the switch puts in place (the rest are laid out after it, below) */
-    const uint8_t all = n;
-    if (n > MULTI_CUT_MAX_CMDS)
-        n = MULTI_CUT_MAX_CMDS;
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
-    AxisFeed g = f; /* the books as they will stand: c laid out from the cut on */
-    AxisSlot img[MULTI_CUT_MAX_CMDS];
-    uint16_t dur[MULTI_CUT_MAX_CMDS];
-    uint8_t k, i, ok;
+    const bool hook = s_dir_hook[axis] != 0;
+    AxisSlot img0;
+    uint8_t k, i, ok, forward;
     uint32_t ticks = 0, left;
     const uint8_t p = prev_slot(f, r.first); /* the last slot kept (split: what is kept of it) */
     AxisSlot &q = s.slot[p];
@@ -978,19 +1019,16 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
      * smallest interval of the kept steps: the time left and the steps kept for the margin reckoned
      * with it are at most the true ones) */
     const uint16_t kept = (uint16_t)(slot_count(q) - r.split), per = (uint16_t)split_per(q, kept);
-    /* c's slots are made first, off the ring: the switch below is then a copy of a few bytes, done
-     * where the interrupt cannot come between (laying them out in place took up to 4,000 cycles
-     * after the margin was checked, and the interrupt, reaching the cut meanwhile, found the first
-     * new slot not ready: `make fuzz` seed 23, ExactRampStepper, a step 8.1 ms late after a
+    /* the images' slots follow the kept ones: their positions and direction go on from there. The
+     * images were made off the ring first: the switch below is then a copy of a few bytes, done
+     * where the interrupt cannot come between (laying the commands out in place took up to 4,000
+     * cycles after the margin was checked, and the interrupt, reaching the cut meanwhile, found the
+     * first new slot not ready: `make fuzz` seed 23, ExactRampStepper, a step 8.1 ms late after a
      * reversal cut at 7,300 steps/s) */
-    g.last_forward = (q.flags & _BV(AXIS_SLOT_FORWARD)) != 0;
-    g.next_p_start = r.split == 0 ? s.slot[r.first].p_start : q.p_start + (g.last_forward ? (int32_t)kept : -(int32_t)kept);
-    for (k = 0; k < n; k++) {
-        lay_out(g, img[k], c[k]);
-        if (s_dir_hook[axis] && (img[k].flags & _BV(AXIS_SLOT_TURN)))
-            img[k].flags |= _BV(AXIS_SLOT_SLOW); /* the C path turns it: through the hook */
-        dur[k] = duration_ticks(c[k]);
-    }
+    const uint8_t fw_kept = (q.flags & _BV(AXIS_SLOT_FORWARD)) ? 1U : 0U;
+    const int32_t pos0 = r.split == 0 ? s.slot[r.first].p_start : q.p_start + (fw_kept ? (int32_t)kept : -(int32_t)kept);
+    forward = fw_kept;
+    put_image(img0, img[0], pos0, forward, hook);
     /* the interrupt must still be that far from the cut: else the planning took too long, and the
      * queue stays as it was */
     if (r.split == 0) {
@@ -1002,32 +1040,32 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
             left = 0U; /* the interrupt has taken it since */
         left = left == UINT32_MAX ? left : left + (uint32_t)kept * per;
     }
-    if (left == UINT32_MAX || left < min_ticks_left || (uint16_t)(f.ready - r.cmds + all) >= f.nslots - 1U)
+    if (left == UINT32_MAX || left < min_ticks_left || (uint16_t)(f.ready - r.cmds + n + n_rest) >= f.nslots - 1U)
         return false;
     /* a split of the current slot: the interrupt's count must still be at least lim (the dropped steps,
      * and enough kept before them for min_ticks_left), worked out here: the switch below is short */
     uint32_t lim = 0;
     if (r.split) {
-        uint32_t kmin = (min_ticks_left + per - 1U) / per; /* steps kept, at least the one computed */
+        uint32_t kmin = div_by(min_ticks_left + per - 1U, per); /* steps kept, at least the one computed */
         lim = (uint32_t)r.split + (kmin ? kmin : 1U) - 1U;
         if (lim > 0xFFFFU)
             lim = 0xFFFFU;
     }
     const uint16_t lim16 = (uint16_t)lim;
     AxisSlot &t0 = s.slot[r.first];
-    /* the switch: the first dropped slot becomes c[0] in one piece if the interrupt has not taken it
+    /* the switch: the first dropped slot becomes img[0] in one piece if the interrupt has not taken it
      * (then it has taken none after it either), and the slot after it stops being ready. From then
-     * on the ready slots after the cut are c's alone: each next slot is made not ready before the
-     * one before it becomes ready with its command, c[1] first (a one-step c[0] gives the interrupt
-     * two intervals before it must take c[1]) */
+     * on the ready slots after the cut are the images' alone: each next slot is made not ready before
+     * the one before it becomes ready with its command, img[1] first (a one-step img[0] gives the
+     * interrupt two intervals before it must take img[1]) */
     i = next_slot(f, r.first);
-    ok = cut_switch(s, t0, q, s.slot[i], img[0], r.cmds, r.split, lim16);
+    ok = cut_switch(s, t0, q, s.slot[i], img0, r.cmds, r.split, lim16);
     if (!ok)
         return false; /* nothing changed */
     for (k = 1; k < n; k++, i = next_slot(f, i)) {
         if ((uint8_t)(k + 1U) < r.cmds)
             s.slot[next_slot(f, i)].ready = 0;
-        copy_slot(s.slot[i], img[k]);
+        put_image(s.slot[i], img[k], pos0, forward, hook);
         __asm__ __volatile__("" ::: "memory"); /* the fields stored before the flag */
         s.slot[i].ready = 1; /* one byte, written last */
     }
@@ -1038,8 +1076,8 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
         d = d->other;
         d->ready = 0;
     }
-    /* the engine's books without the dropped slots, with c's: what the slots before the cut hold (a
-     * few; the ring's dropped slots are not walked) */
+    /* the engine's books without the dropped slots, with the images': what the slots before the cut
+     * hold (a few; the ring's dropped slots are not walked) */
     for (i = f.seen; i != r.first; i = next_slot(f, i))
         ticks += lead_weight(f.duration[i]);
     if (r.split) {
@@ -1049,16 +1087,64 @@ __attribute__((noinline)) bool MultiStepEngine::cut_apply(uint8_t axis, const Cu
         ticks += lead_weight(f.duration[p]);
     }
     for (k = 0, i = r.first; k < n; k++, i = next_slot(f, i)) {
-        f.duration[i] = dur[k];
-        ticks += lead_weight(dur[k]);
+        f.duration[i] = img[k].dur;
+        ticks += lead_weight(img[k].dur);
     }
+    const MultiStepEngine::SlotImage &last = img[n - 1U];
     f.queued_ticks = ticks;
     f.ready = (uint8_t)(f.ready - r.cmds + n);
     f.head = i;
-    f.next_p_start = g.next_p_start;
-    f.last_forward = g.last_forward;
-    /* the commands beyond the switch's, after the ones just made ready (the ring has room: above) */
-    for (k = n; k < all; k++)
-        lay_one(axis, s, f, c[k]);
+    f.next_p_start = pos0 + last.p_off + ((last.flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)last.left + 1 : -(int32_t)last.left - 1);
+    f.last_forward = forward;
+    /* the commands beyond the images, after the ones just made ready (the ring has room: above) */
+    for (k = 0; k < n_rest; k++)
+        lay_one(axis, s, f, rest[k]);
     return true;
+}
+
+bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n)
+{
+    /* the first MULTI_CUT_MAX_CMDS made into images before the check (the switch puts them in place) */
+    SlotImage img[MULTI_CUT_MAX_CMDS];
+    const uint8_t m = n < MULTI_CUT_MAX_CMDS ? n : (uint8_t)MULTI_CUT_MAX_CMDS;
+    int32_t off = 0;
+    for (uint8_t k = 0; k < m; k++) {
+        make_image(c[k], img[k], off);
+        off += (c[k].flags & STEP_CMD_REVERSE) ? -(int32_t)c[k].count : (int32_t)c[k].count;
+    }
+    return apply_cut(axis, r, min_ticks_left, img, m, c + m, (uint8_t)(n - m));
+}
+
+bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const SlotImage *img, uint8_t n,
+                                uint8_t now)
+{
+    AxisFeed &f = s_feed[axis];
+    /* room for all n (the ring's; append_images lays out the rest) */
+    if (axis >= MULTI_AXES || now == 0 || (uint16_t)(f.ready - r.cmds + n) >= f.nslots - 1U)
+        return false;
+    return apply_cut(axis, r, min_ticks_left, img, now < n ? now : n, 0, 0);
+}
+
+void MultiStepEngine::append_images(uint8_t axis, const SlotImage *img, uint8_t n)
+{
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    const bool hook = s_dir_hook[axis] != 0;
+    uint8_t forward = f.last_forward;
+    if (n == 0)
+        return;
+    const int32_t pos0 = f.next_p_start - img[0].p_off; /* they go on where the queue ends */
+    for (uint8_t k = 0; k < n; k++) {
+        AxisSlot &t = s.slot[f.head];
+        put_image(t, img[k], pos0, forward, hook);
+        f.duration[f.head] = img[k].dur;
+        f.queued_ticks += lead_weight(img[k].dur);
+        f.ready++;
+        __asm__ __volatile__("" ::: "memory"); /* the fields stored before the flag */
+        t.ready = 1; /* one byte, written last */
+        f.head = next_slot(f, f.head);
+    }
+    const SlotImage &last = img[n - 1U];
+    f.next_p_start = pos0 + last.p_off + ((last.flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)last.left + 1 : -(int32_t)last.left - 1);
+    f.last_forward = forward;
 }

@@ -49,7 +49,11 @@
 #ifndef MOTION_STEPPER_MIRROR_MIN_US
 #define MOTION_STEPPER_MIRROR_MIN_US 4000UL
 #endif
-#define STEP_CUT_MIRROR_CMDS 8U
+/* at most this many commands reversed (on the planner interrupt's stack, 11 bytes each): with three
+ * Steppers at 25,000 steps/s an axis still accelerating needs some 26 ms of them (StepperCut.cpp's
+ * plan_at_cut), and its last 8 (as until 2026-12-07) covered 27.6 ms at one moment and less at
+ * another: that stop fell to the plan at a cut, 23 ms after the call, and ran dry in its deceleration */
+#define STEP_CUT_MIRROR_CMDS 12U
 /* A target behind (a stop, then a move from rest) is cut only if its stop lasts this long
  * (docs/stepper-engine.md says why). */
 #ifndef MOTION_STEPPER_CUT_THEN_MIN_US

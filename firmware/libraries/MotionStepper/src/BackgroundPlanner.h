@@ -183,6 +183,9 @@ public:
      * fed up to MOTION_STEPPER_PLAN_SAFE_MS first, when there are two or three Steppers (but axis
      * except's: a stop laid out reversed, whose planner plans the rest after this; StepCut.h). */
     static void feedBeforePlan(uint8_t except = 3);
+    /* The tick's part: the second half of every cut in the cruise done this tick (Stepper::adopt_cut),
+     * before anything is laid out or planned at a cut. */
+    static void finishCuts();
 
 private:
     static void feed(uint32_t up_to, uint8_t except = 3);

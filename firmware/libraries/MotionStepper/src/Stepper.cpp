@@ -415,16 +415,16 @@ motion_status_t Stepper::forceStop()
 }
 
 /* planner interrupt: the request loop() left */
-void Stepper::run_request()
+bool Stepper::run_request()
 {
     uint8_t r = req_;
     int32_t ended;
     MultiStepEngine::Continuation c;
     motion_status_t st;
     if (r == REQ_NONE)
-        return;
+        return false;
     if (r == REQ_MOVE && algo_ == RAMP_ALGO_SIGMOID && sig_ && sig_->filling && !MultiStepEngine::moving(axis_))
-        return; /* the sigmoid's table is being refilled: the move from rest waits for it */
+        return false; /* the sigmoid's table is being refilled: the move from rest waits for it */
     req_ = REQ_NONE;
     set_since_plan_ = false; /* the parameters in force go into this plan */
     if (r == REQ_STOP) {
@@ -441,28 +441,32 @@ void Stepper::run_request()
             /* (with two or three Steppers stopped at once the cuts come one after the other: the
              * tick feeds this one's queue a little before the next one's, BackgroundPlanner::tick;
              * the stop planned ahead lays out 10 ms of its steps at once) */
-            if ((cut_retry_us_ == 0 && cut_in_cruise(false, 0)) || cut_plan(REQ_STOP, 0))
-                return;
+            if (cut_retry_us_ == 0 && cut_in_cruise(false, 0))
+                return true;
+            if (cut_plan(REQ_STOP, 0))
+                return false;
             if (cut_again())
                 req_ = REQ_STOP; /* its cut is tried again at the next pass, farther ahead */
             else
                 step_planner_stop(&planner_); /* after the steps already queued (all queued: nothing) */
         } else if (c == MultiStepEngine::ENDED)
             engine_done(ended); /* it had just ended: its end is reported */
-        return;
+        return false;
     }
     plan_after_done_ = false;
     plan_done_before_ = done_; /* an end not taken yet is an earlier move's */
-    if (MultiStepEngine::moving(axis_) && !beyond_plan(req_target_) &&
-        ((cut_retry_us_ == 0 && cut_in_cruise(true, req_target_)) || cut_plan(REQ_MOVE, req_target_))) {
-        /* the move continues into the new plan from the cut (plan_from_: set there) */
-        has_next_ = false;
-        last_status_ = MS_OK;
-        return;
+    if (MultiStepEngine::moving(axis_) && !beyond_plan(req_target_)) {
+        bool quick = cut_retry_us_ == 0 && cut_in_cruise(true, req_target_);
+        if (quick || cut_plan(REQ_MOVE, req_target_)) {
+            /* the move continues into the new plan from the cut (plan_from_: set there) */
+            has_next_ = false;
+            last_status_ = MS_OK;
+            return quick;
+        }
     }
     if (MultiStepEngine::moving(axis_) && cut_again()) {
         req_ = REQ_MOVE; /* its cut is tried again at the next pass, farther ahead (planStart: not yet) */
-        return;
+        return false;
     }
     if (MultiStepEngine::moving(axis_) && !step_planner_busy(&planner_)) {
         /* every step of the move is queued already: it ends at its target (with its end), and the
@@ -472,7 +476,7 @@ void Stepper::run_request()
         plan_from_ = step_planner_target(&planner_);
         plan_after_done_ = true;
         last_status_ = MS_OK;
-        return;
+        return false;
     }
     c = MultiStepEngine::extend(axis_, ended);
     if (c == MultiStepEngine::ENDED) {
@@ -494,7 +498,7 @@ void Stepper::run_request()
         /* a continuing move goes on as planned (service() marks its end again); from rest nothing moves */
         if (c == MultiStepEngine::AT_REST && auto_disable_)
             write_enable(false);
-        return;
+        return false;
     }
     has_next_ = false;
     if (c == MultiStepEngine::AT_REST) {
@@ -503,6 +507,7 @@ void Stepper::run_request()
         keep_done_ = false; /* ... but not the end of the move this target waited for */
         MultiStepEngine::open_move(axis_, false);
     }
+    return false;
 }
 
 /* A new target as far as the plan's or farther, in its direction, while the exact planner has handed

@@ -117,13 +117,17 @@ class StepperGroup;
  * with two or three Steppers the part beyond the margin grows with the step interrupts' share of the
  * CPU, below).
  * The cut lands one interval beyond it, inside the cruise command that holds that step
- * (MultiStepEngine::cut_find's split): StopOnSwitch's stop latency 1.1-1.3 ms at worst (docs/library.md;
- * until 2026-12-06 the cut waited for the next command: 2.0-2.1 ms with 1 ms commands). */
+ * (MultiStepEngine::cut_find's split): StopOnSwitch's stop latency under 1 ms (docs/stop-latency.md;
+ * until 2026-12-06 the cut waited for the next command: 2.0-2.1 ms with 1 ms commands). 450, not 600
+ * as until 2026-12-07: the stop's commands are kept in the engine's slot form (MultiStepEngine::
+ * make_image), so from the search's reckoning to the switch a try takes 0.2 ms with three Steppers at
+ * 10,000 steps/s and 0.35 ms at 25,000 (it laid out four commands there before). */
 #ifndef MOTION_STEPPER_CUT_CRUISE_US
-#define MOTION_STEPPER_CUT_CRUISE_US 600UL
+#define MOTION_STEPPER_CUT_CRUISE_US 450UL
 #endif
 /* The stop planned ahead covers this many microseconds of its steps (at most
- * MOTION_STEPPER_STOP_AHEAD_CMDS commands, about 11 bytes each on the heap), all laid out at the cut:
+ * MOTION_STEPPER_STOP_AHEAD_CMDS commands in the engine's slot form, 17 bytes each on the heap), all
+ * laid out at the cut (the first MOTION_STEPPER_STOP_SWITCH_US of them by its switch, below):
  * planned while the move cruised, they cost the stop no planning, and with two or three Steppers
  * stopped at once the next one's cut comes before more of this one's deceleration must be planned
  * (with 1 ms, as the cuts planned at a stop: each axis's stop waited for a few milliseconds of the
@@ -135,6 +139,16 @@ class StepperGroup;
 #ifndef MOTION_STEPPER_STOP_AHEAD_CMDS
 #define MOTION_STEPPER_STOP_AHEAD_CMDS 12U
 #endif
+/* Of those, the cut's switch puts in the ones that cover this many microseconds (a copy of each), the
+ * rest comes once every axis stopped at once has had its switch (Stepper::adopt_cut): the interrupt
+ * must not step that far first (the other axes' cuts take up to 1.2 ms each with three Steppers at
+ * 25,000 steps/s, and an axis still accelerating plans its stop in some 2.5 ms before it feeds the
+ * queues). */
+#ifndef MOTION_STEPPER_STOP_SWITCH_US
+#define MOTION_STEPPER_STOP_SWITCH_US 6000UL
+#endif
+static_assert(MOTION_STEPPER_STOP_SWITCH_US <= MOTION_STEPPER_STOP_AHEAD_US,
+              "the switch puts in part of the stop planned ahead");
 
 /* No cut above this speed (steps/s): the stop or the new target acts after the queued lead (the
  * sketches' console's rule since `make fuzz` seed 11: at 89,000 steps/s a target behind cut the
@@ -475,18 +489,25 @@ private:
         bool (*at_cut)(Stepper &s, uint8_t req, int32_t target);
         bool (*in_cruise)(Stepper &s, bool then, int32_t to);
         void (*prepare)(Stepper &s);
+        void (*adopt)(Stepper &s);
     };
     static const Cuts CUTS;
     static const Cuts *cuts_;
     static bool cuts_at(Stepper &s, uint8_t req, int32_t target) { return s.plan_at_cut(req, target); }
     static bool cuts_cruise(Stepper &s, bool then, int32_t to) { return s.stop_in_cruise(then, to); }
     static void cuts_prepare(Stepper &s) { s.prepare_stop(); }
+    static void cuts_adopt(Stepper &s) { s.adopt_cut(); }
     bool cut_in_cruise(bool then, int32_t to) { return cuts_ && cuts_->in_cruise(*this, then, to); }
     bool cut_plan(uint8_t req, int32_t target) { return cuts_ && cuts_->at_cut(*this, req, target); }
     void plan_stop_ahead()
     {
         if (cuts_)
             cuts_->prepare(*this);
+    }
+    void cut_second_half()
+    {
+        if (cuts_)
+            cuts_->adopt(*this);
     }
     friend class BackgroundPlanner;
     friend class MotionConsole;
@@ -497,12 +518,15 @@ private:
     enum { REQ_NONE, REQ_MOVE, REQ_STOP };
     AxisSource source();
     GroupMove *group_now() const;
-    void run_request(); /* planner interrupt: carries out req_ */
+    /* planner interrupt: carries out req_; true when a stop or a target behind came off at a cut in the
+     * cruise with the stop planned ahead (stop_in_cruise: its commands laid out for 10 ms, no plan) */
+    bool run_request();
     bool plan_at_cut(uint8_t req, int32_t target); /* planner interrupt: a stop or a move from a cut */
     bool cut_again();                              /* planner interrupt: try that cut again later? */
     bool beyond_plan(int32_t to) const;            /* a new target the queue needs no cut for */
     bool stop_in_cruise(bool then, int32_t to);    /* planner interrupt: the stop planned ahead, at a cut */
     void prepare_stop();                           /* planner interrupt: plans that stop ahead */
+    void adopt_cut();                              /* planner interrupt: the second half of that stop's cut */
     void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
     void record_done(int32_t engine_position);
     void write_enable(bool on);

@@ -19,15 +19,39 @@ static_assert(MOTION_STEPPER_STOP_AHEAD_CMDS >= 1 && MOTION_STEPPER_STOP_AHEAD_C
  * speed are exact's (k, dir) and up */
 struct Stepper::StopAhead {
     step_exact_t exact;
-    step_cmd_t cmds[MOTION_STEPPER_STOP_AHEAD_CMDS];
+    /* its first commands made into the engine's slot form (MultiStepEngine::make_image): laid out at
+     * the cut with no work but a copy */
+    MultiStepEngine::SlotImage img[MOTION_STEPPER_STOP_AHEAD_CMDS];
     uint64_t up;
     int32_t from, pos, target;
-    /* the cut's distance (us) with 1, 2, 3 axes stepping (stop_in_cruise) */
-    uint16_t ahead_us[3];
-    uint8_t n, active;
+    /* the cut's distance (us) with 1, 2, 3 axes stepping (stop_in_cruise), and twice the steps vmax
+     * makes in it */
+    uint16_t ahead_us[3], ahead_steps[3];
+    /* the images, and the first of them that cover MOTION_STEPPER_STOP_SWITCH_US: the cut's switch puts
+     * these in, adopt_cut the rest */
+    uint8_t n, now, active;
+    /* a cut done, its second half not yet (adopt_cut): where it landed, and the target after it */
+    uint8_t pending, then;
+    int32_t at, to;
 };
 
 static_assert(MOTION_STEPPER_CUT_CRUISE_US <= 20000UL, "the stop planned ahead keeps its cut distances in 16 bits");
+
+/* the exact ramp's constants the same (the stop planned ahead is for them): four bytes at a time
+ * (avr-libc's memcmp takes a byte at a time, 414 cycles here: once per tick for every cruising Stepper,
+ * prepare_stop, and in every stop's turn) */
+#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
+typedef uint32_t __attribute__((may_alias)) words_t;
+static_assert(sizeof(step_exact_consts_t) % 4U == 0, "the constants compared four bytes at a time");
+static bool same_consts(const step_exact_consts_t &a, const step_exact_consts_t &b)
+{
+    const words_t *p = reinterpret_cast<const words_t *>(&a), *q = reinterpret_cast<const words_t *>(&b);
+    for (uint8_t i = 0; i < sizeof a / 4U; i++)
+        if (p[i] != q[i])
+            return false;
+    return true;
+}
+#endif
 
 /* how much longer than with one Stepper at 20,000 steps/s a cut's work takes at this many steps/s of
  * all axes together, each step's interrupt taking cycles_per_step: it runs beside the step
@@ -43,9 +67,9 @@ static float grow_at(float steps_per_s, float cycles_per_step)
 }
 #endif
 
-const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Stepper::cuts_prepare};
+const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Stepper::cuts_prepare, Stepper::cuts_adopt};
 
-/* begin(), with the planner interrupt: the stop planned ahead's room on the heap (about 310 bytes;
+/* begin(), with the planner interrupt: the stop planned ahead's room on the heap (about 400 bytes;
  * planned from loop(), planInLoop, only a Stepper alone takes it, at its first cruise: prepare_stop;
  * the three Steppers of a sketch that plans so keep their SRAM for the stack). False: no room. */
 bool Stepper::stop_ahead_begin()
@@ -55,6 +79,7 @@ bool Stepper::stop_ahead_begin()
     if (!stop_)
         return false;
     stop_->n = 0;
+    stop_->pending = 0;
 #endif
     return true;
 }
@@ -62,6 +87,7 @@ bool Stepper::stop_ahead_begin()
 void Stepper::stop_ahead_reset()
 {
     stop_->n = 0;
+    stop_->pending = 0;
 }
 
 /* planner interrupt, after it has laid out commands: while a Stepper cruises (its planner in the
@@ -78,13 +104,15 @@ void Stepper::prepare_stop()
         !(e.n > e.n1 && e.n < e.n2))
         return;
     /* planned from loop(), a Stepper alone (ExactRampStepper's console) takes its room at its first
-     * cruise (about 310 bytes of the heap; MultiAxisStepper's three keep their SRAM for the stack):
-     * its serial `stop` or a target behind in the cruise then cuts 600 us ahead and more with the
+     * cruise (about 400 bytes of the heap; MultiAxisStepper's three keep their SRAM for the stack):
+     * its serial `stop` or a target behind in the cruise then cuts 450 us ahead and more with the
      * speed, not 5 ms (until 2026-12-06: 5.6 and 10.5 ms after the line at 20,000 steps/s) */
     if (!stop_ && (!BackgroundPlanner::inLoop() || BackgroundPlanner::steppers() != 1 || !stop_ahead_begin()))
         return;
+    if (stop_->pending)
+        return; /* (not before the cut's second half: adopt_cut, which the feed calls first) */
     if (stop_->n != 0 && stop_->up == e.up && stop_->exact.dir == e.dir && stop_->exact.max_cmd_ticks == e.max_cmd_ticks &&
-        memcmp(&stop_->exact.k, &e.k, sizeof e.k) == 0)
+        same_consts(stop_->exact.k, e.k))
         return;
     if (BackgroundPlanner::inLoop() && fabs(MultiStepEngine::speed(axis_)) > MOTION_STEPPER_CUT_MAX_SPS)
         return; /* planned from loop(): no cut that fast (stop_in_cruise), and loop() keeps its time */
@@ -92,8 +120,25 @@ void Stepper::prepare_stop()
     s_scratch = planner_;
     step_planner_stop(&s_scratch);
     stop_->n = 0;
-    stop_->n = step_cut_first_cmds(&s_scratch, stop_->cmds, BackgroundPlanner::ticksPerUs(), MOTION_STEPPER_STOP_AHEAD_US,
-                                  MOTION_STEPPER_STOP_AHEAD_CMDS);
+    {
+        /* its first MOTION_STEPPER_STOP_AHEAD_US (as step_cut_first_cmds hands them out), as images */
+        const uint32_t until = (uint32_t)BackgroundPlanner::ticksPerUs() * MOTION_STEPPER_STOP_AHEAD_US;
+        const uint32_t switch_until = (uint32_t)BackgroundPlanner::ticksPerUs() * MOTION_STEPPER_STOP_SWITCH_US;
+        uint32_t ticks = 0;
+        int32_t off = 0;
+        uint8_t n = 0, now = 0;
+        step_cmd_t c;
+        while (n < MOTION_STEPPER_STOP_AHEAD_CMDS && ticks < until && step_planner_next(&s_scratch, &c)) {
+            MultiStepEngine::make_image(c, stop_->img[n], off);
+            off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
+            ticks += ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
+            n++;
+            if (now == 0 && ticks >= switch_until)
+                now = n;
+        }
+        stop_->now = now ? now : n;
+        stop_->n = n;
+    }
     stop_->exact = s_scratch.exact;
     stop_->up = e.up;
     stop_->from = planner_.pos;
@@ -112,6 +157,7 @@ void Stepper::prepare_stop()
                                  grow_at(n * params_.vmax_sps, MOTION_STEPPER_CUT_CRUISE_STEP_CYCLES)
                        : (float)MOTION_STEPPER_CUT_CRUISE_US; /* (a test build's cut inside its margin: as it is) */
         stop_->ahead_us[n - 1] = (uint16_t)us;
+        stop_->ahead_steps[n - 1] = (uint16_t)(params_.vmax_sps * us * 2e-6f) + 1U;
     }
 #endif
 }
@@ -129,9 +175,9 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     MultiStepEngine::Cut cut;
     uint32_t nb;
     int32_t dp;
-    if (!stop_ || stop_->n == 0 || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
+    if (!stop_ || stop_->n == 0 || stop_->pending || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || e.y != 0 || e.n <= e.n1 ||
         stop_->up != e.up || stop_->exact.dir != e.dir ||
-        stop_->exact.max_cmd_ticks != e.max_cmd_ticks || memcmp(&stop_->exact.k, &e.k, sizeof e.k) != 0)
+        stop_->exact.max_cmd_ticks != e.max_cmd_ticks || !same_consts(stop_->exact.k, e.k))
         return false;
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
     uint32_t ahead_us = MOTION_STEPPER_CUT_CRUISE_US, margin_us = MOTION_STEPPER_CUT_MARGIN_US;
@@ -147,13 +193,21 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
         margin_us += more;
     } else {
         /* the search and the lay-out beside the step interrupts: with three Steppers at 25,000
-         * steps/s a try took 0.8-1.2 ms, so the cut 600 us ahead came too late and the stop took
+         * steps/s a try took 0.8-1.2 ms, so a cut 600 us ahead came too late and the stop took
          * the second try (2.4 ms after the call); the part beyond the margin grows with the
          * interrupts' share (prepare_stop) */
         uint8_t n = 0;
         for (uint8_t i = 0; i < 3; i++)
             n = (uint8_t)(n + (MultiStepEngine::stepping(i) ? 1U : 0U));
-        ahead_us = stop_->ahead_us[n > 0 ? n - 1U : 0U];
+        n = n > 0 ? n - 1U : 0U;
+        ahead_us = stop_->ahead_us[n];
+        /* the axis still steps its acceleration, more of it than it can step before the cut even at
+         * vmax (the planner reached the cruise a lead ahead of it): the cut would land there, and
+         * its search would only find that out (with three Steppers at 25,000 steps/s, the last one
+         * started still accelerating at the stop: 0.44 ms lost before its own stop, plan_at_cut's) */
+        uint32_t queued = (uint32_t)labs(planner_.pos - MultiStepEngine::position(axis_));
+        if (queued < e.n && e.n - queued + stop_->ahead_steps[n] < e.n1)
+            return false;
     }
     /* a cut the step interrupt came too close to is tried again twice as far ahead (STEP_CUT_TRIES
      * cuts in all): each try costs only the search and the lay-out, 0.4 ms or so with two Steppers
@@ -175,26 +229,47 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
             step_cut_trace(false);
             return false; /* not in the cruise, or a target ahead of the cut (a plan of its own) */
         }
-        if (MultiStepEngine::cut_apply(axis_, cut, tpu * margin_us, stop_->cmds, stop_->n))
+        if (MultiStepEngine::cut_apply(axis_, cut, tpu * margin_us, stop_->img, stop_->n, stop_->now))
             break;
         step_cut_trace(false); /* too late */
     }
-    /* the stop planned ahead, moved to where the cut lands */
+    /* the switch has come off: the rest (the stop's other commands, the planner's state after them)
+     * waits for adopt_cut, which the tick's feed calls before it lays out anything (with two or three
+     * Steppers stopped at once the next axis's cut comes first: the 200-byte copy alone took 1,200
+     * cycles of every axis's turn) */
     plan_from_ = dp;
-    dp -= stop_->from;
-    planner_.exact = stop_->exact;
-    planner_.exact.pos += dp;
-    planner_.pos = stop_->pos + dp;
-    planner_.target = then ? to : stop_->target + dp;
-    planner_.active = stop_->active;
-    planner_.has_then = then ? 1 : 0;
-    planner_.then_target = to;
+    stop_->at = dp;
+    stop_->then = then ? 1U : 0U;
+    stop_->to = to;
+    stop_->pending = 1;
     step_cut_trace(false);
     return true;
 #else
     (void)then;
     (void)to;
     return false;
+#endif
+}
+
+/* planner interrupt, before the feed lays out anything (BackgroundPlanner::feed): the second half of a
+ * cut in the cruise (stop_in_cruise): the stop's commands beyond the switch's laid out, and the
+ * planner put where the stop planned ahead, moved to the cut, leaves it */
+void Stepper::adopt_cut()
+{
+#if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
+    if (!stop_ || !stop_->pending)
+        return;
+    stop_->pending = 0;
+    if (stop_->n > stop_->now)
+        MultiStepEngine::append_images(axis_, stop_->img + stop_->now, (uint8_t)(stop_->n - stop_->now));
+    int32_t dp = stop_->at - stop_->from;
+    planner_.exact = stop_->exact;
+    planner_.exact.pos += dp;
+    planner_.pos = stop_->pos + dp;
+    planner_.target = stop_->then ? stop_->to : stop_->target + dp;
+    planner_.active = stop_->active;
+    planner_.has_then = stop_->then;
+    planner_.then_target = stop_->to;
 #endif
 }
 
@@ -222,6 +297,9 @@ bool Stepper::plan_at_cut(uint8_t req, int32_t target)
                                               MOTION_STEPPER_CUT_CMDS, MOTION_STEPPER_CUT_THEN_MIN_US,
                                               MOTION_STEPPER_SMOOTH_CUT_US, MOTION_STEPPER_CUT_MIRROR_US};
     StepCutTiming timing = TIMING;
+    /* the other axes' cuts in the cruise this tick first get their second half (their switch put in
+     * MOTION_STEPPER_STOP_SWITCH_US of their stop; this plan may take milliseconds) */
+    BackgroundPlanner::finishCuts();
     if (BackgroundPlanner::inLoop()) {
         /* a Stepper alone may step up to STEPPER_MAX_SPS_EXACT there (the interrupt's, MULTI_MAX_SPS) */
         float v = fabs(MultiStepEngine::speed(axis_));
