@@ -1894,7 +1894,7 @@ def doc_three_call(env):
 # first stop() call of the switch's pass, in every build, and for every axis's in THREE_ALL_BOUND_BUILDS,
 # where all the axes cruise at the stop (since 2026-12-07: their cuts come back to back, each a search
 # and a switch; 3.5 and 2.2 ms before). With three Steppers at 25,000 steps/s the other axes do not meet
-# it (a known limit: Y some 2.0-2.1 ms, and the axis still accelerating takes the reversed stop, 6.5 ms;
+# it (a known limit: Y some 2.0 ms, and the axis still accelerating takes the reversed stop, 4.4-5.7 ms;
 # their latency from the call is held only to the figure docs/stop-latency.md quotes)
 THREE_CALL_BOUND_MS = 2.0
 THREE_ALL_BOUND_BUILDS = ("three-10k", "two-20k")

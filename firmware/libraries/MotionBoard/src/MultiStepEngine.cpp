@@ -999,11 +999,11 @@ static inline void put_image(AxisSlot &t, const MultiStepEngine::SlotImage &m, i
     t.p_start = pos0 + m.p_off;
 }
 
-/* cut_apply's work: img[0..n-1] switched in at the cut (made off the ring, before the check), then
- * the commands rest[0..n_rest-1] laid out after them */
+/* cut_apply's first half: img[0..n-1] switched in at the cut (made off the ring, before the check; the
+ * ring's room checked for n_all commands); tail: what finish_cut, the second half, needs */
 static __attribute__((noinline)) bool apply_cut(uint8_t axis, const MultiStepEngine::Cut &r, uint32_t min_ticks_left,
-                                                const MultiStepEngine::SlotImage *img, uint8_t n, const step_cmd_t *rest,
-                                                uint8_t n_rest)
+                                                const MultiStepEngine::SlotImage *img, uint8_t n, uint8_t n_all,
+                                                MultiStepEngine::CutTail &tail)
 {
     if (axis >= MULTI_AXES || (r.cmds == 0 && r.split == 0) || n == 0)
         return false;
@@ -1012,7 +1012,7 @@ static __attribute__((noinline)) bool apply_cut(uint8_t axis, const MultiStepEng
     const bool hook = s_dir_hook[axis] != 0;
     AxisSlot img0;
     uint8_t k, i, ok, forward;
-    uint32_t ticks = 0, left;
+    uint32_t left;
     const uint8_t p = prev_slot(f, r.first); /* the last slot kept (split: what is kept of it) */
     AxisSlot &q = s.slot[p];
     /* (a split slot is not slow: an interval below 2^15 ticks, and a count below 2^16; with an add, its
@@ -1040,7 +1040,7 @@ static __attribute__((noinline)) bool apply_cut(uint8_t axis, const MultiStepEng
             left = 0U; /* the interrupt has taken it since */
         left = left == UINT32_MAX ? left : left + (uint32_t)kept * per;
     }
-    if (left == UINT32_MAX || left < min_ticks_left || (uint16_t)(f.ready - r.cmds + n + n_rest) >= f.nslots - 1U)
+    if (left == UINT32_MAX || left < min_ticks_left || (uint16_t)(f.ready - r.cmds + n_all) >= f.nslots - 1U)
         return false;
     /* a split of the current slot: the interrupt's count must still be at least lim (the dropped steps,
      * and enough kept before them for min_ticks_left), worked out here: the switch below is short */
@@ -1069,60 +1069,92 @@ static __attribute__((noinline)) bool apply_cut(uint8_t axis, const MultiStepEng
         __asm__ __volatile__("" ::: "memory"); /* the fields stored before the flag */
         s.slot[i].ready = 1; /* one byte, written last */
     }
-    /* the other dropped slots (none can be taken now: the one at i is not ready), along the ring's
-     * links (a lead of 100 ms holds tens of them) */
-    AxisSlot *d = &s.slot[i];
-    for (k = n + 1U; k < r.cmds; k++) {
+    /* the rest (cut_finish): the slot at i, after the images, is not ready, so the interrupt stops
+     * there at the latest, and the other dropped slots beyond it wait */
+    const MultiStepEngine::SlotImage &last = img[n - 1U];
+    tail.first = r.first;
+    tail.cmds = r.cmds;
+    tail.n = n;
+    tail.next = i;
+    tail.forward = forward;
+    tail.dur_p = 0xFFFFU;
+    if (r.split) {
+        uint32_t d = ((uint32_t)kept * per) >> DUR_SHIFT;
+        tail.dur_p = d > 0xFFFEU ? 0xFFFEU : (uint16_t)d;
+    }
+    tail.pos_end = pos0 + last.p_off + ((last.flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)last.left + 1 : -(int32_t)last.left - 1);
+    return true;
+}
+
+/* the second half of a cut: the dropped slots beyond the images made not ready, the engine's books
+ * without them and with the images' (img: the ones the switch put in, tail.n of them) */
+static void finish_cut(uint8_t axis, const MultiStepEngine::CutTail &tail, const MultiStepEngine::SlotImage *img)
+{
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    uint8_t k, i;
+    uint32_t ticks = 0;
+    /* the other dropped slots (none can be taken now: the one at tail.next is not ready), along the
+     * ring's links (a lead of 100 ms holds tens of them) */
+    AxisSlot *d = &s.slot[tail.next];
+    for (k = tail.n + 1U; k < tail.cmds; k++) {
         d = d->other;
         d->ready = 0;
     }
-    /* the engine's books without the dropped slots, with the images': what the slots before the cut
-     * hold (a few; the ring's dropped slots are not walked) */
-    for (i = f.seen; i != r.first; i = next_slot(f, i))
+    /* what the slots before the cut hold (a few; the ring's dropped slots are not walked) */
+    for (i = f.seen; i != tail.first; i = next_slot(f, i))
         ticks += lead_weight(f.duration[i]);
-    if (r.split) {
-        uint32_t d = ((uint32_t)kept * per) >> DUR_SHIFT;
+    if (tail.dur_p != 0xFFFFU) {
+        const uint8_t p = prev_slot(f, tail.first); /* split: what is kept of it */
         ticks -= lead_weight(f.duration[p]);
-        f.duration[p] = d > 0xFFFFU ? 0xFFFFU : (uint16_t)d;
+        f.duration[p] = tail.dur_p;
         ticks += lead_weight(f.duration[p]);
     }
-    for (k = 0, i = r.first; k < n; k++, i = next_slot(f, i)) {
+    for (k = 0, i = tail.first; k < tail.n; k++, i = next_slot(f, i)) {
         f.duration[i] = img[k].dur;
         ticks += lead_weight(img[k].dur);
     }
-    const MultiStepEngine::SlotImage &last = img[n - 1U];
     f.queued_ticks = ticks;
-    f.ready = (uint8_t)(f.ready - r.cmds + n);
+    f.ready = (uint8_t)(f.ready - tail.cmds + tail.n);
     f.head = i;
-    f.next_p_start = pos0 + last.p_off + ((last.flags & _BV(AXIS_SLOT_FORWARD)) ? (int32_t)last.left + 1 : -(int32_t)last.left - 1);
-    f.last_forward = forward;
-    /* the commands beyond the images, after the ones just made ready (the ring has room: above) */
-    for (k = 0; k < n_rest; k++)
-        lay_one(axis, s, f, rest[k]);
-    return true;
+    f.next_p_start = tail.pos_end;
+    f.last_forward = tail.forward;
 }
 
 bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n)
 {
     /* the first MULTI_CUT_MAX_CMDS made into images before the check (the switch puts them in place) */
     SlotImage img[MULTI_CUT_MAX_CMDS];
+    CutTail tail;
     const uint8_t m = n < MULTI_CUT_MAX_CMDS ? n : (uint8_t)MULTI_CUT_MAX_CMDS;
     int32_t off = 0;
     for (uint8_t k = 0; k < m; k++) {
         make_image(c[k], img[k], off);
         off += (c[k].flags & STEP_CMD_REVERSE) ? -(int32_t)c[k].count : (int32_t)c[k].count;
     }
-    return apply_cut(axis, r, min_ticks_left, img, m, c + m, (uint8_t)(n - m));
+    if (!apply_cut(axis, r, min_ticks_left, img, m, n, tail))
+        return false;
+    finish_cut(axis, tail, img);
+    /* the commands beyond the images, after the ones just made ready (the ring has room: apply_cut) */
+    AxisState &s = state(axis);
+    for (uint8_t k = m; k < n; k++)
+        lay_one(axis, s, s_feed[axis], c[k]);
+    return true;
 }
 
 bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const SlotImage *img, uint8_t n,
-                                uint8_t now)
+                                uint8_t now, CutTail &tail)
 {
-    AxisFeed &f = s_feed[axis];
-    /* room for all n (the ring's; append_images lays out the rest) */
-    if (axis >= MULTI_AXES || now == 0 || (uint16_t)(f.ready - r.cmds + n) >= f.nslots - 1U)
+    if (axis >= MULTI_AXES || now == 0)
         return false;
-    return apply_cut(axis, r, min_ticks_left, img, now < n ? now : n, 0, 0);
+    return apply_cut(axis, r, min_ticks_left, img, now < n ? now : n, n, tail);
+}
+
+void MultiStepEngine::cut_finish(uint8_t axis, const CutTail &tail, const SlotImage *img, uint8_t n)
+{
+    finish_cut(axis, tail, img);
+    if (n > tail.n)
+        append_images(axis, img + tail.n, (uint8_t)(n - tail.n));
 }
 
 void MultiStepEngine::append_images(uint8_t axis, const SlotImage *img, uint8_t n)

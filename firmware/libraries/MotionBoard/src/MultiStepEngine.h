@@ -303,12 +303,19 @@ public:
         int32_t p_off;
     };
     static void make_image(const step_cmd_t &c, SlotImage &m, int32_t p_off);
-    /* (the ring's room is checked for all n; the switch puts in the first `now` (at least 1), and the
-     * caller hands the rest, if any, to append_images before anything else is laid out for the axis
-     * and before the interrupt has stepped those: with two or three Steppers stopped at once, once
-     * every axis's switch has come off) */
+    /* (the ring's room is checked for all n; the switch puts in the first `now` (at least 1), and
+     * that is all: the rest, the engine's books and the other n - now images, waits for cut_finish,
+     * which the caller must call before anything else is laid out for the axis or cut from its queue,
+     * and before the interrupt has stepped those `now`: with two or three Steppers stopped at once,
+     * once every axis's switch has come off. tail: what cut_finish needs, kept by the caller.) */
+    struct CutTail {
+        uint8_t first, cmds, n, next, forward;
+        uint16_t dur_p; /* split: what is kept of the slot before first (0xFFFF: no split) */
+        int32_t pos_end;
+    };
     static bool cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const SlotImage *img, uint8_t n,
-                          uint8_t now);
+                          uint8_t now, CutTail &tail);
+    static void cut_finish(uint8_t axis, const CutTail &tail, const SlotImage *img, uint8_t n);
     static void append_images(uint8_t axis, const SlotImage *img, uint8_t n);
     /* A stop while accelerating (from rest or after a new target), at once (lib's step_exact_stop_mirrored): the commands that
      * end at cut r (the last kept, then the ones before it, as long as the ring still holds them

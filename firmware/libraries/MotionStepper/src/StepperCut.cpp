@@ -33,6 +33,7 @@ struct Stepper::StopAhead {
     /* a cut done, its second half not yet (adopt_cut): where it landed, and the target after it */
     uint8_t pending, then;
     int32_t at, to;
+    MultiStepEngine::CutTail tail;
 };
 
 static_assert(MOTION_STEPPER_CUT_CRUISE_US <= 20000UL, "the stop planned ahead keeps its cut distances in 16 bits");
@@ -229,14 +230,15 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
             step_cut_trace(false);
             return false; /* not in the cruise, or a target ahead of the cut (a plan of its own) */
         }
-        if (MultiStepEngine::cut_apply(axis_, cut, tpu * margin_us, stop_->img, stop_->n, stop_->now))
+        if (MultiStepEngine::cut_apply(axis_, cut, tpu * margin_us, stop_->img, stop_->n, stop_->now, stop_->tail))
             break;
         step_cut_trace(false); /* too late */
     }
-    /* the switch has come off: the rest (the stop's other commands, the planner's state after them)
-     * waits for adopt_cut, which the tick's feed calls before it lays out anything (with two or three
-     * Steppers stopped at once the next axis's cut comes first: the 200-byte copy alone took 1,200
-     * cycles of every axis's turn) */
+    /* the switch has come off: the rest (the engine's books and the dropped slots, the stop's other
+     * commands, the planner's state after them) waits for adopt_cut, which the tick calls before it
+     * lays out or plans anything (BackgroundPlanner::finishCuts): with two or three Steppers stopped at
+     * once the next axis's cut comes first (the 200-byte copy alone took 1,200 cycles of every axis's
+     * turn, the books some 1,400) */
     plan_from_ = dp;
     stop_->at = dp;
     stop_->then = then ? 1U : 0U;
@@ -251,17 +253,17 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
 #endif
 }
 
-/* planner interrupt, before the feed lays out anything (BackgroundPlanner::feed): the second half of a
- * cut in the cruise (stop_in_cruise): the stop's commands beyond the switch's laid out, and the
- * planner put where the stop planned ahead, moved to the cut, leaves it */
+/* planner interrupt, before the tick lays out or plans anything (BackgroundPlanner::finishCuts): the
+ * second half of a cut in the cruise (stop_in_cruise): the engine's books (MultiStepEngine::cut_finish),
+ * the stop's commands beyond the switch's laid out, and the planner put where the stop planned ahead,
+ * moved to the cut, leaves it */
 void Stepper::adopt_cut()
 {
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
     if (!stop_ || !stop_->pending)
         return;
     stop_->pending = 0;
-    if (stop_->n > stop_->now)
-        MultiStepEngine::append_images(axis_, stop_->img + stop_->now, (uint8_t)(stop_->n - stop_->now));
+    MultiStepEngine::cut_finish(axis_, stop_->tail, stop_->img, stop_->n);
     int32_t dp = stop_->at - stop_->from;
     planner_.exact = stop_->exact;
     planner_.exact.pos += dp;
