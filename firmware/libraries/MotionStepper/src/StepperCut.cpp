@@ -123,7 +123,8 @@ void Stepper::prepare_stop()
     stop_->n = 0;
     {
         /* its first MOTION_STEPPER_STOP_AHEAD_US (as step_cut_first_cmds hands them out), as images */
-        const uint32_t until = (uint32_t)BackgroundPlanner::ticksPerUs() * MOTION_STEPPER_STOP_AHEAD_US;
+        const uint32_t until = (uint32_t)BackgroundPlanner::ticksPerUs() *
+                               (BackgroundPlanner::steppers() >= 2 ? MOTION_STEPPER_STOP_AHEAD_US : MOTION_STEPPER_STOP_AHEAD_1_US);
         const uint32_t switch_until = (uint32_t)BackgroundPlanner::ticksPerUs() * MOTION_STEPPER_STOP_SWITCH_US;
         uint32_t ticks = 0;
         int32_t off = 0;
