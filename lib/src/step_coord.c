@@ -179,29 +179,29 @@ static uint32_t soonest_rest(const step_coord_t *c, uint8_t i)
 void step_coord_stop(step_coord_t *c)
 {
     uint8_t i, k = c->master;
-    uint32_t kk = 0;
+    uint32_t kk = 0, soonest[STEP_COORD_MAX_AXES];
     /* the axis that can stop on the line furthest along it (the largest s) sets the point where all
-     * come to rest: s* = k_k / D_k; every other axis can still reach round(D_i s*) */
+     * come to rest: s* = k_k / D_k; every other axis can still reach round(D_i s*) (each axis's
+     * soonest rest worked out once: a stopping distance costs 64-bit arithmetic, a millisecond or so
+     * of the AVR's for two axes, and a StepperGroup's stop at a cut of its queues waits for it) */
     for (i = 0; i < c->n_axes; i++) {
-        uint32_t ri;
         if (c->d[i] == 0)
             continue;
-        ri = soonest_rest(c, i);
-        if ((uint64_t)ri * c->d[k] > (uint64_t)kk * c->d[i]) {
+        soonest[i] = soonest_rest(c, i);
+        if ((uint64_t)soonest[i] * c->d[k] > (uint64_t)kk * c->d[i]) {
             k = i;
-            kk = ri;
+            kk = soonest[i];
         }
     }
     for (i = 0; i < c->n_axes; i++) {
         step_exact_t *e = &c->ax[i];
-        uint32_t ki, soonest;
+        uint32_t ki;
         int32_t want;
         if (c->d[i] == 0)
             continue;
         ki = (uint32_t)(((uint64_t)c->d[i] * kk + c->d[k] / 2U) / c->d[k]);
-        soonest = soonest_rest(c, i);
-        if (ki < soonest)
-            ki = soonest; /* rounding: never short of where it can stop */
+        if (ki < soonest[i])
+            ki = soonest[i]; /* rounding: never short of where it can stop */
         want = ramp_position_after(c->from[i], ramp_direction(c->from[i], c->to[i]), ki);
         if (e->moving && e->n < e->d) {
             if (step_exact_plan(e, want) != MS_OK)
@@ -213,6 +213,17 @@ void step_coord_stop(step_coord_t *c)
         }
         c->to[i] = e->d > e->n ? ramp_position_after(e->pos, e->dir, e->d - e->n) : e->pos;
     }
+}
+
+motion_status_t step_coord_rewind(step_coord_t *c, uint8_t axis, uint32_t steps, int64_t time16, uint16_t last_count)
+{
+    step_exact_t *e;
+    if (axis >= c->n_axes)
+        return MS_ERR_OUT_OF_RANGE;
+    e = &c->ax[axis];
+    if (!e->moving || steps >= e->n)
+        return MS_ERR_OUT_OF_RANGE;
+    return step_exact_rewind(e, e->n - steps, e->acc16 - time16, last_count);
 }
 
 int32_t step_coord_target(const step_coord_t *c, uint8_t axis)

@@ -87,6 +87,16 @@ int64_t step_coord_horizon16(const step_coord_t *c, uint8_t axis);
  * k_m the master's), or, when that is closer than it can stop, stops as soon as it can. */
 void step_coord_stop(step_coord_t *c);
 
+/* Axis i back to an earlier boundary of the commands it has handed out (a step engine that cuts
+ * its queue: the MotionStepper library's StepperGroup): `steps` steps dropped from the end, taking
+ * time16 (the executor's time of the dropped commands, the sum of step_exact_cmd_time16 over them),
+ * last_count the count of the last command kept. The axis then stands as if it had handed out only
+ * the kept commands (step_exact_rewind: bit for bit), and step_coord_stop, after every moving axis
+ * was taken back so, stops the move from there. MS_ERR_OUT_OF_RANGE (nothing changed): no such
+ * axis, not moving, steps not fewer than the profile's steps handed out, or step_exact_rewind's
+ * refusals (a boundary the profile could not have had). */
+motion_status_t step_coord_rewind(step_coord_t *c, uint8_t axis, uint32_t steps, int64_t time16, uint16_t last_count);
+
 /* Forgets what axis i has not handed out yet and stands it at rest at pos (after a halt). */
 void step_coord_halt(step_coord_t *c, uint8_t axis, int32_t pos);
 

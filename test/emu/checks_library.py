@@ -1736,11 +1736,13 @@ TIGHT_SLACK = 96  # bytes around the boundary: the stack pointer in begin()'s ta
 
 def check_tight_sram(env):
     """test/emu/TightSram: a Stepper in a sketch whose heap leaves less than begin()'s takes plus
-    BOARD_STACK_RESERVE (BoardHeap.h) below the stack pointer: begin() refuses with MS_ERR_NO_MEMORY's
-    sentence and nothing moves; with TIGHT_SLACK bytes more than that, it begins, and a move of 20,000
-    steps whose maximum speed is set again every 5 ms (each setter checks the parameters on the stack,
-    under the planner's interrupt) ends with every step, no underrun, and the stack never in the heap
-    (motionemu fails a run whose stack pointer goes below the heap's top)"""
+    BOARD_STACK_RESERVE (BoardHeap.h) below the stack pointer. begin() takes the ring of step commands and,
+    where there is room for it too, the stop planned ahead's (since 2026-12-07: before, it refused without
+    it). One byte short of room for both: it begins with the ring alone; one byte short of the ring's:
+    it refuses with MS_ERR_NO_MEMORY's sentence and nothing moves; with TIGHT_SLACK bytes more than either,
+    it begins, and a move of 20,000 steps whose maximum speed is set again every 5 ms (each setter checks
+    the parameters on the stack, under the planner's interrupt) ends with every step, no underrun, and the
+    stack never in the heap (motionemu fails a run whose stack pointer goes below the heap's top)"""
     elf = os.path.join(env.source_dir, "build", "emu", "tightsram", "TightSram", "TightSram.ino.elf")
     if not os.path.isfile(elf):
         return CheckResult(False, "no TightSram build", [f"{elf} is missing: make test builds it (tools/emu/emu.mk)"])
@@ -1748,27 +1750,41 @@ def check_tight_sram(env):
     reserve = stack_keep()
     pins = sketches.multiaxis_pins(env)
     problems, figs = [], []
-    # how much begin() takes, with room to spare
-    log = emulog.run(elf, "wait ^READY TightSram$\nsend begin\nwait ^BEGIN\n", pins=pins, timeout=300)
-    common(log, problems)
-    first = line_of(log, r"^BEGIN ")
-    m = re.match(r"^BEGIN (.*) USED (\d+)$", first.text) if first else None
-    if not m or m.group(1) != texts["MS_OK"]:
-        return CheckResult(False, "no first begin()", problems + [f"replies {[l.text for l in log.rx]}"])
-    need = int(m.group(2)) + reserve
-    quote = f"8,192 - {int(m.group(2)):,} - {reserve:,} bytes"
-    with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
-        if quote not in f.read():
-            problems.append(f"docs/library.md does not quote the figure measured now: '{quote}'")
-    for keep, ok in ((need - 1, False), (need + TIGHT_SLACK, True)):
-        script = (f"wait ^READY TightSram$\nsend eat {keep}\nwait ^ROOM\nsend begin\nwait ^BEGIN\nsend move\n"
-                  f"wait ^MOVE\ntimeout 20000\n" + ("wait ^DONE\n" if ok else "run 200\n"))
+
+    def begin_with(keep, move):
+        """begin() with `keep` bytes left (None: all there is), then a move if asked: the log and the lines"""
+        script = "wait ^READY TightSram$\n" + (f"send eat {keep}\nwait ^ROOM\n" if keep is not None else "") + \
+            "send begin\nwait ^BEGIN\n" + ("send move\nwait ^MOVE\ntimeout 20000\nrun 200\n" if move == "refused" else
+                                             "send move\nwait ^MOVE\ntimeout 20000\nwait ^DONE\n" if move else "")
         log = emulog.run(elf, script, pins=pins, timeout=300)
-        what = f"{keep} bytes left for begin() (its takes and the reserve: {need})"
         common(log, problems)
-        room = line_of(log, r"^ROOM ")
-        begin = line_of(log, r"^BEGIN ")
-        move = line_of(log, r"^MOVE ")
+        return log, line_of(log, r"^ROOM "), line_of(log, r"^BEGIN "), line_of(log, r"^MOVE ")
+
+    def used(line):
+        m = re.match(r"^BEGIN (.*) USED (\d+)$", line.text) if line else None
+        return (m.group(1), int(m.group(2))) if m else (None, None)
+
+    # how much begin() takes, with room to spare: the ring and the stop planned ahead's room
+    log, _, first, _ = begin_with(None, False)
+    st, full = used(first)
+    if st != texts["MS_OK"]:
+        return CheckResult(False, "no first begin()", problems + [f"replies {[l.text for l in log.rx]}"])
+    # one byte short of that: the ring alone
+    log, room, begin, move = begin_with(full + reserve - 1, True)
+    st, ring = used(begin)
+    if st != texts["MS_OK"] or ring is None or not ring < full:
+        return CheckResult(False, "no begin() with the ring alone", problems + [
+            f"{full + reserve - 1} bytes left: replies {[l.text for l in log.rx]}, expected a begin() that takes less "
+            f"than {full} bytes"])
+    with open(os.path.join(env.source_dir, "docs", "library.md"), encoding="utf-8") as f:
+        page = f.read()
+    for quote in (f"8,192 - {full:,} - {reserve:,} bytes", f"the ring alone, {ring:,} bytes"):
+        if quote not in page:
+            problems.append(f"docs/library.md does not quote the figure measured now: '{quote}'")
+    for keep, ok, takes in ((ring + reserve - 1, False, None), (ring + reserve + TIGHT_SLACK, True, ring),
+                            (full + reserve - 1, True, ring), (full + reserve + TIGHT_SLACK, True, full)):
+        log, room, begin, move = begin_with(keep, True if ok else "refused")
+        what = f"{keep} bytes left for begin() (the ring and the reserve: {ring + reserve}; with the stop planned ahead's room: {full + reserve})"
         if not room or abs(int(room.text.split()[1]) - keep) > 2 or not begin or not move:
             problems.append(f"{what}: replies {[l.text for l in log.rx]}")
             continue
@@ -1781,13 +1797,13 @@ def check_tight_sram(env):
             figs.append(f"{keep} B: refused ({steps} steps)")
             continue
         done = line_of(log, r"^DONE ")
-        if not begin.text.startswith(f"BEGIN {texts['MS_OK']} ") or move.text != f"MOVE {texts['MS_OK']}":
-            problems.append(f"{what}: '{begin.text}', '{move.text}': expected both ok")
+        if used(begin) != (texts["MS_OK"], takes) or move.text != f"MOVE {texts['MS_OK']}":
+            problems.append(f"{what}: '{begin.text}', '{move.text}': expected both ok, begin() taking {takes} bytes")
         if not done or done.text != "DONE 20000 underruns=0" or steps != 20000:
             problems.append(f"{what}: {done.text if done else 'no DONE'}, {steps} steps: expected DONE 20000 "
                             f"underruns=0 and 20000 steps")
-        figs.append(f"{keep} B: began, 20000 steps, stack {log.end.get('stack_min_free')} B from the rings at "
-                    f"the closest, {log.end.get('stack_max')} B deep")
+        figs.append(f"{keep} B: began taking {takes} B, 20000 steps, stack {log.end.get('stack_min_free')} B from the "
+                    f"rings at the closest, {log.end.get('stack_max')} B deep")
     # a console sketch whose Steppers cannot begin says so before READY, and moves nothing
     elf = os.path.join(env.source_dir, "build", "emu", "noroom", "MultiAxisStepper", "MultiAxisStepper.ino.elf")
     if not os.path.isfile(elf):
@@ -1802,8 +1818,8 @@ def check_tight_sram(env):
             problems.append(f"MultiAxisStepper with BOARD_STACK_RESERVE=6000: replies {got[:6]}, "
                             f"{len(log.rising('XSTEP'))} X steps; expected {want} and no step")
         figs.append("MultiAxisStepper without room: each begin()'s refusal before READY, a target refused")
-    return CheckResult(not problems, f"begin() takes {need - reserve} B + the reserve {reserve} B; " +
-                       "; ".join(figs), problems)
+    return CheckResult(not problems, f"begin() takes {full} B ({ring} B without the stop planned ahead's room) + the "
+                       f"reserve {reserve} B; " + "; ".join(figs), problems)
 
 
 def check_one_stepper(env):
@@ -2047,6 +2063,140 @@ def three_legs(log, problems, build, n, vmax, accel):
         problems.append(f"{build}: two steps {shortest} cycles apart (vmax's interval: {F_CPU / vmax:.0f})")
     return f"{build}: longest interval {worst / F_CPU * 1000:.2f} ms, shortest {shortest} cycles (vmax's: {F_CPU // vmax})"
 
+# ---- GroupStop: a StepperGroup's stop at a cut of its queues ---------------------------------------------
+
+# (build, members, vmax, accel, moments of the switch: ms after MOVE, the bound on the deceleration's start
+# after the call: ms). The line runs to (1,000,000, 500,000[, -250,000]): X is the master, Y moves half as far
+# (its vmax and accel in the move half X's), Z a quarter. 150 ms: still accelerating; the others in the cruise,
+# at several phases of the planner's tick. Until 2026-12-07 a group's stop acted after the queued lead: two
+# Steppers' 40 ms, three's 100 ms (and three Steppers with a StepperGroup of the three could not all begin()
+# with the planner interrupt: the third was 340 bytes short). The bounds: the cut's distance (StepperGroup.h,
+# MOTION_STEPPER_GROUP_CUT_US or _SLOW_US per axis, grown with the step interrupts' share) and the rest of the
+# command where it lands (a ramp's command is not split: at 1,000 steps/s Z's span some 7 ms).
+GROUP_BUILDS = (("group-two-20k", 2, 20000, 50000, (600.0, 650.3, 700.7, 800.5, 150.0), 16.0),
+                ("group-three-10k", 3, 10000, 50000, (400.0, 450.3, 500.7, 600.5, 150.0), 30.0))
+GROUP_RATIO = (1.0, 0.5, 0.25)
+GROUP_DIR = (1, 1, -1)
+GROUP_LATE = 700  # cycles off the deceleration's law (two step interrupts share the CPU: their jitter)
+
+
+def doc_group_stop(env):
+    """'... every axis's deceleration begins within **a ms** of the call (two Steppers at 20,000 steps/s; three
+    at 10,000: **b ms**)' in docs/stop-latency.md: {build: ms}, or None"""
+    m = library_doc_search(env, r"every\s+axis's\s+deceleration\s+begins\s+within\s+\*\*([0-9.]+) ms\*\*\s+of\s+the\s+"
+                                r"call\s+\(two\s+Steppers\s+at\s+20,000\s+steps/s;\s+three\s+at\s+10,000:\s+"
+                                r"\*\*([0-9.]+) ms\*\*\)")
+    return {"group-two-20k": float(m.group(1)), "group-three-10k": float(m.group(2))} if m else None
+
+
+def group_axis_stop(log, problems, what, ax, call, done_cycle, v, a):
+    """one axis of the group stopped at the call (cycle): its deceleration to rest on the law (from the
+    cruise: v^2/2a steps; while accelerating: from the top speed, decel_from_top, no velocity jump); the
+    latency from the call (ms), or None"""
+    e = log.rising(ax + "STEP")
+    after = [c for c in e if call <= c < done_cycle]
+    before = [c for c in e if c < call][-9:]
+    if len(before) == 9 and F_CPU * 8 / (before[-1] - before[0]) > 0.98 * v:
+        n = int(round(v * v / (2 * a)))
+        times = [v / a - math.sqrt(2 * (n - k) / a) for k in range(1, n + 1)]
+    else:
+        found = decel_from_top(e, after, a)
+        if found is None:
+            problems.append(f"{what}: {len(after)} {ax} steps after the call, too few to find its deceleration")
+            return None
+        n, times = found[0], found[1]
+        # no velocity jump: the mean intervals of the 8 steps on either side of the deceleration's first edge
+        # within 3 % (the law is symmetric about its top speed; decel_from_top's mean of the 16 steps before
+        # alone spans 200 ms of the acceleration at Z's 1,000 steps/s, and one interval has the jitter of the
+        # step interrupts sharing the CPU)
+        k = len(after) - n - 1
+        edges = [c for c in e if c <= after[k]][-9:] + after[k + 1:k + 9]
+        if len(edges) == 17:
+            before_iv, after_iv = (edges[8] - edges[0]) / 8.0, (edges[16] - edges[8]) / 8.0
+            if abs(after_iv - before_iv) > 0.03 * before_iv:
+                problems.append(f"{what}: {ax}'s mean intervals {before_iv:.0f} and {after_iv:.0f} cycles over the 8 "
+                                f"steps on either side of its deceleration's start (a velocity jump)")
+    if len(after) < n + 2:
+        problems.append(f"{what}: {len(after)} {ax} steps after the call, fewer than v^2/2a = {n}")
+        return None
+    start = after[-n - 1]
+    late, at = law_errors([start] + after[-n:], [0.0] + times)
+    if late > GROUP_LATE:
+        problems.append(f"{what}: {ax}'s deceleration step {at} is {late:.0f} cycles off the law (bound {GROUP_LATE})")
+    return (start - call) * 1000.0 / F_CPU
+
+
+def check_group_stop(env):
+    """test/emu/GroupStop: a StepperGroup's stop() while it moves on its line, at several moments (one while
+    accelerating): every axis decelerates on the law, beginning within its build's bound (GROUP_BUILDS) and
+    within the figure docs/stop-latency.md quotes; at rest the axes are on the line (within a step) where
+    their steps took them, with no underrun"""
+    problems, notes = [], []
+    pins = sketches.multiaxis_pins(env)
+    pins["CALL"] = "PE3"  # D5, high at the stop() call
+    worst = {}
+    for build, n, vmax, accel, moments, bound in GROUP_BUILDS:
+        elf = os.path.join(env.source_dir, "build", "emu", build, "GroupStop", "GroupStop.ino.elf")
+        if not os.path.isfile(elf):
+            problems.append(f"{elf} is missing: make test builds it (tools/emu/emu.mk)")
+            continue
+        lats = []
+        for t in moments:
+            what = f"{build}, switch {t} ms after MOVE"
+            log = emulog.run(elf, f"pin D3 1\ntimeout 60000\nwait ^MOVE$\nrun {t}\npin D3 0\nwait ^FINISHED$\n",
+                             pins=pins, timeout=600)
+            problems += [f"{what}: harness: {kind} at {c / F_CPU:.4f} s: {x}" for c, kind, x in log.fails]
+            texts = [l.text for l in log.rx]
+            if any(x != f"{k} {a} 0" for x, (k, a) in zip(texts, [(k, a) for a in "XYZ"[:n] for k in
+                                                                    ("setMaxSpeed", "setAcceleration", "begin")])) or \
+                    texts[3 * n:3 * n + 2] != ["MOVE", "0"]:
+                problems.append(f"{what}: replies {texts[:3 * n + 2]}, expected every call's status 0")
+                continue
+            call = next((c for c, lv in log.pins.get("CALL", []) if lv), None)
+            done = next((l for l in log.rx if l.text.startswith("DONE")), None)
+            if call is None or done is None:
+                problems.append(f"{what}: no stop() call or no DONE ({texts[-3:]})")
+                continue
+            f = done.text.split()[1:]
+            pos = []
+            for i, ax in enumerate("XYZ"[:n]):
+                made = len(log.rising(ax + "STEP"))
+                if len(f) != 2 * n or f[2 * i] != str(GROUP_DIR[i] * made) or f[2 * i + 1] != "u=0":
+                    problems.append(f"{what}: '{done.text}': {ax} made {made} steps, want that position with u=0")
+                pos.append(GROUP_DIR[i] * made)
+            if len(pos) == n:
+                for i in range(1, n):
+                    off = pos[i] - GROUP_RATIO[i] * GROUP_DIR[i] * pos[0]
+                    if abs(off) > 1.0:
+                        problems.append(f"{what}: at rest at {pos}: {'XYZ'[i]} {off:+.2f} steps off the line")
+            axes = []
+            for i, ax in enumerate("XYZ"[:n]):
+                lat = group_axis_stop(log, problems, what, ax, call, done.cycle, GROUP_RATIO[i] * vmax,
+                                      GROUP_RATIO[i] * accel)
+                if lat is not None:
+                    axes.append(lat)
+            if len(axes) == n:
+                lats.append(max(axes))
+                if max(axes) > bound:
+                    problems.append(f"{what}: the last axis's deceleration began {max(axes):.2f} ms after the call "
+                                    f"(bound {bound} ms; the lead without the cut: {40 if n == 2 else 100} ms)")
+        if lats:
+            worst[build] = max(lats)
+            notes.append(f"{build}: every axis's deceleration began {min(lats):.2f}-{max(lats):.2f} ms after the call "
+                         f"over {len(lats)} moments, at rest on the line")
+    doc = doc_group_stop(env)
+    if doc is None:
+        problems.append("docs/stop-latency.md quotes no \"every axis's deceleration begins within **<ms> ms** of the call "
+                        "(two Steppers at 20,000 steps/s; three at 10,000: **<ms> ms**)\" for a StepperGroup's stop "
+                        f"(measured {worst})")
+    else:
+        for build, got in worst.items():
+            if got > doc[build] + 0.05 or doc[build] > got + THREE_DOC_SLACK_MS:
+                problems.append(f"{build}: a StepperGroup's stop: every axis decelerating within {got:.2f} ms of the "
+                                f"call at worst; docs/stop-latency.md says {doc[build]} ms")
+    return CheckResult(not problems, "; ".join(notes), problems)
+
+
 def checks_for(env):
     root = os.path.join(env.source_dir, LIB_EXAMPLES)
     checks = []
@@ -2072,9 +2222,9 @@ def checks_for(env):
     checks.append(("MotionStepper library, test sketch HeapShare: malloc and free beside a Stepper's heap (board_take): "
                    "no block overlaps another, every block keeps its bytes through a move of 20,000 steps",
                    lambda: guarded(check_heap_share, env)))
-    checks.append(("MotionStepper library, test sketch TightSram: begin() keeps BOARD_STACK_RESERVE for the stack or "
-                   "refuses (MS_ERR_NO_MEMORY, nothing moves); a sketch that just fits moves 20,000 steps with setters "
-                   "while moving, its stack never in the rings",
+    checks.append(("MotionStepper library, test sketch TightSram: begin() keeps BOARD_STACK_RESERVE for the stack "
+                   "(without the stop planned ahead's room when only the ring fits) or refuses (MS_ERR_NO_MEMORY, nothing "
+                   "moves); a sketch that just fits moves 20,000 steps with setters while moving, its stack never in the rings",
                    lambda: guarded(check_tight_sram, env)))
     checks.append(("MotionStepper library, test sketch ThreeSteppers: three Steppers at once at 10,000 and 25,000 "
                    "steps/s, two at 20,000 and 25,000: every step, no underrun, no pause within a move; a stop() of all at a switch "
@@ -2083,4 +2233,9 @@ def checks_for(env):
                    f"deceleration within {THREE_LATE_CUT_MS} ms (the cut tried again farther ahead); with the interrupt "
                    f"taking the slot a cut search chose: within {THREE_RACE_CUT_MS} ms (the search starts again)",
                    lambda: guarded(check_three_steppers, env)))
+    checks.append(("MotionStepper library, test sketch GroupStop: a StepperGroup's stop() (two Steppers at 20,000 "
+                   "steps/s, three at 10,000, in the cruise and while accelerating) cuts the queues: every axis on the "
+                   "law, decelerating within " + " and ".join(f"{b[-1]:g}" for b in GROUP_BUILDS) + " ms of the call "
+                   "(the leads without the cut: 40 and 100 ms), at rest on the line, no underrun",
+                   lambda: guarded(check_group_stop, env)))
     return checks

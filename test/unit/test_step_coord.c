@@ -467,6 +467,115 @@ static void stop_never_passes_a_target(void **state)
     }
 }
 
+/* step_coord_rewind (a StepperGroup's stop at a cut of its queues): every axis taken back from
+ * further on to a command boundary and then stopped gives the same commands, bit for bit, and the
+ * same targets as a coordinated move that had handed out only the kept commands and stopped there
+ * (the reference: step_coord_stop on the plain planner, no rewind). Random moves of 2 and 3 axes,
+ * cuts in the acceleration, the cruise and the deceleration. */
+#define REWIND_MAX_CMDS 4000
+typedef struct {
+    step_cmd_t cmd[REWIND_MAX_CMDS];
+    uint32_t n;
+} cmd_list_t;
+
+static void hand_out_until(step_coord_t *c, uint8_t i, int64_t t16, cmd_list_t *l)
+{
+    step_cmd_t cmd;
+    while (step_coord_horizon16(c, i) < t16 && step_coord_next(c, i, &cmd)) {
+        assert_true(l->n < REWIND_MAX_CMDS);
+        l->cmd[l->n++] = cmd;
+    }
+}
+
+static void rest_of(step_coord_t *c, uint8_t i, cmd_list_t *l)
+{
+    step_cmd_t cmd;
+    l->n = 0;
+    while (step_coord_next(c, i, &cmd)) {
+        assert_true(l->n < REWIND_MAX_CMDS);
+        l->cmd[l->n++] = cmd;
+    }
+}
+
+static void rewind_then_stop_is_the_stop_at_the_boundary(void **state)
+{
+    static cmd_list_t kept[STEP_COORD_MAX_AXES], more[STEP_COORD_MAX_AXES], ra, rb;
+    int trial, cuts = 0;
+    (void)state;
+    for (trial = 0; trial < 60; trial++) {
+        uint8_t n = (uint8_t)(2 + trial % 2), i;
+        ramp_params_t p[STEP_COORD_MAX_AXES];
+        int32_t from[STEP_COORD_MAX_AXES], to[STEP_COORD_MAX_AXES];
+        step_coord_t a, b;
+        double vmax = lrand(2000.0, 40000.0);
+        for (i = 0; i < n; i++) {
+            p[i] = params(0, vmax * urand(0.5, 1.0), lrand(5000.0, 200000.0));
+            from[i] = (int32_t)urand(-1000.0, 1000.0);
+            to[i] = from[i] + (int32_t)(urand(0.0, 1.0) < 0.5 ? -1 : 1) * (int32_t)lrand(200.0, 40000.0);
+        }
+        if (step_coord_plan(&a, n, p, from, to) != MS_OK)
+            continue;
+        {
+            /* the cut at a random time of the move, and 1-30 ms of commands beyond it dropped */
+            int64_t t_end = a.ax[a.master].t_end16;
+            int64_t t_cut = (int64_t)(urand(0.02, 0.95) * (double)t_end);
+            int64_t t_more = t_cut + (int64_t)(urand(1.0, 30.0) * 16000.0 * 65536.0);
+            b = a;
+            for (i = 0; i < n; i++) {
+                kept[i].n = more[i].n = 0;
+                hand_out_until(&a, i, t_cut, &kept[i]);
+                hand_out_until(&b, i, t_more, &more[i]);
+            }
+            for (i = 0; i < n; i++) {
+                uint32_t k, steps = 0;
+                int64_t t16 = 0;
+                motion_status_t st;
+                /* b handed out what a did, and then some */
+                assert_true(more[i].n >= kept[i].n);
+                for (k = 0; k < kept[i].n; k++)
+                    assert_memory_equal(&kept[i].cmd[k], &more[i].cmd[k], sizeof(step_cmd_t));
+                if (more[i].n == kept[i].n || kept[i].n == 0)
+                    continue;
+                for (k = kept[i].n; k < more[i].n; k++) {
+                    steps += more[i].cmd[k].count;
+                    t16 += step_exact_cmd_time16(&more[i].cmd[k]);
+                }
+                st = step_coord_rewind(&b, i, steps, t16, kept[i].cmd[kept[i].n - 1U].count);
+                if (st != MS_OK)
+                    fail_msg("trial %d axis %u: rewind of %u steps refused (%d)", trial, i, (unsigned)steps, (int)st);
+                cuts++;
+                assert_int_equal(step_coord_position(&b, i), step_coord_position(&a, i));
+            }
+            step_coord_stop(&a);
+            step_coord_stop(&b);
+            for (i = 0; i < n; i++) {
+                uint32_t k;
+                assert_int_equal(step_coord_target(&b, i), step_coord_target(&a, i));
+                rest_of(&a, i, &ra);
+                rest_of(&b, i, &rb);
+                if (ra.n != rb.n)
+                    fail_msg("trial %d axis %u: %u commands after the stop, %u after rewind and stop", trial, i,
+                             (unsigned)ra.n, (unsigned)rb.n);
+                for (k = 0; k < ra.n; k++)
+                    assert_memory_equal(&ra.cmd[k], &rb.cmd[k], sizeof(step_cmd_t));
+            }
+        }
+    }
+    /* the refusals: no axis, more steps than handed out */
+    {
+        ramp_params_t p[2] = {params(0, 10000, 50000), params(0, 10000, 50000)};
+        int32_t from[2] = {0, 0}, to[2] = {5000, 2000};
+        step_coord_t c;
+        step_cmd_t cmd;
+        assert_int_equal(step_coord_plan(&c, 2, p, from, to), MS_OK);
+        assert_int_equal(step_coord_next(&c, 0, &cmd), 1);
+        assert_int_equal(step_coord_rewind(&c, 2, 1, 0, 1), MS_ERR_OUT_OF_RANGE);
+        assert_int_equal(step_coord_rewind(&c, 0, cmd.count, step_exact_cmd_time16(&cmd), 1), MS_ERR_OUT_OF_RANGE);
+        assert_int_equal(step_coord_position(&c, 0), (int32_t)cmd.count);
+    }
+    assert_true(cuts > 60);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -479,6 +588,7 @@ int main(void)
         cmocka_unit_test(stop_never_passes_a_target),
         cmocka_unit_test(bad_input_refused),
         cmocka_unit_test(stop_decelerates_every_axis),
+        cmocka_unit_test(rewind_then_stop_is_the_stop_at_the_boundary),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

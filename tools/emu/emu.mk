@@ -175,6 +175,17 @@ $(BUILD)/emu/$(1)/ThreeSteppers/ThreeSteppers.ino.elf: $(EMU_FW_SRCS) test/emu/T
 endef
 $(foreach b,$(EMU_THREE_BUILDS),$(eval $(call emu_three_rule,$(word 1,$(subst :, ,$(b))),$(word 2,$(subst :, ,$(b))))))
 
+# test/emu/GroupStop: a StepperGroup's stop() at a cut of its queues (checks_library.py, check_group_stop)
+EMU_GROUP_BUILDS := group-two-20k:-DGS_N=2+-DGS_V=20000 group-three-10k:-DGS_N=3+-DGS_V=10000
+EMU_GROUP_ELFS := $(foreach b,$(EMU_GROUP_BUILDS),$(BUILD)/emu/$(word 1,$(subst :, ,$(b)))/GroupStop/GroupStop.ino.elf)
+define emu_group_rule
+$(BUILD)/emu/$(1)/GroupStop/GroupStop.ino.elf: $(EMU_FW_SRCS) test/emu/GroupStop/GroupStop.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/$(1)
+	@FIRMWARE_OUT=$(BUILD)/emu/$(1) FIRMWARE_DEFINES="$(subst +, ,$(2))" bash tools/build_firmware.sh test/emu/GroupStop \
+	  >$(BUILD)/emu/$(1).log 2>&1 || { cat $(BUILD)/emu/$(1).log; exit 1; }
+endef
+$(foreach b,$(EMU_GROUP_BUILDS),$(eval $(call emu_group_rule,$(word 1,$(subst :, ,$(b))),$(word 2,$(subst :, ,$(b))))))
+
 # The lab sketches with moveOneStep()'s two direction lines (those writing dirPin) replaced by
 # `(void)direction;`: the lab exercise undone. Their emulator check (checks_sketches.py,
 # check_direction_hook) sees DIR never change while the moves go both ways: the sketch's hook, not
@@ -191,7 +202,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_NOCUT_ELF) $(EMU_SAMETARGET_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_NOCUT_ELF) $(EMU_SAMETARGET_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_GROUP_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

@@ -1,7 +1,7 @@
 /* TightSram - a test sketch for the emulator suite (checks_library.py, check_tight_sram): a Stepper in
- * a sketch that has used up most of its SRAM. begin() takes the step ring and the stop planned ahead
- * from the heap and must leave BOARD_STACK_RESERVE bytes (BoardHeap.h) below the stack pointer for the
- * stack, or refuse (MS_ERR_NO_MEMORY) and move nothing; when it begins, a move whose maximum speed is
+ * a sketch that has used up most of its SRAM. begin() takes the step ring and, where it fits too, the
+ * stop planned ahead's room from the heap and must leave BOARD_STACK_RESERVE bytes (BoardHeap.h) below
+ * the stack pointer for the stack, or refuse (MS_ERR_NO_MEMORY) and move nothing; when it begins, a move whose maximum speed is
  * set again every 5 ms (each setter plans a whole move on the stack, under the planner's interrupt)
  * must keep its stack out of the rings (motionemu fails the run otherwise). 9600 baud; lines:
  *   room         -> ROOM <bytes between the heap's top and the stack pointer>

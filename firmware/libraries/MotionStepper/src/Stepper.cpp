@@ -76,6 +76,10 @@ motion_status_t Stepper::begin()
     motion_status_t st;
     if (begun_)
         return MS_OK;
+    /* the planner held off meanwhile: its tick, nested on the parameters' conversion below (64-bit
+     * divisions, deep on the stack), went 1,018 bytes deep in a sketch of three Steppers and a
+     * StepperGroup (a review, 2026-12-07), beyond BOARD_STACK_RESERVE: the stack ran into the rings */
+    PlannerLock lock;
     if (axis_ > Z)
         return MS_ERR_OUT_OF_RANGE;
     if (begin_status_ != MS_OK)
@@ -86,22 +90,23 @@ motion_status_t Stepper::begin()
         return MS_ERR_TABLE_MISSING; /* made with the sigmoid: setRamp(RAMP_ALGO_SIGMOID) fills its table */
     if (!BackgroundPlanner::inLoop() && !BackgroundPlanner::timerLinked())
         return MS_ERR_NO_PLANNER_TIMER; /* Stepper.h included, not MotionStepper.h */
-    if (!BackgroundPlanner::inLoop() && !stop_ && !stop_ahead_begin())
-        return MS_ERR_NO_MEMORY; /* no room on the heap (StepperCut.cpp) */
     st = init_planner(0);
     if (st != MS_OK)
         return st;
     if (!BackgroundPlanner::begin())
         return MS_ERR_NO_MEMORY; /* no room on the heap for the step rings */
+    /* the stop planned ahead's room (StepCut.cpp), where the heap still has it beside the stack's
+     * reserve: a Stepper without it plans its stop from the cruise at a cut, milliseconds later (three
+     * Steppers and a StepperGroup of the three in one sketch: until 2026-12-07 the third begin()
+     * refused, 340 bytes short) */
+    if (!BackgroundPlanner::inLoop() && !stop_)
+        (void)stop_ahead_begin();
     if (!BackgroundPlanner::claim(axis_, this))
         return MS_ERR_AXIS_TAKEN;
-    {
-        PlannerLock lock;
-        step_planner_halt(&planner_, MultiStepEngine::position(axis_));
-        begun_ = true;
-        write_enable(enabled_ && !auto_disable_);
-        install_hook();
-    }
+    step_planner_halt(&planner_, MultiStepEngine::position(axis_));
+    begun_ = true;
+    write_enable(enabled_ && !auto_disable_);
+    install_hook();
     return MS_OK;
 }
 
@@ -278,10 +283,12 @@ motion_status_t Stepper::set_param(float value, float limit, uint8_t which)
         p.accel_sps2 = value;
     else
         p.v0_sps = value;
+    /* (the check converts the parameters, deep on the stack: the planner's tick waits for it rather
+     * than nest on it; begin() says why) */
+    PlannerLock lock;
     st = probe(algo_, ramp_hooks_, p);
     if (st != MS_OK)
         return st;
-    PlannerLock lock;
     params_ = p;
     set_since_plan_ = true;
     if (begun_ && algo_ == RAMP_ALGO_SIGMOID)

@@ -605,7 +605,9 @@ private:
      * target in force then replans with them, where otherwise it changes nothing */
     bool set_since_plan_;
     /* the stop from the cruise, planned ahead (prepare_stop: StepperCut.cpp), from the heap at begin()
-     * with the planner interrupt only (stop_ahead_begin) */
+     * with the planner interrupt only (stop_ahead_begin), after the rings and where there is room for
+     * it (null otherwise: the stop from the cruise is planned at a cut); a StepperGroup's stop at a cut
+     * keeps its members' states there (a member of a group's move plans no stop ahead) */
     struct StopAhead;
     bool stop_ahead_begin();
     void stop_ahead_reset();

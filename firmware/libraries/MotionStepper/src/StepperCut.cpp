@@ -3,6 +3,7 @@
  * cut that came too late (see Stepper.h). The cuts are linked with the exact and the smooth ramp
  * (Stepper's CUTS); every Stepper links the stop planned ahead's room (stop_ahead_begin, _reset). */
 #include "Stepper.h"
+#include "StepperGroup.h"
 
 #include <BoardHeap.h>
 #include <StepCut.h>
@@ -70,9 +71,10 @@ static float grow_at(float steps_per_s, float cycles_per_step)
 
 const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Stepper::cuts_prepare, Stepper::cuts_adopt};
 
-/* begin(), with the planner interrupt: the stop planned ahead's room on the heap (about 400 bytes;
- * planned from loop(), planInLoop, only a Stepper alone takes it, at its first cruise: prepare_stop;
- * the three Steppers of a sketch that plans so keep their SRAM for the stack). False: no room. */
+/* begin(), with the planner interrupt, after the rings: the stop planned ahead's room on the heap
+ * (about 430 bytes; planned from loop(), planInLoop, only a Stepper alone takes it, at its first
+ * cruise: prepare_stop; the three Steppers of a sketch that plans so keep their SRAM for the stack).
+ * False: no room (the Stepper then plans its stop from the cruise at a cut). */
 bool Stepper::stop_ahead_begin()
 {
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
@@ -252,6 +254,172 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
     (void)to;
     return false;
 #endif
+}
+
+static_assert(MOTION_STEPPER_GROUP_CUT_CMDS <= STEP_CUT_MAX_CMDS, "cut_apply switches at most MULTI_CUT_MAX_CMDS commands");
+
+/* planner interrupt (StepperGroup::do_stop): a group's stop at a cut of its own axes' queues,
+ * MOTION_STEPPER_GROUP_CUT_US ahead per axis (_SLOW_US while the speed changes; grown with the step
+ * interrupts' share of the CPU), instead of after the queued lead. Every own axis (a member that
+ * repeats the master's commands is pulsed by its interrupt, and cut with it) is taken back to where
+ * its cut lands (lib's step_coord_rewind: as if it had handed out only the kept commands), the stop
+ * on the line is planned from there (step_coord_stop) and each axis's first commands, made into slot
+ * images, are switched in one member after the other, each keeping the margin plus
+ * MOTION_STEPPER_GROUP_SWITCH_US for every switch still to come. Each axis's state before the cut
+ * waits in its member's own planner (idle while the group moves: its exact constants are converted
+ * again at its next move from rest, params_new; a smooth planner's pointer is put back).
+ * GROUP_CUT_DONE: done; GROUP_CUT_AGAIN: the first switch came too late, nothing changed, try again
+ * twice as far ahead; GROUP_CUT_NO: nothing changed (not moving, nothing queued that far, a rewind
+ * refused): the caller stops after the queued lead. Should a later member's switch come too late (not
+ * seen in the checks: the margin covers the switches before it), that axis keeps its queue and stops
+ * after it, towards the same point of the line (step_coord_stop's rule, from its own state). */
+uint8_t StepperGroup::stop_at_cut()
+{
+#if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && !MULTI_TIMED_LOOP
+    MultiStepEngine::Cut cut[STEP_COORD_MAX_AXES];
+    int32_t to_saved[STEP_COORD_MAX_AXES];
+    uint8_t n_img[STEP_COORD_MAX_AXES];
+    const uint32_t tpu = BackgroundPlanner::ticksPerUs();
+    uint8_t j, count = 0, done = 0;
+    for (j = 0; j < n_; j++) {
+        if (!(own_ & (1U << j)))
+            continue;
+        if (!coord_.ax[j].moving || coord_.ax[j].n < 2U)
+            return GROUP_CUT_NO;
+        count++;
+    }
+    if (count == 0 || BackgroundPlanner::inLoop())
+        return GROUP_CUT_NO;
+    BackgroundPlanner::finishCuts(); /* another Stepper's cut in the cruise: its second half first */
+    BackgroundPlanner::feedBeforePlan(); /* the other queues last through the plan (before the search) */
+    uint32_t ahead_us = cut_us_;
+    if (ahead_us == 0) {
+        /* the master's speed changing (the cut lands in a ramp: a costlier rewind and stop, and at a
+         * command's start) or not */
+        const bool cruise = fabs(MultiStepEngine::speed(member_[coord_.master]->axis_)) >= 0.98f * coord_.profile.vmax_sps;
+        float grow = grow_at(BackgroundPlanner::stepRate(), MOTION_STEPPER_STEP_CYCLES);
+        ahead_us = (uint32_t)((float)((cruise ? MOTION_STEPPER_GROUP_CUT_US : MOTION_STEPPER_GROUP_CUT_SLOW_US) * count) *
+                              (grow > 1.0f ? grow : 1.0f));
+    }
+    step_cut_trace(true);
+    /* where each own axis can be cut: its first command whose first step lies that far ahead, or in
+     * a cruise the first step (the exact ramp goes back to any step of its cruise) */
+    for (j = 0; j < n_; j++)
+        if ((own_ & (1U << j)) &&
+            MultiStepEngine::cut_find(member_[j]->axis_, tpu * ahead_us, coord_.ax[j].n - 1U, cut[j], true, true) == 0) {
+            step_cut_trace(false);
+            return GROUP_CUT_NO;
+        }
+    for (j = 0; j < n_; j++) {
+        to_saved[j] = coord_.to[j];
+        if (own_ & (1U << j))
+            cut_keep(j) = coord_.ax[j]; /* put back if the cut does not come off */
+    }
+    uint8_t result = GROUP_CUT_NO;
+    for (j = 0; j < n_; j++) {
+        if (!(own_ & (1U << j)))
+            continue;
+        motion_status_t st = step_coord_rewind(&coord_, j, cut[j].steps, cut[j].time16, cut[j].last_count);
+        if (st != MS_OK && cut[j].split != 0 &&
+            MultiStepEngine::cut_find(member_[j]->axis_, tpu * ahead_us, coord_.ax[j].n - 1U, cut[j]) != 0)
+            st = step_coord_rewind(&coord_, j, cut[j].steps, cut[j].time16, cut[j].last_count);
+        if (st != MS_OK)
+            goto put_back;
+    }
+    step_coord_stop(&coord_);
+    /* each own axis's first commands of the stop (MOTION_STEPPER_CUT_NEW_US of them), as slot images */
+    for (j = 0; j < n_; j++) {
+        if (!(own_ & (1U << j)))
+            continue;
+        const uint32_t until = tpu * MOTION_STEPPER_CUT_NEW_US;
+        uint32_t ticks = 0;
+        int32_t off = 0;
+        uint8_t n = 0;
+        step_cmd_t c;
+        while (n < MOTION_STEPPER_GROUP_CUT_CMDS && ticks < until && step_coord_next(&coord_, j, &c)) {
+            MultiStepEngine::make_image(c, cut_img_[j][n], off);
+            off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
+            ticks += ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
+            n++;
+        }
+        if (n == 0)
+            goto put_back; /* (an axis with no step left after its cut: stopped after the lead) */
+        n_img[j] = n;
+    }
+    /* the switches, one member after the other */
+    {
+        uint8_t after = count;
+        for (j = 0; j < n_; j++) {
+            if (!(own_ & (1U << j)))
+                continue;
+            after--;
+            const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_SWITCH_US;
+            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, cut_img_[j], n_img[j], n_img[j],
+                                           cut_tail_[j])) {
+                done |= (uint8_t)(1U << j);
+                continue;
+            }
+            if (done == 0) {
+                /* too late, nothing changed: again twice as far ahead, or after the lead */
+                cut_us_ = 2U * ahead_us;
+                result = ++cut_tries_ < STEP_CUT_TRIES ? GROUP_CUT_AGAIN : GROUP_CUT_NO;
+                goto put_back;
+            }
+            /* a later member too late: it keeps its queue, and stops after it towards the same point */
+            step_exact_t &e = coord_.ax[j];
+            e = cut_keep(j);
+            if (step_exact_plan(&e, coord_.to[j]) != MS_OK)
+                step_exact_stop(&e);
+            coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
+        }
+    }
+    for (j = 0; j < n_; j++)
+        if (done & (1U << j))
+            MultiStepEngine::cut_finish(member_[j]->axis_, cut_tail_[j], cut_img_[j], n_img[j]);
+    cut_release();
+    step_cut_trace(false);
+    return GROUP_CUT_DONE;
+put_back:
+    for (j = 0; j < n_; j++) {
+        coord_.to[j] = to_saved[j];
+        if (own_ & (1U << j))
+            coord_.ax[j] = cut_keep(j);
+    }
+    cut_release();
+    step_cut_trace(false);
+    return result;
+#else
+    return GROUP_CUT_NO;
+#endif
+}
+
+/* where stop_at_cut keeps member j's state before its cut: its own planner's state (a union), idle
+ * while it moves in the group; a smooth planner's pointer to its state is kept aside meanwhile */
+step_exact_t &StepperGroup::cut_keep(uint8_t j)
+{
+    step_planner_t &pl = member_[j]->planner_;
+    if (pl.algo == RAMP_ALGO_SMOOTH && !cut_smooth_kept_[j]) {
+        cut_smooth_[j] = pl.smooth;
+        cut_smooth_kept_[j] = true;
+    }
+    return pl.exact;
+}
+
+/* the members' planners again as they were, but their exact state: its constants are converted again
+ * at the next move from rest (params_new) */
+void StepperGroup::cut_release()
+{
+    for (uint8_t j = 0; j < n_; j++) {
+        if (!(own_ & (1U << j)))
+            continue;
+        step_planner_t &pl = member_[j]->planner_;
+        if (cut_smooth_kept_[j]) {
+            pl.smooth = cut_smooth_[j];
+            cut_smooth_kept_[j] = false;
+        } else if (pl.algo == RAMP_ALGO_EXACT) {
+            pl.params_new = 1;
+        }
+    }
 }
 
 /* planner interrupt, before the tick lays out or plans anything (BackgroundPlanner::finishCuts): the

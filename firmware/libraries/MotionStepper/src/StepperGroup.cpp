@@ -10,7 +10,7 @@
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b)
     : n_(2), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
-      last_status_(MS_OK)
+      cut_tries_(0), cut_us_(0), cut_smooth_kept_(), last_status_(MS_OK)
 {
     member_[0] = &a;
     member_[1] = &b;
@@ -19,7 +19,7 @@ StepperGroup::StepperGroup(Stepper &a, Stepper &b)
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b, Stepper &c)
     : n_(3), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
-      last_status_(MS_OK)
+      cut_tries_(0), cut_us_(0), cut_smooth_kept_(), last_status_(MS_OK)
 {
     member_[0] = &a;
     member_[1] = &b;
@@ -271,8 +271,19 @@ void StepperGroup::axis_done(uint8_t axis, int32_t position)
     done_ = true;
 }
 
+/* MS_ERR_NOT_BEGUN until every member's begin(), as a Stepper's stop() and forceStop() */
+motion_status_t StepperGroup::begun() const
+{
+    for (uint8_t j = 0; j < n_; j++)
+        if (!member_[j]->begun_)
+            return MS_ERR_NOT_BEGUN;
+    return MS_OK;
+}
+
 motion_status_t StepperGroup::stop()
 {
+    if (begun() != MS_OK)
+        return MS_ERR_NOT_BEGUN;
     PlannerLock lock;
     if (mask_ == 0)
         return MS_OK;
@@ -281,6 +292,9 @@ motion_status_t StepperGroup::stop()
         return MS_OK;
     }
     stop_req_ = true; /* a replan of every axis: the planner interrupt makes it */
+    cut_tries_ = 0;
+    cut_us_ = 0;
+    BackgroundPlanner::kick(); /* within microseconds, not at the next tick (Stepper::stop's lock defers it) */
     return MS_OK;
 }
 
@@ -304,7 +318,14 @@ void StepperGroup::do_stop()
     bool back[STEP_COORD_MAX_AXES];
     for (uint8_t j = 0; j < n_; j++)
         back[j] = coord_.to[j] < coord_.from[j];
-    step_coord_stop(&coord_);
+    /* at a cut of the queues a few milliseconds ahead (StepperCut.cpp), or after the queued lead */
+    uint8_t cut = stop_at_cut();
+    if (cut == GROUP_CUT_AGAIN) {
+        stop_req_ = true; /* farther ahead, at the next request pass */
+        return;
+    }
+    if (cut == GROUP_CUT_NO)
+        step_coord_stop(&coord_);
     /* a follower stops with its master, as far */
     for (uint8_t j = 0; j < n_; j++) {
         if (ref_[j].repeats == m) {
@@ -318,6 +339,8 @@ void StepperGroup::do_stop()
 
 motion_status_t StepperGroup::forceStop()
 {
+    if (begun() != MS_OK)
+        return MS_ERR_NOT_BEGUN;
     PlannerLock lock;
     if (mask_ == 0)
         return MS_OK;

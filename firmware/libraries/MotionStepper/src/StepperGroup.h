@@ -27,6 +27,31 @@
 
 #include "Stepper.h"
 
+/* A group's stop cuts its own axes' queues this many microseconds ahead for each axis with an
+ * interrupt of its own in the move (the plan's work, some 4 ms of the AVR per axis: its rewind, its
+ * part of the stop and its first commands), grown with the step interrupts' share of the CPU, as a
+ * Stepper's plan at a cut: every axis is taken back to its cut
+ * (lib's step_coord_rewind) and the stop on the line is planned from there (step_coord_stop). A cut
+ * that the step interrupt came too close to is tried again twice as far ahead (STEP_CUT_TRIES cuts
+ * in all); then, as with 0 here, the stop acts after the queued lead (40 ms with two Steppers, 100
+ * with three). Only with the planner interrupt (a sketch that plans from loop(), MultiAxisStepper,
+ * stops after the lead: its planner's work would hold loop() that long). */
+#ifndef MOTION_STEPPER_GROUP_CUT_US
+#define MOTION_STEPPER_GROUP_CUT_US 4500UL
+#endif
+/* ... while the master's speed changes (the rewind and the stop cost more there: two Steppers
+ * accelerating at 7,500 steps/s took 11.3 ms, 9.2 ms cruising at 20,000) */
+#ifndef MOTION_STEPPER_GROUP_CUT_SLOW_US
+#define MOTION_STEPPER_GROUP_CUT_SLOW_US 6500UL
+#endif
+/* the stop's first commands laid out at the cut for each axis: up to this many (at most
+ * MultiStepEngine::MULTI_CUT_MAX_CMDS), covering MOTION_STEPPER_CUT_NEW_US (the feed lays out the rest) */
+#define MOTION_STEPPER_GROUP_CUT_CMDS 4U
+/* the margin kept at each member's switch for each member's switch still to come after it, us (the
+ * members are switched one after the other; once one is, the others must come off too) */
+#ifndef MOTION_STEPPER_GROUP_SWITCH_US
+#define MOTION_STEPPER_GROUP_SWITCH_US 300UL
+#endif
 class StepperGroup : public GroupMove {
 public:
     StepperGroup(Stepper &a, Stepper &b);
@@ -46,8 +71,10 @@ public:
     }
     /* false from moveTo until the planner interrupt has planned it (then lastStatus() tells). */
     bool planned() const { return !plan_req_; }
-    motion_status_t stop() override;      /* decelerate to rest on the line */
-    motion_status_t forceStop() override; /* halt every axis now */
+    /* decelerate to rest on the line / halt every axis now; MS_ERR_NOT_BEGUN before every member's
+     * begin() (as a Stepper's), MS_OK otherwise (nothing moving: nothing to do) */
+    motion_status_t stop() override;
+    motion_status_t forceStop() override;
     bool isRunning() const;
     /* true once when a move of the group has ended (every axis at rest); positions: each member's
      * currentPosition(). */
@@ -68,6 +95,7 @@ private:
     motion_status_t move_members(const long *targets, uint8_t members);
     motion_status_t move_all(const long *targets, uint8_t members);
     int8_t index_of(uint8_t axis) const;
+    motion_status_t begun() const;
     /* for Stepper and the planner interrupt (axis: the engine's axis number) */
     AxisSource source_of(uint8_t axis) override;
     int32_t position_of(uint8_t axis) override;
@@ -77,6 +105,10 @@ private:
     void run_request() override;
     void execute_plan();
     void do_stop();
+    enum { GROUP_CUT_NO, GROUP_CUT_DONE, GROUP_CUT_AGAIN };
+    uint8_t stop_at_cut();
+    step_exact_t &cut_keep(uint8_t j);
+    void cut_release();
     void release();
     void axis_done(uint8_t axis, int32_t position) override;
     int32_t follower_position(uint8_t j, int32_t master_pos);
@@ -94,6 +126,14 @@ private:
     volatile bool done_;
     volatile bool plan_req_; /* loop() asked for a move: the planner interrupt plans it */
     volatile bool stop_req_; /* loop() asked for a stop */
+    uint8_t cut_tries_;      /* the stop's cuts tried */
+    uint32_t cut_us_;        /* the next try's distance (0: the first's) */
+    /* the stop's first commands at a cut, as the engine's slot images, for each member, and the second
+     * half of each switch (stop_at_cut) */
+    MultiStepEngine::SlotImage cut_img_[STEP_COORD_MAX_AXES][MOTION_STEPPER_GROUP_CUT_CMDS];
+    MultiStepEngine::CutTail cut_tail_[STEP_COORD_MAX_AXES];
+    step_smooth_t *cut_smooth_[STEP_COORD_MAX_AXES];
+    bool cut_smooth_kept_[STEP_COORD_MAX_AXES];
     motion_status_t last_status_;
     int32_t req_to_[STEP_COORD_MAX_AXES];
     int32_t end_[STEP_COORD_MAX_AXES];
