@@ -23,14 +23,19 @@ static bool fits(const char *p, size_t n, size_t keep)
     return p <= (char *)SP && room >= n && room - n >= keep;
 }
 
-void *board_take(size_t n)
+void *board_take_leaving(size_t n, size_t more)
 {
     char **top = heap_top();
     char *p = *top ? *top : &__heap_start;
-    if (!fits(p, n, reserve))
+    if (!fits(p, n + more, reserve))
         return NULL;
     *top = p + n;
     return p;
+}
+
+void *board_take(size_t n)
+{
+    return board_take_leaving(n, 0);
 }
 
 bool board_reserve_stack(size_t keep, size_t n)

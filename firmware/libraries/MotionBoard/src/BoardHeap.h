@@ -32,6 +32,9 @@
 extern "C" char *board_heap_top;
 
 void *board_take(size_t n);
+/* board_take(n), only where `more` bytes are left beside the reserve after it (for a later take that
+ * must not be crowded out: a StepperGroup's room, taken at its first move, after the Steppers' begin()) */
+void *board_take_leaving(size_t n, size_t more);
 /* A deeper planner (the smooth ramp's): true if n more bytes can be taken with `keep` bytes left for the
  * stack, and from then on every take keeps at least that many; false (nothing changes) otherwise. */
 bool board_reserve_stack(size_t keep, size_t n);

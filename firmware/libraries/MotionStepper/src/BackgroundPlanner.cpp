@@ -15,6 +15,7 @@ bool BackgroundPlanner::share_;
 uint32_t BackgroundPlanner::tick_hz_ = MULTI_TIMED_LOOP ? 1000000UL : MULTI_TICK_HZ;
 uint8_t BackgroundPlanner::tpu_ = (uint8_t)((MULTI_TIMED_LOOP ? 1000000UL : MULTI_TICK_HZ) / 1000000UL);
 bool BackgroundPlanner::in_loop_ = MULTI_TIMED_LOOP;
+uint16_t BackgroundPlanner::group_bytes_;
 
 PlannerIrqState planner_irq = {0, 0, 0, 0, {0, 0, 0}, MOTION_STEPPER_RETRY_COUNTS};
 static_assert(MOTION_STEPPER_RETRY_COUNTS >= 1 && MOTION_STEPPER_RETRY_COUNTS <= 62,

@@ -156,6 +156,11 @@ public:
      * does nothing: the interrupt plans, loop() is free. */
     static void poll();
 
+    /* The heap a StepperGroup made takes at its first move (its stop's room, StepperGroup.h): the
+     * Steppers' begin() leave it when they take their stop planned ahead's room. */
+    static void leaveForGroups(uint16_t bytes) { group_bytes_ = (uint16_t)(group_bytes_ + bytes); }
+    static uint16_t groupBytes() { return group_bytes_; }
+
     /* Steppers begun (their axes claimed): 0 to 3. */
     static uint8_t steppers() { return count_; }
     /* The steps per second of all the Steppers' axes together now: their step interrupts' load. */
@@ -199,6 +204,7 @@ private:
     static uint32_t tick_hz_;
     static uint8_t tpu_;
     static bool in_loop_;
+    static uint16_t group_bytes_;
 };
 
 /* What the planner interrupt's vector (BackgroundPlannerTimer.cpp) and BackgroundPlanner.cpp share;

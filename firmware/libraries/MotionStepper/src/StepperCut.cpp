@@ -74,11 +74,12 @@ const Stepper::Cuts Stepper::CUTS = {Stepper::cuts_at, Stepper::cuts_cruise, Ste
 /* begin(), with the planner interrupt, after the rings: the stop planned ahead's room on the heap
  * (about 430 bytes; planned from loop(), planInLoop, only a Stepper alone takes it, at its first
  * cruise: prepare_stop; the three Steppers of a sketch that plans so keep their SRAM for the stack).
- * False: no room (the Stepper then plans its stop from the cruise at a cut). */
+ * False: no room beside the StepperGroups' rooms (BackgroundPlanner::leaveForGroups): the Stepper
+ * then plans its stop from the cruise at a cut. */
 bool Stepper::stop_ahead_begin()
 {
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
-    stop_ = static_cast<StopAhead *>(board_take(sizeof(StopAhead)));
+    stop_ = static_cast<StopAhead *>(board_take_leaving(sizeof(StopAhead), BackgroundPlanner::groupBytes()));
     if (!stop_)
         return false;
     stop_->n = 0;
@@ -258,6 +259,28 @@ bool Stepper::stop_in_cruise(bool then, int32_t to)
 
 static_assert(MOTION_STEPPER_GROUP_CUT_CMDS <= STEP_CUT_MAX_CMDS, "cut_apply switches at most MULTI_CUT_MAX_CMDS commands");
 
+/* a member's part of a group's room for its stop at a cut (StepperGroup.h): the stop's first commands
+ * as slot images, the second half of the switch, a smooth planner's pointer kept aside */
+struct StepperGroup::CutRoom {
+    MultiStepEngine::SlotImage img[MOTION_STEPPER_GROUP_CUT_CMDS];
+    MultiStepEngine::CutTail tail;
+    step_smooth_t *smooth;
+    bool smooth_kept;
+};
+
+const uint16_t StepperGroup::CUT_ROOM_BYTES = sizeof(StepperGroup::CutRoom);
+
+/* loop() (moveTo): the room, once, at the group's first move with the planner interrupt */
+void StepperGroup::take_cut_room()
+{
+    if (room_ || BackgroundPlanner::inLoop())
+        return;
+    room_ = static_cast<CutRoom *>(board_take(n_ * sizeof(CutRoom)));
+    if (room_)
+        for (uint8_t j = 0; j < n_; j++)
+            room_[j].smooth_kept = false;
+}
+
 /* planner interrupt (StepperGroup::do_stop): a group's stop at a cut of its own axes' queues,
  * MOTION_STEPPER_GROUP_CUT_US ahead per axis (_SLOW_US while the speed changes; grown with the step
  * interrupts' share of the CPU), instead of after the queued lead. Every own axis (a member that
@@ -281,6 +304,8 @@ uint8_t StepperGroup::stop_at_cut()
     uint8_t n_img[STEP_COORD_MAX_AXES];
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
     uint8_t j, count = 0, done = 0;
+    if (!room_)
+        return GROUP_CUT_NO; /* no room on the heap at its first move */
     for (j = 0; j < n_; j++) {
         if (!(own_ & (1U << j)))
             continue;
@@ -337,7 +362,7 @@ uint8_t StepperGroup::stop_at_cut()
         uint8_t n = 0;
         step_cmd_t c;
         while (n < MOTION_STEPPER_GROUP_CUT_CMDS && ticks < until && step_coord_next(&coord_, j, &c)) {
-            MultiStepEngine::make_image(c, cut_img_[j][n], off);
+            MultiStepEngine::make_image(c, room_[j].img[n], off);
             off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
             ticks += ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
             n++;
@@ -354,8 +379,8 @@ uint8_t StepperGroup::stop_at_cut()
                 continue;
             after--;
             const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_SWITCH_US;
-            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, cut_img_[j], n_img[j], n_img[j],
-                                           cut_tail_[j])) {
+            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, n_img[j], n_img[j],
+                                           room_[j].tail)) {
                 done |= (uint8_t)(1U << j);
                 continue;
             }
@@ -375,7 +400,7 @@ uint8_t StepperGroup::stop_at_cut()
     }
     for (j = 0; j < n_; j++)
         if (done & (1U << j))
-            MultiStepEngine::cut_finish(member_[j]->axis_, cut_tail_[j], cut_img_[j], n_img[j]);
+            MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, n_img[j]);
     cut_release();
     step_cut_trace(false);
     return GROUP_CUT_DONE;
@@ -398,9 +423,9 @@ put_back:
 step_exact_t &StepperGroup::cut_keep(uint8_t j)
 {
     step_planner_t &pl = member_[j]->planner_;
-    if (pl.algo == RAMP_ALGO_SMOOTH && !cut_smooth_kept_[j]) {
-        cut_smooth_[j] = pl.smooth;
-        cut_smooth_kept_[j] = true;
+    if (pl.algo == RAMP_ALGO_SMOOTH && !room_[j].smooth_kept) {
+        room_[j].smooth = pl.smooth;
+        room_[j].smooth_kept = true;
     }
     return pl.exact;
 }
@@ -413,9 +438,9 @@ void StepperGroup::cut_release()
         if (!(own_ & (1U << j)))
             continue;
         step_planner_t &pl = member_[j]->planner_;
-        if (cut_smooth_kept_[j]) {
-            pl.smooth = cut_smooth_[j];
-            cut_smooth_kept_[j] = false;
+        if (room_[j].smooth_kept) {
+            pl.smooth = room_[j].smooth;
+            room_[j].smooth_kept = false;
         } else if (pl.algo == RAMP_ALGO_EXACT) {
             pl.params_new = 1;
         }

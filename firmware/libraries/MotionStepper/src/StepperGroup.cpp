@@ -10,20 +10,22 @@
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b)
     : n_(2), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
-      cut_tries_(0), cut_us_(0), cut_smooth_kept_(), last_status_(MS_OK)
+      cut_tries_(0), cut_us_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
     member_[1] = &b;
     member_[2] = 0;
+    BackgroundPlanner::leaveForGroups((uint16_t)(2U * CUT_ROOM_BYTES));
 }
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b, Stepper &c)
     : n_(3), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
-      cut_tries_(0), cut_us_(0), cut_smooth_kept_(), last_status_(MS_OK)
+      cut_tries_(0), cut_us_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
     member_[1] = &b;
     member_[2] = &c;
+    BackgroundPlanner::leaveForGroups((uint16_t)(3U * CUT_ROOM_BYTES));
 }
 
 int8_t StepperGroup::index_of(uint8_t axis) const
@@ -93,6 +95,7 @@ motion_status_t StepperGroup::move_all(const long *targets, uint8_t members)
             if (member_[k]->axis_ == member_[j]->axis_)
                 return MS_ERR_BUSY; /* the same axis twice */
     }
+    take_cut_room(); /* (the heap, once: loop()'s) */
     PlannerLock lock;
     for (uint8_t j = 0; j < n_; j++) {
         Stepper &s = *member_[j];

@@ -109,6 +109,7 @@ private:
     uint8_t stop_at_cut();
     step_exact_t &cut_keep(uint8_t j);
     void cut_release();
+    void take_cut_room();
     void release();
     void axis_done(uint8_t axis, int32_t position) override;
     int32_t follower_position(uint8_t j, int32_t master_pos);
@@ -128,12 +129,11 @@ private:
     volatile bool stop_req_; /* loop() asked for a stop */
     uint8_t cut_tries_;      /* the stop's cuts tried */
     uint32_t cut_us_;        /* the next try's distance (0: the first's) */
-    /* the stop's first commands at a cut, as the engine's slot images, for each member, and the second
-     * half of each switch (stop_at_cut) */
-    MultiStepEngine::SlotImage cut_img_[STEP_COORD_MAX_AXES][MOTION_STEPPER_GROUP_CUT_CMDS];
-    MultiStepEngine::CutTail cut_tail_[STEP_COORD_MAX_AXES];
-    step_smooth_t *cut_smooth_[STEP_COORD_MAX_AXES];
-    bool cut_smooth_kept_[STEP_COORD_MAX_AXES];
+    /* the stop's room at a cut (stop_at_cut), one part per member, from the heap at the first move with
+     * the planner interrupt (the Steppers' begin() leave it: BackgroundPlanner::leaveForGroups) */
+    struct CutRoom;
+    static const uint16_t CUT_ROOM_BYTES;
+    CutRoom *room_;
     motion_status_t last_status_;
     int32_t req_to_[STEP_COORD_MAX_AXES];
     int32_t end_[STEP_COORD_MAX_AXES];
