@@ -125,19 +125,27 @@ void lay_out(AxisFeed &f, AxisSlot &t, const step_cmd_t &c)
 
 } // namespace
 
-/* the last step of slot t is made and nothing follows: the move's end or an underrun (interrupts off) */
-void mse::stop_after(AxisState &s, const AxisSlot &t)
+/* the last step of slot t is made and nothing follows: the move's end or an underrun. Its books (the
+ * axis's own fields, which only its interrupt and, after it, the planner touch) may be made with
+ * interrupts on once the axis's interrupt is masked; the running flag and the registers shared with
+ * the other axes (sync_g0) with interrupts off. */
+void mse::stop_books(AxisState &s, const AxisSlot &t)
 {
     int32_t made = (int32_t)t.left + 1;
     s.pos_rest = t.p_start + ((t.flags & _BV(AXIS_SLOT_FORWARD)) ? made : -made);
-    s.running = 0;
-    sync_g0(s);
     if (s.finishing) {
         s.finishing = 0;
         s.done = 1;
     } else {
         s.underruns = s.underruns + 1U;
     }
+}
+
+void mse::stop_after(AxisState &s, const AxisSlot &t)
+{
+    stop_books(s, t);
+    s.running = 0;
+    sync_g0(s);
 }
 
 void MultiStepEngine::attach(uint8_t axis, AxisState &s)

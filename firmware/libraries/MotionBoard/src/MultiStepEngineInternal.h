@@ -178,8 +178,10 @@ __attribute__((always_inline)) inline void load_slot(AxisState &s, AxisSlot &t)
     /* its SLOW mode bit: arm_step */
 }
 
-/* the last step of slot t is made and nothing follows: the move's end or an underrun (interrupts off) */
+/* the last step of slot t is made and nothing follows: the move's end or an underrun (interrupts off);
+ * stop_books: its books alone (the axis's interrupt masked; interrupts may be on: MultiStepEngine.cpp) */
 void stop_after(AxisState &s, const AxisSlot &t);
+void stop_books(AxisState &s, const AxisSlot &t);
 
 /* The executor's variant (MultiStepEngineTimer.cpp or MultiStepEngineLoop.cpp): */
 /* begin()'s last step, after the states are reset: s_tick_hz set from tick_hz, the timer (if any) started */
