@@ -599,6 +599,47 @@ uint32_t step_exact_stop_steps(const step_exact_t *e)
     return n + (r > 0 && n < UINT32_MAX ? 1U : 0U);
 }
 
+/* 2^-j, for j up to SEG_B: a command's share of a span's steps (a multiplication: the AVR's float
+ * division costs some 500 cycles) */
+static const float span_inv[SEG_B + 1U] = {1.0f, 0.5f, 0.25f, 0.125f, 0.0625f, 0.03125f, 0.015625f, 0.0078125f};
+
+uint32_t step_exact_decel_cmds(const step_exact_t *e, float v_sps)
+{
+    /* U = v F / a = v C / (2F) ticks: in u (C in u^2 = 2^16 ticks^2, U in u = 2^-8 ticks) v cu / (512 F) */
+    const float cu = e->k.cu_f, u0 = (float)e->k.u0, ic = 1.0f / cu, u02 = u0 * u0;
+    const float us = v_sps * cu / (512.0f * (float)e->k.tick_hz);
+    const float zfit = fbits(e->zfit_cu) == fbits(cu) ? e->zfit : cu * root5(cu) * FIT_K;
+    /* below the speed whose interval C/(2y) is the longest a span may have (RATE_LIMIT: 65535 ticks,
+     * 2^8 u each), every step is a command */
+    const float uw = cu * (0.5f / (float)(RATE_LIMIT >> 8)), mw = (uw * uw - u02) * ic;
+    float m = (us * us - u02) * ic, low = 0.0f, cmds = (float)(SEG_B + 1U);
+    uint8_t b;
+    if (!(m > 0.0f))
+        return 0;
+    if (m > 4.0e9f)
+        return UINT32_MAX;
+    if (mw > 0.0f) {
+        low = mw < m ? mw : m;
+        cmds += low;
+    }
+    /* span 2^b fits while the steps left are at least thr_d's threshold: from there on the steps to
+     * the threshold of 2^(b+1) go 2^b a command (and each change of span, and the end, break the
+     * steps left into powers of two: SEG_B + 1 commands more at most, counted above) */
+    const float zic = zfit * ic, base = 1.0f - u02 * ic;
+    for (b = 1; b <= SEG_B && low < m; b++) {
+        float thr = zic * span_pow[b] + (base + (float)SPAN(b));
+        if (thr > m)
+            thr = m;
+        if (thr > low) {
+            cmds += (thr - low) * span_inv[b - 1U];
+            low = thr;
+        }
+    }
+    if (low < m)
+        cmds += (m - low) * span_inv[SEG_B];
+    return cmds < 4.0e9f ? (uint32_t)cmds + 1U : UINT32_MAX;
+}
+
 void step_exact_stop(step_exact_t *e)
 {
     /* step_exact_stop_steps, keeping its steps_between: from vmax it is the profile's n3 too */

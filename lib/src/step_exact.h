@@ -126,6 +126,14 @@ void step_exact_stop(step_exact_t *e);
 /* Steps needed to stop from the current state (0 at rest). */
 uint32_t step_exact_stop_steps(const step_exact_t *e);
 
+/* About how many commands (step_exact_next) a deceleration from v_sps steps/s to v0 under e's
+ * constants takes: the steps of each span of the span rule (its thresholds, as a stop works them
+ * out) over the span, in a few float operations per span, nothing planned. A planner's estimate of
+ * the work a stop will ask of it (the MotionStepper library's StepperGroup chooses how far ahead it
+ * cuts its queues from it); test_step_exact_seek checks it against stops planned and handed out.
+ * 0 at or below v0. */
+uint32_t step_exact_decel_cmds(const step_exact_t *e, float v_sps);
+
 /* The next command of the profile: 1 and *c, or 0 when the profile is complete (then at rest). */
 uint8_t step_exact_next(step_exact_t *e, step_cmd_t *c);
 

@@ -1052,6 +1052,52 @@ static void stop_after_cut_inside_a_ramp_command_follows_the_law(void **state)
     stop_after_cut(2);
 }
 
+/* ---- the commands of a deceleration, estimated (step_exact_decel_cmds) -------------------------
+ * Reference: the stop itself, planned (step_exact_stop) and handed out command by command. Over random
+ * parameter sets and random moments of random moves (accelerating, cruising, decelerating), the
+ * estimate from the speed there must cover the commands handed out (a planner that plans a stop's
+ * work ahead from it must not be short) and stay within a quarter and 8 commands above them. */
+static void decel_cmds_estimate_covers_the_stop(void **state)
+{
+    uint32_t i, done = 0, worst_i = 0;
+    double worst = 0.0;
+    (void)state;
+    for (i = 0; i < 6000U; i++) {
+        ramp_params_t p;
+        step_exact_t e;
+        step_cmd_t c;
+        uint32_t d = (uint32_t)lrand(2, 200000), k = (uint32_t)lrand(1, 5000), j, est, got = 0;
+        float v;
+        random_params(&p, i);
+        if (step_exact_set_params(&e, &p) != MS_OK)
+            continue;
+        step_exact_reset(&e, 0);
+        if (step_exact_plan(&e, (int32_t)d) != MS_OK)
+            continue;
+        for (j = 0; j < k && step_exact_next(&e, &c); j++) {
+        }
+        if (!e.moving)
+            continue;
+        v = step_exact_speed_sps(&e);
+        est = step_exact_decel_cmds(&e, v);
+        step_exact_stop(&e);
+        while (step_exact_next(&e, &c) && got < 10000000U)
+            got++;
+        if (got < 8U)
+            continue; /* a stop of a few steps: nothing to plan ahead */
+        if (est < got || est > got + got / 4U + 8U)
+            fail_msg("case %u: v0 %g vmax %g a %g F %u, at %g steps/s: estimate %u commands, the stop took %u", i,
+                     p.v0_sps, p.vmax_sps, p.accel_sps2, p.tick_hz, v, est, got);
+        if ((double)est / got > worst) {
+            worst = (double)est / got;
+            worst_i = i;
+        }
+        done++;
+    }
+    printf("# %u stops, the estimate at most %.3f times the commands (case %u)\n", done, worst, worst_i);
+    assert_true(done > 800U);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1068,6 +1114,7 @@ int main(void)
         cmocka_unit_test(mirrored_stop_follows_the_law),
         cmocka_unit_test(a_split_deceleration_keeps_its_spans),
         cmocka_unit_test(longest_move),
+        cmocka_unit_test(decel_cmds_estimate_covers_the_stop),
     };
     return cmocka_run_group_tests(tests, 0, 0);
 }

@@ -281,9 +281,32 @@ void StepperGroup::take_cut_room()
             room_[j].smooth_kept = false;
 }
 
+/* what the stop's commands ask of the planner beyond the stop's own duration, us (0: no more than it),
+ * for a cut ahead_us ahead, the members' speeds now v[] (steps/s, not negative):
+ * MOTION_STEPPER_GROUP_CMD_US (grown) for each command lib's step_exact_decel_cmds expects of every own
+ * axis decelerating from its speed at the cut, less the master's time to stop from there. The master's
+ * speed at the cut: now, plus its acceleration for ahead_us, at most vmax (while accelerating it still
+ * grows until the cut; in the cruise it is vmax); every other axis's in proportion. */
+uint32_t StepperGroup::stop_bank_us(float grow, uint32_t ahead_us, const float v[])
+{
+    const float a = coord_.profile.accel_sps2, vm = v[coord_.master];
+    float at = vm + a * (float)ahead_us * 1.0e-6f;
+    uint32_t cmds = 0;
+    if (at > coord_.profile.vmax_sps)
+        at = coord_.profile.vmax_sps;
+    const float scale = vm > 0.0f ? at / vm : 1.0f;
+    for (uint8_t j = 0; j < n_; j++)
+        if (own_ & (1U << j))
+            cmds += step_exact_decel_cmds(&coord_.ax[j], v[j] * scale);
+    const float work_us = (float)cmds * (float)MOTION_STEPPER_GROUP_CMD_US * grow, stop_us = at / a * 1.0e6f;
+    return work_us > stop_us ? (uint32_t)(work_us - stop_us) : 0U;
+}
+
 /* planner interrupt (StepperGroup::do_stop): a group's stop at a cut of its own axes' queues,
  * MOTION_STEPPER_GROUP_CUT_US ahead per axis (_SLOW_US while the speed changes; grown with the step
- * interrupts' share of the CPU), instead of after the queued lead. Every own axis (a member that
+ * interrupts' share of the CPU) and farther by what the stop's commands ask of the planner beyond
+ * their own time (stop_bank_us; a cut that would land beyond the lead is not tried), instead of after
+ * the queued lead. Every own axis (a member that
  * repeats the master's commands is pulsed by its interrupt, and cut with it) is taken back to where
  * its cut lands (lib's step_coord_rewind: as if it had handed out only the kept commands), the stop
  * on the line is planned from there (step_coord_stop) and each axis's first commands, made into slot
@@ -315,17 +338,34 @@ uint8_t StepperGroup::stop_at_cut()
     }
     if (count == 0 || BackgroundPlanner::inLoop())
         return GROUP_CUT_NO;
-    BackgroundPlanner::finishCuts(); /* another Stepper's cut in the cruise: its second half first */
-    BackgroundPlanner::feedBeforePlan(); /* the other queues last through the plan (before the search) */
     uint32_t ahead_us = cut_us_;
     if (ahead_us == 0) {
+        float v[STEP_COORD_MAX_AXES];
+        for (j = 0; j < n_; j++)
+            v[j] = (own_ & (1U << j)) || j == coord_.master ? fabs(MultiStepEngine::speed(member_[j]->axis_)) : 0.0f;
         /* the master's speed changing (the cut lands in a ramp: a costlier rewind and stop, and at a
          * command's start) or not */
-        const bool cruise = fabs(MultiStepEngine::speed(member_[coord_.master]->axis_)) >= 0.98f * coord_.profile.vmax_sps;
+        const bool cruise = v[coord_.master] >= 0.98f * coord_.profile.vmax_sps;
+        const uint32_t lead_us = (uint32_t)BackgroundPlanner::leadMs() * 1000UL;
         float grow = grow_at(BackgroundPlanner::stepRate(), MOTION_STEPPER_STEP_CYCLES);
-        ahead_us = (uint32_t)((float)((cruise ? MOTION_STEPPER_GROUP_CUT_US : MOTION_STEPPER_GROUP_CUT_SLOW_US) * count) *
-                              (grow > 1.0f ? grow : 1.0f));
+        if (grow < 1.0f)
+            grow = 1.0f;
+        ahead_us = (uint32_t)((float)((cruise ? MOTION_STEPPER_GROUP_CUT_US : MOTION_STEPPER_GROUP_CUT_SLOW_US) * count) * grow);
+        /* the bank for the stop's work, from the speed at this cut, then (if any) at the cut that far
+         * ahead; beyond the lead nothing is cut (and no search's time lost: the stop after the lead
+         * needs all of the planner) */
+        uint32_t bank = stop_bank_us(grow, ahead_us, v);
+        if (bank != 0U && ahead_us + bank < lead_us) {
+            const uint32_t bank2 = stop_bank_us(grow, ahead_us + bank, v);
+            if (bank2 > bank)
+                bank = bank2;
+        }
+        ahead_us += bank;
+        if (ahead_us >= lead_us)
+            return GROUP_CUT_NO;
     }
+    BackgroundPlanner::finishCuts(); /* another Stepper's cut in the cruise: its second half first */
+    BackgroundPlanner::feedBeforePlan(); /* the other queues last through the plan (before the search) */
     step_cut_trace(true);
     /* where each own axis can be cut: its first command whose first step lies that far ahead, or in
      * a cruise the first step (the exact ramp goes back to any step of its cruise) */

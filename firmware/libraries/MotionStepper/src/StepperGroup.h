@@ -44,6 +44,15 @@
 #ifndef MOTION_STEPPER_GROUP_CUT_SLOW_US
 #define MOTION_STEPPER_GROUP_CUT_SLOW_US 6500UL
 #endif
+/* ... and farther still when the stop asks more of the planner than its own time: the planner's time
+ * per command (us, three axes near rest measured at 2.56 commands a millisecond: 2026-12-07, GroupStop
+ * traced), times the stop's commands (lib's step_exact_decel_cmds, every own axis from its speed),
+ * grown as above, less the stop's duration, is added to the distance (the cut leaves the queues that
+ * much more to bank the stop's work: three Steppers at 10,000 steps/s and 100,000 steps/s^2 need
+ * some 275 commands in the 100 ms of a stop; cut 20 ms ahead, every axis ran dry 10 times or more) */
+#ifndef MOTION_STEPPER_GROUP_CMD_US
+#define MOTION_STEPPER_GROUP_CMD_US 400UL
+#endif
 /* the stop's first commands laid out at the cut for each axis: up to this many (at most
  * MultiStepEngine::MULTI_CUT_MAX_CMDS), covering MOTION_STEPPER_CUT_NEW_US (the feed lays out the rest) */
 #define MOTION_STEPPER_GROUP_CUT_CMDS 4U
@@ -107,6 +116,7 @@ private:
     void do_stop();
     enum { GROUP_CUT_NO, GROUP_CUT_DONE, GROUP_CUT_AGAIN };
     uint8_t stop_at_cut();
+    uint32_t stop_bank_us(float grow, uint32_t ahead_us, const float v[]);
     step_exact_t &cut_keep(uint8_t j);
     void cut_release();
     void take_cut_room();
