@@ -599,10 +599,6 @@ uint32_t step_exact_stop_steps(const step_exact_t *e)
     return n + (r > 0 && n < UINT32_MAX ? 1U : 0U);
 }
 
-/* 2^-j, for j up to SEG_B: a command's share of a span's steps (a multiplication: the AVR's float
- * division costs some 500 cycles) */
-static const float span_inv[SEG_B + 1U] = {1.0f, 0.5f, 0.25f, 0.125f, 0.0625f, 0.03125f, 0.015625f, 0.0078125f};
-
 uint32_t step_exact_decel_cmds(const step_exact_t *e, float v_sps)
 {
     /* U = v F / a = v C / (2F) ticks: in u (C in u^2 = 2^16 ticks^2, U in u = 2^-8 ticks) v cu / (512 F) */
@@ -626,17 +622,19 @@ uint32_t step_exact_decel_cmds(const step_exact_t *e, float v_sps)
      * the threshold of 2^(b+1) go 2^b a command (and each change of span, and the end, break the
      * steps left into powers of two: SEG_B + 1 commands more at most, counted above) */
     const float zic = zfit * ic, base = 1.0f - u02 * ic;
-    for (b = 1; b <= SEG_B && low < m; b++) {
+    float per = 1.0f; /* a command's share of the span's steps, 2^-(b-1) (a multiplication: the AVR's
+                         float division costs some 500 cycles; no table: a table of floats is SRAM) */
+    for (b = 1; b <= SEG_B && low < m; b++, per *= 0.5f) {
         float thr = zic * span_pow[b] + (base + (float)SPAN(b));
         if (thr > m)
             thr = m;
         if (thr > low) {
-            cmds += (thr - low) * span_inv[b - 1U];
+            cmds += (thr - low) * per;
             low = thr;
         }
     }
     if (low < m)
-        cmds += (m - low) * span_inv[SEG_B];
+        cmds += (m - low) * (1.0f / (float)SPAN(SEG_B));
     return cmds < 4.0e9f ? (uint32_t)cmds + 1U : UINT32_MAX;
 }
 

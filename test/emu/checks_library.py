@@ -2163,6 +2163,10 @@ def check_group_stop(env):
             if call is None or done is None:
                 problems.append(f"{what}: no stop() call or no DONE ({texts[-3:]})")
                 continue
+            missed = next((l.text for l in log.rx if l.text.startswith("MISSED")), None)
+            if missed != "MISSED 0":
+                problems.append(f"{what}: '{missed}': the stop acted after the lead (StepperGroup::cutsMissed()), "
+                                "not at a cut")
             f = done.text.split()[1:]
             pos = []
             for i, ax in enumerate("XYZ"[:n]):

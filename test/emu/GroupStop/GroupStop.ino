@@ -3,7 +3,7 @@
  * a StepperGroup of GS_N MotionStepper Steppers (X, Y and Z: 2 or 3) at GS_V steps/s and GS_A
  * steps/s^2 each moves on the line towards (1,000,000, 500,000[, -250,000]) ("MOVE"); when D3 goes low
  * (the script's switch) D5 goes high and the group gets stop() ("STOP"); at rest it prints "DONE" with
- * every axis's position and underruns, then FINISHED. The check measures from D5 when each axis's
+ * every axis's position and underruns, "MISSED" with the group's cutsMissed(), then FINISHED. The check measures from D5 when each axis's
  * deceleration began (the group's stop cuts the queues a few milliseconds ahead: StepperGroup.h,
  * MOTION_STEPPER_GROUP_CUT_US) and where the axes came to rest (on the line). */
 #ifndef GS_N
@@ -74,6 +74,8 @@ void loop()
             Serial.print(all[i]->underruns());
         }
         Serial.println();
+        Serial.print(F("MISSED "));
+        Serial.println(g.cutsMissed());
         Serial.println(F("FINISHED"));
         finished = true;
     }

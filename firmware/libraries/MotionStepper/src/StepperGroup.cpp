@@ -10,7 +10,7 @@
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b)
     : n_(2), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
-      cut_tries_(0), cut_us_(0), room_(0), last_status_(MS_OK)
+      cut_tries_(0), cut_us_(0), cuts_missed_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
     member_[1] = &b;
@@ -20,7 +20,7 @@ StepperGroup::StepperGroup(Stepper &a, Stepper &b)
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b, Stepper &c)
     : n_(3), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
-      cut_tries_(0), cut_us_(0), room_(0), last_status_(MS_OK)
+      cut_tries_(0), cut_us_(0), cuts_missed_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
     member_[1] = &b;
@@ -327,8 +327,10 @@ void StepperGroup::do_stop()
         stop_req_ = true; /* farther ahead, at the next request pass */
         return;
     }
-    if (cut == GROUP_CUT_NO)
+    if (cut == GROUP_CUT_NO) {
         step_coord_stop(&coord_);
+        cuts_missed_++;
+    }
     /* a follower stops with its master, as far */
     for (uint8_t j = 0; j < n_; j++) {
         if (ref_[j].repeats == m) {

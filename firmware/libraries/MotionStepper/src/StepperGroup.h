@@ -91,6 +91,12 @@ public:
     /* The status of the last move's plan (made by the planner interrupt within a millisecond or
      * so of moveTo: MS_ERR_COORD_RATIO shows here, the move then ended at once with no step). */
     motion_status_t lastStatus() const { return last_status_; }
+    /* Stops (stop()) that acted after the queued lead instead of at a cut a few milliseconds ahead:
+     * no room on the heap for the cut's first commands (taken at the group's first move), planned from
+     * loop() (no planner interrupt), a stop whose work needs more bank than the lead, a cut refused or
+     * missed on every try, or one after a member's part of the move has ended. 0 in a sketch whose
+     * stops all come at a cut. */
+    uint16_t cutsMissed() const { return cuts_missed_; }
 
 private:
     friend class Stepper;
@@ -139,6 +145,7 @@ private:
     volatile bool stop_req_; /* loop() asked for a stop */
     uint8_t cut_tries_;      /* the stop's cuts tried */
     uint32_t cut_us_;        /* the next try's distance (0: the first's) */
+    uint16_t cuts_missed_;   /* cutsMissed() */
     /* the stop's room at a cut (stop_at_cut), one part per member, from the heap at the first move with
      * the planner interrupt (the Steppers' begin() leave it: BackgroundPlanner::leaveForGroups) */
     struct CutRoom;
