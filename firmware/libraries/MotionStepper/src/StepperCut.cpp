@@ -352,8 +352,9 @@ uint8_t StepperGroup::stop_at_cut()
             grow = 1.0f;
         ahead_us = (uint32_t)((float)((cruise ? MOTION_STEPPER_GROUP_CUT_US : MOTION_STEPPER_GROUP_CUT_SLOW_US) * count) * grow);
         /* the bank for the stop's work, from the speed at this cut, then (if any) at the cut that far
-         * ahead; beyond the lead nothing is cut (and no search's time lost: the stop after the lead
-         * needs all of the planner) */
+         * ahead (the distance above, less the plan's own time, leaves the queues the few milliseconds
+         * more that the stop's last commands, a step each, need); beyond the lead nothing is cut (and
+         * no search's time lost: the stop after the lead needs all of the planner) */
         uint32_t bank = stop_bank_us(grow, ahead_us, v);
         if (bank != 0U && ahead_us + bank < lead_us) {
             const uint32_t bank2 = stop_bank_us(grow, ahead_us + bank, v);
