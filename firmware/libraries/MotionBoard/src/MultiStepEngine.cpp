@@ -315,27 +315,19 @@ uint8_t MultiStepEngine::service(uint8_t axis, const AxisSource &src, uint8_t ma
 }
 
 /* what the interrupt's current command has already stepped of the time the books count for it
- * (f.queued_ticks counts a command whole until it is done: the rest of it is its steps not armed yet
- * times the next interval, as ticks_until reckons it), ticks; 0 when the books do not begin at it */
+ * (f.queued_ticks counts a command whole until it is done: the rest of it is about its steps not armed
+ * yet times its interval), ticks; 0 when the books do not begin at it, or for a WIDE one. An estimate
+ * for the planner's choice of the axis to feed, read without turning interrupts off (a cli of some
+ * 40 cycles at every pick put a Stepper's edges at 90,000 steps/s late: make bench) */
 static uint32_t current_spent(AxisState &s, const AxisFeed &f)
 {
-    AxisSlot *cp;
-    uint32_t rate;
-    uint16_t left;
-    bool wide, running;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE)
-    {
-        cp = s.cur;
-        left = (uint16_t)(s.left + (looked_ahead(s) ? 1U : 0U));
-        rate = s.rate + (uint32_t)s.add;
-        wide = (s.flags & _BV(AXIS_SLOT_WIDE)) != 0;
-        running = s.running;
-    }
-    const uint8_t ci = slot_index(s, cp);
-    if (!running || ci != f.seen)
+    if (!s.running || (s.flags & _BV(AXIS_SLOT_WIDE)) || cur_index(s) != f.seen)
         return 0;
-    const uint32_t whole = lead_weight(f.duration[ci]), per = wide ? rate : rate >> 16;
-    const uint32_t rest = per > 0xFFFFUL ? whole : (uint32_t)left * (uint16_t)per;
+    uint16_t left = s.left;
+    while (left != s.left) /* (two bytes the interrupt may change between them) */
+        left = s.left;
+    const uint16_t per = reinterpret_cast<volatile const uint16_t *>(&s.rate)[1]; /* the interval's ticks */
+    const uint32_t whole = lead_weight(f.duration[f.seen]), rest = (uint32_t)left * per;
     return rest < whole ? whole - rest : 0U;
 }
 
