@@ -331,7 +331,7 @@ static uint32_t current_spent(AxisState &s, const AxisFeed &f)
     return rest < whole ? whole - rest : 0U;
 }
 
-uint32_t MultiStepEngine::queued_ticks(uint8_t axis)
+uint32_t MultiStepEngine::queued_ticks(uint8_t axis, bool rest)
 {
     AxisState &s = state(axis);
     AxisFeed &f = s_feed[axis];
@@ -340,10 +340,10 @@ uint32_t MultiStepEngine::queued_ticks(uint8_t axis)
     if (!(f.ready < 2U || f.queued_ticks < s_lead_ticks) || f.ready >= f.nslots - 1U ||
         s.slot[f.head].ready || (s.running && f.head == cur_index(s)))
         return UINT32_MAX;
-    /* what is left to step: a slow axis's commands last long (Z's at a few hundred steps/s, some 10
-     * ms each), and counted whole its queue looked deeper than the others' while it ran dry (three
-     * Steppers at 15,000 steps/s stopped as a group 175 ms into the move: Z paused 1.7 ms) */
-    return f.queued_ticks - current_spent(s, f);
+    /* rest: what is left to step; a slow axis's commands last long (Z's at a few hundred steps/s,
+     * some 10 ms each), and counted whole its queue looked deeper than the others' while it ran dry
+     * (three Steppers at 15,000 steps/s stopped as a group 175 ms into the move: Z paused 1.7 ms) */
+    return rest ? f.queued_ticks - current_spent(s, f) : f.queued_ticks;
 }
 
 void MultiStepEngine::follow(uint8_t master, uint8_t axis, bool forward)

@@ -178,8 +178,9 @@ public:
     static uint8_t service(uint8_t axis, const AxisSource &src, uint8_t max_cmds);
 
     /* How far ahead the axis's queue reaches (ticks), or UINT32_MAX when it needs nothing now:
-     * the planner feeds the axis with the shortest queue first. */
-    static uint32_t queued_ticks(uint8_t axis);
+     * the planner feeds the axis with the shortest queue first. rest: the command running now
+     * counts only what is left of it (an estimate: for a choice between axes), else whole. */
+    static uint32_t queued_ticks(uint8_t axis, bool rest = false);
 
     /* Axis follows master in a coordinated move where both move as far: master's interrupt pulses
      * both STEP pins at once (X and Y in one instruction), so the pair costs one interrupt and one

@@ -154,6 +154,14 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
     uint32_t t0 = share_ ? micros() : 0;
     uint32_t half = share_ ? (uint32_t)leadMs() * (tick_hz_ / 2000UL) : 0;
     finishCuts(); /* a stop cut in the cruise: its rest first */
+    /* with two axes or more stepping, each queue is reckoned from what is left of the command running
+     * now (queued_ticks' rest: a slow axis's long command counted whole made its queue look deeper
+     * than it was); with one, nothing to choose between, and no cycles spent on it */
+    uint8_t n_step = 0;
+    for (uint8_t i = 0; i < 3; i++)
+        if (axes_[i] && i != except && MultiStepEngine::stepping(i))
+            n_step++;
+    const bool rest = n_step >= 2U;
     for (uint8_t k = 0; k < MOTION_STEPPER_CMDS_PER_TICK;) {
         uint8_t laid;
         uint32_t best = UINT32_MAX, most = 0;
@@ -162,7 +170,7 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
             uint32_t q;
             if (!axes_[i] || i == except || (dry & (1U << i)) || !MultiStepEngine::moving(i))
                 continue;
-            q = MultiStepEngine::queued_ticks(i);
+            q = MultiStepEngine::queued_ticks(i, rest);
             if (q == UINT32_MAX)
                 continue;
             if (MultiStepEngine::stepping(i)) {
