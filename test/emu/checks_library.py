@@ -2082,7 +2082,11 @@ GROUP_BUILDS = (("group-two-20k", 2, 20000, 50000, (600.0, 650.3, 700.7, 800.5, 
                 ("group-three-10k", 3, 10000, 50000,
                  (400.0, 450.3, 500.7, 600.5, 150.0, 100.0, 110.0, 120.0, 130.0), 34.0),
                 ("group-three-10k-steep", 3, 10000, 100000,
-                 (300.0, 350.3, 90.0, 100.0, 110.0, 120.0, 130.0, 150.0, 170.0, 200.0), 60.0))
+                 (300.0, 350.3, 90.0, 100.0, 110.0, 120.0, 130.0, 150.0, 170.0, 200.0), 60.0),
+                # the end of the acceleration, 2 ms apart (X's queue ran dry after its cut at 290, 308 and 310 ms
+                # until a stop of three while their speed changes cut farther ahead: StepperGroup.h,
+                # MOTION_STEPPER_GROUP_CUT_SLOW_3_US)
+                ("group-three-15k", 3, 15000, 50000, tuple(float(t) for t in range(280, 314, 2)), 34.0))
 GROUP_RATIO = (1.0, 0.5, 0.25)
 GROUP_DIR = (1, 1, -1)
 GROUP_LATE = 700  # cycles off the deceleration's law (two step interrupts share the CPU: their jitter)
@@ -2250,7 +2254,8 @@ def checks_for(env):
                    f"taking the slot a cut search chose: within {THREE_RACE_CUT_MS} ms (the search starts again)",
                    lambda: guarded(check_three_steppers, env)))
     checks.append(("MotionStepper library, test sketch GroupStop: a StepperGroup's stop() (two Steppers at 20,000 "
-                   "steps/s, three at 10,000 with 50,000 and 100,000 steps/s^2, in the cruise and while accelerating) cuts "
+                   "steps/s, three at 10,000 with 50,000 and 100,000 steps/s^2, in the cruise and while accelerating, three at 15,000 "
+                   "at the end of their acceleration) cuts "
                    "the queues: every axis on the "
                    "law, decelerating within " + " and ".join(f"{b[-1]:g}" for b in GROUP_BUILDS) + " ms of the call "
                    "(the leads without the cut: 40 and 100 ms), at rest on the line, no underrun",

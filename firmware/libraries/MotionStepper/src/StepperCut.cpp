@@ -350,7 +350,10 @@ uint8_t StepperGroup::stop_at_cut()
         float grow = grow_at(BackgroundPlanner::stepRate(), MOTION_STEPPER_STEP_CYCLES);
         if (grow < 1.0f)
             grow = 1.0f;
-        ahead_us = (uint32_t)((float)((cruise ? MOTION_STEPPER_GROUP_CUT_US : MOTION_STEPPER_GROUP_CUT_SLOW_US) * count) * grow);
+        const uint32_t per_axis = cruise ? MOTION_STEPPER_GROUP_CUT_US
+                                  : count >= 3U ? MOTION_STEPPER_GROUP_CUT_SLOW_3_US
+                                                : MOTION_STEPPER_GROUP_CUT_SLOW_US;
+        ahead_us = (uint32_t)((float)(per_axis * count) * grow);
         /* the bank for the stop's work, from the speed at this cut, then (if any) at the cut that far
          * ahead (the distance above, less the plan's own time, leaves the queues the few milliseconds
          * more that the stop's last commands, a step each, need); beyond the lead nothing is cut (and

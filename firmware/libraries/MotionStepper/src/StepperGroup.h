@@ -44,6 +44,16 @@
 #ifndef MOTION_STEPPER_GROUP_CUT_SLOW_US
 #define MOTION_STEPPER_GROUP_CUT_SLOW_US 6500UL
 #endif
+/* ... per axis with three, while the speed changes: the members' cuts are searched one after the
+ * other (some 1.2 ms each), so the last lands farther along the line than the first, whose stop then
+ * first accelerates to the common point on it (step_coord_stop) in commands of 16, 8, 4, 2 and 1
+ * steps, each as costly to plan as any; with the other two axes' first commands to plan as well, the
+ * 1 ms more per axis is their time (three Steppers at 15,000 steps/s, 50,000 steps/s^2, stopped 282
+ * to 312 ms after the move began: with 6,500 X's queue ran dry after its cut at 2 or 3 moments of 180,
+ * 2 ms apart; with 7,500 at none; test/emu/GroupStop, group-three-15k) */
+#ifndef MOTION_STEPPER_GROUP_CUT_SLOW_3_US
+#define MOTION_STEPPER_GROUP_CUT_SLOW_3_US 7500UL
+#endif
 /* ... and farther still when the stop asks more of the planner than its own time: the planner's time
  * per command (us, three axes near rest measured at 2.56 commands a millisecond: 2026-12-07, GroupStop
  * traced), times the stop's commands (lib's step_exact_decel_cmds, every own axis from its speed),
