@@ -75,7 +75,7 @@ extern "C" {
     X(MS_ERR_NO_PLANNER_TIMER, "no planner interrupt: #include <MotionStepper.h>")         \
     X(MS_ERR_NO_MEMORY, "not enough SRAM: this Stepper's buffers and the stack's reserve (BOARD_STACK_RESERVE) do not fit") \
     X(MS_ERR_RAMP_LIMIT, "vmax or accel above this ramp's limit: lower them first (STEPPER_MAX_SPS_* in StepperPins.h; docs/library.md, setRamp)") \
-    X(MS_ERR_ABOVE_LIMIT, "above this Stepper's limit: maxSpeedLimit(), accelerationLimit() and minSpeedLimit() give them")
+    X(MS_ERR_ABOVE_LIMIT, "number out of range: above this Stepper's limit (maxSpeedLimit(), accelerationLimit() and minSpeedLimit() give it)")
 
 #define MOTION_STATUS_ENUM_ITEM(id, text) id,
 typedef enum { MOTION_STATUS_LIST(MOTION_STATUS_ENUM_ITEM) MS__COUNT } motion_status_t;

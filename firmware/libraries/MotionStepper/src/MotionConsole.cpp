@@ -203,7 +203,7 @@ void MotionConsole::handle(const char *line)
 
 void MotionConsole::handle_target(uint8_t a, const char *word)
 {
-    int32_t to;
+    int32_t to = 0; /* (set by the parse; gcc cannot tell) */
     motion_status_t st = text_parse_whole(word, INT32_MIN, INT32_MAX, &to);
     if (st != MS_OK) {
         serial_.reply_error(st, F("a target is a whole number of steps, -2147483648..2147483647"));

@@ -352,6 +352,8 @@ motion_status_t Stepper::move_to(long target, bool replan)
         PlannerLock lock;
         if (group_)
             return MS_ERR_BUSY;
+        if (!reachable(target))
+            return MS_ERR_OUT_OF_RANGE;
         int32_t to = to_engine(target);
         if (!replan) {
             /* the target in force while moving (targetPosition()), or where the axis rests: nothing
@@ -382,7 +384,20 @@ motion_status_t Stepper::move_to(long target, bool replan)
 
 motion_status_t Stepper::move(long distance)
 {
-    return moveTo(targetPosition() + distance);
+    if (!begun_)
+        return MS_ERR_NOT_BEGUN;
+    /* (in 64 bits: near the end of a long's range the sum wrapped round, and the axis went the
+     * other way; found by a review, 2026-12-07) */
+    const int64_t to = (int64_t)targetPosition() + distance;
+    if (to < INT32_MIN || to > INT32_MAX)
+        return MS_ERR_OUT_OF_RANGE;
+    return moveTo((long)to);
+}
+
+bool Stepper::reachable(long user) const
+{
+    const int64_t d = (int64_t)to_engine(user) - MultiStepEngine::position(axis_);
+    return fits_engine(user) && d <= INT32_MAX && d >= -(int64_t)INT32_MAX;
 }
 
 motion_status_t Stepper::stop()
@@ -567,6 +582,8 @@ motion_status_t Stepper::setCurrentPosition(long position)
     int32_t p = to_engine(position);
     if (!begun_)
         return MS_ERR_NOT_BEGUN;
+    if (!fits_engine(position))
+        return MS_ERR_OUT_OF_RANGE;
     PlannerLock lock;
     if (req_ != REQ_NONE || has_next_ || group_ || MultiStepEngine::moving(axis_))
         return MS_ERR_BUSY;
@@ -701,7 +718,9 @@ motion_status_t Stepper::setDirectionInverted(bool inverted)
     if (begun_ && isRunning())
         return MS_ERR_BUSY;
     if (inverted != inverted_ && begun_) {
-        /* the user's position stays: the engine's becomes its negation */
+        /* the user's position stays: the engine's becomes its negation (LONG_MIN has none) */
+        if (MultiStepEngine::position(axis_) == INT32_MIN)
+            return MS_ERR_OUT_OF_RANGE;
         int32_t p = -MultiStepEngine::position(axis_);
         MultiStepEngine::set_rest_position(axis_, p);
         step_planner_halt(&planner_, p);

@@ -366,6 +366,8 @@ public:
 
     /* Move to an absolute position / by a distance from the target in force (as FastAccelStepper's
      * move; AccelStepper's counts from the current position: the same at rest, not while moving).
+     * MS_ERR_OUT_OF_RANGE for a target beyond a long's range (move) or farther than 2^31 - 1 steps
+     * from where the axis is (distanceToGo() could not tell it), and LONG_MIN with DIR inverted.
      * While moving, the move continues from its speed to the new target (no stop in between when
      * it lies ahead beyond the stopping distance); MS_ERR_BUSY while in a StepperGroup's move.
      * While moving to `target` already (targetPosition()), with no stop asked and no v0, vmax or
@@ -537,6 +539,10 @@ private:
     void record_done(int32_t engine_position);
     void write_enable(bool on);
     int32_t to_engine(long user) const { return inverted_ ? -(int32_t)user : (int32_t)user; }
+    /* a position the engine can take: not LONG_MIN with DIR inverted (its negation does not fit) */
+    bool fits_engine(long user) const { return !(inverted_ && user == INT32_MIN); }
+    /* a target the axis can be sent to: the engine holds it, and distanceToGo() its distance */
+    bool reachable(long user) const;
     long to_user(int32_t engine) const { return inverted_ ? -(long)engine : (long)engine; }
     motion_status_t set_param(float value, float limit, uint8_t which);
     float vmax_limit() const;

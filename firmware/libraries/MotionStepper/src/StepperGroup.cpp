@@ -104,6 +104,8 @@ motion_status_t StepperGroup::move_all(const long *targets, uint8_t members)
             continue; /* not in this move: it may move alone */
         if (s.isRunning())
             return MS_ERR_BUSY;
+        if (!s.reachable(targets[j]))
+            return MS_ERR_OUT_OF_RANGE; /* (Stepper::moveTo's rule) */
         from = MultiStepEngine::position(s.axis_);
         req_to_[j] = s.to_engine(targets[j]);
         if (req_to_[j] != from)

@@ -5,6 +5,7 @@
  * (D55) alone.
  */
 #include <MotionStepper.h>
+#include <limits.h> /* LONG_MIN */
 
 Stepper x(Stepper::X);
 Stepper x2(Stepper::X); /* a second Stepper for the same axis: its begin() is refused */
@@ -114,6 +115,18 @@ void setup()
     wait_done();
     say(F("stop() at rest"), x.stop());
     say(F("forceStop() at rest"), x.forceStop());
+
+    /* near the ends of a long's range: targets the axis cannot be sent to are refused, nothing moves */
+    say(F("setCurrentPosition(2147483000)"), x.setCurrentPosition(2147483000L));
+    say(F("move(2000) beyond LONG_MAX"), x.move(2000));
+    say(F("moveTo(-2147483000), more than 2^31 - 1 steps away"), x.moveTo(-2147483000L));
+    say(F("setDirectionInverted(true) there"), x.setDirectionInverted(true));
+    say(F("setCurrentPosition(LONG_MIN) inverted"), x.setCurrentPosition(LONG_MIN));
+    say(F("setDirectionInverted(false) there"), x.setDirectionInverted(false));
+    Serial.print(F("at the end: position "));
+    Serial.print(x.currentPosition());
+    Serial.print(F(" target "));
+    Serial.println(x.targetPosition());
     Serial.println(F("FINISHED"));
 }
 
