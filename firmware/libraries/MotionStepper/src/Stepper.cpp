@@ -396,8 +396,10 @@ motion_status_t Stepper::move(long distance)
 
 bool Stepper::reachable(long user) const
 {
+    if (!fits_engine(user))
+        return false; /* (before to_engine: its negation of LONG_MIN would overflow) */
     const int64_t d = (int64_t)to_engine(user) - MultiStepEngine::position(axis_);
-    return fits_engine(user) && d <= INT32_MAX && d >= -(int64_t)INT32_MAX;
+    return d <= INT32_MAX && d >= -(int64_t)INT32_MAX;
 }
 
 motion_status_t Stepper::stop()
@@ -579,11 +581,11 @@ long Stepper::currentPosition() const
 
 motion_status_t Stepper::setCurrentPosition(long position)
 {
-    int32_t p = to_engine(position);
     if (!begun_)
         return MS_ERR_NOT_BEGUN;
     if (!fits_engine(position))
         return MS_ERR_OUT_OF_RANGE;
+    int32_t p = to_engine(position);
     PlannerLock lock;
     if (req_ != REQ_NONE || has_next_ || group_ || MultiStepEngine::moving(axis_))
         return MS_ERR_BUSY;
