@@ -964,6 +964,49 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
     return (uint8_t)(r.cmds + (r.split ? 1U : 0U));
 }
 
+/* cut_find's cut moved later, to where exactly `drop` steps are dropped (a StepperGroup's stop in the
+ * cruise: each axis is cut where its own stop from the cruise ends on the line): the slots kept whole
+ * up to the one that holds that point, which is split there (a cruise's: not slow, not WIDE, no add).
+ * 0 when the first cut beyond min_ticks_ahead drops fewer steps (the point lies too close) or the
+ * point lies in a slot that cannot be split. No time sum (time16 = 0). */
+uint8_t MultiStepEngine::cut_find_at(uint8_t axis, uint32_t min_ticks_ahead, uint32_t drop, Cut &r)
+{
+    if (drop == 0 || cut_find(axis, min_ticks_ahead, UINT32_MAX, r, false, true) == 0 || r.steps < drop)
+        return 0;
+    AxisState &s = state(axis);
+    AxisFeed &f = s_feed[axis];
+    uint32_t excess = r.steps - drop;
+    if (excess != 0 && r.split != 0) {
+        /* keep more of the slot split */
+        uint16_t less = excess < r.split ? (uint16_t)excess : r.split;
+        r.split = (uint16_t)(r.split - less);
+        r.last_count = (uint16_t)(r.last_count + less);
+        excess -= less;
+    }
+    while (excess != 0) {
+        /* keep slot `first` whole, or its first `excess` steps */
+        if (r.first == f.head || r.cmds == 0)
+            return 0;
+        const AxisSlot &q = s.slot[r.first];
+        uint32_t c = slot_count(q);
+        r.first = next_slot(f, r.first);
+        r.cmds--;
+        if (c > excess) {
+            if (q.flags & (_BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_WIDE) | _BV(AXIS_SLOT_HAS_ADD)))
+                return 0;
+            r.split = (uint16_t)(c - excess);
+            r.last_count = (uint16_t)excess;
+            excess = 0;
+        } else {
+            r.split = 0;
+            r.last_count = (uint16_t)c;
+            excess -= c;
+        }
+    }
+    r.steps = drop;
+    return (uint8_t)(r.cmds + (r.split ? 1U : 0U));
+}
+
 __attribute__((noinline)) uint8_t MultiStepEngine::cut_mirror(uint8_t axis, const Cut &r, step_cmd_t *c, uint8_t max, uint32_t max_steps,
                                     uint32_t min_ticks, uint32_t &steps)
 {

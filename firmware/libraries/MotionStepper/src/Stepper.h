@@ -54,6 +54,7 @@ public:
     virtual void poll_start() = 0;                      /* planner: start the axes together */
     virtual void run_request() = 0;                     /* planner: loop()'s move or stop */
     virtual void axis_done(uint8_t axis, int32_t position) = 0; /* planner: an axis's part ended */
+    virtual void plan_stop_ahead(uint8_t axis) = 0;     /* planner: the stop from the cruise, ahead */
     virtual motion_status_t stop() = 0;
     virtual motion_status_t forceStop() = 0;
 

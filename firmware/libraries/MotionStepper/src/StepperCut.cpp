@@ -103,8 +103,12 @@ void Stepper::stop_ahead_reset()
 void Stepper::prepare_stop()
 {
 #if MOTION_STEPPER_CUT_US && !MULTI_TIMED_LOOP
+    if (group_) {
+        group_->plan_stop_ahead(axis_); /* (in a group's move: the group's stop, in this room) */
+        return;
+    }
     const step_exact_t &e = planner_.exact;
-    if (group_ || planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
+    if (planner_.algo != RAMP_ALGO_EXACT || planner_.params_new || !e.moving || e.y != 0 ||
         !(e.n > e.n1 && e.n < e.n2))
         return;
     /* planned from loop(), a Stepper alone (ExactRampStepper's console) takes its room at its first
@@ -327,6 +331,7 @@ uint8_t StepperGroup::stop_at_cut()
     uint8_t n_img[STEP_COORD_MAX_AXES];
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
     uint8_t j, count = 0, done = 0;
+    ahead_ = 0; /* (cut_keep takes the members' planners) */
     if (!room_)
         return GROUP_CUT_NO; /* no room on the heap at its first move */
     for (j = 0; j < n_; j++) {
@@ -457,6 +462,212 @@ put_back:
     cut_release();
     step_cut_trace(false);
     return result;
+#else
+    return GROUP_CUT_NO;
+#endif
+}
+
+/* planner interrupt, at its tick's end (Stepper::prepare_stop of each member): while the group's move
+ * cruises, own member j's stop from the cruise planned ahead (as a Stepper's own, prepare_stop): its
+ * first commands (up to MOTION_STEPPER_GROUP_CUT_CMDS, covering MOTION_STEPPER_CUT_NEW_US) as slot
+ * images in the group's room, the state after them in the member's own planner (idle while it moves
+ * in the group, as stop_at_cut's cut_keep; its constants are converted again at its next move from
+ * rest). Once per move (the group's constants do not change within one); exact members only. */
+void StepperGroup::plan_stop_ahead(uint8_t axis)
+{
+#if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && !MULTI_TIMED_LOOP
+    int8_t jj = index_of(axis);
+    if (jj < 0 || !room_ || starting_ || stop_req_ || plan_req_ || BackgroundPlanner::inLoop())
+        return;
+    const uint8_t j = (uint8_t)jj, bit = (uint8_t)(1U << j);
+    step_planner_t &pl = member_[j]->planner_;
+    const step_exact_t &e = coord_.ax[j];
+    if (!(own_ & bit) || (ahead_ & bit) || pl.algo != RAMP_ALGO_EXACT || !e.moving || e.y != 0 ||
+        !(e.n > e.n1 && e.n < e.n2))
+        return;
+    step_exact_t &x = pl.exact;
+    x = e;
+    pl.params_new = 1;
+    step_exact_stop(&x);
+    const uint32_t until = (uint32_t)BackgroundPlanner::ticksPerUs() * MOTION_STEPPER_STOP_SWITCH_US;
+    uint32_t ticks = 0;
+    int32_t off = 0;
+    uint8_t n = 0;
+    step_cmd_t c;
+    ahead_from_[j] = e.pos;
+    ahead_to_[j] = x.d > x.n ? ramp_position_after(x.pos, x.dir, x.d - x.n) : x.pos;
+    while (n < MOTION_STEPPER_GROUP_CUT_CMDS && ticks < until && step_exact_next(&x, &c)) {
+        MultiStepEngine::make_image(c, room_[j].img[n], off);
+        off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
+        ticks += ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
+        n++;
+    }
+    ahead_n_[j] = n;
+    if (n == 0)
+        return;
+    ahead_ |= bit;
+    if (ahead_ == own_) {
+        /* the cut's distance (stop_in_cruise): its searches and switches run beside the step
+         * interrupts, whose share of the CPU is taken at the cruise speeds of every moving member */
+        float sum = 0.0f;
+        uint8_t count = 0;
+        for (uint8_t i = 0; i < n_; i++) {
+            if (own_ & (1U << i))
+                count++;
+            if (mask_ & (1U << i))
+                sum += (float)coord_.d[i];
+        }
+        float grow = grow_at(coord_.profile.vmax_sps * sum / (float)coord_.d[coord_.master], MOTION_STEPPER_CUT_CRUISE_STEP_CYCLES);
+        if (grow < 1.0f)
+            grow = 1.0f;
+        uint32_t ahead_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)(count - 1U) * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US +
+                            (uint32_t)((float)(MOTION_STEPPER_GROUP_CRUISE_US * count) * grow);
+        /* and farther by the bank the stop's commands need beyond their own time (stop_bank_us, as a
+         * stop planned at a cut: at steep accelerations a stop is short and dense); none beyond the
+         * lead (then the stop is planned at a cut) */
+        {
+            float v[STEP_COORD_MAX_AXES];
+            for (uint8_t i = 0; i < n_; i++)
+                v[i] = coord_.profile.vmax_sps * (float)coord_.d[i] / (float)coord_.d[coord_.master];
+            float grow_b = grow_at(v[0] + v[1] + (n_ > 2 ? v[2] : 0.0f), MOTION_STEPPER_STEP_CYCLES);
+            ahead_us += stop_bank_us(grow_b < 1.0f ? 1.0f : grow_b, ahead_us, v);
+        }
+        if (ahead_us >= (uint32_t)BackgroundPlanner::leadMs() * 1000UL) {
+            ahead_steps_[coord_.master] = 0; /* (stop_in_cruise: none) */
+            return;
+        }
+        const float ahead_s = 1.0e-6f * (float)ahead_us;
+        /* each own axis's cruise steps in that time, rounded up, and one more (the interrupt works out
+         * the interval after the step it arms: a cut must lie an interval beyond the margin) */
+        for (uint8_t i = 0; i < n_; i++) {
+            const float v = coord_.profile.vmax_sps * (float)coord_.d[i] / (float)coord_.d[coord_.master];
+            ahead_steps_[i] = (uint16_t)(ahead_s * v) + 2U;
+            ahead_iv_us_[i] = v > 16.0f ? (uint16_t)(1.0e6f / v) + 1U : 0xFFFFU;
+        }
+    }
+#else
+    (void)axis;
+#endif
+}
+
+/* planner interrupt (do_stop, first): a stop while the group cruises, every own member's stop from the
+ * cruise planned ahead (plan_stop_ahead): nothing is planned at the cut. The master is cut
+ * MOTION_STEPPER_GROUP_CRUISE_US per own axis ahead (grown with the step interrupts' share of the CPU)
+ * plus the switches' margins; its stop ends s steps from the move's start; every other own axis j is
+ * cut at the step from which its own stop from the cruise ends at round(d_j s / d_m), on the line
+ * (MultiStepEngine::cut_find_at); the cuts are switched one member after the other, the master first.
+ * The cuts land within a step's time of each other, and every axis decelerates on its own law from
+ * its cruise speed (the members' speeds are in the line's ratio). A first switch too late: again
+ * twice as far ahead (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or GROUP_CUT_NO (nothing changed: not
+ * planned ahead, a cut outside the cruise, every try too late): the caller plans the stop at a cut. A
+ * later member's switch too late: that axis stops after its queue towards the same point (as
+ * stop_at_cut). */
+uint8_t StepperGroup::stop_in_cruise()
+{
+#if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && !MULTI_TIMED_LOOP
+    MultiStepEngine::Cut cut[STEP_COORD_MAX_AXES];
+    uint32_t kc[STEP_COORD_MAX_AXES], stop_steps[STEP_COORD_MAX_AXES];
+    const uint32_t tpu = BackgroundPlanner::ticksPerUs();
+    uint8_t j, count = 0;
+    if (!room_ || own_ == 0 || ahead_ != own_ || ahead_steps_[coord_.master] == 0 || BackgroundPlanner::inLoop())
+        return GROUP_CUT_NO;
+    for (j = 0; j < n_; j++)
+        if (own_ & (1U << j)) {
+            count++;
+            stop_steps[j] = ramp_distance(ahead_from_[j], ahead_to_[j]);
+        }
+    const uint32_t search_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)count * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
+    BackgroundPlanner::finishCuts(); /* another Stepper's cut in the cruise: its second half first */
+    for (uint8_t k = 0; k < STEP_CUT_TRIES; k++) {
+        step_cut_trace(true);
+        /* the point of the line where all come to rest: the farthest of the axes' soonest rests from a
+         * cut ahead_us_ (2^k times that) ahead (each axis's steps made now, plus its cruise's steps in
+         * that time, plus its stop's), as step_coord_stop chooses it; the others reach it from a cut
+         * a little farther ahead */
+        uint8_t far = 0xFF;
+        uint32_t far_k = 0;
+        for (j = 0; j < n_; j++) {
+            if (!(own_ & (1U << j)))
+                continue;
+            const uint32_t r = ramp_distance(coord_.from[j], MultiStepEngine::position(member_[j]->axis_)) +
+                               ((uint32_t)ahead_steps_[j] << k) + stop_steps[j];
+            if (far == 0xFF || (uint64_t)r * coord_.d[far] > (uint64_t)far_k * coord_.d[j]) {
+                far = j;
+                far_k = r;
+            }
+        }
+        bool late = false, ok = true;
+        for (j = 0; j < n_ && ok && !late; j++) {
+            if (!(own_ & (1U << j)))
+                continue;
+            const step_exact_t &e = coord_.ax[j];
+            const uint32_t want = j == far ? far_k : (uint32_t)(((uint64_t)coord_.d[j] * far_k + coord_.d[far] / 2U) / coord_.d[far]);
+            const uint32_t made = ramp_distance(coord_.from[j], e.pos);
+            kc[j] = want - stop_steps[j];
+            if (want > coord_.d[j] || want < stop_steps[j] || kc[j] >= made || made - kc[j] >= e.n)
+                ok = false; /* (not in the cruise: planned at a cut) */
+            else if (MultiStepEngine::cut_find_at(member_[j]->axis_, tpu * (search_us + ahead_iv_us_[j]), made - kc[j], cut[j]) == 0)
+                late = true; /* too close (or not in a cruise's command: the next try finds out) */
+            else if (e.n - cut[j].steps - cut[j].last_count < e.n1 || e.n - cut[j].steps > e.n2)
+                ok = false; /* the kept queue does not end in the cruise */
+        }
+        if (!ok) {
+            step_cut_trace(false);
+            return GROUP_CUT_NO;
+        }
+        if (late) {
+            step_cut_trace(false);
+            continue;
+        }
+        /* the switches, from the soonest cut on (in the cruise axis j's step k comes when the line's
+         * parameter is k / d_j; the interrupt works out the interval of the step after the one it arms,
+         * so a cut comes too late once its last kept step is armed: in the order of kc[j] / d[j]), so that the first one, which may come too
+         * late and then changes nothing, keeps the largest margin */
+        uint8_t order[STEP_COORD_MAX_AXES], no = 0, done = 0, after = count;
+        for (j = 0; j < n_; j++)
+            if (own_ & (1U << j)) {
+                uint8_t i = no++;
+                for (; i > 0 && (uint64_t)kc[order[i - 1]] * coord_.d[j] > (uint64_t)kc[j] * coord_.d[order[i - 1]]; i--)
+                    order[i] = order[i - 1];
+                order[i] = j;
+            }
+        for (uint8_t i = 0; i < no; i++) {
+            j = order[i];
+            after--;
+            const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
+            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, ahead_n_[j], ahead_n_[j],
+                                           room_[j].tail)) {
+                done |= (uint8_t)(1U << j);
+                continue;
+            }
+            if (done == 0)
+                break; /* the first too late, nothing changed: again farther ahead */
+            /* a later member too late: it keeps its queue and stops after it towards the same point */
+            step_exact_t &e = coord_.ax[j];
+            if (step_exact_plan(&e, ramp_position_after(coord_.from[j], e.dir, kc[j] + stop_steps[j])) != MS_OK)
+                step_exact_stop(&e);
+            coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
+        }
+        if (done == 0) {
+            step_cut_trace(false);
+            continue;
+        }
+        for (j = 0; j < n_; j++) {
+            if (!(done & (1U << j)))
+                continue;
+            MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, ahead_n_[j]);
+            step_exact_t &e = coord_.ax[j];
+            const int32_t dp = ramp_position_after(coord_.from[j], e.dir, kc[j]) - ahead_from_[j];
+            e = member_[j]->planner_.exact;
+            e.pos += dp;
+            coord_.to[j] = ahead_to_[j] + dp;
+        }
+        ahead_ = 0;
+        step_cut_trace(false);
+        return GROUP_CUT_DONE;
+    }
+    step_cut_trace(false);
+    return GROUP_CUT_NO;
 #else
     return GROUP_CUT_NO;
 #endif

@@ -9,7 +9,7 @@
 #include "Stepper.h"
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b)
-    : n_(2), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
+    : n_(2), mask_(0), own_(0), ended_(0), ahead_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
       cut_tries_(0), cut_us_(0), cuts_missed_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
@@ -19,7 +19,7 @@ StepperGroup::StepperGroup(Stepper &a, Stepper &b)
 }
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b, Stepper &c)
-    : n_(3), mask_(0), own_(0), ended_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
+    : n_(3), mask_(0), own_(0), ended_(0), ahead_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
       cut_tries_(0), cut_us_(0), cuts_missed_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
@@ -187,6 +187,7 @@ void StepperGroup::execute_plan()
         return;
     }
     ended_ = 0;
+    ahead_ = 0;
     for (uint8_t j = 0; j < n_; j++) {
         uint8_t m = coord_.master;
         ref_[j].group = this;
@@ -323,8 +324,11 @@ void StepperGroup::do_stop()
     bool back[STEP_COORD_MAX_AXES];
     for (uint8_t j = 0; j < n_; j++)
         back[j] = coord_.to[j] < coord_.from[j];
-    /* at a cut of the queues a few milliseconds ahead (StepperCut.cpp), or after the queued lead */
-    uint8_t cut = stop_at_cut();
+    /* in the cruise, the stop planned ahead at a cut a millisecond or two ahead; else at a cut of the
+     * queues a few milliseconds ahead, planned there (StepperCut.cpp); or after the queued lead */
+    uint8_t cut = cut_us_ == 0 ? stop_in_cruise() : (uint8_t)GROUP_CUT_NO;
+    if (cut != GROUP_CUT_DONE)
+        cut = stop_at_cut();
     if (cut == GROUP_CUT_AGAIN) {
         stop_req_ = true; /* farther ahead, at the next request pass */
         return;

@@ -63,6 +63,18 @@
 #ifndef MOTION_STEPPER_GROUP_CMD_US
 #define MOTION_STEPPER_GROUP_CMD_US 400UL
 #endif
+/* A stop while the group cruises, once every own axis's stop from the cruise is planned ahead (each in
+ * its Stepper's room for its own stop planned ahead: StepperGroup::plan_stop_ahead), plans nothing at
+ * its cut: the master is cut this many microseconds ahead per own axis (grown with the step
+ * interrupts' share of the CPU), plus the margin and MOTION_STEPPER_GROUP_AHEAD_SWITCH_US for each
+ * member's switch after the first, and every other own axis at the step from which its own stop ends
+ * on the line (MultiStepEngine::cut_find_at): its cut's search and switch are all the work. */
+#ifndef MOTION_STEPPER_GROUP_CRUISE_US
+#define MOTION_STEPPER_GROUP_CRUISE_US 400UL
+#endif
+#ifndef MOTION_STEPPER_GROUP_AHEAD_SWITCH_US
+#define MOTION_STEPPER_GROUP_AHEAD_SWITCH_US 150UL
+#endif
 /* the stop's first commands laid out at the cut for each axis: up to this many (at most
  * MultiStepEngine::MULTI_CUT_MAX_CMDS), covering MOTION_STEPPER_CUT_NEW_US (the feed lays out the rest) */
 #define MOTION_STEPPER_GROUP_CUT_CMDS 4U
@@ -138,6 +150,8 @@ private:
     void take_cut_room();
     void release();
     void axis_done(uint8_t axis, int32_t position) override;
+    void plan_stop_ahead(uint8_t axis) override;
+    uint8_t stop_in_cruise();
     int32_t follower_position(uint8_t j, int32_t master_pos);
     static uint8_t coord_next(void *ctx, step_cmd_t *c);
     static uint8_t coord_busy(void *ctx);
@@ -149,6 +163,12 @@ private:
     volatile uint8_t mask_; /* members that move (bit j) */
     uint8_t own_;     /* of those, the ones stepped by their own interrupt */
     uint8_t ended_;   /* members whose part has ended */
+    uint8_t ahead_;   /* own members whose stop from the cruise is planned ahead (plan_stop_ahead) */
+    uint8_t ahead_n_[STEP_COORD_MAX_AXES];    /* ... its first commands (room_'s images) */
+    int32_t ahead_from_[STEP_COORD_MAX_AXES]; /* ... planned from there */
+    int32_t ahead_to_[STEP_COORD_MAX_AXES];   /* ... to rest there */
+    uint16_t ahead_steps_[STEP_COORD_MAX_AXES]; /* ... each own axis's cruise steps in the cut's distance */
+    uint16_t ahead_iv_us_[STEP_COORD_MAX_AXES]; /* ... and its cruise's interval, us */
     volatile bool starting_; /* held until every own axis has its first commands */
     volatile bool done_;
     volatile bool plan_req_; /* loop() asked for a move: the planner interrupt plans it */
