@@ -496,13 +496,18 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
     step_cmd_t c;
     ahead_from_[j] = e.pos;
     ahead_to_[j] = x.d > x.n ? ramp_position_after(x.pos, x.dir, x.d - x.n) : x.pos;
+    const uint32_t now_until = (uint32_t)BackgroundPlanner::ticksPerUs() * MOTION_STEPPER_GROUP_NOW_US;
+    uint8_t now = 0;
     while (n < MOTION_STEPPER_GROUP_CUT_CMDS && ticks < until && step_exact_next(&x, &c)) {
         MultiStepEngine::make_image(c, room_[j].img[n], off);
         off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
         ticks += ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
         n++;
+        if (now == 0 && ticks >= now_until)
+            now = n;
     }
     ahead_n_[j] = n;
+    ahead_now_[j] = now ? now : n;
     if (n == 0)
         return;
     ahead_ |= bit;
@@ -635,7 +640,7 @@ uint8_t StepperGroup::stop_in_cruise()
             j = order[i];
             after--;
             const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
-            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, ahead_n_[j], ahead_n_[j],
+            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, ahead_n_[j], ahead_now_[j],
                                            room_[j].tail)) {
                 done |= (uint8_t)(1U << j);
                 continue;

@@ -70,10 +70,15 @@
  * member's switch after the first, and every other own axis at the step from which its own stop ends
  * on the line (MultiStepEngine::cut_find_at): its cut's search and switch are all the work. */
 #ifndef MOTION_STEPPER_GROUP_CRUISE_US
-#define MOTION_STEPPER_GROUP_CRUISE_US 400UL
+#define MOTION_STEPPER_GROUP_CRUISE_US 500UL
 #endif
 #ifndef MOTION_STEPPER_GROUP_AHEAD_SWITCH_US
-#define MOTION_STEPPER_GROUP_AHEAD_SWITCH_US 150UL
+#define MOTION_STEPPER_GROUP_AHEAD_SWITCH_US 250UL
+#endif
+/* ... and each switch puts in the stop's first commands up to this many microseconds of them (the
+ * rest, up to MOTION_STEPPER_STOP_SWITCH_US, once every member's switch has come off) */
+#ifndef MOTION_STEPPER_GROUP_NOW_US
+#define MOTION_STEPPER_GROUP_NOW_US 2500UL
 #endif
 /* the stop's first commands laid out at the cut for each axis: up to this many (at most
  * MultiStepEngine::MULTI_CUT_MAX_CMDS), covering MOTION_STEPPER_CUT_NEW_US (the feed lays out the rest) */
@@ -165,6 +170,7 @@ private:
     uint8_t ended_;   /* members whose part has ended */
     uint8_t ahead_;   /* own members whose stop from the cruise is planned ahead (plan_stop_ahead) */
     uint8_t ahead_n_[STEP_COORD_MAX_AXES];    /* ... its first commands (room_'s images) */
+    uint8_t ahead_now_[STEP_COORD_MAX_AXES];  /* ... of which its cut's switch puts in these */
     int32_t ahead_from_[STEP_COORD_MAX_AXES]; /* ... planned from there */
     int32_t ahead_to_[STEP_COORD_MAX_AXES];   /* ... to rest there */
     uint16_t ahead_steps_[STEP_COORD_MAX_AXES]; /* ... each own axis's cruise steps in the cut's distance */
