@@ -270,6 +270,12 @@ struct StepperGroup::CutRoom {
     MultiStepEngine::CutTail tail;
     step_smooth_t *smooth;
     bool smooth_kept;
+    /* the stop from the cruise planned ahead (plan_stop_ahead): planned from ahead_from, to rest at
+     * ahead_to, its first ahead_n commands in img (the cut's switch puts in ahead_now of them); the
+     * cut's distance in this axis's cruise steps, and its cruise's interval (us) */
+    int32_t ahead_from, ahead_to;
+    uint16_t ahead_steps, ahead_iv_us;
+    uint8_t ahead_n, ahead_now;
 };
 
 const uint16_t StepperGroup::CUT_ROOM_BYTES = sizeof(StepperGroup::CutRoom);
@@ -494,8 +500,8 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
     int32_t off = 0;
     uint8_t n = 0;
     step_cmd_t c;
-    ahead_from_[j] = e.pos;
-    ahead_to_[j] = x.d > x.n ? ramp_position_after(x.pos, x.dir, x.d - x.n) : x.pos;
+    room_[j].ahead_from = e.pos;
+    room_[j].ahead_to = x.d > x.n ? ramp_position_after(x.pos, x.dir, x.d - x.n) : x.pos;
     const uint32_t now_until = (uint32_t)BackgroundPlanner::ticksPerUs() * MOTION_STEPPER_GROUP_NOW_US;
     uint8_t now = 0;
     while (n < MOTION_STEPPER_GROUP_CUT_CMDS && ticks < until && step_exact_next(&x, &c)) {
@@ -506,8 +512,8 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
         if (now == 0 && ticks >= now_until)
             now = n;
     }
-    ahead_n_[j] = n;
-    ahead_now_[j] = now ? now : n;
+    room_[j].ahead_n = n;
+    room_[j].ahead_now = now ? now : n;
     if (n == 0)
         return;
     ahead_ |= bit;
@@ -538,7 +544,7 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
             ahead_us += stop_bank_us(grow_b < 1.0f ? 1.0f : grow_b, ahead_us, v);
         }
         if (ahead_us >= (uint32_t)BackgroundPlanner::leadMs() * 1000UL) {
-            ahead_steps_[coord_.master] = 0; /* (stop_in_cruise: none) */
+            room_[coord_.master].ahead_steps = 0; /* (stop_in_cruise: none) */
             return;
         }
         const float ahead_s = 1.0e-6f * (float)ahead_us;
@@ -546,8 +552,8 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
          * the interval after the step it arms: a cut must lie an interval beyond the margin) */
         for (uint8_t i = 0; i < n_; i++) {
             const float v = coord_.profile.vmax_sps * (float)coord_.d[i] / (float)coord_.d[coord_.master];
-            ahead_steps_[i] = (uint16_t)(ahead_s * v) + 2U;
-            ahead_iv_us_[i] = v > 16.0f ? (uint16_t)(1.0e6f / v) + 1U : 0xFFFFU;
+            room_[i].ahead_steps = (uint16_t)(ahead_s * v) + 2U;
+            room_[i].ahead_iv_us = v > 16.0f ? (uint16_t)(1.0e6f / v) + 1U : 0xFFFFU;
         }
     }
 #else
@@ -574,12 +580,12 @@ uint8_t StepperGroup::stop_in_cruise()
     uint32_t kc[STEP_COORD_MAX_AXES], stop_steps[STEP_COORD_MAX_AXES];
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
     uint8_t j, count = 0;
-    if (!room_ || own_ == 0 || ahead_ != own_ || ahead_steps_[coord_.master] == 0 || BackgroundPlanner::inLoop())
+    if (!room_ || own_ == 0 || ahead_ != own_ || room_[coord_.master].ahead_steps == 0 || BackgroundPlanner::inLoop())
         return GROUP_CUT_NO;
     for (j = 0; j < n_; j++)
         if (own_ & (1U << j)) {
             count++;
-            stop_steps[j] = ramp_distance(ahead_from_[j], ahead_to_[j]);
+            stop_steps[j] = ramp_distance(room_[j].ahead_from, room_[j].ahead_to);
         }
     const uint32_t search_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)count * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
     BackgroundPlanner::finishCuts(); /* another Stepper's cut in the cruise: its second half first */
@@ -595,7 +601,7 @@ uint8_t StepperGroup::stop_in_cruise()
             if (!(own_ & (1U << j)))
                 continue;
             const uint32_t r = ramp_distance(coord_.from[j], MultiStepEngine::position(member_[j]->axis_)) +
-                               ((uint32_t)ahead_steps_[j] << k) + stop_steps[j];
+                               ((uint32_t)room_[j].ahead_steps << k) + stop_steps[j];
             if (far == 0xFF || (uint64_t)r * coord_.d[far] > (uint64_t)far_k * coord_.d[j]) {
                 far = j;
                 far_k = r;
@@ -611,7 +617,7 @@ uint8_t StepperGroup::stop_in_cruise()
             kc[j] = want - stop_steps[j];
             if (want > coord_.d[j] || want < stop_steps[j] || kc[j] >= made || made - kc[j] >= e.n)
                 ok = false; /* (not in the cruise: planned at a cut) */
-            else if (MultiStepEngine::cut_find_at(member_[j]->axis_, tpu * (search_us + ahead_iv_us_[j]), made - kc[j], cut[j]) == 0)
+            else if (MultiStepEngine::cut_find_at(member_[j]->axis_, tpu * (search_us + room_[j].ahead_iv_us), made - kc[j], cut[j]) == 0)
                 late = true; /* too close (or not in a cruise's command: the next try finds out) */
             else if (e.n - cut[j].steps - cut[j].last_count < e.n1 || e.n - cut[j].steps > e.n2)
                 ok = false; /* the kept queue does not end in the cruise */
@@ -640,7 +646,7 @@ uint8_t StepperGroup::stop_in_cruise()
             j = order[i];
             after--;
             const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
-            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, ahead_n_[j], ahead_now_[j],
+            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, room_[j].ahead_n, room_[j].ahead_now,
                                            room_[j].tail)) {
                 done |= (uint8_t)(1U << j);
                 continue;
@@ -660,12 +666,12 @@ uint8_t StepperGroup::stop_in_cruise()
         for (j = 0; j < n_; j++) {
             if (!(done & (1U << j)))
                 continue;
-            MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, ahead_n_[j]);
+            MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, room_[j].ahead_n);
             step_exact_t &e = coord_.ax[j];
-            const int32_t dp = ramp_position_after(coord_.from[j], e.dir, kc[j]) - ahead_from_[j];
+            const int32_t dp = ramp_position_after(coord_.from[j], e.dir, kc[j]) - room_[j].ahead_from;
             e = member_[j]->planner_.exact;
             e.pos += dp;
-            coord_.to[j] = ahead_to_[j] + dp;
+            coord_.to[j] = room_[j].ahead_to + dp;
         }
         ahead_ = 0;
         step_cut_trace(false);

@@ -169,12 +169,7 @@ private:
     uint8_t own_;     /* of those, the ones stepped by their own interrupt */
     uint8_t ended_;   /* members whose part has ended */
     uint8_t ahead_;   /* own members whose stop from the cruise is planned ahead (plan_stop_ahead) */
-    uint8_t ahead_n_[STEP_COORD_MAX_AXES];    /* ... its first commands (room_'s images) */
-    uint8_t ahead_now_[STEP_COORD_MAX_AXES];  /* ... of which its cut's switch puts in these */
-    int32_t ahead_from_[STEP_COORD_MAX_AXES]; /* ... planned from there */
-    int32_t ahead_to_[STEP_COORD_MAX_AXES];   /* ... to rest there */
-    uint16_t ahead_steps_[STEP_COORD_MAX_AXES]; /* ... each own axis's cruise steps in the cut's distance */
-    uint16_t ahead_iv_us_[STEP_COORD_MAX_AXES]; /* ... and its cruise's interval, us */
+    /* (the rest of it in the room_, on the heap: MultiAxisStepper's three Steppers keep their SRAM) */
     volatile bool starting_; /* held until every own axis has its first commands */
     volatile bool done_;
     volatile bool plan_req_; /* loop() asked for a move: the planner interrupt plans it */
