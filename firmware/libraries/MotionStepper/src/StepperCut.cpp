@@ -475,10 +475,12 @@ put_back:
 
 /* planner interrupt, at its tick's end (Stepper::prepare_stop of each member): while the group's move
  * cruises, own member j's stop from the cruise planned ahead (as a Stepper's own, prepare_stop): its
- * first commands (up to MOTION_STEPPER_GROUP_CUT_CMDS, covering MOTION_STEPPER_CUT_NEW_US) as slot
- * images in the group's room, the state after them in the member's own planner (idle while it moves
- * in the group, as stop_at_cut's cut_keep; its constants are converted again at its next move from
- * rest). Once per move (the group's constants do not change within one); exact members only. */
+ * first commands (up to MOTION_STEPPER_GROUP_CUT_CMDS, within MOTION_STEPPER_STOP_SWITCH_US; the
+ * switch puts in those of the first MOTION_STEPPER_GROUP_NOW_US) as slot images in the group's room,
+ * the state after them in the member's own planner (idle while it moves in the group, as stop_at_cut's
+ * cut_keep; its constants are converted again at its next move from rest). Once per move (the group's
+ * constants do not change within one); exact members only. Once every own member's is planned, the
+ * cut's distance in each axis's cruise steps. */
 void StepperGroup::plan_stop_ahead(uint8_t axis)
 {
 #if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && !MULTI_TIMED_LOOP
@@ -562,17 +564,18 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
 }
 
 /* planner interrupt (do_stop, first): a stop while the group cruises, every own member's stop from the
- * cruise planned ahead (plan_stop_ahead): nothing is planned at the cut. The master is cut
- * MOTION_STEPPER_GROUP_CRUISE_US per own axis ahead (grown with the step interrupts' share of the CPU)
- * plus the switches' margins; its stop ends s steps from the move's start; every other own axis j is
- * cut at the step from which its own stop from the cruise ends at round(d_j s / d_m), on the line
- * (MultiStepEngine::cut_find_at); the cuts are switched one member after the other, the master first.
- * The cuts land within a step's time of each other, and every axis decelerates on its own law from
- * its cruise speed (the members' speeds are in the line's ratio). A first switch too late: again
- * twice as far ahead (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or GROUP_CUT_NO (nothing changed: not
- * planned ahead, a cut outside the cruise, every try too late): the caller plans the stop at a cut. A
- * later member's switch too late: that axis stops after its queue towards the same point (as
- * stop_at_cut). */
+ * cruise planned ahead (plan_stop_ahead): nothing is planned at the cut. The point of the line where
+ * all come to rest is the farthest of the own axes' soonest rests from a cut MOTION_STEPPER_GROUP_CRUISE_US
+ * per own axis ahead (grown with the step interrupts' share of the CPU, plus the switches' margins and
+ * an interval: plan_stop_ahead), s steps of axis f from the move's start; every own axis j is cut at
+ * the step from which its own stop from the cruise ends at round(d_j s / d_f), on the line
+ * (MultiStepEngine::cut_find_at), and the cuts are switched one member after the other, the soonest
+ * first. The cuts land within a step's time of each other, and every axis decelerates on its own law
+ * from its cruise speed (the members' speeds are in the line's ratio). A first switch too late, or a
+ * cut too close at its search: again twice as far ahead (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or
+ * GROUP_CUT_NO (nothing changed: not planned ahead, a cut outside the cruise, every try too late): the
+ * caller plans the stop at a cut. A later member's switch too late (not seen: the margins): that
+ * axis keeps its queue and stops after it, off the line. */
 uint8_t StepperGroup::stop_in_cruise()
 {
 #if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && !MULTI_TIMED_LOOP
