@@ -177,7 +177,8 @@ $(foreach b,$(EMU_THREE_BUILDS),$(eval $(call emu_three_rule,$(word 1,$(subst :,
 
 # test/emu/GroupStop: a StepperGroup's stop() at a cut of its queues (checks_library.py, check_group_stop)
 EMU_GROUP_BUILDS := group-two-20k:-DGS_N=2+-DGS_V=20000 group-three-10k:-DGS_N=3+-DGS_V=10000 \
-  group-three-10k-steep:-DGS_N=3+-DGS_V=10000+-DGS_A=100000 group-three-15k:-DGS_N=3+-DGS_V=15000
+  group-three-10k-steep:-DGS_N=3+-DGS_V=10000+-DGS_A=100000 group-three-15k:-DGS_N=3+-DGS_V=15000 \
+  group-two-20k-set:-DGS_N=2+-DGS_V=20000+-DGS_SET_MS=500
 EMU_GROUP_ELFS := $(foreach b,$(EMU_GROUP_BUILDS),$(BUILD)/emu/$(word 1,$(subst :, ,$(b)))/GroupStop/GroupStop.ino.elf)
 define emu_group_rule
 $(BUILD)/emu/$(1)/GroupStop/GroupStop.ino.elf: $(EMU_FW_SRCS) test/emu/GroupStop/GroupStop.ino tools/build_firmware.sh

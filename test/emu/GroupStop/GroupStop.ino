@@ -5,7 +5,9 @@
  * (the script's switch) D5 goes high and the group gets stop() ("STOP"); at rest it prints "DONE" with
  * every axis's position and underruns, "MISSED" with the group's cutsMissed(), then FINISHED. The check measures from D5 when each axis's
  * deceleration began (the group's stop cuts the queues a few milliseconds ahead: StepperGroup.h,
- * MOTION_STEPPER_GROUP_CUT_US) and where the axes came to rest (on the line). */
+ * MOTION_STEPPER_GROUP_CUT_US) and where the axes came to rest (on the line). With GS_SET_MS, Y's
+ * setAcceleration(2 GS_A) that many ms after MOVE, while the group moves: its own new constants go
+ * to its idle planner, where the group's stop planned ahead waits. */
 #ifndef GS_N
 #define GS_N 2
 #endif
@@ -25,6 +27,10 @@ StepperGroup g(x, y, z);
 StepperGroup g(x, y);
 #endif
 static bool stopped = false, finished = false;
+#ifdef GS_SET_MS
+static uint32_t moved_ms;
+static bool set_done = false;
+#endif
 
 static void report(const __FlashStringHelper *what, uint8_t i, motion_status_t st)
 {
@@ -46,6 +52,9 @@ void setup()
         report(F("begin"), i, all[i]->begin());
     }
     Serial.println(F("MOVE"));
+#ifdef GS_SET_MS
+    moved_ms = millis();
+#endif
 #if GS_N == 3
     Serial.println((int)g.moveTo(1000000L, 500000L, -250000L));
 #else
@@ -57,6 +66,12 @@ void loop()
 {
     if (finished)
         return;
+#ifdef GS_SET_MS
+    if (!set_done && millis() - moved_ms >= GS_SET_MS) {
+        (void)y.setAcceleration(2.0f * GS_A); /* (for its next move: the group's holds its own) */
+        set_done = true;
+    }
+#endif
     if (!stopped && digitalRead(3) == LOW) {
         {
             PlannerLock call; /* the call's own time, as StopOnSwitch measures it */

@@ -575,7 +575,8 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
  * cut too close at its search: again twice as far ahead (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or
  * GROUP_CUT_NO (nothing changed: not planned ahead, a cut outside the cruise, every try too late): the
  * caller plans the stop at a cut. A later member's switch too late (not seen: the margins): that
- * axis keeps its queue and stops after it, off the line. */
+ * axis keeps its queue and stops after it, off the line. With the stop's bank (plan_stop_ahead: steep
+ * accelerations) the cut lies farther ahead by that much. */
 uint8_t StepperGroup::stop_in_cruise()
 {
 #if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && !MULTI_TIMED_LOOP
@@ -587,6 +588,13 @@ uint8_t StepperGroup::stop_in_cruise()
         return GROUP_CUT_NO;
     for (j = 0; j < n_; j++)
         if (own_ & (1U << j)) {
+            /* a member's setMaxSpeed/setAcceleration/setMinSpeed during the move writes its own
+             * constants into its idle planner, where the stop planned ahead waits: then no more */
+            const step_exact_t &x = member_[j]->planner_.exact;
+            if (x.max_cmd_ticks != coord_.ax[j].max_cmd_ticks || !same_consts(x.k, coord_.ax[j].k)) {
+                ahead_ = 0;
+                return GROUP_CUT_NO;
+            }
             count++;
             stop_steps[j] = ramp_distance(room_[j].ahead_from, room_[j].ahead_to);
         }
@@ -618,7 +626,8 @@ uint8_t StepperGroup::stop_in_cruise()
             const uint32_t want = j == far ? far_k : (uint32_t)(((uint64_t)coord_.d[j] * far_k + coord_.d[far] / 2U) / coord_.d[far]);
             const uint32_t made = ramp_distance(coord_.from[j], e.pos);
             kc[j] = want - stop_steps[j];
-            if (want > coord_.d[j] || want < stop_steps[j] || kc[j] >= made || made - kc[j] >= e.n)
+            if (want > coord_.d[j] || want < stop_steps[j] || kc[j] >= made || made - kc[j] >= e.n ||
+                e.n - (made - kc[j]) <= e.n1)
                 ok = false; /* (not in the cruise: planned at a cut) */
             else if (MultiStepEngine::cut_find_at(member_[j]->axis_, tpu * (search_us + room_[j].ahead_iv_us), made - kc[j], cut[j]) == 0)
                 late = true; /* too close (or not in a cruise's command: the next try finds out) */
@@ -656,10 +665,10 @@ uint8_t StepperGroup::stop_in_cruise()
             }
             if (done == 0)
                 break; /* the first too late, nothing changed: again farther ahead */
-            /* a later member too late: it keeps its queue and stops after it towards the same point */
+            /* a later member too late: it keeps its queue and stops after it, off the line (its queue
+             * already reaches beyond the point) */
             step_exact_t &e = coord_.ax[j];
-            if (step_exact_plan(&e, ramp_position_after(coord_.from[j], e.dir, kc[j] + stop_steps[j])) != MS_OK)
-                step_exact_stop(&e);
+            step_exact_stop(&e);
             coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
         }
         if (done == 0) {

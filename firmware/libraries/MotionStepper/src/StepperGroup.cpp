@@ -324,7 +324,8 @@ void StepperGroup::do_stop()
     bool back[STEP_COORD_MAX_AXES];
     for (uint8_t j = 0; j < n_; j++)
         back[j] = coord_.to[j] < coord_.from[j];
-    /* in the cruise, the stop planned ahead at a cut a millisecond or two ahead; else at a cut of the
+    /* in the cruise, the stop planned ahead at a cut a few milliseconds ahead (farther by the stop's
+     * bank at steep accelerations); else at a cut of the
      * queues a few milliseconds ahead, planned there (StepperCut.cpp); or after the queued lead */
     uint8_t cut = cut_us_ == 0 ? stop_in_cruise() : (uint8_t)GROUP_CUT_NO;
     if (cut != GROUP_CUT_DONE)
