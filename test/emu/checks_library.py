@@ -1616,13 +1616,18 @@ def decel_from_top(e, after, a):
     near the top speed the acceleration's last steps stay within it for some 80 steps at 25,000 steps/s.)
     Returns (n, the law's times of those n steps from the last edge before them, the speed of the 16 steps
     before, the law's speed there), or None (too few steps)."""
-    iv = [b2 - b1 for b1, b2 in zip(after, after[1:])]
-    if len(iv) < 40:
+    # the windows may begin up to 16 edges before the switch: a stop that acts within a millisecond or two
+    # at a low speed tops out fewer than 16 steps after it (a StepperGroup's Z at 2,000 steps/s), where a
+    # window of the edges after the switch alone would put the top at its 16th step
+    lead = [c for c in e if c < after[0]][-16:] if after else []
+    win = lead + after
+    iv = [b2 - b1 for b1, b2 in zip(win, win[1:])]
+    if len(win) < 41:
         return None
     sums = [sum(iv[:32])]
     for k in range(1, len(iv) - 31):
         sums.append(sums[-1] - iv[k - 1] + iv[k + 31])
-    top = min(range(len(sums)), key=lambda k: sums[k]) + 16  # the edge at the top speed
+    top = max(0, min(range(len(sums)), key=lambda k: sums[k]) + 16 - len(lead))  # the edge at the top speed
     n_ax = max(2, len(after) - 1 - top)
     v_s = math.sqrt(2 * a * n_ax)
     times = [v_s / a - math.sqrt(2 * (n_ax - k) / a) for k in range(1, n_ax + 1)]
@@ -2102,10 +2107,13 @@ def three_legs(log, problems, build, n, vmax, accel):
 # (StepperGroup::plan_stop_ahead) and the cut is a millisecond or two ahead (StepperGroup::stop_in_cruise): until
 # 2026-12-07 a stop in the cruise was planned at its cut too, 13.4-13.5 ms after the call with two Steppers at
 # 20,000 steps/s, 28-32 ms with three at 10,000, 40-55 ms at 100,000 steps/s^2 (the cruise bounds fail there).
-GROUP_BUILDS = (("group-two-20k", 2, 20000, 50000, (150.0,), 17.0, (600.0, 650.3, 700.7, 800.5), 2.0),
-                # (34 ms until a stop of three while the speed changes cut 1 ms farther ahead per axis:
-                # StepperGroup.h, MOTION_STEPPER_GROUP_CUT_SLOW_3_US; measured 33.6-34.1 ms in builds since)
-                ("group-three-10k", 3, 10000, 50000, (150.0, 100.0, 110.0, 120.0, 130.0), 37.0,
+# while accelerating the stop is the acceleration reversed (StepperGroup::stop_mirrored; until 2026-12-07 it was
+# planned at a cut: 15.7 ms with two Steppers, 28-35 ms with three at these moments); the moments of three at
+# 10,000 steps/s lie 60 ms and more into the move (before, the ring no longer holds the acceleration's last 12 ms:
+# planned at a cut as the steep build's are, 34-36 ms)
+GROUP_BUILDS = (("group-two-20k", 2, 20000, 50000, (100.0, 150.0, 200.0, 250.0, 300.0), 6.0,
+                 (600.0, 650.3, 700.7, 800.5), 2.0),
+                ("group-three-10k", 3, 10000, 50000, (135.0, 150.0, 165.0, 180.0, 195.0), 10.0,
                  (400.0, 450.3, 500.7, 600.5), 3.2),
                 # (the acceleration ends some 160 ms after MOVE; the cruise's cut lies farther by the bank the stop's
                 # commands need: some 22 ms)

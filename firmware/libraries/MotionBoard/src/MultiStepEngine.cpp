@@ -969,8 +969,9 @@ uint8_t MultiStepEngine::cut_find(uint8_t axis, uint32_t min_ticks_ahead, uint32
  * up to the one that holds that point, which is split there (a cruise's: not slow, not WIDE, no add).
  * 0 when the first cut beyond min_ticks_ahead drops fewer steps (the point lies too close) or the
  * point lies in a slot that cannot be split. No time sum (time16 = 0). */
-uint8_t MultiStepEngine::cut_find_at(uint8_t axis, uint32_t min_ticks_ahead, uint32_t drop, Cut &r)
+uint8_t MultiStepEngine::cut_find_at(uint8_t axis, uint32_t min_ticks_ahead, uint32_t drop, Cut &r, bool ramp)
 {
+    const uint8_t no_split = (uint8_t)(_BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_WIDE) | (ramp ? 0U : _BV(AXIS_SLOT_HAS_ADD)));
     if (drop == 0 || cut_find(axis, min_ticks_ahead, UINT32_MAX, r, false, true) == 0 || r.steps < drop)
         return 0;
     AxisState &s = state(axis);
@@ -992,7 +993,7 @@ uint8_t MultiStepEngine::cut_find_at(uint8_t axis, uint32_t min_ticks_ahead, uin
         r.first = next_slot(f, r.first);
         r.cmds--;
         if (c > excess) {
-            if (q.flags & (_BV(AXIS_SLOT_SLOW) | _BV(AXIS_SLOT_WIDE) | _BV(AXIS_SLOT_HAS_ADD)))
+            if (q.flags & no_split)
                 return 0;
             r.split = (uint16_t)(c - excess);
             r.last_count = (uint16_t)excess;

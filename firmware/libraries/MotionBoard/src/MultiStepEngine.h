@@ -291,9 +291,11 @@ public:
                             bool split = false);
     static bool cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_left, const step_cmd_t *c, uint8_t n);
     /* cut_find's cut (with split) moved later to drop exactly `drop` steps (a StepperGroup's stop in the
-     * cruise cuts each axis where its own stop ends on the line); 0: that point lies closer than
-     * min_ticks_ahead, or in a command that is not split (slow, WIDE or a ramp's); no time sum */
-    static uint8_t cut_find_at(uint8_t axis, uint32_t min_ticks_ahead, uint32_t drop, Cut &r);
+     * cruise cuts each axis where its own stop ends on the line; ramp: also inside an acceleration's
+     * command, as its stop while accelerating, which reverses the kept ones); 0: that point lies closer
+     * than min_ticks_ahead, or in a command that is not split (slow, WIDE, or a ramp's without ramp);
+     * no time sum */
+    static uint8_t cut_find_at(uint8_t axis, uint32_t min_ticks_ahead, uint32_t drop, Cut &r, bool ramp = false);
     /* A command made into its slot's form ahead of time (make_image), p_off: the position before its
      * first step less that before the first command's (the cut's, once laid out). cut_apply with
      * images puts them all in place in its switch, with no work on them but a copy: a stop planned

@@ -14,12 +14,23 @@
 
 static_assert(STEP_CUT_MAX_CMDS <= MultiStepEngine::MULTI_CUT_MAX_CMDS, "cut_apply takes at most MULTI_CUT_MAX_CMDS commands");
 
-static step_planner_t s_scratch;
+/* the cut's scratch: a planner, or a stop's reversed commands (StepperGroup::stop_mirrored), never both
+ * at once (each is used within one call of the planner interrupt) */
+static union {
+    step_planner_t planner;
+    step_cmd_t cmds[STEP_CUT_SCRATCH_CMDS];
+} s_scratch_u;
+static step_planner_t &s_scratch = s_scratch_u.planner;
 static step_smooth_t *s_smooth_backup;
 
 step_planner_t &step_cut_scratch()
 {
     return s_scratch;
+}
+
+step_cmd_t *step_cut_cmds()
+{
+    return s_scratch_u.cmds;
 }
 
 void step_cut_smooth_backup(step_smooth_t *backup)

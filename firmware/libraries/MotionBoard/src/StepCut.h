@@ -127,8 +127,12 @@ void step_cut_mirror_rest(step_planner_t *pl, const StepCutMirror &rest);
 uint8_t step_cut_first_cmds(step_planner_t *pl, step_cmd_t *c, uint8_t ticks_per_us, uint16_t new_us,
                             uint8_t max_cmds);
 
-/* A planner for the cut's work, one for all (the cut is planned for one axis at a time). */
+/* A planner for the cut's work, one for all (the cut is planned for one axis at a time); the same
+ * memory as STEP_CUT_MIRROR_CMDS commands (step_cut_cmds: a group's stop while accelerating reverses
+ * each axis's commands there, off the planner interrupt's stack), for one use at a time. */
 step_planner_t &step_cut_scratch();
+static const uint8_t STEP_CUT_SCRATCH_CMDS = (uint8_t)(sizeof(step_planner_t) / sizeof(step_cmd_t));
+step_cmd_t *step_cut_cmds();
 
 /* Where step_cut_plan keeps a smooth move's state while it cuts (put back if the cut does not come
  * off): one for all axes, about 1 KB, given by the MotionStepper library when a Stepper first takes

@@ -162,7 +162,8 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         if (axes_[i] && i != except && MultiStepEngine::stepping(i))
             n_step++;
     const bool rest = n_step >= 2U;
-    for (uint8_t k = 0; k < MOTION_STEPPER_CMDS_PER_TICK;) {
+    const uint32_t low = (uint32_t)tpu_ * (MOTION_STEPPER_LOW_MS * 1000UL);
+    for (uint8_t k = 0;;) {
         uint8_t laid;
         uint32_t best = UINT32_MAX, most = 0;
         uint8_t pick = 3, start = 3, n = MOTION_STEPPER_CMDS_PER_PICK;
@@ -185,6 +186,8 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         }
         if (share_ && pick != 3 && best >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
             break; /* every stepping queue holds half the lead: the rest at the next tick */
+        if (k >= MOTION_STEPPER_CMDS_PER_TICK && (pick == 3 || best >= low))
+            break;
         if (pick == 3) {
             pick = start;
             n = 1U; /* a move not started yet: one at a time */
@@ -194,7 +197,8 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         laid = MultiStepEngine::service(pick, axes_[pick]->source(), n);
         if (laid == 0)
             dry |= (uint8_t)(1U << pick);
-        k = (uint8_t)(k + (laid ? laid : 1U));
+        if (k < MOTION_STEPPER_CMDS_PER_TICK)
+            k = (uint8_t)(k + (laid ? laid : 1U));
     }
     for (uint8_t i = 0; i < 3; i++)
         if (axes_[i] && i != except)

@@ -696,6 +696,214 @@ uint8_t StepperGroup::stop_in_cruise()
 #endif
 }
 
+/* planner interrupt (execute_plan): whether this move's stop while it accelerates may be mirrored. The
+ * planner must keep up with the stop's commands beyond the reversed ones, which bank only a few
+ * milliseconds: not where a stop from vmax asks more of it than its own time (stop_bank_us: steep
+ * accelerations, where a stop is short and dense; three Steppers at 10,000 steps/s and 100,000 steps/s^2
+ * ran dry 4-28 times a stop mirrored, 2026-12-07). About 1.5 ms of the AVR, once per move. */
+void StepperGroup::mirror_check()
+{
+    dense_ = true;
+#if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && MOTION_STEPPER_CUT_MIRROR_US && MOTION_STEPPER_GROUP_MIRROR_US && \
+    !MULTI_TIMED_LOOP
+    float v[STEP_COORD_MAX_AXES], sum = 0.0f;
+    for (uint8_t j = 0; j < n_; j++) {
+        v[j] = coord_.profile.vmax_sps * (float)coord_.d[j] / (float)coord_.d[coord_.master];
+        if (mask_ & (1U << j))
+            sum += v[j];
+    }
+    float grow = grow_at(sum, MOTION_STEPPER_STEP_CYCLES);
+    dense_ = stop_bank_us(grow < 1.0f ? 1.0f : grow, 0, v) != 0U;
+#endif
+}
+
+/* planner interrupt (do_stop, after stop_in_cruise): a stop while the group accelerates, as a Stepper's own
+ * (step_cut_mirror): no plan before the switches. The meeting point: the master's step n_m that its
+ * speed (and acceleration) reach MOTION_STEPPER_GROUP_MIRROR_US per own axis ahead (grown with the step
+ * interrupts' share of the CPU), plus the switches' margins and two intervals of the slowest own axis;
+ * every own axis j is cut at its step round(d_j n_m / d_m) (MultiStepEngine::cut_find_at, inside an
+ * acceleration's command too), all at one point of the line within half a step. From there each axis's
+ * stop is its acceleration reversed (lib's step_exact_stop_mirrored: on the law; from rest it ends at
+ * 2 n_j, on the line within a step): its last commands, reversed (MultiStepEngine::cut_mirror, in the
+ * cut's scratch), at least MOTION_STEPPER_GROUP_MIRROR_PLAN_US per own axis of them (grown), are switched
+ * in one member after the other, the soonest cut first (the first few as slot images in the group's
+ * room; the rest laid out once every switch has come off), and the rest of each stop is planned while
+ * they run. A first switch too late, or a point too close at its search: again twice as far ahead
+ * (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or GROUP_CUT_NO (nothing changed: a dense move (mirror_check),
+ * not accelerating, a point outside the acceleration or at its first steps, the ring no longer holds
+ * enough of it, every try too late): stop_at_cut then plans it. A later member's switch too late (not
+ * seen in the sweeps: the margins) keeps that axis's queue, and it stops after it, off the line. */
+uint8_t StepperGroup::stop_mirrored()
+{
+#if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && MOTION_STEPPER_CUT_MIRROR_US && MOTION_STEPPER_GROUP_MIRROR_US && \
+    !MULTI_TIMED_LOOP
+    MultiStepEngine::Cut cut[STEP_COORD_MAX_AXES];
+    struct {
+        uint32_t n, steps; /* the step where the cut lands, the steps laid out reversed */
+        int64_t t16;       /* their time in the executor */
+        uint8_t all, img;  /* the reversed commands, and how many of them the switch puts in */
+    } mi[STEP_COORD_MAX_AXES];
+    const uint32_t tpu = BackgroundPlanner::ticksPerUs();
+    const uint8_t m = coord_.master;
+    uint8_t j, count = 0;
+    if (!room_ || dense_ || own_ == 0 || !(own_ & (1U << m)) || BackgroundPlanner::inLoop())
+        return GROUP_CUT_NO;
+    uint32_t d_min = coord_.d[m];
+    for (j = 0; j < n_; j++)
+        if (own_ & (1U << j)) {
+            const step_exact_t &e = coord_.ax[j];
+            if (!e.moving || e.a_down || e.n1 < 8U)
+                return GROUP_CUT_NO;
+            if (coord_.d[j] < d_min)
+                d_min = coord_.d[j];
+            count++;
+        }
+    /* the master still accelerating (the planner may be in the cruise already, a lead ahead of it) */
+    const float v = fabs(MultiStepEngine::speed(member_[m]->axis_));
+    if (!(v < 0.98f * coord_.profile.vmax_sps))
+        return GROUP_CUT_NO;
+    /* the slowest own axis's interval, twice: the step interrupt works out the interval of the step after
+     * the one it arms, so a cut comes too late once its last kept step is armed, an interval before it;
+     * and an axis's point may lie half an interval before the master's (three Steppers at 10,000 steps/s:
+     * without it Z's search or switch came too late at nearly every first try) */
+    const float v_min = v * (float)d_min / (float)coord_.d[m];
+    if (!(v_min > 100.0f))
+        return GROUP_CUT_NO; /* (an interval of 10 ms or more: the cut would lie that far) */
+    float grow = grow_at(BackgroundPlanner::stepRate(), MOTION_STEPPER_STEP_CYCLES);
+    if (grow < 1.0f)
+        grow = 1.0f;
+    const uint32_t ahead_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)(count - 1U) * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US +
+                              (uint32_t)((float)(MOTION_STEPPER_GROUP_MIRROR_US * count) * grow + 2.0e6f / v_min);
+    const uint32_t min_ticks = tpu * (uint32_t)((float)(MOTION_STEPPER_GROUP_MIRROR_PLAN_US * count) * grow);
+    step_cmd_t *const c = step_cut_cmds();
+    BackgroundPlanner::finishCuts(); /* another Stepper's cut in the cruise: its second half first */
+    ahead_ = 0; /* (the images below take the room of the stop planned ahead) */
+    for (uint8_t k = 0; k < STEP_CUT_TRIES; k++) {
+        step_cut_trace(true);
+        /* the master's step that far ahead (its queue holds the planner's steps beyond its position) */
+        const step_exact_t &em = coord_.ax[m];
+        const uint32_t queued = ramp_distance(MultiStepEngine::position(member_[m]->axis_), em.pos);
+        if (queued >= em.n) {
+            step_cut_trace(false);
+            return GROUP_CUT_NO;
+        }
+        const float s = 1.0e-6f * (float)(ahead_us << k);
+        const uint32_t n_m = em.n - queued + (uint32_t)(s * (v + 0.5f * coord_.profile.accel_sps2 * s)) + 2U;
+        bool late = false;
+        /* every axis's cut first (the searches), then the reversals: the last search comes sooner */
+        for (j = 0; j < n_ && !late; j++) {
+            if (!(own_ & (1U << j)))
+                continue;
+            const step_exact_t &e = coord_.ax[j];
+            const uint32_t n = j == m ? n_m : (uint32_t)(((uint64_t)coord_.d[j] * n_m + coord_.d[m] / 2U) / coord_.d[m]);
+            if (n >= e.n || !step_exact_mirror_ok(&e, n)) {
+                step_cut_trace(false);
+                return GROUP_CUT_NO; /* outside the acceleration, or at its first steps */
+            }
+            mi[j].n = n;
+            /* (searched from a quarter as far: the queue's time is reckoned from its commands' durations,
+             * a few steps off either way) */
+            late = MultiStepEngine::cut_find_at(member_[j]->axis_, tpu * (ahead_us << k) / 4U, e.n - n, cut[j], true) == 0;
+        }
+        for (j = 0; j < n_ && !late; j++) {
+            if (!(own_ & (1U << j)))
+                continue;
+            /* its acceleration's last commands reversed: enough to plan the rest of every stop meanwhile */
+            mi[j].all = MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, STEP_CUT_SCRATCH_CMDS, mi[j].n - 2U, min_ticks,
+                                                    mi[j].steps);
+            if (mi[j].all == 0) {
+                step_cut_trace(false);
+                return GROUP_CUT_NO; /* the ring no longer holds that much of it */
+            }
+            mi[j].img = mi[j].all < MOTION_STEPPER_GROUP_CUT_CMDS ? mi[j].all : (uint8_t)MOTION_STEPPER_GROUP_CUT_CMDS;
+            int32_t off = 0;
+            for (uint8_t i = 0; i < mi[j].img; i++) {
+                MultiStepEngine::make_image(c[i], room_[j].img[i], off);
+                off += (c[i].flags & STEP_CMD_REVERSE) ? -(int32_t)c[i].count : (int32_t)c[i].count;
+            }
+        }
+        if (late) {
+            step_cut_trace(false);
+            continue;
+        }
+        /* the switches, the soonest cut first (axis j's step n comes when the line's parameter is n / d_j) */
+        uint8_t order[STEP_COORD_MAX_AXES], no = 0, done = 0, after = count;
+        for (j = 0; j < n_; j++)
+            if (own_ & (1U << j)) {
+                uint8_t i = no++;
+                for (; i > 0 && (uint64_t)mi[order[i - 1]].n * coord_.d[j] > (uint64_t)mi[j].n * coord_.d[order[i - 1]]; i--)
+                    order[i] = order[i - 1];
+                order[i] = j;
+            }
+        for (uint8_t i = 0; i < no; i++) {
+            j = order[i];
+            after--;
+            const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
+            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, mi[j].img, mi[j].img,
+                                           room_[j].tail)) {
+                done |= (uint8_t)(1U << j);
+                continue;
+            }
+            if (done == 0)
+                break; /* the first too late, nothing changed: again farther ahead */
+            /* a later member too late: it keeps its queue and stops after it, off the line */
+            step_exact_t &e = coord_.ax[j];
+            step_exact_stop(&e);
+            coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
+        }
+        if (done == 0) {
+            step_cut_trace(false);
+            continue;
+        }
+        for (j = 0; j < n_; j++)
+            if (done & (1U << j))
+                MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, mi[j].img);
+        /* the reversed commands beyond the images (the ring still holds the kept ones as they were: the
+         * same again; should it not, the images' alone), their time, then the rest of each stop from there */
+        for (j = 0; j < n_; j++) {
+            if (!(done & (1U << j)))
+                continue;
+            uint32_t steps;
+            uint8_t all = MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, STEP_CUT_SCRATCH_CMDS, mi[j].n - 2U,
+                                                      min_ticks, steps);
+            if (all != mi[j].all || steps != mi[j].steps) {
+                all = mi[j].img;
+                (void)MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, all, mi[j].n - 2U, 0, steps);
+            }
+            mi[j].t16 = 0;
+            mi[j].steps = 0;
+            for (uint8_t i = 0; i < all; i++) {
+                mi[j].t16 += step_exact_cmd_time16(&c[i]);
+                mi[j].steps += c[i].count;
+            }
+            for (uint8_t i = mi[j].img; i < all;) {
+                uint8_t n = 0;
+                int32_t off = 0;
+                for (; n < MOTION_STEPPER_GROUP_CUT_CMDS && i < all; n++, i++) {
+                    MultiStepEngine::make_image(c[i], room_[j].img[n], off);
+                    off += (c[i].flags & STEP_CMD_REVERSE) ? -(int32_t)c[i].count : (int32_t)c[i].count;
+                }
+                MultiStepEngine::append_images(member_[j]->axis_, room_[j].img, n);
+            }
+        }
+        for (j = 0; j < n_; j++) {
+            if (!(done & (1U << j)))
+                continue;
+            step_exact_t &e = coord_.ax[j];
+            /* (not refused: step_exact_mirror_ok above, and steps <= n - 2) */
+            (void)step_exact_stop_mirrored(&e, mi[j].n, mi[j].steps, mi[j].t16);
+            coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
+        }
+        step_cut_trace(false);
+        return GROUP_CUT_DONE;
+    }
+    step_cut_trace(false);
+    return GROUP_CUT_NO;
+#else
+    return GROUP_CUT_NO;
+#endif
+}
+
 /* where stop_at_cut keeps member j's state before its cut: its own planner's state (a union), idle
  * while it moves in the group; a smooth planner's pointer to its state is kept aside meanwhile */
 step_exact_t &StepperGroup::cut_keep(uint8_t j)

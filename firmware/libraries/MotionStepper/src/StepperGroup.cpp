@@ -9,7 +9,7 @@
 #include "Stepper.h"
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b)
-    : n_(2), mask_(0), own_(0), ended_(0), ahead_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
+    : n_(2), mask_(0), own_(0), ended_(0), ahead_(0), dense_(true), starting_(false), done_(false), plan_req_(false), stop_req_(false),
       cut_tries_(0), cut_us_(0), cuts_missed_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
@@ -19,7 +19,7 @@ StepperGroup::StepperGroup(Stepper &a, Stepper &b)
 }
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b, Stepper &c)
-    : n_(3), mask_(0), own_(0), ended_(0), ahead_(0), starting_(false), done_(false), plan_req_(false), stop_req_(false),
+    : n_(3), mask_(0), own_(0), ended_(0), ahead_(0), dense_(true), starting_(false), done_(false), plan_req_(false), stop_req_(false),
       cut_tries_(0), cut_us_(0), cuts_missed_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
@@ -212,6 +212,7 @@ void StepperGroup::execute_plan()
         else
             MultiStepEngine::open_move(s.axis_, true);
     }
+    mirror_check();
     starting_ = true;
 }
 
@@ -325,9 +326,12 @@ void StepperGroup::do_stop()
     for (uint8_t j = 0; j < n_; j++)
         back[j] = coord_.to[j] < coord_.from[j];
     /* in the cruise, the stop planned ahead at a cut a few milliseconds ahead (farther by the stop's
-     * bank at steep accelerations); else at a cut of the
-     * queues a few milliseconds ahead, planned there (StepperCut.cpp); or after the queued lead */
+     * bank at steep accelerations); while accelerating, the acceleration's last commands reversed at a
+     * cut a few milliseconds ahead (stop_mirrored); else at a cut of the queues some milliseconds ahead
+     * per axis, planned there (StepperCut.cpp); or after the queued lead */
     uint8_t cut = cut_us_ == 0 ? stop_in_cruise() : (uint8_t)GROUP_CUT_NO;
+    if (cut != GROUP_CUT_DONE && cut_us_ == 0)
+        cut = stop_mirrored();
     if (cut != GROUP_CUT_DONE)
         cut = stop_at_cut();
     if (cut == GROUP_CUT_AGAIN) {

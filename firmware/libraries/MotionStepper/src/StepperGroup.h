@@ -83,6 +83,24 @@
 #ifndef MOTION_STEPPER_GROUP_NOW_US
 #define MOTION_STEPPER_GROUP_NOW_US 2500UL
 #endif
+/* A stop while the group accelerates (StepperGroup::stop_mirrored), as a Stepper's own (StepCut.h): every
+ * own axis is cut at the same point of the line, and its acceleration's last commands, reversed, are laid
+ * out there (MultiStepEngine::cut_mirror): no plan before the switches. The cut lies this many
+ * microseconds ahead per own axis (its search, the reversal and the images: traced 2026-12-07 with three
+ * Steppers at 10,000 steps/s, 0.25-0.3 ms for each search and as much for each reversal, the first
+ * search 1 ms after the call), grown with the step interrupts' share of the CPU, plus the margin,
+ * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US for each switch after the first and two intervals of the slowest
+ * axis. The reversed commands must last MOTION_STEPPER_GROUP_MIRROR_PLAN_US per own axis (grown as
+ * well): after the switches the rest of them is laid out (1 ms an axis) and the rest of each axis's stop
+ * planned (lib's step_exact_stop_mirrored, 2 ms of the AVR an axis) while they run, and the feed then
+ * catches up (with 3 ms here, three Steppers at 10,000 steps/s ran dry at 4 of 10 moments). 0: no such
+ * stop (planned at a cut, stop_at_cut). */
+#ifndef MOTION_STEPPER_GROUP_MIRROR_US
+#define MOTION_STEPPER_GROUP_MIRROR_US 900UL
+#endif
+#ifndef MOTION_STEPPER_GROUP_MIRROR_PLAN_US
+#define MOTION_STEPPER_GROUP_MIRROR_PLAN_US 4000UL
+#endif
 /* the stop's first commands laid out at the cut for each axis: up to this many (at most
  * MultiStepEngine::MULTI_CUT_MAX_CMDS), covering MOTION_STEPPER_CUT_NEW_US (the feed lays out the rest) */
 #define MOTION_STEPPER_GROUP_CUT_CMDS 4U
@@ -160,6 +178,8 @@ private:
     void axis_done(uint8_t axis, int32_t position) override;
     void plan_stop_ahead(uint8_t axis) override;
     uint8_t stop_in_cruise();
+    uint8_t stop_mirrored();
+    void mirror_check();
     int32_t follower_position(uint8_t j, int32_t master_pos);
     static uint8_t coord_next(void *ctx, step_cmd_t *c);
     static uint8_t coord_busy(void *ctx);
@@ -172,6 +192,7 @@ private:
     uint8_t own_;     /* of those, the ones stepped by their own interrupt */
     uint8_t ended_;   /* members whose part has ended */
     uint8_t ahead_;   /* own members whose stop from the cruise is planned ahead (plan_stop_ahead) */
+    bool dense_;      /* this move's stop asks more of the planner than its own time: none mirrored (mirror_check) */
     /* (the rest of it in the room_, on the heap: MultiAxisStepper's three Steppers keep their SRAM) */
     volatile bool starting_; /* held until every own axis has its first commands */
     volatile bool done_;
