@@ -2113,7 +2113,7 @@ def three_legs(log, problems, build, n, vmax, accel):
 # planned at a cut as the steep build's are, 34-36 ms)
 GROUP_BUILDS = (("group-two-20k", 2, 20000, 50000, (100.0, 150.0, 200.0, 250.0, 300.0), 6.0,
                  (600.0, 650.3, 700.7, 800.5), 2.0),
-                ("group-three-10k", 3, 10000, 50000, (135.0, 150.0, 165.0, 180.0, 195.0), 10.0,
+                ("group-three-10k", 3, 10000, 50000, (135.0, 150.0, 165.0, 180.0, 195.0), 12.0,
                  (400.0, 450.3, 500.7, 600.5), 3.2),
                 # (the acceleration ends some 160 ms after MOVE; the cruise's cut lies farther by the bank the stop's
                 # commands need: some 22 ms)
@@ -2128,6 +2128,11 @@ GROUP_BUILDS = (("group-two-20k", 2, 20000, 50000, (100.0, 150.0, 200.0, 250.0, 
                 # waits: the stop is then planned at a cut (in the first build of the stop planned ahead, 2026-12-07,
                 # Y decelerated with those constants: 641 underruns, its steps off the law by 7.8 million cycles)
                 ("group-two-20k-set", 2, 20000, 50000, (), 0.0, (600.0, 700.7), 17.0))
+# builds whose stops while accelerating may act after the queued lead (StepperGroup::cutsMissed() 1): at 100,000
+# steps/s^2 the planner banks less than the stop's cut distance near the acceleration's end (the bank the stop's
+# commands need, some 20 ms, beyond the queue, which then ends nearer than such a cut; 56.8 ms measured at
+# 100 ms after MOVE in a build of 2026-12-07, 53 ms at a cut in the builds before); the latency bound holds
+GROUP_AFTER_LEAD_OK = {("group-three-10k-steep", False)}
 GROUP_RATIO = (1.0, 0.5, 0.25)
 GROUP_DIR = (1, 1, -1)
 GROUP_LATE = 700  # cycles off the deceleration's law (two step interrupts share the CPU: their jitter)
@@ -2224,7 +2229,7 @@ def check_group_stop(env):
                 problems.append(f"{what}: no stop() call or no DONE ({texts[-3:]})")
                 continue
             missed = next((l.text for l in log.rx if l.text.startswith("MISSED")), None)
-            if missed != "MISSED 0":
+            if missed != "MISSED 0" and not (missed == "MISSED 1" and (build, in_cruise) in GROUP_AFTER_LEAD_OK):
                 problems.append(f"{what}: '{missed}': the stop acted after the lead (StepperGroup::cutsMissed()), "
                                 "not at a cut")
             f = done.text.split()[1:]

@@ -128,7 +128,7 @@ uint8_t step_cut_first_cmds(step_planner_t *pl, step_cmd_t *c, uint8_t ticks_per
                             uint8_t max_cmds);
 
 /* A planner for the cut's work, one for all (the cut is planned for one axis at a time); the same
- * memory as STEP_CUT_MIRROR_CMDS commands (step_cut_cmds: a group's stop while accelerating reverses
+ * memory as STEP_CUT_SCRATCH_CMDS commands (step_cut_cmds: a group's stop while accelerating reverses
  * each axis's commands there, off the planner interrupt's stack), for one use at a time. */
 step_planner_t &step_cut_scratch();
 static const uint8_t STEP_CUT_SCRATCH_CMDS = (uint8_t)(sizeof(step_planner_t) / sizeof(step_cmd_t));

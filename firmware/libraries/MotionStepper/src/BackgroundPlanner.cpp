@@ -146,6 +146,8 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
  * a time (choosing costs about as much as laying one out); a move not yet started one at a time and
  * only when no stepping axis needs one (a move started never starves one that runs). up_to (ticks;
  * UINT32_MAX: the lead): a stepping queue that holds that much is left as it is. */
+static_assert(3U * MOTION_STEPPER_CMDS_PER_TICK + MOTION_STEPPER_CMDS_PER_PICK < 256U, "feed counts its commands in 8 bits");
+
 void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
 {
     uint8_t dry = 0;
@@ -186,8 +188,8 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         }
         if (share_ && pick != 3 && best >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
             break; /* every stepping queue holds half the lead: the rest at the next tick */
-        if (k >= MOTION_STEPPER_CMDS_PER_TICK && (pick == 3 || best >= low))
-            break;
+        if (k >= MOTION_STEPPER_CMDS_PER_TICK && (pick == 3 || best >= low || k >= 3U * MOTION_STEPPER_CMDS_PER_TICK))
+            break; /* (below the low mark, up to three times as many: a planner that cannot keep up stops there) */
         if (pick == 3) {
             pick = start;
             n = 1U; /* a move not started yet: one at a time */
@@ -197,8 +199,7 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         laid = MultiStepEngine::service(pick, axes_[pick]->source(), n);
         if (laid == 0)
             dry |= (uint8_t)(1U << pick);
-        if (k < MOTION_STEPPER_CMDS_PER_TICK)
-            k = (uint8_t)(k + (laid ? laid : 1U));
+        k = (uint8_t)(k + (laid ? laid : 1U));
     }
     for (uint8_t i = 0; i < 3; i++)
         if (axes_[i] && i != except)

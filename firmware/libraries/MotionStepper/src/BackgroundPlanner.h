@@ -88,7 +88,7 @@
 #define MOTION_STEPPER_PLAN_SAFE_MS 20U
 #endif
 /* ... but while a stepping queue holds less than this many ms the tick goes on laying out commands past
- * MOTION_STEPPER_CMDS_PER_TICK (the queue comes first): after a StepperGroup's stop while accelerating
+ * MOTION_STEPPER_CMDS_PER_TICK, up to three times as many (the queue comes first): after a StepperGroup's stop while accelerating
  * (the acceleration's last commands reversed, then the rest planned) three Steppers at 10,000 steps/s
  * ran dry once or twice a stop, the tick returning with a queue a millisecond from empty */
 #ifndef MOTION_STEPPER_LOW_MS

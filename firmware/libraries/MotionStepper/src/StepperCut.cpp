@@ -729,7 +729,7 @@ void StepperGroup::mirror_check()
  * in one member after the other, the soonest cut first (the first few as slot images in the group's
  * room; the rest laid out once every switch has come off), and the rest of each stop is planned while
  * they run. A first switch too late, or a point too close at its search: again twice as far ahead
- * (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or GROUP_CUT_NO (nothing changed: a dense move (mirror_check),
+ * (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or GROUP_CUT_NO (no queue changed: a dense move (mirror_check),
  * not accelerating, a point outside the acceleration or at its first steps, the ring no longer holds
  * enough of it, every try too late): stop_at_cut then plans it. A later member's switch too late (not
  * seen in the sweeps: the margins) keeps that axis's queue, and it stops after it, off the line. */
@@ -739,8 +739,8 @@ uint8_t StepperGroup::stop_mirrored()
     !MULTI_TIMED_LOOP
     MultiStepEngine::Cut cut[STEP_COORD_MAX_AXES];
     struct {
-        uint32_t n, steps; /* the step where the cut lands, the steps laid out reversed */
-        int64_t t16;       /* their time in the executor */
+        uint32_t n, steps, img_steps; /* the step where the cut lands, the steps reversed, the images' */
+        int64_t t16;                  /* the time in the executor of those laid out (the images' first) */
         uint8_t all, img;  /* the reversed commands, and how many of them the switch puts in */
     } mi[STEP_COORD_MAX_AXES];
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
@@ -817,9 +817,13 @@ uint8_t StepperGroup::stop_mirrored()
             }
             mi[j].img = mi[j].all < MOTION_STEPPER_GROUP_CUT_CMDS ? mi[j].all : (uint8_t)MOTION_STEPPER_GROUP_CUT_CMDS;
             int32_t off = 0;
+            mi[j].t16 = 0;
+            mi[j].img_steps = 0;
             for (uint8_t i = 0; i < mi[j].img; i++) {
                 MultiStepEngine::make_image(c[i], room_[j].img[i], off);
                 off += (c[i].flags & STEP_CMD_REVERSE) ? -(int32_t)c[i].count : (int32_t)c[i].count;
+                mi[j].t16 += step_exact_cmd_time16(&c[i]);
+                mi[j].img_steps += c[i].count;
             }
         }
         if (late) {
@@ -839,7 +843,9 @@ uint8_t StepperGroup::stop_mirrored()
             j = order[i];
             after--;
             const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
-            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, mi[j].img, mi[j].img,
+            /* (the ring's room checked for all the reversed commands: the rest are laid out after the
+             * switches) */
+            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, mi[j].all, mi[j].img,
                                            room_[j].tail)) {
                 done |= (uint8_t)(1U << j);
                 continue;
@@ -864,18 +870,14 @@ uint8_t StepperGroup::stop_mirrored()
             if (!(done & (1U << j)))
                 continue;
             uint32_t steps;
-            uint8_t all = MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, STEP_CUT_SCRATCH_CMDS, mi[j].n - 2U,
-                                                      min_ticks, steps);
+            const uint8_t all = MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, STEP_CUT_SCRATCH_CMDS, mi[j].n - 2U,
+                                                            min_ticks, steps);
             if (all != mi[j].all || steps != mi[j].steps) {
-                all = mi[j].img;
-                (void)MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, all, mi[j].n - 2U, 0, steps);
+                mi[j].steps = mi[j].img_steps; /* (not seen: nothing changes those slots meanwhile) */
+                continue;
             }
-            mi[j].t16 = 0;
-            mi[j].steps = 0;
-            for (uint8_t i = 0; i < all; i++) {
+            for (uint8_t i = mi[j].img; i < all; i++)
                 mi[j].t16 += step_exact_cmd_time16(&c[i]);
-                mi[j].steps += c[i].count;
-            }
             for (uint8_t i = mi[j].img; i < all;) {
                 uint8_t n = 0;
                 int32_t off = 0;
