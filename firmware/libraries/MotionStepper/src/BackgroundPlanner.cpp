@@ -15,6 +15,7 @@ bool BackgroundPlanner::share_;
 uint32_t BackgroundPlanner::tick_hz_ = MULTI_TIMED_LOOP ? 1000000UL : MULTI_TICK_HZ;
 uint8_t BackgroundPlanner::tpu_ = (uint8_t)((MULTI_TIMED_LOOP ? 1000000UL : MULTI_TICK_HZ) / 1000000UL);
 bool BackgroundPlanner::in_loop_ = MULTI_TIMED_LOOP;
+uint16_t BackgroundPlanner::catch_ticks_;
 uint16_t BackgroundPlanner::group_bytes_;
 
 PlannerIrqState planner_irq = {0, 0, 0, 0, {0, 0, 0}, MOTION_STEPPER_RETRY_COUNTS};
@@ -146,7 +147,7 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
  * a time (choosing costs about as much as laying one out); a move not yet started one at a time and
  * only when no stepping axis needs one (a move started never starves one that runs). up_to (ticks;
  * UINT32_MAX: the lead): a stepping queue that holds that much is left as it is. */
-static_assert(3U * MOTION_STEPPER_CMDS_PER_TICK + MOTION_STEPPER_CMDS_PER_PICK < 256U, "feed counts its commands in 8 bits");
+static_assert(MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK + MOTION_STEPPER_CMDS_PER_PICK < 256U, "feed counts its commands in 8 bits");
 
 void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
 {
@@ -164,7 +165,7 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         if (axes_[i] && i != except && MultiStepEngine::stepping(i))
             n_step++;
     const bool rest = n_step >= 2U;
-    const uint32_t low = (uint32_t)tpu_ * (MOTION_STEPPER_LOW_MS * 1000UL);
+    const uint32_t low = (uint32_t)tpu_ * (MOTION_STEPPER_LOW_MS * 1000UL) + 1U;
     for (uint8_t k = 0;;) {
         uint8_t laid;
         uint32_t best = UINT32_MAX, most = 0;
@@ -188,7 +189,8 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         }
         if (share_ && pick != 3 && best >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
             break; /* every stepping queue holds half the lead: the rest at the next tick */
-        if (k >= MOTION_STEPPER_CMDS_PER_TICK && (pick == 3 || best >= low || k >= 3U * MOTION_STEPPER_CMDS_PER_TICK))
+        if (k >= MOTION_STEPPER_CMDS_PER_TICK &&
+            (pick == 3 || catch_ticks_ == 0 || best >= low || k >= MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK))
             break; /* (below the low mark, up to three times as many: a planner that cannot keep up stops there) */
         if (pick == 3) {
             pick = start;
@@ -274,4 +276,12 @@ void BackgroundPlanner::tick()
     for (uint8_t i = 0; i < 3; i++)
         if (axes_[i])
             axes_[i]->plan_stop_ahead(); /* once a move cruises: its stop planned ahead */
+    if (catch_ticks_ != 0)
+        catch_ticks_--;
+}
+
+void BackgroundPlanner::catchUp(uint16_t ms)
+{
+    if (ms > catch_ticks_)
+        catch_ticks_ = ms;
 }

@@ -87,12 +87,18 @@
 #ifndef MOTION_STEPPER_PLAN_SAFE_MS
 #define MOTION_STEPPER_PLAN_SAFE_MS 20U
 #endif
-/* ... but while a stepping queue holds less than this many ms the tick goes on laying out commands past
- * MOTION_STEPPER_CMDS_PER_TICK, up to three times as many (the queue comes first): after a StepperGroup's stop while accelerating
- * (the acceleration's last commands reversed, then the rest planned) three Steppers at 10,000 steps/s
- * ran dry once or twice a stop, the tick returning with a queue a millisecond from empty */
+/* ... but during a StepperGroup's stop while accelerating (catchUp: the acceleration's last commands
+ * reversed, the rest of the stop planned while they run), while a stepping queue holds less than this
+ * many ms, the tick goes on laying out commands past MOTION_STEPPER_CMDS_PER_TICK, up to
+ * MOTION_STEPPER_LOW_TICKS times as many (the queue comes first): without it three Steppers at 10,000
+ * steps/s ran dry once or twice at 4 of 8 such stops, the tick returning with a queue a millisecond
+ * from empty. Only then: for every feed it held loop() 4 ms longer after three Steppers' own stops,
+ * and their deceleration began later (test/emu/ThreeSteppers) */
 #ifndef MOTION_STEPPER_LOW_MS
 #define MOTION_STEPPER_LOW_MS 4U
+#endif
+#ifndef MOTION_STEPPER_LOW_TICKS
+#define MOTION_STEPPER_LOW_TICKS 3U
 #endif
 #ifndef MOTION_STEPPER_CMDS_PER_PICK
 #define MOTION_STEPPER_CMDS_PER_PICK 3U
@@ -146,6 +152,10 @@ public:
      * some 600 cycles, which a cut planned 600 us ahead cannot spare */
     static uint8_t ticksPerUs() { return tpu_; }
     static bool setTickHz(uint32_t hz);
+    /* (planner interrupt) for the next `ms` ticks a tick feeds a stepping queue that holds less than
+     * MOTION_STEPPER_LOW_MS past its MOTION_STEPPER_CMDS_PER_TICK commands (StepperGroup::stop_mirrored:
+     * the rest of the stop's commands, planned late) */
+    static void catchUp(uint16_t ms);
 
     /* Planning from loop() instead of Timer3's interrupt, for a sketch whose loop() never blocks and
      * calls poll() on every pass (the stepper sketches' console, MotionConsole.h): call it before
@@ -211,6 +221,7 @@ private:
     static uint32_t tick_hz_;
     static uint8_t tpu_;
     static bool in_loop_;
+    static uint16_t catch_ticks_;
     static uint16_t group_bytes_;
 };
 

@@ -896,6 +896,10 @@ uint8_t StepperGroup::stop_mirrored()
             (void)step_exact_stop_mirrored(&e, mi[j].n, mi[j].steps, mi[j].t16);
             coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
         }
+        /* the feed catches up past its commands a tick while a queue runs low, for as long as the stop
+         * lasts (the master's, from its speed now: at most that long) */
+        const float stop_ms = 1000.0f * v / coord_.profile.accel_sps2 + 20.0f;
+        BackgroundPlanner::catchUp(stop_ms < 60000.0f ? (uint16_t)stop_ms : 60000U);
         step_cut_trace(false);
         return GROUP_CUT_DONE;
     }
