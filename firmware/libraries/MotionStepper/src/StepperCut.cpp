@@ -563,6 +563,53 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
 #endif
 }
 
+/* planner interrupt (stop_in_cruise, stop_mirrored): the own axes' cuts switched in one member after the
+ * other from the soonest on (axis j's step at[j] comes when the line's parameter is at[j] / d_j; the
+ * interrupt works out the interval of the step after the one it arms, so a cut comes too late once its
+ * last kept step is armed), each keeping the margin plus MOTION_STEPPER_GROUP_AHEAD_SWITCH_US for every
+ * switch still to come: the first, which may come too late and then changes nothing, keeps the largest.
+ * Member j's switch: its room's images, n_all[j] of them (the ring's room checked for those), the first
+ * n_now[j] put in. Returns the members switched (cut_finish is the caller's); 0: the first came too
+ * late, nothing changed. A later member too late keeps its queue and stops after it, off the line. */
+uint8_t StepperGroup::switch_cuts(const MultiStepEngine::Cut cut[], const uint32_t at[], const uint8_t n_all[],
+                                  const uint8_t n_now[], uint8_t count)
+{
+#if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && !MULTI_TIMED_LOOP
+    const uint32_t tpu = BackgroundPlanner::ticksPerUs();
+    uint8_t order[STEP_COORD_MAX_AXES], no = 0, done = 0, after = count, j;
+    for (j = 0; j < n_; j++)
+        if (own_ & (1U << j)) {
+            uint8_t i = no++;
+            for (; i > 0 && (uint64_t)at[order[i - 1]] * coord_.d[j] > (uint64_t)at[j] * coord_.d[order[i - 1]]; i--)
+                order[i] = order[i - 1];
+            order[i] = j;
+        }
+    for (uint8_t i = 0; i < no; i++) {
+        j = order[i];
+        after--;
+        const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
+        if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, n_all[j], n_now[j],
+                                       room_[j].tail)) {
+            done |= (uint8_t)(1U << j);
+            continue;
+        }
+        if (done == 0)
+            return 0;
+        step_exact_t &e = coord_.ax[j];
+        step_exact_stop(&e);
+        coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
+    }
+    return done;
+#else
+    (void)cut;
+    (void)at;
+    (void)n_all;
+    (void)n_now;
+    (void)count;
+    return 0;
+#endif
+}
+
 /* planner interrupt (do_stop, first): a stop while the group cruises, every own member's stop from the
  * cruise planned ahead (plan_stop_ahead): nothing is planned at the cut. The point of the line where
  * all come to rest is the farthest of the own axes' soonest rests from a cut MOTION_STEPPER_GROUP_CRUISE_US
@@ -642,35 +689,12 @@ uint8_t StepperGroup::stop_in_cruise()
             step_cut_trace(false);
             continue;
         }
-        /* the switches, from the soonest cut on (in the cruise axis j's step k comes when the line's
-         * parameter is k / d_j; the interrupt works out the interval of the step after the one it arms,
-         * so a cut comes too late once its last kept step is armed: in the order of kc[j] / d[j]), so that the first one, which may come too
-         * late and then changes nothing, keeps the largest margin */
-        uint8_t order[STEP_COORD_MAX_AXES], no = 0, done = 0, after = count;
-        for (j = 0; j < n_; j++)
-            if (own_ & (1U << j)) {
-                uint8_t i = no++;
-                for (; i > 0 && (uint64_t)kc[order[i - 1]] * coord_.d[j] > (uint64_t)kc[j] * coord_.d[order[i - 1]]; i--)
-                    order[i] = order[i - 1];
-                order[i] = j;
-            }
-        for (uint8_t i = 0; i < no; i++) {
-            j = order[i];
-            after--;
-            const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
-            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, room_[j].ahead_n, room_[j].ahead_now,
-                                           room_[j].tail)) {
-                done |= (uint8_t)(1U << j);
-                continue;
-            }
-            if (done == 0)
-                break; /* the first too late, nothing changed: again farther ahead */
-            /* a later member too late: it keeps its queue and stops after it, off the line (its queue
-             * already reaches beyond the point) */
-            step_exact_t &e = coord_.ax[j];
-            step_exact_stop(&e);
-            coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
+        uint8_t n_all[STEP_COORD_MAX_AXES], n_now[STEP_COORD_MAX_AXES];
+        for (j = 0; j < n_; j++) {
+            n_all[j] = room_[j].ahead_n;
+            n_now[j] = room_[j].ahead_now;
         }
+        const uint8_t done = switch_cuts(cut, kc, n_all, n_now, count);
         if (done == 0) {
             step_cut_trace(false);
             continue;
@@ -738,11 +762,11 @@ uint8_t StepperGroup::stop_mirrored()
 #if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && MOTION_STEPPER_CUT_MIRROR_US && MOTION_STEPPER_GROUP_MIRROR_US && \
     !MULTI_TIMED_LOOP
     MultiStepEngine::Cut cut[STEP_COORD_MAX_AXES];
-    struct {
-        uint32_t n, steps, img_steps; /* the step where the cut lands, the steps reversed, the images' */
-        int64_t t16;                  /* the time in the executor of those laid out (the images' first) */
-        uint8_t all, img;  /* the reversed commands, and how many of them the switch puts in */
-    } mi[STEP_COORD_MAX_AXES];
+    /* each own axis's step where its cut lands, its reversed commands and how many of them the switch
+     * puts in, their steps (and the images'), the time in the executor of those laid out */
+    uint32_t nj[STEP_COORD_MAX_AXES], steps[STEP_COORD_MAX_AXES], img_steps[STEP_COORD_MAX_AXES];
+    uint8_t n_all[STEP_COORD_MAX_AXES], n_img[STEP_COORD_MAX_AXES];
+    int64_t t16[STEP_COORD_MAX_AXES];
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
     const uint8_t m = coord_.master;
     uint8_t j, count = 0;
@@ -800,7 +824,7 @@ uint8_t StepperGroup::stop_mirrored()
                 step_cut_trace(false);
                 return GROUP_CUT_NO; /* outside the acceleration, or at its first steps */
             }
-            mi[j].n = n;
+            nj[j] = n;
             /* (searched from a quarter as far: the queue's time is reckoned from its commands' durations,
              * a few steps off either way) */
             late = MultiStepEngine::cut_find_at(member_[j]->axis_, tpu * (ahead_us << k) / 4U, e.n - n, cut[j], true) == 0;
@@ -809,76 +833,52 @@ uint8_t StepperGroup::stop_mirrored()
             if (!(own_ & (1U << j)))
                 continue;
             /* its acceleration's last commands reversed: enough to plan the rest of every stop meanwhile */
-            mi[j].all = MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, STEP_CUT_SCRATCH_CMDS, mi[j].n - 2U, min_ticks,
-                                                    mi[j].steps);
-            if (mi[j].all == 0) {
+            n_all[j] = MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, STEP_CUT_SCRATCH_CMDS, nj[j] - 2U, min_ticks,
+                                                    steps[j]);
+            if (n_all[j] == 0) {
                 step_cut_trace(false);
                 return GROUP_CUT_NO; /* the ring no longer holds that much of it */
             }
-            mi[j].img = mi[j].all < MOTION_STEPPER_GROUP_CUT_CMDS ? mi[j].all : (uint8_t)MOTION_STEPPER_GROUP_CUT_CMDS;
+            n_img[j] = n_all[j] < MOTION_STEPPER_GROUP_CUT_CMDS ? n_all[j] : (uint8_t)MOTION_STEPPER_GROUP_CUT_CMDS;
             int32_t off = 0;
-            mi[j].t16 = 0;
-            mi[j].img_steps = 0;
-            for (uint8_t i = 0; i < mi[j].img; i++) {
+            t16[j] = 0;
+            img_steps[j] = 0;
+            for (uint8_t i = 0; i < n_img[j]; i++) {
                 MultiStepEngine::make_image(c[i], room_[j].img[i], off);
                 off += (c[i].flags & STEP_CMD_REVERSE) ? -(int32_t)c[i].count : (int32_t)c[i].count;
-                mi[j].t16 += step_exact_cmd_time16(&c[i]);
-                mi[j].img_steps += c[i].count;
+                t16[j] += step_exact_cmd_time16(&c[i]);
+                img_steps[j] += c[i].count;
             }
         }
         if (late) {
             step_cut_trace(false);
             continue;
         }
-        /* the switches, the soonest cut first (axis j's step n comes when the line's parameter is n / d_j) */
-        uint8_t order[STEP_COORD_MAX_AXES], no = 0, done = 0, after = count;
-        for (j = 0; j < n_; j++)
-            if (own_ & (1U << j)) {
-                uint8_t i = no++;
-                for (; i > 0 && (uint64_t)mi[order[i - 1]].n * coord_.d[j] > (uint64_t)mi[j].n * coord_.d[order[i - 1]]; i--)
-                    order[i] = order[i - 1];
-                order[i] = j;
-            }
-        for (uint8_t i = 0; i < no; i++) {
-            j = order[i];
-            after--;
-            const uint32_t margin_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)after * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US;
-            /* (the ring's room checked for all the reversed commands: the rest are laid out after the
-             * switches) */
-            if (MultiStepEngine::cut_apply(member_[j]->axis_, cut[j], tpu * margin_us, room_[j].img, mi[j].all, mi[j].img,
-                                           room_[j].tail)) {
-                done |= (uint8_t)(1U << j);
-                continue;
-            }
-            if (done == 0)
-                break; /* the first too late, nothing changed: again farther ahead */
-            /* a later member too late: it keeps its queue and stops after it, off the line */
-            step_exact_t &e = coord_.ax[j];
-            step_exact_stop(&e);
-            coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
-        }
+        /* (the ring's room checked for all the reversed commands: the rest are laid out after the
+         * switches) */
+        const uint8_t done = switch_cuts(cut, nj, n_all, n_img, count);
         if (done == 0) {
             step_cut_trace(false);
             continue;
         }
         for (j = 0; j < n_; j++)
             if (done & (1U << j))
-                MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, mi[j].img);
+                MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, n_img[j]);
         /* the reversed commands beyond the images (the ring still holds the kept ones as they were: the
          * same again; should it not, the images' alone), their time, then the rest of each stop from there */
         for (j = 0; j < n_; j++) {
             if (!(done & (1U << j)))
                 continue;
-            uint32_t steps;
-            const uint8_t all = MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, STEP_CUT_SCRATCH_CMDS, mi[j].n - 2U,
-                                                            min_ticks, steps);
-            if (all != mi[j].all || steps != mi[j].steps) {
-                mi[j].steps = mi[j].img_steps; /* (not seen: nothing changes those slots meanwhile) */
+            uint32_t got;
+            const uint8_t all = MultiStepEngine::cut_mirror(member_[j]->axis_, cut[j], c, STEP_CUT_SCRATCH_CMDS, nj[j] - 2U,
+                                                            min_ticks, got);
+            if (all != n_all[j] || got != steps[j]) {
+                steps[j] = img_steps[j]; /* (not seen: nothing changes those slots meanwhile) */
                 continue;
             }
-            for (uint8_t i = mi[j].img; i < all; i++)
-                mi[j].t16 += step_exact_cmd_time16(&c[i]);
-            for (uint8_t i = mi[j].img; i < all;) {
+            for (uint8_t i = n_img[j]; i < all; i++)
+                t16[j] += step_exact_cmd_time16(&c[i]);
+            for (uint8_t i = n_img[j]; i < all;) {
                 uint8_t n = 0;
                 int32_t off = 0;
                 for (; n < MOTION_STEPPER_GROUP_CUT_CMDS && i < all; n++, i++) {
@@ -893,7 +893,7 @@ uint8_t StepperGroup::stop_mirrored()
                 continue;
             step_exact_t &e = coord_.ax[j];
             /* (not refused: step_exact_mirror_ok above, and steps <= n - 2) */
-            (void)step_exact_stop_mirrored(&e, mi[j].n, mi[j].steps, mi[j].t16);
+            (void)step_exact_stop_mirrored(&e, nj[j], steps[j], t16[j]);
             coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
         }
         /* the feed catches up past its commands a tick while a queue runs low, for as long as the stop

@@ -179,6 +179,8 @@ private:
     void plan_stop_ahead(uint8_t axis) override;
     uint8_t stop_in_cruise();
     uint8_t stop_mirrored();
+    uint8_t switch_cuts(const MultiStepEngine::Cut cut[], const uint32_t at[], const uint8_t n_all[], const uint8_t n_now[],
+                        uint8_t count);
     void mirror_check();
     int32_t follower_position(uint8_t j, int32_t master_pos);
     static uint8_t coord_next(void *ctx, step_cmd_t *c);
