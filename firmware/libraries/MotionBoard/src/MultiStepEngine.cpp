@@ -235,6 +235,7 @@ bool MultiStepEngine::begin_axes(uint32_t tick_hz, uint8_t x_alone)
             f.queued_ticks = 0;
             f.open = 0;
             f.held = 0;
+            f.keep = 0;
         }
         /* none running (sync_g0); the LED mirror as set */
         GPIOR0 = (uint8_t)((GPIOR0 & _BV(MULTI_G_LED_X)) | _BV(MULTI_G_OWNOFF_X) | _BV(MULTI_G_OWNOFF_Y) |
@@ -255,7 +256,7 @@ uint32_t MultiStepEngine::tick_hz()
 
 static bool has_room(AxisState &s, AxisFeed &f)
 {
-    return !s.slot[f.head].ready && !(s.running && f.head == cur_index(s)) && f.ready < f.nslots - 1U;
+    return !s.slot[f.head].ready && !(s.running && f.head == cur_index(s)) && f.ready < ring_cap(f);
 }
 
 static void lay_one(uint8_t axis, AxisState &s, AxisFeed &f, const step_cmd_t &c)
@@ -337,7 +338,7 @@ uint32_t MultiStepEngine::queued_ticks(uint8_t axis, bool rest)
     AxisFeed &f = s_feed[axis];
     poll();
     retire_consumed(s, f);
-    if (!(f.ready < 2U || f.queued_ticks < s_lead_ticks) || f.ready >= f.nslots - 1U ||
+    if (!(f.ready < 2U || f.queued_ticks < s_lead_ticks) || f.ready >= ring_cap(f) ||
         s.slot[f.head].ready || (s.running && f.head == cur_index(s)))
         return UINT32_MAX;
     /* rest: what is left to step; a slow axis's commands last long (Z's at a few hundred steps/s,
@@ -406,9 +407,8 @@ bool MultiStepEngine::ready_to_start(uint8_t axis, const AxisSource &src)
     /* alone, the first MULTI_START_SLOTS commands suffice: the CPU plans the rest faster than they are
      * stepped; while other axes step, it shares the CPU with their planning, so it starts with its
      * ring full (or its lead laid out) */
-    uint8_t want = (others_stepping(axis) || (s_start_full & _BV(axis))) ? (uint8_t)(f.nslots - 1U)
-                                                                          : (uint8_t)MULTI_START_SLOTS;
-    return f.ready >= want || f.ready >= f.nslots - 1U || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks;
+    uint8_t want = (others_stepping(axis) || (s_start_full & _BV(axis))) ? ring_cap(f) : (uint8_t)MULTI_START_SLOTS;
+    return f.ready >= want || f.ready >= ring_cap(f) || !src.busy(src.ctx) || f.queued_ticks >= s_lead_ticks;
 }
 
 bool MultiStepEngine::stepping(uint8_t axis)
@@ -462,8 +462,10 @@ MultiStepEngine::Continuation MultiStepEngine::extend(uint8_t axis, int32_t &end
     return r;
 }
 
-void MultiStepEngine::open_move(uint8_t axis, bool held)
+void MultiStepEngine::open_move(uint8_t axis, bool held, uint8_t keep)
 {
+    const uint8_t most = (uint8_t)(s_feed[axis].nslots / 4U);
+    s_feed[axis].keep = keep < most ? keep : most;
     s_feed[axis].open = 1;
     s_feed[axis].held = held ? 1 : 0;
     s_feed[axis].started = 0;
@@ -1118,7 +1120,7 @@ static __attribute__((noinline)) uint8_t cut_switch(AxisState &s, AxisSlot &t, A
     return ok;
 }
 
-void MultiStepEngine::make_image(const step_cmd_t &c, SlotImage &m, int32_t p_off)
+uint32_t MultiStepEngine::make_image(const step_cmd_t &c, SlotImage &m, int32_t &p_off)
 {
     m.rate = (c.flags & STEP_CMD_WIDE) ? c.rate : c.rate - (uint32_t)c.add; /* as lay_out */
     m.add = c.add;
@@ -1126,6 +1128,8 @@ void MultiStepEngine::make_image(const step_cmd_t &c, SlotImage &m, int32_t p_of
     m.flags = slot_flags(c);
     m.dur = duration_ticks(c);
     m.p_off = p_off;
+    p_off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
+    return ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
 }
 
 /* slot t gets image m: its first step after position pos0 + m.p_off, turning if its direction is not
@@ -1141,6 +1145,14 @@ static inline void put_image(AxisSlot &t, const MultiStepEngine::SlotImage &m, i
     t.left = m.left;
     t.flags = fl;
     t.p_start = pos0 + m.p_off;
+}
+
+bool MultiStepEngine::cut_fits(uint8_t axis, const Cut &r, uint8_t n)
+{
+    if (axis >= MULTI_AXES)
+        return false;
+    const AxisFeed &f = s_feed[axis];
+    return (uint16_t)(f.ready - r.cmds + n) < f.nslots - 1U;
 }
 
 /* cut_apply's first half: img[0..n-1] switched in at the cut (made off the ring, before the check; the
@@ -1184,7 +1196,7 @@ static __attribute__((noinline)) bool apply_cut(uint8_t axis, const MultiStepEng
             left = 0U; /* the interrupt has taken it since */
         left = left == UINT32_MAX ? left : left + (uint32_t)kept * per;
     }
-    if (left == UINT32_MAX || left < min_ticks_left || (uint16_t)(f.ready - r.cmds + n_all) >= f.nslots - 1U)
+    if (left == UINT32_MAX || left < min_ticks_left || !MultiStepEngine::cut_fits(axis, r, n_all))
         return false;
     /* a split of the current slot: the interrupt's count must still be at least lim (the dropped steps,
      * and enough kept before them for min_ticks_left), worked out here: the switch below is short */
@@ -1272,10 +1284,8 @@ bool MultiStepEngine::cut_apply(uint8_t axis, const Cut &r, uint32_t min_ticks_l
     CutTail tail;
     const uint8_t m = n < MULTI_CUT_MAX_CMDS ? n : (uint8_t)MULTI_CUT_MAX_CMDS;
     int32_t off = 0;
-    for (uint8_t k = 0; k < m; k++) {
-        make_image(c[k], img[k], off);
-        off += (c[k].flags & STEP_CMD_REVERSE) ? -(int32_t)c[k].count : (int32_t)c[k].count;
-    }
+    for (uint8_t k = 0; k < m; k++)
+        (void)make_image(c[k], img[k], off);
     if (!apply_cut(axis, r, min_ticks_left, img, m, n, tail))
         return false;
     finish_cut(axis, tail, img);

@@ -209,8 +209,11 @@ public:
     static Continuation extend(uint8_t axis, int32_t &ended_at);
 
     /* A move from rest has been planned: feed it and report its end (take_done). held: it waits
-     * for start_together. */
-    static void open_move(uint8_t axis, bool held);
+     * for start_together. keep: ring slots (at most a quarter of them) the planner leaves to the
+     * commands stepped last, so that cut_mirror finds them (a StepperGroup's stop while accelerating;
+     * early in a move the ring fills with short commands and reuses each slot as soon as it is
+     * stepped). */
+    static void open_move(uint8_t axis, bool held, uint8_t keep = 0);
 
     /* Stops the axis at once: no further step, its queue emptied; take_done reports the position. */
     static void halt(uint8_t axis);
@@ -297,7 +300,9 @@ public:
      * no time sum */
     static uint8_t cut_find_at(uint8_t axis, uint32_t min_ticks_ahead, uint32_t drop, Cut &r, bool ramp = false);
     /* A command made into its slot's form ahead of time (make_image), p_off: the position before its
-     * first step less that before the first command's (the cut's, once laid out). cut_apply with
+     * first step less that before the first command's (the cut's, once laid out); make_image moves
+     * p_off on past the command (the next one's) and returns the command's time in ticks (its
+     * interval times its count, the ramp's change left out: a bound on how much to make). cut_apply with
      * images puts them all in place in its switch, with no work on them but a copy: a stop planned
      * ahead (MotionStepper's) keeps its commands so, and its cut's check comes right after the search
      * (with lay_out's work, 4 commands took 2,500 cycles of every stop's cut). */
@@ -309,7 +314,10 @@ public:
         uint16_t dur;  /* the command's duration in the engine's books */
         int32_t p_off;
     };
-    static void make_image(const step_cmd_t &c, SlotImage &m, int32_t p_off);
+    static uint32_t make_image(const step_cmd_t &c, SlotImage &m, int32_t &p_off);
+    /* whether the ring has room for n commands after cut r (cut_apply refuses one without: a StepperGroup
+     * checks every member's before its first switch) */
+    static bool cut_fits(uint8_t axis, const Cut &r, uint8_t n);
     /* (the ring's room is checked for all n; the switch puts in the first `now` (at least 1), and
      * that is all: the rest, the engine's books and the other n - now images, waits for cut_finish,
      * which the caller must call before anything else is laid out for the axis or cut from its queue,

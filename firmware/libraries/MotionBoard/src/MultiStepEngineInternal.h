@@ -28,6 +28,7 @@ struct AxisFeed {
     uint8_t open; /* a move is being fed (accepted, not yet reported done) */
     uint8_t held; /* its start waits for start_together */
     uint8_t started; /* the move has stepped (after an underrun it resumes at once) */
+    uint8_t keep;    /* slots the planner leaves to the commands stepped last (open_move) */
 };
 extern AxisFeed s_feed[MULTI_AXES];
 extern AxisState *s_state[MULTI_AXES]; /* the axes begun (attach), NULL for the others */
@@ -35,6 +36,12 @@ extern uint8_t s_axes;                 /* their mask (bit i: axis i) */
 extern uint32_t s_lead_ticks;
 extern uint32_t s_tick_hz; /* begin(): 16 MHz or 2 MHz (timed-loop mode: 1 MHz) */
 extern MultiStepEngine::DirectionHook s_dir_hook[MULTI_AXES]; /* set_direction_hook: the sketch sets DIR */
+
+/* the most slots the planner fills: the ring's, less one (the interrupt's own) and those it keeps */
+inline uint8_t ring_cap(const AxisFeed &f)
+{
+    return (uint8_t)(f.nslots - 1U - f.keep);
+}
 
 inline AxisState &state(uint8_t axis)
 {

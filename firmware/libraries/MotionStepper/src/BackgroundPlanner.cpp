@@ -147,7 +147,6 @@ bool BackgroundPlanner::claim(uint8_t axis, Stepper *s)
  * a time (choosing costs about as much as laying one out); a move not yet started one at a time and
  * only when no stepping axis needs one (a move started never starves one that runs). up_to (ticks;
  * UINT32_MAX: the lead): a stepping queue that holds that much is left as it is. */
-static_assert(MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK + MOTION_STEPPER_CMDS_PER_PICK < 256U, "feed counts its commands in 8 bits");
 
 void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
 {
@@ -165,8 +164,10 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         if (axes_[i] && i != except && MultiStepEngine::stepping(i))
             n_step++;
     const bool rest = n_step >= 2U;
-    const uint32_t low = (uint32_t)tpu_ * (MOTION_STEPPER_LOW_MS * 1000UL) + 1U;
-    for (uint8_t k = 0;;) {
+    const uint32_t low = (uint32_t)tpu_ * (MOTION_STEPPER_LOW_MS * 1000UL);
+    for (uint16_t k = 0;;) { /* (past LOW_TICKS times the tick's commands while a queue runs dry: 16 bits) */
+        if (k >= MOTION_STEPPER_CMDS_PER_TICK && catch_ticks_ == 0)
+            break; /* (no catch-up: no look at the queues past the tick's commands) */
         uint8_t laid;
         uint32_t best = UINT32_MAX, most = 0;
         uint8_t pick = 3, start = 3, n = MOTION_STEPPER_CMDS_PER_PICK;
@@ -190,8 +191,9 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         if (share_ && pick != 3 && best >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
             break; /* every stepping queue holds half the lead: the rest at the next tick */
         if (k >= MOTION_STEPPER_CMDS_PER_TICK &&
-            (pick == 3 || catch_ticks_ == 0 || best >= low || k >= MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK))
-            break; /* (below the low mark, up to three times as many: a planner that cannot keep up stops there) */
+            (pick == 3 || best >= low || (k >= MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK && best >= low / 2U)))
+            break; /* (below the low mark, up to three times as many: a planner that cannot keep up stops
+                    * there, unless a queue would run dry before the next tick) */
         if (pick == 3) {
             pick = start;
             n = 1U; /* a move not started yet: one at a time */
@@ -201,7 +203,7 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         laid = MultiStepEngine::service(pick, axes_[pick]->source(), n);
         if (laid == 0)
             dry |= (uint8_t)(1U << pick);
-        k = (uint8_t)(k + (laid ? laid : 1U));
+        k = (uint16_t)(k + (laid ? laid : 1U));
     }
     for (uint8_t i = 0; i < 3; i++)
         if (axes_[i] && i != except)

@@ -93,7 +93,11 @@
  * MOTION_STEPPER_LOW_TICKS times as many (the queue comes first): without it three Steppers at 10,000
  * steps/s ran dry once or twice at 4 of 8 such stops, the tick returning with a queue a millisecond
  * from empty. Only then: for every feed it held loop() 4 ms longer after three Steppers' own stops,
- * and their deceleration began later (test/emu/ThreeSteppers) */
+ * and their deceleration began later (test/emu/ThreeSteppers). Past that many, it stops only once the
+ * least queue holds half of LOW_MS: at the end of such a stop (commands of two or three steps, each
+ * some 250 us to plan, the planner near its limit), three Steppers at 10,000 steps/s reached the 72
+ * with X's queue at 1.75 ms, the tick returned, and X ran dry before the next (a build of 2026-12-07,
+ * GroupStop's moment at 150 ms) */
 #ifndef MOTION_STEPPER_LOW_MS
 #define MOTION_STEPPER_LOW_MS 4U
 #endif

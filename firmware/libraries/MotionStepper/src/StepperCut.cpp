@@ -138,10 +138,7 @@ void Stepper::prepare_stop()
         uint8_t n = 0, now = 0;
         step_cmd_t c;
         while (n < MOTION_STEPPER_STOP_AHEAD_CMDS && ticks < until && step_planner_next(&s_scratch, &c)) {
-            MultiStepEngine::make_image(c, stop_->img[n], off);
-            off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
-            ticks += ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
-            n++;
+            ticks += MultiStepEngine::make_image(c, stop_->img[n++], off);
             if (now == 0 && ticks >= switch_until)
                 now = n;
         }
@@ -291,6 +288,19 @@ void StepperGroup::take_cut_room()
             room_[j].smooth_kept = false;
 }
 
+/* each member's speed on the line at the move's vmax (steps/s, the master's vmax), and their sum over
+ * the moving members: the step interrupts' load in the cruise */
+float StepperGroup::cruise_speeds(float v[]) const
+{
+    float sum = 0.0f;
+    for (uint8_t j = 0; j < n_; j++) {
+        v[j] = coord_.profile.vmax_sps * (float)coord_.d[j] / (float)coord_.d[coord_.master];
+        if (mask_ & (1U << j))
+            sum += v[j];
+    }
+    return sum;
+}
+
 /* what the stop's commands ask of the planner beyond the stop's own duration, us (0: no more than it),
  * for a cut ahead_us ahead, the members' speeds now v[] (steps/s, not negative):
  * MOTION_STEPPER_GROUP_CMD_US (grown) for each command lib's step_exact_decel_cmds expects of every own
@@ -417,10 +427,7 @@ uint8_t StepperGroup::stop_at_cut()
         uint8_t n = 0;
         step_cmd_t c;
         while (n < MOTION_STEPPER_GROUP_CUT_CMDS && ticks < until && step_coord_next(&coord_, j, &c)) {
-            MultiStepEngine::make_image(c, room_[j].img[n], off);
-            off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
-            ticks += ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
-            n++;
+            ticks += MultiStepEngine::make_image(c, room_[j].img[n++], off);
         }
         if (n == 0)
             goto put_back; /* (an axis with no step left after its cut: stopped after the lead) */
@@ -507,10 +514,7 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
     const uint32_t now_until = (uint32_t)BackgroundPlanner::ticksPerUs() * MOTION_STEPPER_GROUP_NOW_US;
     uint8_t now = 0;
     while (n < MOTION_STEPPER_GROUP_CUT_CMDS && ticks < until && step_exact_next(&x, &c)) {
-        MultiStepEngine::make_image(c, room_[j].img[n], off);
-        off += (c.flags & STEP_CMD_REVERSE) ? -(int32_t)c.count : (int32_t)c.count;
-        ticks += ((c.flags & STEP_CMD_WIDE) ? c.rate : (c.rate >> 16)) * c.count;
-        n++;
+        ticks += MultiStepEngine::make_image(c, room_[j].img[n++], off);
         if (now == 0 && ticks >= now_until)
             now = n;
     }
@@ -522,15 +526,13 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
     if (ahead_ == own_) {
         /* the cut's distance (stop_in_cruise): its searches and switches run beside the step
          * interrupts, whose share of the CPU is taken at the cruise speeds of every moving member */
-        float sum = 0.0f;
+        float v[STEP_COORD_MAX_AXES];
+        const float sum = cruise_speeds(v);
         uint8_t count = 0;
-        for (uint8_t i = 0; i < n_; i++) {
+        for (uint8_t i = 0; i < n_; i++)
             if (own_ & (1U << i))
                 count++;
-            if (mask_ & (1U << i))
-                sum += (float)coord_.d[i];
-        }
-        float grow = grow_at(coord_.profile.vmax_sps * sum / (float)coord_.d[coord_.master], MOTION_STEPPER_CUT_CRUISE_STEP_CYCLES);
+        float grow = grow_at(sum, MOTION_STEPPER_CUT_CRUISE_STEP_CYCLES);
         if (grow < 1.0f)
             grow = 1.0f;
         uint32_t ahead_us = MOTION_STEPPER_CUT_MARGIN_US + (uint32_t)(count - 1U) * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US +
@@ -538,13 +540,8 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
         /* and farther by the bank the stop's commands need beyond their own time (stop_bank_us, as a
          * stop planned at a cut: at steep accelerations a stop is short and dense); none beyond the
          * lead (then the stop is planned at a cut) */
-        {
-            float v[STEP_COORD_MAX_AXES];
-            for (uint8_t i = 0; i < n_; i++)
-                v[i] = coord_.profile.vmax_sps * (float)coord_.d[i] / (float)coord_.d[coord_.master];
-            float grow_b = grow_at(v[0] + v[1] + (n_ > 2 ? v[2] : 0.0f), MOTION_STEPPER_STEP_CYCLES);
-            ahead_us += stop_bank_us(grow_b < 1.0f ? 1.0f : grow_b, ahead_us, v);
-        }
+        const float grow_b = grow_at(sum, MOTION_STEPPER_STEP_CYCLES);
+        ahead_us += stop_bank_us(grow_b < 1.0f ? 1.0f : grow_b, ahead_us, v);
         if (ahead_us >= (uint32_t)BackgroundPlanner::leadMs() * 1000UL) {
             room_[coord_.master].ahead_steps = 0; /* (stop_in_cruise: none) */
             return;
@@ -553,9 +550,8 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
         /* each own axis's cruise steps in that time, rounded up, and one more (the interrupt works out
          * the interval after the step it arms: a cut must lie an interval beyond the margin) */
         for (uint8_t i = 0; i < n_; i++) {
-            const float v = coord_.profile.vmax_sps * (float)coord_.d[i] / (float)coord_.d[coord_.master];
-            room_[i].ahead_steps = (uint16_t)(ahead_s * v) + 2U;
-            room_[i].ahead_iv_us = v > 16.0f ? (uint16_t)(1.0e6f / v) + 1U : 0xFFFFU;
+            room_[i].ahead_steps = (uint16_t)(ahead_s * v[i]) + 2U;
+            room_[i].ahead_iv_us = v[i] > 16.0f ? (uint16_t)(1.0e6f / v[i]) + 1U : 0xFFFFU;
         }
     }
 #else
@@ -584,6 +580,11 @@ uint8_t StepperGroup::switch_cuts(const MultiStepEngine::Cut cut[], const uint32
                 order[i] = order[i - 1];
             order[i] = j;
         }
+    /* every member's ring has room for its commands, or none is switched (a later member refused for
+     * that would stop off the line) */
+    for (uint8_t i = 0; i < no; i++)
+        if (!MultiStepEngine::cut_fits(member_[order[i]]->axis_, cut[order[i]], n_all[order[i]]))
+            return 0;
     for (uint8_t i = 0; i < no; i++) {
         j = order[i];
         after--;
@@ -690,10 +691,11 @@ uint8_t StepperGroup::stop_in_cruise()
             continue;
         }
         uint8_t n_all[STEP_COORD_MAX_AXES], n_now[STEP_COORD_MAX_AXES];
-        for (j = 0; j < n_; j++) {
-            n_all[j] = room_[j].ahead_n;
-            n_now[j] = room_[j].ahead_now;
-        }
+        for (j = 0; j < n_; j++)
+            if (own_ & (1U << j)) {
+                n_all[j] = room_[j].ahead_n;
+                n_now[j] = room_[j].ahead_now;
+            }
         const uint8_t done = switch_cuts(cut, kc, n_all, n_now, count);
         if (done == 0) {
             step_cut_trace(false);
@@ -730,13 +732,8 @@ void StepperGroup::mirror_check()
     dense_ = true;
 #if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && MOTION_STEPPER_CUT_MIRROR_US && MOTION_STEPPER_GROUP_MIRROR_US && \
     !MULTI_TIMED_LOOP
-    float v[STEP_COORD_MAX_AXES], sum = 0.0f;
-    for (uint8_t j = 0; j < n_; j++) {
-        v[j] = coord_.profile.vmax_sps * (float)coord_.d[j] / (float)coord_.d[coord_.master];
-        if (mask_ & (1U << j))
-            sum += v[j];
-    }
-    float grow = grow_at(sum, MOTION_STEPPER_STEP_CYCLES);
+    float v[STEP_COORD_MAX_AXES];
+    float grow = grow_at(cruise_speeds(v), MOTION_STEPPER_STEP_CYCLES);
     dense_ = stop_bank_us(grow < 1.0f ? 1.0f : grow, 0, v) != 0U;
 #endif
 }
@@ -844,8 +841,7 @@ uint8_t StepperGroup::stop_mirrored()
             t16[j] = 0;
             img_steps[j] = 0;
             for (uint8_t i = 0; i < n_img[j]; i++) {
-                MultiStepEngine::make_image(c[i], room_[j].img[i], off);
-                off += (c[i].flags & STEP_CMD_REVERSE) ? -(int32_t)c[i].count : (int32_t)c[i].count;
+                (void)MultiStepEngine::make_image(c[i], room_[j].img[i], off);
                 t16[j] += step_exact_cmd_time16(&c[i]);
                 img_steps[j] += c[i].count;
             }
@@ -881,10 +877,8 @@ uint8_t StepperGroup::stop_mirrored()
             for (uint8_t i = n_img[j]; i < all;) {
                 uint8_t n = 0;
                 int32_t off = 0;
-                for (; n < MOTION_STEPPER_GROUP_CUT_CMDS && i < all; n++, i++) {
-                    MultiStepEngine::make_image(c[i], room_[j].img[n], off);
-                    off += (c[i].flags & STEP_CMD_REVERSE) ? -(int32_t)c[i].count : (int32_t)c[i].count;
-                }
+                for (; n < MOTION_STEPPER_GROUP_CUT_CMDS && i < all; n++, i++)
+                    (void)MultiStepEngine::make_image(c[i], room_[j].img[n], off);
                 MultiStepEngine::append_images(member_[j]->axis_, room_[j].img, n);
             }
         }
@@ -897,8 +891,9 @@ uint8_t StepperGroup::stop_mirrored()
             coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
         }
         /* the feed catches up past its commands a tick while a queue runs low, for as long as the stop
-         * lasts (the master's, from its speed now: at most that long) */
-        const float stop_ms = 1000.0f * v / coord_.profile.accel_sps2 + 20.0f;
+         * lasts: from the call, the cut's distance, then the master's stop (from its speed now, twice
+         * that distance later: at most that long) */
+        const float stop_ms = 1000.0f * v / coord_.profile.accel_sps2 + 20.0f + 2.0e-3f * (float)(ahead_us << k);
         BackgroundPlanner::catchUp(stop_ms < 60000.0f ? (uint16_t)stop_ms : 60000U);
         step_cut_trace(false);
         return GROUP_CUT_DONE;

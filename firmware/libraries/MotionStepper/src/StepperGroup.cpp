@@ -203,6 +203,9 @@ void StepperGroup::execute_plan()
     for (uint8_t j = 0; j < n_; j++)
         if ((mask & (1U << j)) && ref_[j].repeats == 0xFF)
             own_ |= (uint8_t)(1U << j);
+    mirror_check();
+    /* (while this move's stop may be mirrored: its reversed commands kept in the rings) */
+    const uint8_t keep = dense_ || BackgroundPlanner::inLoop() ? 0U : (uint8_t)MOTION_STEPPER_GROUP_MIRROR_KEEP;
     for (uint8_t j = 0; j < n_; j++) {
         Stepper &s = *member_[j];
         if (!(mask & (1U << j)))
@@ -210,9 +213,8 @@ void StepperGroup::execute_plan()
         if (ref_[j].repeats != 0xFF)
             MultiStepEngine::follow(member_[ref_[j].repeats]->axis_, s.axis_, req_to_[j] > from[j]);
         else
-            MultiStepEngine::open_move(s.axis_, true);
+            MultiStepEngine::open_move(s.axis_, true, keep);
     }
-    mirror_check();
     starting_ = true;
 }
 

@@ -101,6 +101,15 @@
 #ifndef MOTION_STEPPER_GROUP_MIRROR_PLAN_US
 #define MOTION_STEPPER_GROUP_MIRROR_PLAN_US 4000UL
 #endif
+/* Those reversed commands are the ones the ring still holds: early in a move the planner fills the
+ * ring with the acceleration's short commands and reuses each slot as soon as it is stepped, and a
+ * stop there found less than that (three Steppers at 10,000 steps/s, 125-140 ms after MOVE: 11.2-11.8
+ * of the 12 ms) and was planned at a cut, 35 ms after the call. So while such a stop may come, the
+ * planner leaves this many slots of each own axis's ring (MultiStepEngine::open_move) to the commands
+ * stepped last. 0: none kept. */
+#ifndef MOTION_STEPPER_GROUP_MIRROR_KEEP
+#define MOTION_STEPPER_GROUP_MIRROR_KEEP 12U
+#endif
 /* the stop's first commands laid out at the cut for each axis: up to this many (at most
  * MultiStepEngine::MULTI_CUT_MAX_CMDS), covering MOTION_STEPPER_CUT_NEW_US (the feed lays out the rest) */
 #define MOTION_STEPPER_GROUP_CUT_CMDS 4U
@@ -182,6 +191,7 @@ private:
     uint8_t switch_cuts(const MultiStepEngine::Cut cut[], const uint32_t at[], const uint8_t n_all[], const uint8_t n_now[],
                         uint8_t count);
     void mirror_check();
+    float cruise_speeds(float v[]) const;
     int32_t follower_position(uint8_t j, int32_t master_pos);
     static uint8_t coord_next(void *ctx, step_cmd_t *c);
     static uint8_t coord_busy(void *ctx);
