@@ -2123,7 +2123,10 @@ GROUP_BUILDS = (("group-two-20k", 2, 20000, 50000, (100.0, 150.0, 200.0, 250.0, 
                 # the end of the acceleration, 2 ms apart (X's queue ran dry after its cut at 290, 308 and 310 ms
                 # until a stop of three while their speed changes cut farther ahead: StepperGroup.h,
                 # MOTION_STEPPER_GROUP_CUT_SLOW_3_US)
-                ("group-three-15k", 3, 15000, 50000, tuple(float(t) for t in range(280, 314, 2)), 34.0, (), 0.0),
+                # in the cruise: Z's v^2/2a is 562.5 steps (group_axis_stop's law with a fractional one: until
+                # 2026-12-07 it took 562, and Z's first deceleration step was 2,134 cycles off)
+                ("group-three-15k", 3, 15000, 50000, tuple(float(t) for t in range(280, 314, 2)), 34.0,
+                 (400.0, 450.3, 500.7, 600.5), 4.0),
                 # Y's setAcceleration(100,000) for its next move, 500 ms after MOVE (in the cruise, its stop planned
                 # ahead), writes Y's own new constants (not the line's) into its idle planner, where that stop's state
                 # waits: the stop is then planned at a cut (in the first build of the stop planned ahead, 2026-12-07,
@@ -2163,7 +2166,13 @@ def group_axis_stop(log, problems, what, ax, call, done_cycle, v, a):
     e = log.rising(ax + "STEP")
     after = [c for c in e if call <= c < done_cycle]
     before = [c for c in e if c < call][-9:]
-    n = int(round(v * v / (2 * a)))
+    # the stop's steps from the cruise: v^2/2a, rounded up (lib's exact ramp ends the move at its last step and
+    # starts the deceleration where the continuous profile does: with a fractional v^2/2a, between two cruise
+    # steps, the last of which then comes (n - v^2/2a)/v before it: Z at 3,750 steps/s and 12,500 steps/s^2,
+    # 562.5 steps)
+    s_stop = v * v / (2 * a)
+    n = int(math.ceil(s_stop - 1e-9))
+    lead = (n - s_stop) / v
     # in the cruise at the call, or at vmax before the deceleration (a call while accelerating whose cut,
     # farther for the stop's bank, lands in the cruise: the top speed is then no single edge)
     at_top = [c for c in e if c <= after[-n - 1]][-9:] if len(after) > n + 1 else []
@@ -2171,6 +2180,7 @@ def group_axis_stop(log, problems, what, ax, call, done_cycle, v, a):
             (len(at_top) == 9 and F_CPU * 8 / (at_top[-1] - at_top[0]) > 0.98 * v):
         times = [v / a - math.sqrt(2 * (n - k) / a) for k in range(1, n + 1)]
     else:
+        lead = 0.0
         found = decel_from_top(e, after, a)
         if found is None:
             problems.append(f"{what}: {len(after)} {ax} steps after the call, too few to find its deceleration")
@@ -2191,7 +2201,7 @@ def group_axis_stop(log, problems, what, ax, call, done_cycle, v, a):
         problems.append(f"{what}: {len(after)} {ax} steps after the call, fewer than v^2/2a = {n}")
         return None
     start = after[-n - 1]
-    late, at = law_errors([start] + after[-n:], [0.0] + times)
+    late, at = law_errors([start] + after[-n:], [-lead] + times)
     if late > GROUP_LATE:
         problems.append(f"{what}: {ax}'s deceleration step {at} is {late:.0f} cycles off the law (bound {GROUP_LATE})")
     return (start - call) * 1000.0 / F_CPU

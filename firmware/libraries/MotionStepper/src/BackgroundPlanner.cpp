@@ -165,7 +165,7 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
             n_step++;
     const bool rest = n_step >= 2U;
     const uint32_t low = (uint32_t)tpu_ * (MOTION_STEPPER_LOW_MS * 1000UL);
-    for (uint16_t k = 0;;) { /* (past LOW_TICKS times the tick's commands while a queue runs dry: 16 bits) */
+    for (uint16_t k = 0;;) { /* (up to twice LOW_TICKS times the tick's commands: 16 bits) */
         if (k >= MOTION_STEPPER_CMDS_PER_TICK && catch_ticks_ == 0)
             break; /* (no catch-up: no look at the queues past the tick's commands) */
         uint8_t laid;
@@ -191,9 +191,11 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         if (share_ && pick != 3 && best >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
             break; /* every stepping queue holds half the lead: the rest at the next tick */
         if (k >= MOTION_STEPPER_CMDS_PER_TICK &&
-            (pick == 3 || best >= low || (k >= MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK && best >= low / 2U)))
+            (pick == 3 || best >= low || (k >= MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK && best >= low / 2U) ||
+             k >= 2U * MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK))
             break; /* (below the low mark, up to three times as many: a planner that cannot keep up stops
-                    * there, unless a queue would run dry before the next tick) */
+                    * there, unless a queue would run dry before the next tick, and at twice that at the most:
+                    * loop() and the other requests get their turn) */
         if (pick == 3) {
             pick = start;
             n = 1U; /* a move not started yet: one at a time */

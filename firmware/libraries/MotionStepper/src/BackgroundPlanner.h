@@ -94,7 +94,9 @@
  * steps/s ran dry once or twice at 4 of 8 such stops, the tick returning with a queue a millisecond
  * from empty. Only then: for every feed it held loop() 4 ms longer after three Steppers' own stops,
  * and their deceleration began later (test/emu/ThreeSteppers). Past that many, it stops only once the
- * least queue holds half of LOW_MS: at the end of such a stop (commands of two or three steps, each
+ * least queue holds half of LOW_MS, or at twice that many (loop() and the other axes' requests wait
+ * meanwhile; catchUp is global: a Stepper moving alone beside the group is fed so too): at the end
+ * of such a stop (commands of two or three steps, each
  * some 250 us to plan, the planner near its limit), three Steppers at 10,000 steps/s reached the 72
  * with X's queue at 1.75 ms, the tick returned, and X ran dry before the next (a build of 2026-12-07,
  * GroupStop's moment at 150 ms) */

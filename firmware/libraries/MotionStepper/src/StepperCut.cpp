@@ -566,7 +566,8 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
  * switch still to come: the first, which may come too late and then changes nothing, keeps the largest.
  * Member j's switch: its room's images, n_all[j] of them (the ring's room checked for those), the first
  * n_now[j] put in. Returns the members switched (cut_finish is the caller's); 0: the first came too
- * late, nothing changed. A later member too late keeps its queue and stops after it, off the line. */
+ * late, nothing changed; SWITCH_NO_ROOM: a member's ring has no room for its commands, nothing changed.
+ * A later member too late keeps its queue and stops after it, off the line. */
 uint8_t StepperGroup::switch_cuts(const MultiStepEngine::Cut cut[], const uint32_t at[], const uint8_t n_all[],
                                   const uint8_t n_now[], uint8_t count)
 {
@@ -581,10 +582,10 @@ uint8_t StepperGroup::switch_cuts(const MultiStepEngine::Cut cut[], const uint32
             order[i] = j;
         }
     /* every member's ring has room for its commands, or none is switched (a later member refused for
-     * that would stop off the line) */
+     * that would stop off the line; a cut farther ahead drops fewer commands: no use trying again) */
     for (uint8_t i = 0; i < no; i++)
         if (!MultiStepEngine::cut_fits(member_[order[i]]->axis_, cut[order[i]], n_all[order[i]]))
-            return 0;
+            return SWITCH_NO_ROOM;
     for (uint8_t i = 0; i < no; i++) {
         j = order[i];
         after--;
@@ -697,6 +698,10 @@ uint8_t StepperGroup::stop_in_cruise()
                 n_now[j] = room_[j].ahead_now;
             }
         const uint8_t done = switch_cuts(cut, kc, n_all, n_now, count);
+        if (done == SWITCH_NO_ROOM) {
+            step_cut_trace(false);
+            return GROUP_CUT_NO;
+        }
         if (done == 0) {
             step_cut_trace(false);
             continue;
@@ -853,6 +858,10 @@ uint8_t StepperGroup::stop_mirrored()
         /* (the ring's room checked for all the reversed commands: the rest are laid out after the
          * switches) */
         const uint8_t done = switch_cuts(cut, nj, n_all, n_img, count);
+        if (done == SWITCH_NO_ROOM) {
+            step_cut_trace(false);
+            return GROUP_CUT_NO;
+        }
         if (done == 0) {
             step_cut_trace(false);
             continue;

@@ -205,7 +205,9 @@ void StepperGroup::execute_plan()
             own_ |= (uint8_t)(1U << j);
     mirror_check();
     /* (while this move's stop may be mirrored: its reversed commands kept in the rings) */
-    const uint8_t keep = dense_ || BackgroundPlanner::inLoop() ? 0U : (uint8_t)MOTION_STEPPER_GROUP_MIRROR_KEEP;
+    const uint8_t keep = dense_ || !room_ || !(own_ & (1U << coord_.master)) || BackgroundPlanner::inLoop()
+                             ? 0U
+                             : (uint8_t)MOTION_STEPPER_GROUP_MIRROR_KEEP;
     for (uint8_t j = 0; j < n_; j++) {
         Stepper &s = *member_[j];
         if (!(mask & (1U << j)))

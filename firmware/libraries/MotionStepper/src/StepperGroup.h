@@ -110,6 +110,7 @@
 #ifndef MOTION_STEPPER_GROUP_MIRROR_KEEP
 #define MOTION_STEPPER_GROUP_MIRROR_KEEP 12U
 #endif
+static_assert(MOTION_STEPPER_GROUP_MIRROR_KEEP <= MULTI_SLOTS / 4, "MOTION_STEPPER_GROUP_MIRROR_KEEP: at most a quarter of the ring");
 /* the stop's first commands laid out at the cut for each axis: up to this many (at most
  * MultiStepEngine::MULTI_CUT_MAX_CMDS), covering MOTION_STEPPER_CUT_NEW_US (the feed lays out the rest) */
 #define MOTION_STEPPER_GROUP_CUT_CMDS 4U
@@ -178,6 +179,7 @@ private:
     void execute_plan();
     void do_stop();
     enum { GROUP_CUT_NO, GROUP_CUT_DONE, GROUP_CUT_AGAIN };
+    enum { SWITCH_NO_ROOM = 0x80 }; /* switch_cuts: above every member's bit */
     uint8_t stop_at_cut();
     uint32_t stop_bank_us(float grow, uint32_t ahead_us, const float v[]);
     step_exact_t &cut_keep(uint8_t j);
