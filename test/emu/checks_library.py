@@ -879,6 +879,13 @@ API_TOUR = (
     ("setDirectionPin(55) while moving", "MS_ERR_BUSY"),
     ("stop() at rest", "MS_OK"),
     ("forceStop() at rest", "MS_OK"),
+    # homing: setCurrentPosition right after forceStop(), and at distanceToGo() == 0, is taken (the call
+    # collects the end the planner interrupt has not yet: both were MS_ERR_BUSY until 2026-12-07)
+    ("move(1000) to home", "MS_OK"),
+    ("forceStop() homing", "MS_OK"),
+    ("setCurrentPosition(0) right after forceStop()", "MS_OK"),
+    ("move(200)", "MS_OK"),
+    ("setCurrentPosition(0) at distanceToGo() 0", "MS_OK"),
     # a long's range: 2,147,483,000 + 2,000 does not fit (it wrapped round until 2026-12-07, and the axis
     # went the other way); 2,147,483,000 to -2,147,483,000 is beyond distanceToGo()'s long; with DIR
     # inverted LONG_MIN has no negation in the engine's int32
@@ -912,9 +919,15 @@ def check_api_tour(env):
             problems.append(f"'{got.text if got else None}', expected '{want}'")
     dones = log.lines_matching(r"^DONE ")
     want_dones = ["DONE -2000 position=-2000 underruns=0", "DONE 0 position=0 underruns=0",
-                  "DONE -200 position=-200 underruns=0", "DONE 300 position=300 underruns=0"]
-    if [d.text for d in dones] != want_dones:
+                  "DONE -200 position=-200 underruns=0", "DONE 300 position=300 underruns=0",
+                  r"DONE (\d+) position=0 underruns=0", "DONE 200 position=0 underruns=0"]
+    if len(dones) != len(want_dones) or not all(re.fullmatch(w, d.text) for w, d in zip(want_dones, dones)):
         return CheckResult(False, "moves", problems + [f"DONE lines {[d.text for d in dones]}, expected {want_dones}"])
+    # the halt: where the axis stood when forceStop() came, 30 ms into the move from 300 (a few steps at
+    # 40,000 steps/s^2), short of its target 1300; reported in the coordinates of the move, the position 0
+    halted = int(re.fullmatch(want_dones[4], dones[4].text).group(1))
+    if not 300 < halted < 1300:
+        problems.append(f"'{dones[4].text}': the halt should lie between 300 and 1300")
     end = line_of(log, r"^at the end: ")
     if end is None or end.text != "at the end: position 2147483000 target 2147483000":
         problems.append(f"'{end.text if end else None}': expected 'at the end: position 2147483000 target 2147483000' "
@@ -928,7 +941,9 @@ def check_api_tour(env):
     m1 = [c for c in e if c < dones[0].cycle]
     m2 = [c for c in e if dones[0].cycle < c < dones[1].cycle]
     m3 = [c for c in e if dones[1].cycle < c < dones[2].cycle]
-    m4 = [c for c in e if dones[2].cycle < c]
+    m4 = [c for c in e if dones[2].cycle < c < dones[3].cycle]
+    m5 = [c for c in e if dones[3].cycle < c < dones[4].cycle]
+    m6 = [c for c in e if dones[4].cycle < c]
     # 1: inverted, counting down = DIR high; ENABLE on (low) only while moving (auto-disable)
     if len(m1) != 2000 or any(log.level_before("XDIR", c) != 1 for c in m1):
         problems.append(f"move 1 (inverted, to -2000): {len(m1)} steps, DIR levels "
@@ -960,9 +975,15 @@ def check_api_tour(env):
         problems.append("move 4: the RAMPS DIR changed while DIR was on D34")
     elif log.level_before("EN2", m4[0]) != 0 or log.level_before("EN2", m4[-1] + AUTO_DISABLE_CYCLES) != 1:
         problems.append("move 4: ENABLE on D36 not low during the move and high 1.5 ms after it (auto-disable)")
+    # 5, 6: the homing move halted at `halted` (no step after forceStop()), then 200 steps from the new 0
+    if len(m5) != halted - 300:
+        problems.append(f"move 5 (halted by forceStop()): {len(m5)} steps; expected {halted - 300} (300 to {halted})")
+    if len(m6) != 200:
+        problems.append(f"move 6 (move(200) from the new 0): {len(m6)} steps; expected 200")
     return CheckResult(not problems, f"{len(API_TOUR)} calls answered as documented; inverted move with "
                        f"auto-disable, hook-driven move with one turn ({len(m2)} steps), "
-                       f"setCurrentPosition + move, DIR and ENABLE on D34/D36: {len(e)} steps", problems)
+                       f"setCurrentPosition + move, DIR and ENABLE on D34/D36, homing (halted at {halted}, then "
+                       f"0 to 200): {len(e)} steps", problems)
 
 
 # ---- LabRamp ----------------------------------------------------------------------------------

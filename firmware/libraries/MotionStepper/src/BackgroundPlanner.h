@@ -95,7 +95,7 @@
  * from empty. Only then: for every feed it held loop() 4 ms longer after three Steppers' own stops,
  * and their deceleration began later (test/emu/ThreeSteppers). Past that many, it stops only once the
  * least queue holds half of LOW_MS, or at twice that many (loop() and the other axes' requests wait
- * meanwhile; catchUp is global: a Stepper moving alone beside the group is fed so too): at the end
+ * meanwhile; only the group's axes: a Stepper moving alone beside the group gets its tick's share): at the end
  * of such a stop (commands of two or three steps, each
  * some 250 us to plan, the planner near its limit), three Steppers at 10,000 steps/s reached the 72
  * with X's queue at 1.75 ms, the tick returned, and X ran dry before the next (a build of 2026-12-07,
@@ -158,10 +158,11 @@ public:
      * some 600 cycles, which a cut planned 600 us ahead cannot spare */
     static uint8_t ticksPerUs() { return tpu_; }
     static bool setTickHz(uint32_t hz);
-    /* (planner interrupt) for the next `ms` ticks a tick feeds a stepping queue that holds less than
-     * MOTION_STEPPER_LOW_MS past its MOTION_STEPPER_CMDS_PER_TICK commands (StepperGroup::stop_mirrored:
-     * the rest of the stop's commands, planned late) */
-    static void catchUp(uint16_t ms);
+    /* (planner interrupt) for the next `ms` ticks a tick feeds a stepping queue of the engine's axes
+     * `axes` (a bit each) that holds less than MOTION_STEPPER_LOW_MS past its
+     * MOTION_STEPPER_CMDS_PER_TICK commands (StepperGroup::stop_mirrored: the rest of the stop's
+     * commands, planned late); another catch-up meanwhile adds its axes */
+    static void catchUp(uint16_t ms, uint8_t axes);
 
     /* Planning from loop() instead of Timer3's interrupt, for a sketch whose loop() never blocks and
      * calls poll() on every pass (the stepper sketches' console, MotionConsole.h): call it before
@@ -228,6 +229,8 @@ private:
     static uint8_t tpu_;
     static bool in_loop_;
     static uint16_t catch_ticks_;
+    static uint8_t catch_mask_; /* the engine's axes that catch up (catchUp) */
+    static uint8_t next_;       /* the axis feed() looks at first (the one after its last pick) */
     static uint16_t group_bytes_;
 };
 

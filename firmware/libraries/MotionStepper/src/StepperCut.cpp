@@ -564,12 +564,13 @@ void StepperGroup::plan_stop_ahead(uint8_t axis)
  * interrupt works out the interval of the step after the one it arms, so a cut comes too late once its
  * last kept step is armed), each keeping the margin plus MOTION_STEPPER_GROUP_AHEAD_SWITCH_US for every
  * switch still to come: the first, which may come too late and then changes nothing, keeps the largest.
- * Member j's switch: its room's images, n_all[j] of them (the ring's room checked for those), the first
- * n_now[j] put in. Returns the members switched (cut_finish is the caller's); 0: the first came too
- * late, nothing changed; SWITCH_NO_ROOM: a member's ring has no room for its commands, nothing changed.
- * A later member too late keeps its queue and stops after it, off the line. */
+ * Member j's switch: its room's images, n_all[j] commands (the ring's room checked for those), the first
+ * n_now[j] put in, then (every switch done) the rest of its n_room[j] images (cut_finish). Returns the
+ * members switched; 0: the first came too late, nothing changed; SWITCH_NO_ROOM: a member's ring has no
+ * room for its commands, nothing changed. A later member too late keeps its queue and stops after it,
+ * off the line. */
 uint8_t StepperGroup::switch_cuts(const MultiStepEngine::Cut cut[], const uint32_t at[], const uint8_t n_all[],
-                                  const uint8_t n_now[], uint8_t count)
+                                  const uint8_t n_now[], const uint8_t n_room[], uint8_t count)
 {
 #if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && !MULTI_TIMED_LOOP
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
@@ -601,12 +602,16 @@ uint8_t StepperGroup::switch_cuts(const MultiStepEngine::Cut cut[], const uint32
         step_exact_stop(&e);
         coord_.to[j] = e.d > e.n ? ramp_position_after(e.pos, e.dir, e.d - e.n) : e.pos;
     }
+    for (j = 0; j < n_; j++)
+        if (done & (1U << j))
+            MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, n_room[j]);
     return done;
 #else
     (void)cut;
     (void)at;
     (void)n_all;
     (void)n_now;
+    (void)n_room;
     (void)count;
     return 0;
 #endif
@@ -697,19 +702,16 @@ uint8_t StepperGroup::stop_in_cruise()
                 n_all[j] = room_[j].ahead_n;
                 n_now[j] = room_[j].ahead_now;
             }
-        const uint8_t done = switch_cuts(cut, kc, n_all, n_now, count);
-        if (done == SWITCH_NO_ROOM) {
+        const uint8_t done = switch_cuts(cut, kc, n_all, n_now, n_all, count);
+        if (done == 0 || done == SWITCH_NO_ROOM) {
             step_cut_trace(false);
+            if (done == 0)
+                continue; /* too late: again farther ahead */
             return GROUP_CUT_NO;
-        }
-        if (done == 0) {
-            step_cut_trace(false);
-            continue;
         }
         for (j = 0; j < n_; j++) {
             if (!(done & (1U << j)))
                 continue;
-            MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, room_[j].ahead_n);
             step_exact_t &e = coord_.ax[j];
             const int32_t dp = ramp_position_after(coord_.from[j], e.dir, kc[j]) - room_[j].ahead_from;
             e = member_[j]->planner_.exact;
@@ -731,15 +733,19 @@ uint8_t StepperGroup::stop_in_cruise()
  * planner must keep up with the stop's commands beyond the reversed ones, which bank only a few
  * milliseconds: not where a stop from vmax asks more of it than its own time (stop_bank_us: steep
  * accelerations, where a stop is short and dense; three Steppers at 10,000 steps/s and 100,000 steps/s^2
- * ran dry 4-28 times a stop mirrored, 2026-12-07). About 1.5 ms of the AVR, once per move. */
+ * ran dry 4-28 times a stop mirrored, 2026-12-07); nor without the room for a cut's images, with a master
+ * that follows, or planned from loop(). About 1.5 ms of the AVR, once per move, and only where a stop
+ * may be mirrored (a plan in loop() does without it). */
 void StepperGroup::mirror_check()
 {
-    dense_ = true;
+    mirror_ = false;
 #if MOTION_STEPPER_CUT_US && MOTION_STEPPER_GROUP_CUT_US && MOTION_STEPPER_CUT_MIRROR_US && MOTION_STEPPER_GROUP_MIRROR_US && \
     !MULTI_TIMED_LOOP
+    if (!room_ || !(own_ & (1U << coord_.master)) || BackgroundPlanner::inLoop())
+        return; /* no room for a cut's images, the master follows, or planned from loop(): none */
     float v[STEP_COORD_MAX_AXES];
     float grow = grow_at(cruise_speeds(v), MOTION_STEPPER_STEP_CYCLES);
-    dense_ = stop_bank_us(grow < 1.0f ? 1.0f : grow, 0, v) != 0U;
+    mirror_ = stop_bank_us(grow < 1.0f ? 1.0f : grow, 0, v) == 0U;
 #endif
 }
 
@@ -755,7 +761,7 @@ void StepperGroup::mirror_check()
  * in one member after the other, the soonest cut first (the first few as slot images in the group's
  * room; the rest laid out once every switch has come off), and the rest of each stop is planned while
  * they run. A first switch too late, or a point too close at its search: again twice as far ahead
- * (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or GROUP_CUT_NO (no queue changed: a dense move (mirror_check),
+ * (STEP_CUT_TRIES in all). GROUP_CUT_DONE, or GROUP_CUT_NO (no queue changed: a move not to mirror (mirror_check),
  * not accelerating, a point outside the acceleration or at its first steps, the ring no longer holds
  * enough of it, every try too late): stop_at_cut then plans it. A later member's switch too late (not
  * seen in the sweeps: the margins) keeps that axis's queue, and it stops after it, off the line. */
@@ -772,7 +778,7 @@ uint8_t StepperGroup::stop_mirrored()
     const uint32_t tpu = BackgroundPlanner::ticksPerUs();
     const uint8_t m = coord_.master;
     uint8_t j, count = 0;
-    if (!room_ || dense_ || own_ == 0 || !(own_ & (1U << m)) || BackgroundPlanner::inLoop())
+    if (!mirror_ || BackgroundPlanner::inLoop())
         return GROUP_CUT_NO;
     uint32_t d_min = coord_.d[m];
     for (j = 0; j < n_; j++)
@@ -857,18 +863,13 @@ uint8_t StepperGroup::stop_mirrored()
         }
         /* (the ring's room checked for all the reversed commands: the rest are laid out after the
          * switches) */
-        const uint8_t done = switch_cuts(cut, nj, n_all, n_img, count);
-        if (done == SWITCH_NO_ROOM) {
+        const uint8_t done = switch_cuts(cut, nj, n_all, n_img, n_img, count);
+        if (done == 0 || done == SWITCH_NO_ROOM) {
             step_cut_trace(false);
+            if (done == 0)
+                continue; /* too late: again farther ahead */
             return GROUP_CUT_NO;
         }
-        if (done == 0) {
-            step_cut_trace(false);
-            continue;
-        }
-        for (j = 0; j < n_; j++)
-            if (done & (1U << j))
-                MultiStepEngine::cut_finish(member_[j]->axis_, room_[j].tail, room_[j].img, n_img[j]);
         /* the reversed commands beyond the images (the ring still holds the kept ones as they were: the
          * same again; should it not, the images' alone), their time, then the rest of each stop from there */
         for (j = 0; j < n_; j++) {
@@ -903,7 +904,11 @@ uint8_t StepperGroup::stop_mirrored()
          * lasts: from the call, the cut's distance, then the master's stop (from its speed now, twice
          * that distance later: at most that long) */
         const float stop_ms = 1000.0f * v / coord_.profile.accel_sps2 + 20.0f + 2.0e-3f * (float)(ahead_us << k);
-        BackgroundPlanner::catchUp(stop_ms < 60000.0f ? (uint16_t)stop_ms : 60000U);
+        uint8_t axes = 0;
+        for (j = 0; j < n_; j++)
+            if (own_ & (1U << j))
+                axes |= (uint8_t)(1U << member_[j]->axis_);
+        BackgroundPlanner::catchUp(stop_ms < 60000.0f ? (uint16_t)stop_ms : 60000U, axes);
         step_cut_trace(false);
         return GROUP_CUT_DONE;
     }

@@ -9,7 +9,7 @@
 #include "Stepper.h"
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b)
-    : n_(2), mask_(0), own_(0), ended_(0), ahead_(0), dense_(true), starting_(false), done_(false), plan_req_(false), stop_req_(false),
+    : n_(2), mask_(0), own_(0), ended_(0), ahead_(0), mirror_(false), starting_(false), done_(false), plan_req_(false), stop_req_(false),
       cut_tries_(0), cut_us_(0), cuts_missed_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
@@ -19,7 +19,7 @@ StepperGroup::StepperGroup(Stepper &a, Stepper &b)
 }
 
 StepperGroup::StepperGroup(Stepper &a, Stepper &b, Stepper &c)
-    : n_(3), mask_(0), own_(0), ended_(0), ahead_(0), dense_(true), starting_(false), done_(false), plan_req_(false), stop_req_(false),
+    : n_(3), mask_(0), own_(0), ended_(0), ahead_(0), mirror_(false), starting_(false), done_(false), plan_req_(false), stop_req_(false),
       cut_tries_(0), cut_us_(0), cuts_missed_(0), room_(0), last_status_(MS_OK)
 {
     member_[0] = &a;
@@ -205,9 +205,7 @@ void StepperGroup::execute_plan()
             own_ |= (uint8_t)(1U << j);
     mirror_check();
     /* (while this move's stop may be mirrored: its reversed commands kept in the rings) */
-    const uint8_t keep = dense_ || !room_ || !(own_ & (1U << coord_.master)) || BackgroundPlanner::inLoop()
-                             ? 0U
-                             : (uint8_t)MOTION_STEPPER_GROUP_MIRROR_KEEP;
+    const uint8_t keep = mirror_ ? (uint8_t)MOTION_STEPPER_GROUP_MIRROR_KEEP : 0U;
     for (uint8_t j = 0; j < n_; j++) {
         Stepper &s = *member_[j];
         if (!(mask & (1U << j)))

@@ -99,7 +99,7 @@
 #define MOTION_STEPPER_GROUP_MIRROR_US 900UL
 #endif
 #ifndef MOTION_STEPPER_GROUP_MIRROR_PLAN_US
-#define MOTION_STEPPER_GROUP_MIRROR_PLAN_US 4000UL
+#define MOTION_STEPPER_GROUP_MIRROR_PLAN_US 4500UL
 #endif
 /* Those reversed commands are the ones the ring still holds: early in a move the planner fills the
  * ring with the acceleration's short commands and reuses each slot as soon as it is stepped, and a
@@ -191,7 +191,7 @@ private:
     uint8_t stop_in_cruise();
     uint8_t stop_mirrored();
     uint8_t switch_cuts(const MultiStepEngine::Cut cut[], const uint32_t at[], const uint8_t n_all[], const uint8_t n_now[],
-                        uint8_t count);
+                        const uint8_t n_room[], uint8_t count);
     void mirror_check();
     float cruise_speeds(float v[]) const;
     int32_t follower_position(uint8_t j, int32_t master_pos);
@@ -206,7 +206,7 @@ private:
     uint8_t own_;     /* of those, the ones stepped by their own interrupt */
     uint8_t ended_;   /* members whose part has ended */
     uint8_t ahead_;   /* own members whose stop from the cruise is planned ahead (plan_stop_ahead) */
-    bool dense_;      /* this move's stop asks more of the planner than its own time: none mirrored (mirror_check) */
+    bool mirror_;     /* this move's stop while accelerating may be mirrored (mirror_check) */
     /* (the rest of it in the room_, on the heap: MultiAxisStepper's three Steppers keep their SRAM) */
     volatile bool starting_; /* held until every own axis has its first commands */
     volatile bool done_;

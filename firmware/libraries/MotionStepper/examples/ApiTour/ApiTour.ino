@@ -1,6 +1,7 @@
 /* ApiTour - most Stepper calls once, with what they answer: the refusals (their statuses print as the
  * sketches' serial ERR sentences), the limits, direction inversion, auto-disable, a direction hook,
- * a new target while moving, setCurrentPosition and move, DIR and ENABLE on other pins. The RAMPS X
+ * a new target while moving, setCurrentPosition and move, DIR and ENABLE on other pins, homing with
+ * forceStop() and setCurrentPosition(0), AccelStepper's distanceToGo() == 0. The RAMPS X
  * axis; Serial Monitor at 9600. The hook writes D32 (a free pin): with a hook, the engine leaves DIR
  * (D55) alone.
  */
@@ -115,6 +116,24 @@ void setup()
     wait_done();
     say(F("stop() at rest"), x.stop());
     say(F("forceStop() at rest"), x.forceStop());
+
+    /* homing: forceStop() at a switch, and that point becomes 0 at once (setCurrentPosition() takes
+     * the halt itself: no wait for isRunning()); then AccelStepper's end test, distanceToGo() == 0
+     * from the move's last step on. Each pair of calls runs before its statuses print (at 9600 baud a
+     * print can wait for the serial line longer than the planner takes to see the end) */
+    say(F("move(1000) to home"), x.move(1000));
+    delay(30);
+    motion_status_t halt = x.forceStop();
+    motion_status_t zero = x.setCurrentPosition(0);
+    say(F("forceStop() homing"), halt);
+    say(F("setCurrentPosition(0) right after forceStop()"), zero);
+    wait_done(); /* the halt: where it stopped, before the new zero */
+    say(F("move(200)"), x.move(200));
+    while (x.distanceToGo() != 0) {
+    }
+    zero = x.setCurrentPosition(0);
+    say(F("setCurrentPosition(0) at distanceToGo() 0"), zero);
+    wait_done();
 
     /* near the ends of a long's range: targets the axis cannot be sent to are refused, nothing moves */
     say(F("setCurrentPosition(2147483000)"), x.setCurrentPosition(2147483000L));
