@@ -133,6 +133,14 @@ $(EMU_SAMETARGET_ELF): $(EMU_FW_SRCS) test/emu/SameTarget/SameTarget.ino tools/b
 	@FIRMWARE_OUT=$(BUILD)/emu/sametarget bash tools/build_firmware.sh \
 	  test/emu/SameTarget >$(BUILD)/emu/sametarget.log 2>&1 || { cat $(BUILD)/emu/sametarget.log; exit 1; }
 
+# test/emu/CruiseBeside: three Steppers at 25,000 steps/s, two of them stopped steeply at once while the third
+# cruises (checks_library.py, check_cruise_beside)
+EMU_CRUISEBESIDE_ELF := $(BUILD)/emu/cruisebeside/CruiseBeside/CruiseBeside.ino.elf
+$(EMU_CRUISEBESIDE_ELF): $(EMU_FW_SRCS) test/emu/CruiseBeside/CruiseBeside.ino tools/build_firmware.sh
+	@mkdir -p $(BUILD)/emu/cruisebeside
+	@FIRMWARE_OUT=$(BUILD)/emu/cruisebeside bash tools/build_firmware.sh \
+	  test/emu/CruiseBeside >$(BUILD)/emu/cruisebeside.log 2>&1 || { cat $(BUILD)/emu/cruisebeside.log; exit 1; }
+
 # test/emu/HeapShare: a sketch that uses malloc beside a Stepper (the heap shared with board_take:
 # checks_library.py, check_heap_share)
 EMU_HEAPSHARE_ELF := $(BUILD)/emu/heapshare/HeapShare/HeapShare.ino.elf
@@ -204,7 +212,7 @@ $(EMU_NODIR_STAMP): $(EMU_FW_SRCS) tools/build_firmware.sh
 	@touch $@
 
 EMU_DEPS := $(BUILD)/motionemu $(BUILD)/motionsim $(BUILD)/emu/emu_selftest.elf $(BUILD)/emu/wrong_mcu.elf \
-            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_NOCUT_ELF) $(EMU_SAMETARGET_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_GROUP_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
+            $(BUILD)/emu/firmware.stamp $(EMU_TIMED_ELF) $(EMU_CUTRACE_ELF) $(EMU_SMOOTHSTART_ELF) $(EMU_SMOOTHSTALL_ELF) $(EMU_ONESTEPPER_ELF) $(EMU_NOCUT_ELF) $(EMU_SAMETARGET_ELF) $(EMU_CRUISEBESIDE_ELF) $(EMU_HEAPSHARE_ELF) $(EMU_TIGHTSRAM_ELF) $(EMU_NOROOM_ELF) $(EMU_THREE_ELFS) $(EMU_GROUP_ELFS) $(EMU_NODIR_STAMP) $(EMU_PID_ELF) $(EMU_TEXT_ELF)
 
 EMU_SUITES := "emulator (simavr)|tap|$(PY) test/emu/run_emu_tests.py --tap"
 

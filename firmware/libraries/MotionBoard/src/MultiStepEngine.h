@@ -181,10 +181,10 @@ public:
      * the planner feeds the axis with the shortest queue first. rest: the command running now
      * counts only what is left of it (an estimate: for a choice between axes), else whole. */
     static uint32_t queued_ticks(uint8_t axis, bool rest = false);
-    /* The interval being stepped (or, after an underrun, the last one), ticks: after the queue, the
-     * axis's next step is due that much later (an estimate read with interrupts on: for a choice
-     * between axes). */
-    static uint32_t interval_ticks(uint8_t axis);
+    /* The interval the axis steps now (after an underrun: the last one), ticks, and whether its move
+     * is paused by an underrun (its queue ran dry). Read with interrupts on: for a choice between
+     * axes. */
+    static uint32_t interval_ticks(uint8_t axis, bool &dry);
 
     /* Axis follows master in a coordinated move where both move as far: master's interrupt pulses
      * both STEP pins at once (X and Y in one instruction), so the pair costs one interrupt and one

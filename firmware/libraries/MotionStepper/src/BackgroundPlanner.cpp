@@ -17,7 +17,6 @@ uint8_t BackgroundPlanner::tpu_ = (uint8_t)((MULTI_TIMED_LOOP ? 1000000UL : MULT
 bool BackgroundPlanner::in_loop_ = MULTI_TIMED_LOOP;
 uint16_t BackgroundPlanner::catch_ticks_;
 uint8_t BackgroundPlanner::catch_mask_;
-uint8_t BackgroundPlanner::next_;
 uint16_t BackgroundPlanner::group_bytes_;
 
 PlannerIrqState planner_irq = {0, 0, 0, 0, {0, 0, 0}, MOTION_STEPPER_RETRY_COUNTS};
@@ -171,10 +170,12 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         if (k >= MOTION_STEPPER_CMDS_PER_TICK && catch_ticks_ == 0)
             break; /* (no catch-up: no look at the queues past the tick's commands) */
         uint8_t laid;
-        uint32_t best = UINT32_MAX, due_best = UINT32_MAX, most = 0;
+        uint32_t least = UINT32_MAX, most = 0, q_of[3], due[3];
         uint8_t pick = 3, start = 3, n = MOTION_STEPPER_CMDS_PER_PICK;
-        for (uint8_t j = 0, i = next_; j < 3; j++, i = i == 2U ? 0U : (uint8_t)(i + 1U)) {
+        bool overrun = false;
+        for (uint8_t i = 0; i < 3; i++) {
             uint32_t q;
+            q_of[i] = UINT32_MAX;
             if (!axes_[i] || i == except || (dry & (1U << i)) || !MultiStepEngine::moving(i) ||
                 (k >= MOTION_STEPPER_CMDS_PER_TICK && !(catch_mask_ & (1U << i))))
                 continue; /* (past the tick's commands: only the axes catching up) */
@@ -182,28 +183,36 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
             if (q == UINT32_MAX)
                 continue;
             if (MultiStepEngine::stepping(i)) {
-                /* the least queue first, ties in turn; one that has run dry ranks by its interval: its
-                 * next step is late whatever comes, near rest by a fraction of an interval of some
-                 * milliseconds, and a queue that still steps with less than that comes first. When
-                 * the planner cannot keep up (three Steppers at 25,000 steps/s and 200,000 steps/s^2,
-                 * two of them stopping at once), the two near rest, dry, least and first among equals,
-                 * took every pick, and the third, cruising at 25,000 steps/s, stood still for 20-33 ms
-                 * (found by a review, 2026-12-07). With no queue dry, the least queue as before */
-                const uint32_t due = q != 0 || !rest ? q : MultiStepEngine::interval_ticks(i);
-                if (due < due_best && q < up_to) {
-                    due_best = due;
-                    best = q;
-                    pick = i;
+                if (q >= up_to)
+                    continue;
+                q_of[i] = q;
+                due[i] = q;
+                if (q < least)
+                    least = q;
+                if (rest) {
+                    bool paused;
+                    due[i] = q + MultiStepEngine::interval_ticks(i, paused);
+                    overrun = overrun || paused;
                 }
             } else if (start == 3 || q > most) {
                 most = q;
                 start = i;
             }
         }
-        if (share_ && pick != 3 && best >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
+        /* the least queue first. Only while a queue has run dry (the planner cannot keep up), the one
+         * whose next step past its queue is due soonest: its queue plus its interval. When two
+         * Steppers at 25,000 steps/s and 200,000 steps/s^2 stopped steeply at once beside a third
+         * cruising at that rate, the least queue alone fed the two near rest, always least, and the
+         * third stood still for 20-33 ms (found by a review, 2026-12-07); a step near rest waits an
+         * interval of milliseconds anyway, a cruising one 40 us. (Otherwise the choice is as before:
+         * the interval in it moved a StepperGroup's stop timing) */
+        for (uint8_t i = 0; i < 3; i++)
+            if (q_of[i] != UINT32_MAX && (pick == 3 || (overrun ? due[i] < due[pick] : q_of[i] < q_of[pick])))
+                pick = i;
+        if (share_ && pick != 3 && least >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
             break; /* every stepping queue holds half the lead: the rest at the next tick */
         if (k >= MOTION_STEPPER_CMDS_PER_TICK &&
-            (pick == 3 || best >= low || (k >= MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK && best >= low / 2U) ||
+            (pick == 3 || least >= low || (k >= MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK && least >= low / 2U) ||
              k >= 2U * MOTION_STEPPER_LOW_TICKS * MOTION_STEPPER_CMDS_PER_TICK))
             break; /* (below the low mark, up to three times as many: a planner that cannot keep up stops
                     * there, unless a queue would run dry before the next tick, and at twice that at the most:
@@ -214,7 +223,6 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         }
         if (pick == 3)
             break;
-        next_ = pick == 2U ? 0U : (uint8_t)(pick + 1U);
         laid = MultiStepEngine::service(pick, axes_[pick]->source(), n);
         if (laid == 0)
             dry |= (uint8_t)(1U << pick);

@@ -230,7 +230,6 @@ private:
     static bool in_loop_;
     static uint16_t catch_ticks_;
     static uint8_t catch_mask_; /* the engine's axes that catch up (catchUp) */
-    static uint8_t next_;       /* the axis feed() looks at first (the one after its last pick) */
     static uint16_t group_bytes_;
 };
 

@@ -388,7 +388,11 @@ public:
     /* A move is accepted and not yet ended. */
     bool isRunning() const;
     long currentPosition() const;
-    /* Idle only (MS_ERR_BUSY while moving): the position is now `position` (nothing moves). */
+    /* Idle only (MS_ERR_BUSY while moving or while a target waits): the position is now `position`
+     * (nothing moves). A move whose last step is made, or that forceStop() halted, counts as idle: the
+     * call takes its end (takeDone reports it), as the planner interrupt would within a millisecond,
+     * so `forceStop(); setCurrentPosition(0);` and `if (distanceToGo() == 0) setCurrentPosition(0);`
+     * are taken at once. */
     motion_status_t setCurrentPosition(long position);
     long targetPosition() const;
     /* targetPosition() - currentPosition(), steps (AccelStepper's distanceToGo) */

@@ -46,6 +46,7 @@ static void wait_done()
     Serial.print(x.currentPosition());
     Serial.print(F(" underruns="));
     Serial.println(x.underruns());
+    Serial.flush(); /* the line sent before the next move's first step (the check splits the moves there) */
 }
 
 void setup()
