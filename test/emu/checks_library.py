@@ -1028,6 +1028,9 @@ def check_api_tour(env):
     # 5, 6: the homing move halted at `halted` (no step after forceStop()), then 200 steps from the new 0
     if len(m5) != halted - 300:
         problems.append(f"move 5 (halted by forceStop()): {len(m5)} steps; expected {halted - 300} (300 to {halted})")
+    elif log.level_before("EN2", m5[-1] + AUTO_DISABLE_CYCLES) != 1 if m5 else True:
+        problems.append("move 5: ENABLE on D36 not high 1.5 ms after the halt (auto-disable: the end that "
+                        "setCurrentPosition collected must switch it off as the planner's would)")
     if len(m6) != 200:
         problems.append(f"move 6 (move(200) from the new 0): {len(m6)} steps; expected 200")
     return CheckResult(not problems, f"{len(API_TOUR)} calls answered as documented; inverted move with "
@@ -1531,7 +1534,8 @@ CHECKS_BY_EXAMPLE = (
                      "stop's law and latency)", check_follow_target),
     ("BlockingLoop", "delay(1000) in loop(): 20,000 steps at 20,000 steps/s, 0 underruns", check_blocking_loop),
     ("ApiTour", "every call's status as documented, inversion, auto-disable, the direction hook, "
-                "setCurrentPosition, move", check_api_tour),
+                "setCurrentPosition, move, homing (setCurrentPosition right after forceStop and at distanceToGo 0)",
+     check_api_tour),
     ("LabRamp", "setRamp: the Leib and simplistic ramps on a Stepper, every edge on motionsim's intervals, "
                 "the refusals", check_lab_ramp),
     ("SmoothMove", "setRamp(SMOOTH): every edge on the filter-shaped law's closed form, through a stop and new "

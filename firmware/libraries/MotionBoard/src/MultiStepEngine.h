@@ -178,7 +178,8 @@ public:
     static uint8_t service(uint8_t axis, const AxisSource &src, uint8_t max_cmds);
 
     /* How far ahead the axis's queue reaches (ticks), or UINT32_MAX when it needs nothing now:
-     * the planner feeds the axis with the shortest queue first. rest: the command running now
+     * the planner feeds the axis with the shortest queue first (while one has run dry: the one whose
+     * next step past its queue is due soonest, interval_ticks). rest: the command running now
      * counts only what is left of it (an estimate: for a choice between axes), else whole. */
     static uint32_t queued_ticks(uint8_t axis, bool rest = false);
     /* The interval the axis steps now (after an underrun: the last one), ticks, and whether its move

@@ -433,7 +433,7 @@ motion_status_t Stepper::forceStop()
     req_ = REQ_NONE;
     if (!MultiStepEngine::moving(axis_))
         return MS_OK;
-    MultiStepEngine::halt(axis_); /* its end is collected by the planner interrupt */
+    MultiStepEngine::halt(axis_); /* its end is collected by the planner interrupt (or setCurrentPosition) */
     step_planner_halt(&planner_, MultiStepEngine::position(axis_));
     return MS_OK;
 }

@@ -392,7 +392,7 @@ public:
      * (nothing moves). A move whose last step is made, or that forceStop() halted, counts as idle: the
      * call takes its end (takeDone reports it), as the planner interrupt would within a millisecond,
      * so `forceStop(); setCurrentPosition(0);` and `if (distanceToGo() == 0) setCurrentPosition(0);`
-     * are taken at once. */
+     * are taken at once (not in a StepperGroup's move: MS_ERR_BUSY until the group collects its end). */
     motion_status_t setCurrentPosition(long position);
     long targetPosition() const;
     /* targetPosition() - currentPosition(), steps (AccelStepper's distanceToGo) */
@@ -540,7 +540,7 @@ private:
     bool stop_in_cruise(bool then, int32_t to);    /* planner interrupt: the stop planned ahead, at a cut */
     void prepare_stop();                           /* planner interrupt: plans that stop ahead */
     void adopt_cut();                              /* planner interrupt: the second half of that stop's cut */
-    void engine_done(int32_t position); /* planner interrupt: the engine's move ended */
+    void engine_done(int32_t position); /* planner interrupt (or setCurrentPosition, locked): the move ended */
     void record_done(int32_t engine_position);
     void write_enable(bool on);
     int32_t to_engine(long user) const { return inverted_ ? -(int32_t)user : (int32_t)user; }

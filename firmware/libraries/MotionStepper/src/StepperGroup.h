@@ -88,23 +88,26 @@
  * out there (MultiStepEngine::cut_mirror): no plan before the switches. The cut lies this many
  * microseconds ahead per own axis (its search, the reversal and the images: traced 2026-12-07 with three
  * Steppers at 10,000 steps/s, 0.25-0.3 ms for each search and as much for each reversal, the first
- * search 1 ms after the call), grown with the step interrupts' share of the CPU, plus the margin,
+ * search 1 ms after the call; 900 us until the reversals grew with MIRROR_PLAN_US below, when a stop at
+ * GroupStop's 195 ms moment needed a second try), grown with the step interrupts' share of the CPU, plus the margin,
  * MOTION_STEPPER_GROUP_AHEAD_SWITCH_US for each switch after the first and two intervals of the slowest
  * axis. The reversed commands must last MOTION_STEPPER_GROUP_MIRROR_PLAN_US per own axis (grown as
  * well): after the switches the rest of them is laid out (1 ms an axis) and the rest of each axis's stop
  * planned (lib's step_exact_stop_mirrored, 2 ms of the AVR an axis) while they run, and the feed then
- * catches up (with 3 ms here, three Steppers at 10,000 steps/s ran dry at 4 of 10 moments). 0: no such
- * stop (planned at a cut, stop_at_cut). */
+ * catches up (with 3 ms here, three Steppers at 10,000 steps/s ran dry at 4 of 10 moments; with 4 ms,
+ * and 4.5, in layouts of 2026-12-07, once, at GroupStop's 135 ms moment: the three axes' reversed
+ * commands ran out together a few milliseconds after the feed resumed). 0: no such stop (planned at a
+ * cut, stop_at_cut). */
 #ifndef MOTION_STEPPER_GROUP_MIRROR_US
-#define MOTION_STEPPER_GROUP_MIRROR_US 900UL
+#define MOTION_STEPPER_GROUP_MIRROR_US 1000UL
 #endif
 #ifndef MOTION_STEPPER_GROUP_MIRROR_PLAN_US
-#define MOTION_STEPPER_GROUP_MIRROR_PLAN_US 4500UL
+#define MOTION_STEPPER_GROUP_MIRROR_PLAN_US 5000UL
 #endif
 /* Those reversed commands are the ones the ring still holds: early in a move the planner fills the
  * ring with the acceleration's short commands and reuses each slot as soon as it is stepped, and a
  * stop there found less than that (three Steppers at 10,000 steps/s, 125-140 ms after MOVE: 11.2-11.8
- * of the 12 ms) and was planned at a cut, 35 ms after the call. So while such a stop may come, the
+ * of the 12 ms they needed at 4 ms an axis) and was planned at a cut, 35 ms after the call. So while such a stop may come, the
  * planner leaves this many slots of each own axis's ring (MultiStepEngine::open_move) to the commands
  * stepped last. 0: none kept. */
 #ifndef MOTION_STEPPER_GROUP_MIRROR_KEEP
