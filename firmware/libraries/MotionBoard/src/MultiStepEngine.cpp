@@ -347,10 +347,14 @@ uint32_t MultiStepEngine::queued_ticks(uint8_t axis, bool rest)
     return rest ? f.queued_ticks - current_spent(s, f) : f.queued_ticks;
 }
 
-uint32_t MultiStepEngine::interval_ticks(uint8_t axis, bool &dry)
+bool MultiStepEngine::paused(uint8_t axis)
+{
+    return !state(axis).running && s_feed[axis].open && s_feed[axis].started;
+}
+
+uint32_t MultiStepEngine::interval_ticks(uint8_t axis)
 {
     const AxisState &s = state(axis);
-    dry = !s.running && s_feed[axis].open && s_feed[axis].started;
     if (s.flags & _BV(AXIS_SLOT_WIDE))
         return s.rate; /* whole ticks (a torn read is off for one choice) */
     return reinterpret_cast<volatile const uint16_t *>(&s.rate)[1]; /* 16.16: the ticks */

@@ -182,10 +182,11 @@ public:
      * next step past its queue is due soonest, interval_ticks). rest: the command running now
      * counts only what is left of it (an estimate: for a choice between axes), else whole. */
     static uint32_t queued_ticks(uint8_t axis, bool rest = false);
-    /* The interval the axis steps now (after an underrun: the last one), ticks, and whether its move
-     * is paused by an underrun (its queue ran dry). Read with interrupts on: for a choice between
+    /* Whether the axis's move is paused by an underrun (its queue ran dry), and the interval it steps
+     * now (after an underrun: the last one), ticks. Read with interrupts on: for a choice between
      * axes. */
-    static uint32_t interval_ticks(uint8_t axis, bool &dry);
+    static bool paused(uint8_t axis);
+    static uint32_t interval_ticks(uint8_t axis);
 
     /* Axis follows master in a coordinated move where both move as far: master's interrupt pulses
      * both STEP pins at once (X and Y in one instruction), so the pair costs one interrupt and one

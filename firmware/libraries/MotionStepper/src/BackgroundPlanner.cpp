@@ -170,7 +170,7 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
         if (k >= MOTION_STEPPER_CMDS_PER_TICK && catch_ticks_ == 0)
             break; /* (no catch-up: no look at the queues past the tick's commands) */
         uint8_t laid;
-        uint32_t least = UINT32_MAX, most = 0, q_of[3], due[3];
+        uint32_t least = UINT32_MAX, most = 0, q_of[3];
         uint8_t pick = 3, start = 3, n = MOTION_STEPPER_CMDS_PER_PICK;
         bool overrun = false;
         for (uint8_t i = 0; i < 3; i++) {
@@ -183,16 +183,13 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
             if (q == UINT32_MAX)
                 continue;
             if (MultiStepEngine::stepping(i)) {
-                if (q >= up_to)
-                    continue;
-                q_of[i] = q;
-                due[i] = q;
-                if (q < least)
-                    least = q;
-                if (rest) {
-                    bool paused;
-                    due[i] = q + MultiStepEngine::interval_ticks(i, paused);
-                    overrun = overrun || paused;
+                if (q < up_to) {
+                    q_of[i] = q;
+                    if (q < least) {
+                        least = q;
+                        pick = i;
+                    }
+                    overrun = overrun || (rest && MultiStepEngine::paused(i));
                 }
             } else if (start == 3 || q > most) {
                 most = q;
@@ -206,9 +203,17 @@ void BackgroundPlanner::feed(uint32_t up_to, uint8_t except)
          * third stood still for 20-33 ms (found by a review, 2026-12-07); a step near rest waits an
          * interval of milliseconds anyway, a cruising one 40 us. (Otherwise the choice is as before:
          * the interval in it moved a StepperGroup's stop timing) */
-        for (uint8_t i = 0; i < 3; i++)
-            if (q_of[i] != UINT32_MAX && (pick == 3 || (overrun ? due[i] < due[pick] : q_of[i] < q_of[pick])))
-                pick = i;
+        if (overrun) {
+            uint32_t due_best = UINT32_MAX;
+            for (uint8_t i = 0; i < 3; i++)
+                if (q_of[i] != UINT32_MAX) {
+                    const uint32_t due = q_of[i] + MultiStepEngine::interval_ticks(i);
+                    if (due < due_best) {
+                        due_best = due;
+                        pick = i;
+                    }
+                }
+        }
         if (share_ && pick != 3 && least >= half && micros() - t0 >= MOTION_STEPPER_TICK_US)
             break; /* every stepping queue holds half the lead: the rest at the next tick */
         if (k >= MOTION_STEPPER_CMDS_PER_TICK &&
