@@ -2183,13 +2183,16 @@ def three_legs(log, problems, build, n, vmax, accel):
 # 2026-12-07 a stop in the cruise was planned at its cut too, 13.4-13.5 ms after the call with two Steppers at
 # 20,000 steps/s, 28-32 ms with three at 10,000, 40-55 ms at 100,000 steps/s^2 (the cruise bounds fail there).
 # while accelerating the stop is the acceleration reversed (StepperGroup::stop_mirrored; until 2026-12-07 it was
-# planned at a cut: 15.7 ms with two Steppers, 28-35 ms with three at these moments). The moments 112 and 124 ms of
+# planned at a cut: 15.7 ms with two Steppers, 28-35 ms with three at these moments). The moments 114 and 124 ms of
 # three at 10,000 steps/s come early in the move, where the ring is full of the acceleration's short commands: until
 # 2026-12-07 it no longer held their last 12 ms there, and such a stop was planned at a cut, 34-37 ms after the call
 # (StepperGroup.h, MOTION_STEPPER_GROUP_MIRROR_KEEP: now the planner leaves 12 slots to the commands stepped last)
 GROUP_BUILDS = (("group-two-20k", 2, 20000, 50000, (100.0, 150.0, 200.0, 250.0, 300.0), 6.0,
                  (600.0, 650.3, 700.7, 800.5), 2.0),
-                ("group-three-10k", 3, 10000, 50000, (112.0, 124.0, 135.0, 150.0, 165.0, 180.0, 195.0), 12.0,
+                # (114, not 112: loop() reads the switch once every few milliseconds while three axes
+                # accelerate, and in the build of 2026-12-07 a switch at 112 ms was read so early that Z made
+                # 24 steps after the call, one short of the 25 that decel_from_top needs to find its top speed)
+                ("group-three-10k", 3, 10000, 50000, (114.0, 124.0, 135.0, 150.0, 165.0, 180.0, 195.0), 12.0,
                  (400.0, 450.3, 500.7, 600.5), 3.2),
                 # (the acceleration ends some 160 ms after MOVE; the cruise's cut lies farther by the bank the stop's
                 # commands need: some 22 ms)
