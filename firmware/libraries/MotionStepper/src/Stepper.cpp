@@ -467,8 +467,13 @@ bool Stepper::run_request()
              * the stop planned ahead lays out 10 ms of its steps at once) */
             if (cut_retry_us_ == 0 && cut_in_cruise(false, 0))
                 return true;
-            if (cut_plan(REQ_STOP, 0))
+            if (cut_plan(REQ_STOP, 0)) {
+                /* the cut withdrew the move's end mark: a stop whose first commands are all of it (one
+                 * that comes as the move's last steps run) marks it again at once, before the interrupt
+                 * steps them out (else its end counted as an underrun: make fuzz's seed-6 replay) */
+                (void)MultiStepEngine::service(axis_, source(), 0);
                 return false;
+            }
             if (cut_again())
                 req_ = REQ_STOP; /* its cut is tried again at the next pass, farther ahead */
             else
