@@ -248,6 +248,9 @@ static motion_status_t exact_consts(const ramp_params_t *p, step_exact_consts_t 
     /* time to reach vmax from rest, at most 2^34 ticks */
     if (!(vmax / a * (float)f <= 17179869184.0f))
         return MS_ERR_ACCEL_PHASE_TOO_LONG;
+    /* the cruise's interval F/vmax below 2^32 ticks (k.p32 holds it in 2^-32 ticks) */
+    if (!((float)f < vmax * 4294967296.0f))
+        return MS_ERR_INTERVAL_TOO_LONG;
     mv = float_mant(vmax, &ev);
     k.tick_hz = (uint32_t)f;
     k.cu = ratio64(2U * f * f, a, 16);          /* 2 F^2 / a, u^2 */

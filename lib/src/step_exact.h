@@ -27,8 +27,9 @@
  * thousands of random moves).
  * Limits (step_exact_set_params refuses others, each with its own status): tick_hz <= 2^25;
  * accel >= 8 steps/s^2 at 16 MHz (8 (F/16 MHz)^2 in general, and >= 0.5: C below 2^46 ticks^2);
- * vmax/accel (the time to reach vmax from rest) at most 2^34 ticks (1073 s at 16 MHz); parameters
- * that overflow a float are refused as not finite.
+ * vmax/accel (the time to reach vmax from rest) at most 2^34 ticks (1073 s at 16 MHz); the cruise's
+ * interval F/vmax below 2^32 ticks (vmax above 0.0038 steps/s at 16 MHz: MS_ERR_INTERVAL_TOO_LONG);
+ * parameters that overflow a float are refused as not finite.
  * Cost on the AVR: an accelerating or decelerating command takes one square root, one float
  * division and a few float multiplications and conversions; the rest is 32-bit integer work while
  * the time to stop stays below 2^23 ticks and the command below 65536 ticks (64-bit otherwise). A

@@ -888,7 +888,7 @@ def status_texts(env):
 
 # each call of ApiTour.ino and the status its documented rule gives (docs/library.md, Stepper.h):
 # before begin() moves refuse; vmax <= MULTI_MAX_SPS 25,000; accel <= 1e6 and >= 8; v0 <= 10,000 and
-# below vmax; one Stepper per axis; idle-only calls refused while moving
+# below vmax; vmax above tick rate / 2^32; one Stepper per axis; idle-only calls refused while moving
 API_TOUR = (
     ("moveTo(100) before begin()", "MS_ERR_NOT_BEGUN"),
     ("move(100) before begin()", "MS_ERR_NOT_BEGUN"),
@@ -897,6 +897,7 @@ API_TOUR = (
     ("setCurrentPosition(5) before begin()", "MS_ERR_NOT_BEGUN"),
     ("setMaxSpeed(30000)", "MS_ERR_ABOVE_LIMIT"),
     ("setMaxSpeed(NAN)", "MS_ERR_NOT_FINITE"),
+    ("setMaxSpeed(0.0001)", "MS_ERR_INTERVAL_TOO_LONG"),  # its cruise interval, F/vmax, beyond 2^32 - 1 ticks
     ("setAcceleration(2000000)", "MS_ERR_ABOVE_LIMIT"),
     ("setAcceleration(4)", "MS_ERR_ACCEL_TOO_LOW"),
     ("setMinSpeed(20000)", "MS_ERR_ABOVE_LIMIT"),

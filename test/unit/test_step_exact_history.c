@@ -189,6 +189,10 @@ static void check_gives_set_params_status(void **state)
         {16e6, 0.0, 16e6, 1e6, MS_OK},
         {16e6, 0.0, 1.0, 8.0, MS_OK},
         {16e6, 0.0, 1e6, 8.0, MS_ERR_ACCEL_PHASE_TOO_LONG},      /* vmax/a F = 2e12 ticks > 2^34 */
+        {16e6, 0.0, 0.0037, 10000.0, MS_ERR_INTERVAL_TOO_LONG},  /* F/vmax = 4.32e9 ticks > 2^32 - 1 */
+        {16e6, 0.0, 0.0038, 10000.0, MS_OK},                     /* F/vmax = 4.21e9 ticks */
+        {2e6, 0.0, 0.00046, 1.0, MS_ERR_INTERVAL_TOO_LONG},      /* F/vmax = 4.35e9 ticks */
+        {2e6, 0.0, 0.00047, 1.0, MS_OK},                         /* F/vmax = 4.26e9 ticks */
     };
     const unsigned n_cases = sizeof cases / sizeof cases[0];
     unsigned i;

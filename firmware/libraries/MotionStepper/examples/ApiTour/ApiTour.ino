@@ -61,6 +61,7 @@ void setup()
     say(F("setCurrentPosition(5) before begin()"), x.setCurrentPosition(5));
     say(F("setMaxSpeed(30000)"), x.setMaxSpeed(30000));
     say(F("setMaxSpeed(NAN)"), x.setMaxSpeed(NAN));
+    say(F("setMaxSpeed(0.0001)"), x.setMaxSpeed(0.0001)); /* one step per 2.8 hours */
     say(F("setAcceleration(2000000)"), x.setAcceleration(2000000));
     say(F("setAcceleration(4)"), x.setAcceleration(4));
     say(F("setMinSpeed(20000)"), x.setMinSpeed(20000));
