@@ -887,7 +887,7 @@ def status_texts(env):
 
 
 # each call of ApiTour.ino and the status its documented rule gives (docs/library.md, Stepper.h):
-# before begin() moves refuse; vmax <= MULTI_MAX_SPS 25,000; accel <= 1e6 and >= 8; v0 <= 10,000 and
+# before begin() moves refuse; vmax <= MULTI_MAX_SPS 25,000; accel <= 1e6, >= 8 and >= vmax 16e6 / 2^34; v0 <= 10,000 and
 # below vmax; vmax above tick rate / 2^32; one Stepper per axis; idle-only calls refused while moving
 API_TOUR = (
     ("moveTo(100) before begin()", "MS_ERR_NOT_BEGUN"),
@@ -900,6 +900,7 @@ API_TOUR = (
     ("setMaxSpeed(0.0001)", "MS_ERR_INTERVAL_TOO_LONG"),  # its cruise interval, F/vmax, beyond 2^32 - 1 ticks
     ("setAcceleration(2000000)", "MS_ERR_ABOVE_LIMIT"),
     ("setAcceleration(4)", "MS_ERR_ACCEL_TOO_LOW"),
+    ("setAcceleration(9.3)", "MS_ERR_ACCEL_PHASE_TOO_LONG"),  # vmax 10,000 / 9.3 x 16 MHz > 2^34 ticks
     ("setMinSpeed(20000)", "MS_ERR_ABOVE_LIMIT"),
     ("setMinSpeed(5000)", "MS_OK"),
     ("setMaxSpeed(4000)", "MS_ERR_VMAX_NOT_ABOVE_V0"),

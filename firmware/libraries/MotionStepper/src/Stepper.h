@@ -284,7 +284,7 @@ public:
      * (maxSpeedLimit(), accelerationLimit(), minSpeedLimit() tell them: on the exact ramp MULTI_MAX_SPS,
      * STEPPER_MAX_ACCEL_EXACT and STEPPER_MAX_V0_EXACT; docs/library.md has the others). */
     motion_status_t setMaxSpeed(float steps_per_s);          /* vmax > v0 */
-    motion_status_t setAcceleration(float steps_per_s2);     /* > 0 (>= 8 on the exact ramp) */
+    motion_status_t setAcceleration(float steps_per_s2);     /* > 0 (exact ramp: >= 8 and >= vmax F / 2^34) */
     motion_status_t setMinSpeed(float steps_per_s);          /* v0: 0 <= v0 < vmax */
     /* The ramp this stepper's moves follow; idle only (MS_ERR_BUSY while moving), before or after
      * begin(), nothing changes on a refusal:

@@ -64,6 +64,7 @@ void setup()
     say(F("setMaxSpeed(0.0001)"), x.setMaxSpeed(0.0001)); /* one step per 2.8 hours */
     say(F("setAcceleration(2000000)"), x.setAcceleration(2000000));
     say(F("setAcceleration(4)"), x.setAcceleration(4));
+    say(F("setAcceleration(9.3)"), x.setAcceleration(9.3)); /* 10,000 steps/s would take 2^34 ticks and more */
     say(F("setMinSpeed(20000)"), x.setMinSpeed(20000));
     say(F("setMinSpeed(5000)"), x.setMinSpeed(5000));
     say(F("setMaxSpeed(4000)"), x.setMaxSpeed(4000));
